@@ -1,0 +1,67 @@
+"""Dynamic epistemic logic: formulas, Kripke models, announcements, action models,
+bisimulation contraction and epistemic planning. Pure logic, no robots.
+
+Imported as ``epistemica.del_`` (``del`` is a Python keyword).
+"""
+
+from epistemica.del_.errors import (
+    EpistemicaError,
+    InvalidArgumentError,
+    ModelError,
+    ParseError,
+    SourceError,
+    SpecError,
+)
+from epistemica.del_.formula import (
+    After,
+    And,
+    Announce,
+    AnnounceDiamond,
+    Atom,
+    Believe,
+    Bottom,
+    Common,
+    Distributed,
+    Everybody,
+    Formula,
+    Iff,
+    Implies,
+    Know,
+    KnowWhether,
+    Not,
+    Or,
+    Top,
+    canonical_atom,
+    conjunction,
+    disjunction,
+)
+
+__all__ = [
+    "After",
+    "And",
+    "Announce",
+    "AnnounceDiamond",
+    "Atom",
+    "Believe",
+    "Bottom",
+    "Common",
+    "Distributed",
+    "EpistemicaError",
+    "Everybody",
+    "Formula",
+    "Iff",
+    "Implies",
+    "InvalidArgumentError",
+    "Know",
+    "KnowWhether",
+    "ModelError",
+    "Not",
+    "Or",
+    "ParseError",
+    "SourceError",
+    "SpecError",
+    "Top",
+    "canonical_atom",
+    "conjunction",
+    "disjunction",
+]

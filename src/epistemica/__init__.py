@@ -1,0 +1,17 @@
+"""epistemica: formal epistemic planning with a probabilistic layer.
+
+Layers, each importing only the ones before it:
+
+- :mod:`epistemica.del_`: dynamic epistemic logic (formulas, Kripke models, planning);
+- :mod:`epistemica.aif`: active inference over valid goal configurations;
+- :mod:`epistemica.sim`: multi-robot simulation;
+- this package root: mission specs and the command-line interface.
+"""
+
+from epistemica import del_
+from epistemica.del_ import *  # noqa: F403  (the root re-exports the logic layer's API)
+from epistemica.del_ import __all__ as _del_all
+
+__version__ = "0.1.0"
+
+__all__ = ["__version__", "del_", *_del_all]
