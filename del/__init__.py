@@ -4,6 +4,16 @@ bisimulation contraction and epistemic planning. Pure logic, no robots.
 Imported as ``epistemica.del_`` (``del`` is a Python keyword).
 """
 
+from epistemica.del_.action import (
+    ActionModel,
+    private_announcement,
+    product_update,
+    public_announcement,
+    public_assignment,
+    semi_private_sensing,
+)
+from epistemica.del_.bisimulation import bisimilar, bisimulation_classes, minimize
+from epistemica.del_.checker import evaluate
 from epistemica.del_.errors import (
     EpistemicaError,
     InvalidArgumentError,
@@ -12,6 +22,7 @@ from epistemica.del_.errors import (
     SourceError,
     SpecError,
 )
+from epistemica.del_.export import to_dot, to_networkx
 from epistemica.del_.formula import (
     After,
     And,
@@ -35,8 +46,12 @@ from epistemica.del_.formula import (
     conjunction,
     disjunction,
 )
+from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, parse_formula
 
 __all__ = [
+    "FORMULA_GRAMMAR",
+    "ActionModel",
     "After",
     "And",
     "Announce",
@@ -49,11 +64,13 @@ __all__ = [
     "EpistemicaError",
     "Everybody",
     "Formula",
+    "FormulaBuilder",
     "Iff",
     "Implies",
     "InvalidArgumentError",
     "Know",
     "KnowWhether",
+    "KripkeModel",
     "ModelError",
     "Not",
     "Or",
@@ -61,7 +78,19 @@ __all__ = [
     "SourceError",
     "SpecError",
     "Top",
+    "bisimilar",
+    "bisimulation_classes",
     "canonical_atom",
     "conjunction",
     "disjunction",
+    "evaluate",
+    "minimize",
+    "parse_formula",
+    "private_announcement",
+    "product_update",
+    "public_announcement",
+    "public_assignment",
+    "semi_private_sensing",
+    "to_dot",
+    "to_networkx",
 ]

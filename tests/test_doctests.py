@@ -6,6 +6,7 @@ import doctest
 import importlib
 
 import pytest
+
 from _modules import all_modules
 
 

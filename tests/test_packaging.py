@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from _modules import LAYERS, all_modules
 
 ROOT = Path(__file__).resolve().parents[1]

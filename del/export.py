@@ -1,0 +1,78 @@
+"""Export of Kripke models to networkx graphs and Graphviz DOT text."""
+
+from __future__ import annotations
+
+import networkx as nx
+import numpy as np
+
+from epistemica.del_.kripke import KripkeModel
+
+__all__ = ["to_dot", "to_networkx"]
+
+
+def _edges(model: KripkeModel, agent: str, kind: str):
+    relation = model._rel[agent] if kind == "belief" else model._know[agent]
+    matrix = relation.to_csr().tocoo()
+    return zip(matrix.row.tolist(), matrix.col.tolist(), strict=True)
+
+
+def to_networkx(model: KripkeModel) -> nx.MultiDiGraph:
+    """The model as a multigraph: one node per world, one edge per related pair and agent.
+
+    Nodes carry ``atoms`` (the true atoms, sorted) and ``designated`` (bool). Edges carry
+    ``agent`` and ``relation`` (``"belief"``; ``"knowledge"`` edges are added only for
+    agents whose knowledge relation differs from their belief relation).
+
+    Examples
+    --------
+    >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
+    >>> g = to_networkx(m)
+    >>> g.number_of_nodes(), g.number_of_edges()
+    (2, 4)
+    >>> g.nodes[1]
+    {'atoms': ['p'], 'designated': True}
+    """
+    graph = nx.MultiDiGraph()
+    names = model.worlds
+    designated = np.zeros(model.n_worlds, dtype=bool)
+    designated[model._designated] = True
+    for i, name in enumerate(names):
+        atoms = sorted(a for a, t in zip(model.atoms, model._val[i], strict=True) if t)
+        graph.add_node(name, atoms=atoms, designated=bool(designated[i]))
+    for agent in model.agents:
+        kinds = ["belief"]
+        if model._know[agent] is not model._rel[agent]:
+            kinds.append("knowledge")
+        for kind in kinds:
+            for w, v in _edges(model, agent, kind):
+                graph.add_edge(names[w], names[v], agent=agent, relation=kind)
+    return graph
+
+
+def _quote(text: object) -> str:
+    return '"' + str(text).replace('"', '\\"') + '"'
+
+
+def to_dot(model: KripkeModel) -> str:
+    """The model in Graphviz DOT: designated worlds double-circled, edges labelled by agent.
+
+    Knowledge edges (when separate from belief) are dashed.
+
+    Examples
+    --------
+    >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
+    >>> print(to_dot(m).splitlines()[0])
+    digraph kripke {
+    """
+    graph = to_networkx(model)
+    ids = {name: f"w{i}" for i, name in enumerate(graph.nodes)}
+    lines = ["digraph kripke {", "  node [shape=circle];"]
+    for name, data in graph.nodes(data=True):
+        label = f"{name}\\n{', '.join(data['atoms'])}"
+        shape = "doublecircle" if data["designated"] else "circle"
+        lines.append(f"  {ids[name]} [label={_quote(label)}, shape={shape}];")
+    for w, v, data in graph.edges(data=True):
+        style = ", style=dashed" if data["relation"] == "knowledge" else ""
+        lines.append(f"  {ids[w]} -> {ids[v]} [label={_quote(data['agent'])}{style}];")
+    lines.append("}")
+    return "\n".join(lines)

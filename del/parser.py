@@ -1,0 +1,496 @@
+"""Parse formulas written in the concrete syntax of ``formula.lark``.
+
+``parse_formula`` turns text into a :class:`~epistemica.del_.formula.Formula` tree and
+reports malformed text as a :class:`~epistemica.del_.errors.ParseError` that points at the
+offending character, says what was expected and suggests a fix. ``FormulaBuilder`` is the
+lark transformer behind it, public so that grammars importing ``formula.lark`` (the spec
+files) build the same trees.
+
+Examples
+--------
+>>> f = parse_formula("[!p | q] K[a] (p -> ~q)")
+>>> f
+Announce(announcement=Or(left=Atom(name='p', args=()), right=Atom(name='q', args=())), \
+operand=Know(agent='a', operand=Implies(left=Atom(name='p', args=()), \
+right=Not(operand=Atom(name='q', args=())))))
+>>> print(parse_formula("not p and q => r"))
+~p & q -> r
+>>> parse_formula("K[alcie] p", agents=["alice", "bob"])
+Traceback (most recent call last):
+...
+epistemica.del_.errors.SpecError: <formula>:1:3: error: unknown agent 'alcie'
+    K[alcie] p
+      ^
+hint: declared agents: alice, bob; did you mean 'alice'?
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+from collections.abc import Collection
+from pathlib import Path
+
+from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
+from epistemica.del_.formula import (
+    After,
+    And,
+    Announce,
+    AnnounceDiamond,
+    Atom,
+    Believe,
+    Bottom,
+    Common,
+    Distributed,
+    Everybody,
+    Formula,
+    Iff,
+    Implies,
+    Know,
+    KnowWhether,
+    Not,
+    Or,
+    Top,
+)
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
+
+__all__ = ["FORMULA_GRAMMAR", "RESERVED_WORDS", "FormulaBuilder", "parse_formula", "syntax_error"]
+
+#: Path of the grammar file, for ``import_paths`` of grammars that ``%import`` it.
+FORMULA_GRAMMAR = Path(__file__).with_name("formula.lark")
+
+#: Words that the lexer reads as keywords, so they cannot name an atom.
+RESERVED_WORDS = frozenset(
+    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D"}
+)
+
+
+def _names(tokens: list[Token]) -> tuple[str, ...]:
+    return tuple(str(t) for t in tokens)
+
+
+class FormulaBuilder(Transformer):
+    """Turn a parse tree of ``formula.lark`` into a :class:`Formula`.
+
+    Parameters
+    ----------
+    agents, actions : collection of str, optional
+        When given, an agent (or action) not in the collection raises :class:`SpecError`
+        at its position. An action ``open(a)`` is accepted when either ``open(a)`` or
+        ``open`` is declared.
+    source : str, optional
+        The parsed text, used to render error excerpts.
+    filename : str
+        Where the text came from, for error messages.
+
+    Notes
+    -----
+    lark wraps exceptions raised inside a transformer in ``lark.exceptions.VisitError``;
+    re-raise its ``orig_exc`` to get the :class:`SpecError`. To use the builder on a
+    grammar that imports ``formula.lark``, merge it:
+    ``lark.visitors.merge_transformers(SpecBuilder(), formula=FormulaBuilder())``.
+
+    Examples
+    --------
+    >>> from lark import Lark
+    >>> lark = Lark.open(str(FORMULA_GRAMMAR), parser="lalr", start="formula")
+    >>> FormulaBuilder().transform(lark.parse("M[a] p"))
+    Not(operand=Know(agent='a', operand=Not(operand=Atom(name='p', args=()))))
+    """
+
+    def __init__(
+        self,
+        *,
+        agents: Collection[str] | None = None,
+        actions: Collection[str] | None = None,
+        source: str | None = None,
+        filename: str = "<formula>",
+    ) -> None:
+        super().__init__()
+        self.agents = None if agents is None else frozenset(str(a) for a in agents)
+        self.actions = None if actions is None else frozenset(str(a) for a in actions)
+        self.source = source
+        self.filename = filename
+
+    # -- names, checked against the declarations --------------------------------------
+    def _unknown(self, kind: str, token: Token, text: str, declared: frozenset[str]) -> None:
+        listing = ", ".join(sorted(declared)) if declared else "none"
+        hint = f"declared {kind}s: {listing}"
+        close = difflib.get_close_matches(text, sorted(declared), n=1)
+        if close:
+            hint += f"; did you mean '{close[0]}'?"
+        raise SpecError(
+            f"unknown {kind} '{text}'",
+            line=token.line,
+            column=token.column,
+            source=self.source,
+            filename=self.filename,
+            hint=hint,
+        )
+
+    def _agent(self, token: Token) -> str:
+        name = str(token)
+        if self.agents is not None and name not in self.agents:
+            self._unknown("agent", token, name, self.agents)
+        return name
+
+    def agent(self, children: list[Token]) -> Token:
+        return children[0]
+
+    def group(self, children: list[Token]) -> list[Token]:
+        return children
+
+    def args(self, children: list[Token]) -> tuple[str, ...]:
+        return _names(children)
+
+    def atom(self, children: list) -> Atom:
+        name, args = children
+        return Atom(str(name), args or ())
+
+    def action(self, children: list) -> str:
+        name, args = children
+        text = str(name) if args is None else f"{name}({', '.join(args)})"
+        if self.actions is not None and not {text, str(name)} & self.actions:
+            self._unknown("action", name, text, self.actions)
+        return text
+
+    # -- constants and connectives (operator tokens sit between the operands) --------
+    def top(self, _children: list) -> Formula:
+        return Top()
+
+    def bottom(self, _children: list) -> Formula:
+        return Bottom()
+
+    def not_(self, children: list) -> Formula:
+        return Not(children[1])
+
+    def and_(self, children: list) -> Formula:
+        return And(children[0], children[2])
+
+    def or_(self, children: list) -> Formula:
+        return Or(children[0], children[2])
+
+    def implies(self, children: list) -> Formula:
+        return Implies(children[0], children[2])
+
+    def iff(self, children: list) -> Formula:
+        return Iff(children[0], children[2])
+
+    # -- modalities: [keyword, agent or group, operand] -------------------------------
+    def know(self, children: list) -> Formula:
+        return Know(self._agent(children[1]), children[2])
+
+    def believe(self, children: list) -> Formula:
+        return Believe(self._agent(children[1]), children[2])
+
+    def know_whether(self, children: list) -> Formula:
+        return KnowWhether(self._agent(children[1]), children[2])
+
+    def possible(self, children: list) -> Formula:
+        # M[a] f is sugar for ~K[a] ~f, so trees stay within the fixed node set.
+        return Not(Know(self._agent(children[1]), Not(children[2])))
+
+    def _group(self, children: list) -> tuple[str, ...]:
+        return tuple(self._agent(t) for t in children[1])
+
+    def everybody(self, children: list) -> Formula:
+        return Everybody(self._group(children), children[2])
+
+    def common(self, children: list) -> Formula:
+        return Common(self._group(children), children[2])
+
+    def distributed(self, children: list) -> Formula:
+        return Distributed(self._group(children), children[2])
+
+    # -- dynamic operators -------------------------------------------------------------
+    def announce(self, children: list) -> Formula:
+        return Announce(children[1], children[2])
+
+    def announce_diamond(self, children: list) -> Formula:
+        return AnnounceDiamond(children[1], children[2])
+
+    def after(self, children: list) -> Formula:
+        return After(children[0], children[1])
+
+
+@functools.cache
+def _lark() -> Lark:
+    # Built once per process (about 0.1 s); LALR with the contextual lexer, so that an
+    # agent or action may be called "K" inside brackets.
+    return Lark.open(str(FORMULA_GRAMMAR), parser="lalr", start="formula")
+
+
+def parse_formula(
+    text: str,
+    *,
+    filename: str = "<formula>",
+    agents: Collection[str] | None = None,
+    actions: Collection[str] | None = None,
+) -> Formula:
+    """Parse a formula of dynamic epistemic logic.
+
+    Parameters
+    ----------
+    text : str
+        The formula, e.g. ``"[!p] K[a] (p & ~K[b] q)"``; see ``docs/language.md``.
+    filename : str
+        Where the text came from, shown in error messages.
+    agents, actions : collection of str, optional
+        Declared agents and actions; a name outside them raises :class:`SpecError`.
+
+    Returns
+    -------
+    Formula
+        The tree; ``parse_formula(str(f)) == f`` for every formula ``f``.
+
+    Raises
+    ------
+    ParseError
+        The text does not follow the grammar; the error carries line, column, what was
+        expected and a hint.
+    SpecError
+        An agent or action is not declared.
+
+    Examples
+    --------
+    >>> print(parse_formula("C[b, a] (p -> q -> r) <-> E[a] p"))
+    C[a, b] (p -> q -> r) <-> E[a] p
+    >>> parse_formula("[open(door, 2)] at(r1, g1)").action
+    'open(door, 2)'
+    """
+    if not isinstance(text, str):
+        raise InvalidArgumentError(
+            f"parse_formula expects a string, got {type(text).__name__}",
+            hint="pass the formula as text, e.g. parse_formula('K[a] p')",
+        )
+    if not text.strip():
+        raise ParseError(
+            "empty formula",
+            line=1,
+            column=1,
+            source=text,
+            filename=filename,
+            hint="write a formula such as 'p & K[a] q'",
+        )
+    try:
+        tree = _lark().parse(text)
+    except UnexpectedInput as exc:
+        raise syntax_error(exc, text, filename) from None
+    builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
+    try:
+        return builder.transform(tree)
+    except VisitError as exc:
+        raise exc.orig_exc from None
+
+
+# --------------------------------------------------------------------------------------
+# Error messages
+# --------------------------------------------------------------------------------------
+
+_FORMULA_START = frozenset(
+    {
+        "NAME",
+        "TRUE",
+        "FALSE",
+        "NOT",
+        "KNOW",
+        "BELIEVE",
+        "KNOW_WHETHER",
+        "POSSIBLE",
+        "EVERYBODY",
+        "COMMON",
+        "DISTRIBUTED",
+        "ANNOUNCE_OPEN",
+        "DIAMOND_OPEN",
+        "LSQB",
+        "LPAR",
+    }
+)
+_CONNECTIVES = ("AND", "OR", "IMPLIES", "IFF")
+_READABLE = {
+    "AND": "'&'",
+    "OR": "'|'",
+    "IMPLIES": "'->'",
+    "IFF": "'<->'",
+    "NOT": "'~'",
+    "RPAR": "')'",
+    "RSQB": "']'",
+    "MORETHAN": "'>'",
+    "COMMA": "','",
+    "LPAR": "'('",
+    "LSQB": "'['",
+    "$END": "end of input",
+}
+_MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE"}
+_GROUP = {"EVERYBODY", "COMMON", "DISTRIBUTED"}
+_OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN"}
+_CHARACTER_HINTS = {
+    "-": "did you mean '->'?",
+    "=": "did you mean '->' (implies) or '<->' (if and only if)?",
+    "<": "did you mean '<->' or an announcement '<!f> g'?",
+    ">": "did you mean '->'?",
+    "^": "write '&' for 'and'",
+    "/": "write '|' for 'or'",
+    "\\": "write '&' for 'and' and '|' for 'or'",
+    "'": "atoms are written without quotes",
+    '"': "atoms are written without quotes",
+}
+
+
+def _position(text: str, index: int) -> tuple[int, int]:
+    line = text.count("\n", 0, index) + 1
+    return line, index - (text.rfind("\n", 0, index) + 1) + 1
+
+
+def _open_brackets(stack: list) -> list[Token]:
+    """The unclosed opening tokens on a parser's value stack, outermost first."""
+    opened: list[Token] = []
+    for item in stack:
+        if not isinstance(item, Token):
+            continue  # a reduced subtree is balanced
+        if item.type in _OPENERS:
+            opened.append(item)
+        elif opened and item.type == _OPENERS[opened[-1].type]:
+            opened.pop()
+    return opened
+
+
+def _kind(name: str) -> str:
+    # A grammar that %imports formula.lark sees our terminals as "formula__AND" etc.
+    return name.rsplit("__", 1)[-1]
+
+
+def _plain(item: object) -> object:
+    if isinstance(item, Token):
+        return Token.new_borrow_pos(_kind(item.type), item.value, item)
+    return item
+
+
+def _accepts(exc: UnexpectedToken) -> set[str]:
+    """The terminals that could have come instead of the unexpected one.
+
+    lark's LALR lookahead sets are merged across states and so too broad; feeding each
+    candidate to a copy of the parser is exact. (``InteractiveParser.accepts`` would do
+    this but skips namespaced terminals such as ``formula__NAME``.)
+    """
+    parser = exc.interactive_parser
+    if parser is None:  # pragma: no cover - LALR always provides one
+        return set(exc.expected)
+    found = set()
+    for name in parser.choices():
+        if not _kind(name).isupper():
+            continue  # a rule, not a terminal
+        cursor = parser.copy()
+        try:
+            cursor.feed_token(Token(name, ""))
+        except Exception:  # rejected (UnexpectedToken) or a failing user callback
+            continue
+        found.add(name)
+    return found
+
+
+def _found(token: Token) -> str:
+    if token.type == "$END":
+        return "end of input"
+    return f"'{token}'"
+
+
+def _spelling(name: str, terminals: dict) -> str:
+    # Terminals of an importing grammar: show the literal text when there is one.
+    pattern = getattr(terminals.get(name), "pattern", None)
+    if pattern is not None and pattern.type == "str":
+        return f"'{pattern.value}'"
+    return name.lower().replace("_", " ")
+
+
+def _describe(expected: set[str], context: str, terminals: dict | None = None) -> str:
+    items: list[str] = []
+    if _FORMULA_START <= expected:
+        items.append("a formula")
+        expected = expected - _FORMULA_START
+    if {"NAME", "INT"} <= expected:
+        items.append(context)
+        expected = expected - {"NAME", "INT"}
+    elif "NAME" in expected:
+        items.append("an action name" if context == "an agent name" else "a name")
+        expected = expected - {"NAME"}
+    if all(c in expected for c in _CONNECTIVES):
+        items.append("a connective ('&', '|', '->', '<->')")
+        expected = expected - set(_CONNECTIVES) - {"LPAR"}  # '(' would start arguments
+    for name in sorted(expected, key=lambda n: (n == "$END", n)):
+        items.append(_READABLE.get(name) or _spelling(name, terminals or {}))
+    if len(items) <= 1:
+        return "".join(items) or "something else"
+    return ", ".join(items[:-1]) + " or " + items[-1]
+
+
+def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
+    """Translate a lark exception into a :class:`ParseError` with a hint.
+
+    Public for grammars that import ``formula.lark``: their parse errors inside a formula
+    read the same way.
+    """
+    if isinstance(exc, UnexpectedCharacters):
+        char = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else ""
+        hint = _CHARACTER_HINTS.get(char)
+        if hint is None and char.isalpha():
+            hint = "names use ASCII letters, digits and '_'"
+        return ParseError(
+            f"unexpected character '{char}'",
+            line=exc.line,
+            column=exc.column,
+            source=text,
+            filename=filename,
+            hint=hint or "see docs/language.md for the syntax of formulas",
+        )
+    if not isinstance(exc, UnexpectedToken):  # pragma: no cover - LALR raises only these
+        return ParseError(str(exc), source=text, filename=filename)
+
+    token = _plain(exc.token)
+    stack = [_plain(t) for t in exc.state.value_stack] if exc.state is not None else []
+    expected = {_kind(name) for name in _accepts(exc)}
+    previous = next((t for t in reversed(stack) if isinstance(t, Token)), None)
+    opened = _open_brackets(stack)
+    inner = opened[-1] if opened else None
+    before_inner = None
+    if inner is not None:
+        index = next(i for i, item in enumerate(stack) if item is inner)
+        before_inner = stack[index - 1] if index > 0 else None
+    in_group = isinstance(before_inner, Token) and before_inner.type in _GROUP
+    in_modal = isinstance(before_inner, Token) and before_inner.type in _MODAL
+    if in_group or in_modal:
+        context = "an agent name"
+    elif inner is not None and inner.type == "LPAR" and isinstance(before_inner, Token):
+        context = "an argument (a name or a number)"
+    else:
+        context = "a name"
+
+    if token.type == "$END":
+        line, column = _position(text, len(text.rstrip()))
+    else:
+        line, column = token.line, token.column
+    terminals = {_kind(k): v for k, v in (getattr(exc, "_terminals_by_name", None) or {}).items()}
+    message = f"expected {_describe(expected, context, terminals)}, found {_found(token)}"
+
+    hint = None
+    if token.type == "RSQB" and in_group and previous is not None and previous.type == "LSQB":
+        hint = "group modalities need at least one agent, as in C[a, b] p"
+    elif token.type == "COMMA" and in_modal:
+        hint = f"{before_inner} takes one agent; use E[...], C[...] or D[...] for a group"
+    elif previous is not None and previous.type in _MODAL | _GROUP and token.type != "LSQB":
+        hint = (
+            f"write the agents in brackets, as in {previous}[a] p; "
+            f"'{previous}' is a reserved word and cannot name an atom"
+        )
+    elif token.type in _CONNECTIVES and "NAME" in expected:
+        hint = f"{_READABLE[token.type]} needs a formula on each side"
+    elif previous is not None and previous.type in _CONNECTIVES and "NAME" in expected:
+        hint = f"{_READABLE[previous.type]} needs a formula on its right"
+    elif inner is not None and _OPENERS[inner.type] in expected:
+        shape = {"LPAR": "parenthesis", "DIAMOND_OPEN": "'<!'"}.get(inner.type, "bracket")
+        closer = _READABLE[_OPENERS[inner.type]]
+        hint = f"close the {shape} opened at {inner.line}:{inner.column} with {closer}"
+    elif token.type in _FORMULA_START and all(c in expected for c in _CONNECTIVES):
+        hint = "join two formulas with a connective such as '&'"
+    return ParseError(message, line=line, column=column, source=text, filename=filename, hint=hint)
