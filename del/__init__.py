@@ -14,6 +14,12 @@ from epistemica.del_.action import (
 )
 from epistemica.del_.bisimulation import bisimilar, bisimulation_classes, minimize
 from epistemica.del_.checker import evaluate
+from epistemica.del_.coordination import (
+    CoordinationReport,
+    check_implicit_coordination,
+    plan_implicitly_coordinated,
+)
+from epistemica.del_.describe import describe_model
 from epistemica.del_.errors import (
     EpistemicaError,
     InvalidArgumentError,
@@ -47,7 +53,10 @@ from epistemica.del_.formula import (
     disjunction,
 )
 from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.observability import observability_action
 from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, parse_formula
+from epistemica.del_.planner import PlanResult, Validation, plan, plan_with_stats, validate
+from epistemica.del_.spec import Check, Spec, load_spec, parse_spec
 
 __all__ = [
     "FORMULA_GRAMMAR",
@@ -59,7 +68,9 @@ __all__ = [
     "Atom",
     "Believe",
     "Bottom",
+    "Check",
     "Common",
+    "CoordinationReport",
     "Distributed",
     "EpistemicaError",
     "Everybody",
@@ -75,17 +86,28 @@ __all__ = [
     "Not",
     "Or",
     "ParseError",
+    "PlanResult",
     "SourceError",
+    "Spec",
     "SpecError",
     "Top",
+    "Validation",
     "bisimilar",
     "bisimulation_classes",
     "canonical_atom",
+    "check_implicit_coordination",
     "conjunction",
+    "describe_model",
     "disjunction",
     "evaluate",
+    "load_spec",
     "minimize",
+    "observability_action",
     "parse_formula",
+    "parse_spec",
+    "plan",
+    "plan_implicitly_coordinated",
+    "plan_with_stats",
     "private_announcement",
     "product_update",
     "public_announcement",
@@ -93,4 +115,5 @@ __all__ = [
     "semi_private_sensing",
     "to_dot",
     "to_networkx",
+    "validate",
 ]

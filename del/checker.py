@@ -31,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from epistemica.del_ import cube
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import (
     After,
@@ -122,6 +123,8 @@ class _Context:
     def eval(self, model: KripkeModel, f: Formula) -> np.ndarray:
         key = (f, self.key) if _mentions_action(f) else f
         found = model._memo.get(key)
+        if found is None and model._cube is not None and cube.supported(f):
+            found = model._cube.to_mask(cube.evaluate_bits(model, f))
         if found is None:
             found = self._compute(model, f)
             found.setflags(write=False)
@@ -133,7 +136,7 @@ class _Context:
         kind = type(f)
         if kind is Atom:
             column = model._atom_column(f.key)
-            return np.zeros(n, dtype=bool) if column is None else model._val[:, column].copy()
+            return np.zeros(n, dtype=bool) if column is None else model._val[:, column]
         if kind is Top:
             return np.ones(n, dtype=bool)
         if kind is Bottom:
@@ -225,11 +228,10 @@ def _submodel(model: KripkeModel, mask: np.ndarray) -> KripkeModel:
     """The restriction to ``mask`` for evaluation only (designated worlds may vanish)."""
     from epistemica.del_.kripke import KripkeModel
 
-    keep = np.flatnonzero(mask)
-    rel = {a: r.restrict(keep) for a, r in model._rel.items()}
-    know = {a: rel[a] if k is model._rel[a] else k.restrict(keep) for a, k in model._know.items()}
+    rel = {a: r.restrict(mask) for a, r in model._rel.items()}
+    know = {a: rel[a] if k is model._rel[a] else k.restrict(mask) for a, k in model._know.items()}
     return KripkeModel._from_arrays(
-        None, model.atoms, model._val[keep], model.agents, rel, know, np.zeros(0, dtype=np.int64)
+        None, model.atoms, model._val[mask], model.agents, rel, know, np.zeros(0, dtype=np.int64)
     )
 
 

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from epistemica.del_ import checker
+from epistemica.del_.cube import Cube, evaluate_bits, supported
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.formula import Formula, canonical_atom
 from epistemica.del_.relations import Partition, Relation, relation_from_pairs
@@ -117,20 +118,25 @@ class KripkeModel:
         self,
         names: tuple | Callable[[], tuple] | None,
         atoms: tuple[str, ...],
-        val: np.ndarray,
+        val: np.ndarray | None,
         agents: tuple[str, ...],
-        rel: dict[str, Relation],
-        know: dict[str, Relation],
-        designated: np.ndarray,
+        rel: dict[str, Relation] | None,
+        know: dict[str, Relation] | None,
+        designated: np.ndarray | None,
+        cube: Cube | None = None,
+        designated_codes: np.ndarray | None = None,
     ) -> None:
         self._names = names
         self._atoms = atoms
         self._column = {a: j for j, a in enumerate(atoms)}
-        self._val = val
+        # Models from observables keep a bitset cube and build the arrays below on demand.
+        self._cube = cube
+        self._designated_codes = designated_codes
+        self._val_ = None if val is None else np.asfortranarray(val, dtype=bool)
         self._agents = agents
-        self._rel = rel
-        self._know = know
-        self._designated = np.unique(designated)
+        self._rel_ = rel
+        self._know_ = know
+        self._designated_ = None if designated is None else np.unique(designated)
         self._memo: dict[Any, np.ndarray] = {}
         self._derived: dict[Any, Any] = {}
 
@@ -139,6 +145,57 @@ class KripkeModel:
         model = cls.__new__(cls)
         model._init(names, atoms, val, agents, rel, know, designated)
         return model
+
+    @classmethod
+    def _from_cube(cls, cube: Cube, atoms, agents, designated_codes) -> KripkeModel:
+        model = cls.__new__(cls)
+        model._init(
+            _code_names(cube), atoms, None, agents, None, None, None, cube, designated_codes
+        )
+        return model
+
+    def _cube_submodel(self, bits: np.ndarray) -> KripkeModel:
+        """The restriction to the live codes of ``bits``, for evaluation only."""
+        empty = np.zeros(0, dtype=np.intp)
+        return KripkeModel._from_cube(self._cube.restrict(bits), self._atoms, self._agents, empty)
+
+    def _materialize(self) -> None:
+        """Build the compact arrays of a cube model (valuation matrix, partitions)."""
+        cube = self._cube
+        codes = cube.codes
+        shifts = np.arange(cube.n_bits - 1, -1, -1, dtype=np.intp)
+        self._val_ = np.asfortranarray(((codes[:, None] >> shifts) & 1).astype(bool))
+        everything = (1 << cube.n_bits) - 1
+        rel: dict[str, Relation] = {}
+        for agent in self._agents:
+            hidden = sum(1 << p for p in cube.hidden[agent])
+            rel[agent] = Partition(codes & (everything ^ hidden), n_labels=1 << cube.n_bits)
+        self._rel_, self._know_ = rel, dict(rel)
+        self._designated_ = np.searchsorted(codes, self._designated_codes)
+
+    @property
+    def _val(self) -> np.ndarray:
+        if self._val_ is None:
+            self._materialize()
+        return self._val_
+
+    @property
+    def _rel(self) -> dict[str, Relation]:
+        if self._rel_ is None:
+            self._materialize()
+        return self._rel_
+
+    @property
+    def _know(self) -> dict[str, Relation]:
+        if self._know_ is None:
+            self._materialize()
+        return self._know_
+
+    @property
+    def _designated(self) -> np.ndarray:
+        if self._designated_ is None:
+            self._materialize()
+        return self._designated_
 
     @classmethod
     def from_observables(
@@ -152,8 +209,10 @@ class KripkeModel:
 
         Worlds are the valuations of ``atoms`` that satisfy the propositional formula
         ``law``; agent ``a`` cannot tell apart two worlds that agree on ``observes[a]``.
-        World ``i`` is named by the integer ``i``; the first atom is the most significant
-        bit, so worlds come in lexicographic order of their valuations.
+        Each world is named by its code: the integer whose binary digits are the truth
+        values of the atoms, the first atom being the most significant bit. Such models are
+        evaluated on bitsets over all codes (see :mod:`epistemica.del_.cube`), which makes
+        public announcements on a million worlds take milliseconds.
 
         Parameters
         ----------
@@ -176,6 +235,8 @@ class KripkeModel:
         ...     designated=["m1", "m2"])
         >>> m.n_worlds
         8
+        >>> m.designated   # m1 m2 ~m3 = binary 110
+        (6,)
         >>> m.holds("~Kw[c1] m1 & K[c3] (m1 & m2)")
         True
         """
@@ -188,37 +249,35 @@ class KripkeModel:
                 hint=f"use at most {MAX_ENUMERATED_ATOMS} atoms, or build the worlds explicitly",
             )
         n_atoms = len(atom_list)
-        codes = np.arange(1 << n_atoms, dtype=np.int64)
-        shifts = np.arange(n_atoms - 1, -1, -1, dtype=np.int64)
-        val = ((codes[:, None] >> shifts) & 1).astype(bool)
         column = {a: j for j, a in enumerate(atom_list)}
+        hidden = {}
+        for agent, seen in observes.items():
+            visible = {_column_of(column, a, f"observes[{agent!r}]") for a in seen}
+            hidden[str(agent)] = tuple(n_atoms - 1 - j for j in range(n_atoms) if j not in visible)
+        cube = Cube.full(n_atoms, hidden)
+        agents = tuple(hidden)
         if law is not None:
-            keep = checker.propositional_mask(law, val, column)
-            codes, val = codes[keep], val[keep]
-            if not len(codes):
+            tree = checker.as_formula(law)
+            checker.propositional_mask(tree, np.zeros((0, n_atoms), dtype=bool), column)
+            everything = cls._from_cube(cube, atom_list, agents, np.zeros(0, dtype=np.intp))
+            cube = cube.restrict(evaluate_bits(everything, tree))
+            if not cube.count():
                 raise InvalidArgumentError(
                     "no valuation satisfies the law", hint="the law is a contradiction"
                 )
-        agents = tuple(str(a) for a in observes)
-        rel: dict[str, Relation] = {}
-        for agent, seen in observes.items():
-            mask = 0
-            for a in seen:
-                mask |= 1 << (n_atoms - 1 - _column_of(column, a, f"observes[{agent!r}]"))
-            rel[str(agent)] = Partition(codes & mask, n_labels=1 << n_atoms)
         if designated is None:
-            points = np.arange(len(codes))
+            points = cube.codes
         else:
-            actual = np.zeros(n_atoms, dtype=bool)
+            code = 0
             for a in designated:
-                actual[_column_of(column, a, "designated")] = True
-            points = np.flatnonzero((val == actual).all(axis=1))
-            if not len(points):
+                code |= 1 << (n_atoms - 1 - _column_of(column, a, "designated"))
+            if not cube.test(cube.alive, np.array([code]))[0]:
                 raise InvalidArgumentError(
                     "the designated valuation violates the law",
                     hint="choose an actual world that satisfies the law",
                 )
-        return cls._from_arrays(None, atom_list, val, agents, rel, dict(rel), points)
+            points = np.array([code], dtype=np.intp)
+        return cls._from_cube(cube, atom_list, agents, points)
 
     @classmethod
     def from_partitions(
@@ -261,6 +320,8 @@ class KripkeModel:
     @property
     def n_worlds(self) -> int:
         """The number of worlds."""
+        if self._cube is not None:
+            return self._cube.count()
         return self._val.shape[0]
 
     @property
@@ -325,7 +386,11 @@ class KripkeModel:
         self, formula: Formula | str, actions: Mapping[str, ActionModel] | None = None
     ) -> bool:
         """Whether ``formula`` holds at every designated world."""
-        return bool(checker.evaluate(self, formula, actions)[self._designated].all())
+        tree = checker.as_formula(formula)
+        if self._cube is not None and supported(tree):
+            bits = evaluate_bits(self, tree)
+            return bool(self._cube.test(bits, self._designated_codes).all())
+        return bool(checker.evaluate(self, tree, actions)[self._designated].all())
 
     # -- updates ------------------------------------------------------------------------
 
@@ -338,27 +403,36 @@ class KripkeModel:
             If ``formula`` is false at every designated world (it cannot be announced
             truthfully).
         """
-        mask = checker.evaluate(self, formula, None)
-        if not mask[self._designated].any():
-            raise InvalidArgumentError(
-                f"cannot announce {formula}: it is false at every designated world",
-                hint="only true formulas can be announced; check it with holds() first",
-            )
-        return self.restrict(mask)
+        tree = checker.as_formula(formula)
+        if self._cube is not None and supported(tree):
+            bits = evaluate_bits(self, tree)
+            kept = self._designated_codes[self._cube.test(bits, self._designated_codes)]
+            if len(kept):
+                return KripkeModel._from_cube(
+                    self._cube.restrict(bits), self._atoms, self._agents, kept
+                )
+        else:
+            mask = checker.evaluate(self, tree, None)
+            if mask[self._designated].any():
+                return self.restrict(mask)
+        raise InvalidArgumentError(
+            f"cannot announce {tree}: it is false at every designated world",
+            hint="only true formulas can be announced; check it with holds() first",
+        )
 
     def restrict(self, mask: np.ndarray) -> KripkeModel:
         """The submodel on the worlds of ``mask`` (designated worlds outside are dropped)."""
-        keep = np.flatnonzero(mask)
-        points = np.flatnonzero(mask[self._designated])
-        if not len(points):
+        mask = np.asarray(mask, dtype=bool)
+        kept_points = self._designated[mask[self._designated]]
+        if not len(kept_points):
             raise InvalidArgumentError("the restriction removes every designated world")
-        new_index = np.cumsum(mask) - 1
-        rel = {a: r.restrict(keep) for a, r in self._rel.items()}
-        know = {a: rel[a] if k is self._rel[a] else k.restrict(keep) for a, k in self._know.items()}
-        names = _pick_names(self._names, keep)
-        designated = new_index[self._designated[mask[self._designated]]]
+        rel = {a: r.restrict(mask) for a, r in self._rel.items()}
+        know = {a: rel[a] if k is self._rel[a] else k.restrict(mask) for a, k in self._know.items()}
+        names = _pick_names(self._names, mask)
+        # New index of a kept world = number of kept worlds before it.
+        designated = np.cumsum(mask[: kept_points[-1] + 1])[kept_points] - 1
         return KripkeModel._from_arrays(
-            names, self._atoms, self._val[keep], self._agents, rel, know, designated
+            names, self._atoms, self._val[mask], self._agents, rel, know, designated
         )
 
     def is_applicable(self, action: ActionModel) -> bool:
@@ -462,10 +536,15 @@ def _as_world_list(designated: Any, index: Mapping[World, int]) -> list[int]:
     return [_lookup(index, w, "designated") for w in designated]
 
 
-def _pick_names(source: tuple | Callable[[], tuple] | None, keep: np.ndarray) -> Callable:
+def _code_names(cube: Cube) -> Callable[[], tuple]:
+    return lambda: tuple(int(c) for c in cube.codes)
+
+
+def _pick_names(source: tuple | Callable[[], tuple] | None, mask: np.ndarray) -> Callable:
     """Names of a restriction, computed only when asked for (it keeps no parent model alive)."""
 
     def names() -> tuple:
+        keep = np.flatnonzero(mask)
         if source is None:
             return tuple(int(i) for i in keep)
         full = source() if callable(source) else source

@@ -31,6 +31,9 @@ import functools
 from collections.abc import Collection
 from pathlib import Path
 
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
+
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.formula import (
     After,
@@ -52,8 +55,6 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from lark import Lark, Token, Transformer
-from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
 
 __all__ = ["FORMULA_GRAMMAR", "RESERVED_WORDS", "FormulaBuilder", "parse_formula", "syntax_error"]
 
