@@ -24,17 +24,23 @@ True
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_ import checker
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.formula import Formula, Top, canonical_atom
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Arrows, Partition, Relation, as_compact
+from epistemica.del_.relations import (
+    DENSE_LIMIT,
+    DenseArrows,
+    Partition,
+    Relation,
+    arrows_from_edges,
+    as_compact,
+)
 
 __all__ = [
     "ActionModel",
@@ -232,8 +238,10 @@ def _product_relation(
         classes = _event_classes(edges, len(blocks))
         if classes is not None:
             return _paired_partition(relation, classes, blocks)
-    matrix = relation.to_csr()
     offsets = np.concatenate([[0], np.cumsum([len(b) for b in blocks])])
+    if n <= DENSE_LIMIT:
+        return as_compact(_dense_product(model, relation, edges, blocks, offsets, n))
+    matrix = relation.to_csr()
     rows, cols = [], []
     for e, f, condition in edges:
         if not len(blocks[e]) or not len(blocks[f]):
@@ -244,12 +252,33 @@ def _product_relation(
             keep = checker.evaluate(model, condition)[blocks[e]][sub.row]
         rows.append(sub.row[keep] + offsets[e])
         cols.append(sub.col[keep] + offsets[f])
-    row = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
-    col = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
-    product = Arrows(sp.csr_matrix((np.ones(len(row), dtype=bool), (row, col)), shape=(n, n)))
-    if product.matrix.nnz <= _EQUIVALENCE_TEST_LIMIT:
+    row = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
+    col = np.concatenate(cols) if cols else np.zeros(0, dtype=np.intp)
+    product = arrows_from_edges(n, row, col)
+    if len(row) <= _EQUIVALENCE_TEST_LIMIT:
         return as_compact(product)
     return product
+
+
+def _dense_product(
+    model: KripkeModel,
+    relation: Relation,
+    edges: tuple,
+    blocks: list[np.ndarray],
+    offsets: np.ndarray,
+    n: int,
+) -> DenseArrows:
+    """The product relation as a boolean matrix, one block per edge of the action."""
+    matrix = relation.to_dense()
+    out = np.zeros((n, n), dtype=bool)
+    for e, f, condition in edges:
+        if not len(blocks[e]) or not len(blocks[f]):
+            continue
+        block = matrix[np.ix_(blocks[e], blocks[f])]
+        if condition is not None:
+            block &= checker.evaluate(model, condition)[blocks[e]][:, None]
+        out[offsets[e] : offsets[e + 1], offsets[f] : offsets[f + 1]] |= block
+    return DenseArrows(out)
 
 
 def _paired_partition(
@@ -264,18 +293,18 @@ def _paired_partition(
     return Partition(labels)
 
 
+@functools.lru_cache(maxsize=4096)
 def _event_classes(edges: tuple, n_events: int) -> np.ndarray | None:
-    """Class label per event if the unconditioned edges form an equivalence, else None."""
+    """Class label per event if the unconditioned edges form an equivalence, else None.
+
+    Cached: action models are immutable, so their edge tuples recur across updates.
+    """
     if not edges:
         return None
-    e = np.array([x for x, _, _ in edges])
-    f = np.array([y for _, y, _ in edges])
-    matrix = sp.csr_matrix(
-        (np.ones(len(e), dtype=bool), (e, f)), shape=(n_events, n_events), dtype=bool
-    )
-    if not Arrows(matrix).is_equivalence():
-        return None
-    return connected_components(matrix, directed=False)[1].astype(np.int64)
+    matrix = np.zeros((n_events, n_events), dtype=bool)
+    matrix[[x for x, _, _ in edges], [y for _, y, _ in edges]] = True
+    relation = as_compact(DenseArrows(matrix))
+    return relation.labels if isinstance(relation, Partition) else None
 
 
 def is_applicable(model: KripkeModel, action: ActionModel) -> bool:

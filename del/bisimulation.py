@@ -19,7 +19,7 @@ from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_.errors import ModelError
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Arrows, Partition, Relation
+from epistemica.del_.relations import Partition, Relation, arrows_from_edges
 
 __all__ = ["bisimilar", "bisimulation_classes", "generated_submodel", "minimize"]
 
@@ -66,14 +66,25 @@ def bisimulation_classes(model: KripkeModel) -> np.ndarray:
     relations = _relations(model)
     count = int(blocks.max()) + 1 if len(blocks) else 0
     while True:
-        weights = rng.integers(0, np.iinfo(np.int64).max, size=count, dtype=np.int64)
-        columns = [blocks] + [_reach_signature(r, blocks, weights) for r in relations]
-        refined = np.unique(np.stack(columns, axis=1), axis=0, return_inverse=True)[1]
-        refined = refined.reshape(-1)
+        weights = rng.integers(0, 2**64, size=count, dtype=np.uint64, endpoint=False)
+        digest = np.zeros(len(blocks), dtype=np.uint64)
+        for relation in relations:
+            multiplier = rng.integers(0, 2**64, dtype=np.uint64, endpoint=False) | np.uint64(1)
+            digest = digest * multiplier + _reach_signature(relation, blocks, weights)
+        refined = _group_pairs(blocks, digest)
         new_count = int(refined.max()) + 1 if len(refined) else 0
         if new_count == count:
             return refined
         blocks, count = refined, new_count
+
+
+def _group_pairs(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Labels ``0..k-1`` of the distinct pairs ``(first[i], second[i])``, exactly."""
+    order = np.lexsort((second, first))
+    changed = (np.diff(first[order]) != 0) | (np.diff(second[order]) != 0)
+    labels = np.empty(len(first), dtype=np.intp)
+    labels[order] = np.concatenate([[0], np.cumsum(changed)]) if len(first) else []
+    return labels
 
 
 def minimize(model: KripkeModel) -> KripkeModel:
@@ -151,29 +162,28 @@ def _relations(model: KripkeModel) -> list[Relation]:
 
 def _valuation_classes(val: np.ndarray) -> np.ndarray:
     if not val.shape[1]:
-        return np.zeros(len(val), dtype=np.int64)
+        return np.zeros(len(val), dtype=np.intp)
+    if val.shape[1] < 63:
+        codes = val.astype(np.int64) @ (np.int64(1) << np.arange(val.shape[1], dtype=np.int64))
+        return np.unique(codes, return_inverse=True)[1].reshape(-1)
     packed = np.packbits(val, axis=1)
     return np.unique(packed, axis=0, return_inverse=True)[1].reshape(-1)
 
 
 def _reach_signature(relation: Relation, blocks: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Per world, a hash of the set of blocks its successors lie in."""
+    """Per world, a hash of the set of blocks its successors lie in (a sum of weights)."""
     if isinstance(relation, Partition):
-        owner = relation.labels
-        target_block = blocks
+        owner, target_block = relation.labels, blocks
+        size = relation.n_labels
     else:
-        matrix = relation.to_csr()
-        owner = np.repeat(np.arange(relation.n), np.diff(matrix.indptr))
-        target_block = blocks[matrix.indices]
-    pairs = np.unique(np.stack([owner, target_block], axis=1), axis=0)
-    size = int(owner.max()) + 1 if len(owner) else 0
-    signature = np.zeros(size, dtype=np.int64)
-    np.add.at(signature, pairs[:, 0], weights[pairs[:, 1]])
-    if isinstance(relation, Partition):
-        return signature[relation.labels]
-    full = np.zeros(relation.n, dtype=np.int64)
-    full[: len(signature)] = signature
-    return full
+        owner, targets = relation.edges()
+        target_block = blocks[targets]
+        size = relation.n
+    width = len(weights)
+    pairs = np.unique(owner.astype(np.int64) * width + target_block)
+    signature = np.zeros(size, dtype=np.uint64)
+    np.add.at(signature, pairs // width, weights[pairs % width])
+    return signature[relation.labels] if isinstance(relation, Partition) else signature
 
 
 def _quotient(relation: Relation, blocks: np.ndarray, count: int) -> Relation:
@@ -186,12 +196,8 @@ def _quotient(relation: Relation, blocks: np.ndarray, count: int) -> Relation:
         )
         labels = connected_components(graph, directed=False)[1][:count]
         return Partition(labels.astype(np.int64))
-    matrix = relation.to_csr().tocoo()
-    quotient = sp.csr_matrix(
-        (np.ones(matrix.nnz, dtype=bool), (blocks[matrix.row], blocks[matrix.col])),
-        shape=(count, count),
-    )
-    return Arrows(quotient)
+    rows, cols = relation.edges()
+    return arrows_from_edges(count, blocks[rows], blocks[cols])
 
 
 def _disjoint_union(first: KripkeModel, second: KripkeModel) -> KripkeModel:
@@ -211,4 +217,8 @@ def _disjoint_union(first: KripkeModel, second: KripkeModel) -> KripkeModel:
 def _stack(top: Relation, bottom: Relation) -> Relation:
     if isinstance(top, Partition) and isinstance(bottom, Partition):
         return Partition(np.concatenate([top.labels, bottom.labels + top.n_labels]))
-    return Arrows(sp.block_diag([top.to_csr(), bottom.to_csr()], format="csr"))
+    top_rows, top_cols = top.edges()
+    rows, cols = bottom.edges()
+    return arrows_from_edges(
+        top.n + bottom.n, np.r_[top_rows, rows + top.n], np.r_[top_cols, cols + top.n]
+    )

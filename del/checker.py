@@ -53,7 +53,7 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from epistemica.del_.relations import Arrows, Partition, Relation
+from epistemica.del_.relations import Partition, Relation, arrows_from_edges
 
 if TYPE_CHECKING:
     from epistemica.del_.action import ActionModel
@@ -249,14 +249,13 @@ def _common_box(model: KripkeModel, group: tuple[str, ...], inner: np.ndarray) -
             component = model._derived[key] = _component_partition(relations, model.n_worlds)
         return component.box(inner)
     # General relations: a world fails iff it reaches a ~inner world in >= 1 step.
-    union = relations[0].to_csr()
-    for r in relations[1:]:
-        union = union + r.to_csr()
-    arrows = Arrows(union)
     reached = np.zeros(model.n_worlds, dtype=bool)
     frontier = ~inner
     while frontier.any():
-        frontier = arrows.predecessors_of(frontier) & ~reached
+        predecessors = np.zeros(model.n_worlds, dtype=bool)
+        for r in relations:
+            predecessors |= r.predecessors_of(frontier)
+        frontier = predecessors & ~reached
         reached |= frontier
     return ~reached
 
@@ -287,10 +286,11 @@ def _distributed(model: KripkeModel, group: tuple[str, ...]) -> Relation:
         labels = np.unique(stacked, axis=0, return_inverse=True)[1].reshape(-1)
         found = Partition(labels.astype(np.int64))
     else:
-        matrix = relations[0].to_csr()
+        rows, cols = relations[0].edges()
+        keep = np.ones(len(rows), dtype=bool)
         for r in relations[1:]:
-            matrix = matrix.multiply(r.to_csr())
-        found = Arrows(matrix)
+            keep &= r.contains(rows, cols)
+        found = arrows_from_edges(model.n_worlds, rows[keep], cols[keep])
     model._derived[key] = found
     return found
 

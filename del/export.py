@@ -12,8 +12,8 @@ __all__ = ["to_dot", "to_networkx"]
 
 def _edges(model: KripkeModel, agent: str, kind: str):
     relation = model._rel[agent] if kind == "belief" else model._know[agent]
-    matrix = relation.to_csr().tocoo()
-    return zip(matrix.row.tolist(), matrix.col.tolist(), strict=True)
+    rows, cols = relation.edges()
+    return zip(rows.tolist(), cols.tolist(), strict=True)
 
 
 def to_networkx(model: KripkeModel) -> nx.MultiDiGraph:

@@ -435,6 +435,28 @@ class KripkeModel:
             names, self._atoms, self._val[mask], self._agents, rel, know, designated
         )
 
+    def repoint(self, designated: World | Iterable[World]) -> KripkeModel:
+        """The same model with other designated worlds.
+
+        The result shares this model's memoised truth sets (they do not depend on the
+        designated worlds), so re-pointing for an agent's perspective is cheap.
+
+        Examples
+        --------
+        >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
+        >>> m.holds("p"), m.repoint(m.worlds).holds("p")
+        (True, False)
+        """
+        points = _as_world_list(designated, self._world_index())
+        if not points:
+            raise InvalidArgumentError("repoint needs at least one world")
+        model = KripkeModel.__new__(KripkeModel)
+        model.__dict__.update(self.__dict__)
+        model._designated_ = np.unique(np.array(points, dtype=np.intp))
+        if self._cube is not None:
+            model._designated_codes = self._cube.codes[model._designated_]
+        return model
+
     def is_applicable(self, action: ActionModel) -> bool:
         """Whether some designated event's precondition holds at some designated world."""
         from epistemica.del_.action import is_applicable
@@ -490,11 +512,14 @@ class KripkeModel:
             )
         return table[agent]
 
-    def _index_of(self, world: World) -> int:
+    def _world_index(self) -> dict[World, int]:
         index = self._derived.get("index")
         if index is None:
             index = self._derived["index"] = {w: i for i, w in enumerate(self.worlds)}
-        return _lookup(index, world, "argument")
+        return index
+
+    def _index_of(self, world: World) -> int:
+        return _lookup(self._world_index(), world, "argument")
 
     def _atom_column(self, atom: str) -> int | None:
         return self._column.get(atom)

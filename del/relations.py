@@ -1,9 +1,11 @@
 """Accessibility relations of one agent over the worlds of a model, stored for speed.
 
-Two representations share one small interface:
+Three representations share one small interface:
 
 - :class:`Partition`: an equivalence relation given by a label per world (worlds with
   the same label are related). The box of a mask costs one scatter and one gather.
+- :class:`DenseArrows`: any relation on a few thousand worlds at most, as a boolean
+  matrix (planning states are small: numpy beats sparse-matrix bookkeeping there).
 - :class:`Arrows`: any relation, as a sparse boolean matrix in CSR form.
 
 A relation is stored as a partition only when it *is* an equivalence; the box over a
@@ -17,9 +19,20 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
-__all__ = ["Arrows", "Partition", "Relation", "as_compact", "relation_from_pairs"]
+__all__ = [
+    "DENSE_LIMIT",
+    "Arrows",
+    "DenseArrows",
+    "Partition",
+    "Relation",
+    "arrows_from_edges",
+    "as_compact",
+    "relation_from_pairs",
+]
+
+# Relations on at most this many worlds are kept as dense boolean matrices.
+DENSE_LIMIT = 2048
 
 
 class Relation:
@@ -35,15 +48,34 @@ class Relation:
         """The relation on the worlds of the boolean mask ``keep``, renumbered in order."""
         raise NotImplementedError
 
-    def to_csr(self) -> sp.csr_matrix:
-        """The relation as a boolean CSR matrix (row: source world, column: target)."""
-        raise NotImplementedError
-
     def successors_of(self, mask: np.ndarray) -> np.ndarray:
         """Worlds reachable in one step from some world of ``mask``."""
         raise NotImplementedError
 
+    def predecessors_of(self, mask: np.ndarray) -> np.ndarray:
+        """Worlds with at least one successor in ``mask``."""
+        raise NotImplementedError
+
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sources and targets of every related pair."""
+        raise NotImplementedError
+
+    def to_dense(self) -> np.ndarray:
+        """The relation as an ``n x n`` boolean matrix."""
+        raise NotImplementedError
+
+    def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """Whether each pair ``(sources[i], targets[i])`` is related."""
+        raise NotImplementedError
+
+    def to_csr(self) -> sp.csr_matrix:
+        """The relation as a boolean CSR matrix (row: source world, column: target)."""
+        rows, cols = self.edges()
+        data = np.ones(len(rows), dtype=bool)
+        return sp.csr_matrix((data, (rows, cols)), shape=(self.n, self.n))
+
     def is_equivalence(self) -> bool:
+        """Reflexive, symmetric and transitive."""
         raise NotImplementedError
 
     def is_kd45(self) -> bool:
@@ -99,17 +131,31 @@ class Partition(Relation):
         hit[self.labels[mask]] = True
         return hit[self.labels]
 
+    predecessors_of = successors_of  # symmetric
+
     def compact(self) -> np.ndarray:
         """The labels renumbered to ``0..k-1`` (in increasing order of the old labels)."""
         return np.unique(self.labels, return_inverse=True)[1].reshape(-1)
 
-    def to_csr(self) -> sp.csr_matrix:
-        labels = self.compact()
-        k = int(labels.max()) + 1 if self.n else 0
-        member = sp.csr_matrix(
-            (np.ones(self.n, dtype=bool), (np.arange(self.n), labels)), shape=(self.n, k)
-        )
-        return (member @ member.T).astype(bool).tocsr()
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        order = np.argsort(self.labels, kind="stable")
+        sorted_labels = self.labels[order]
+        starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
+        sizes = np.diff(np.r_[starts, self.n])
+        rows, cols = [], []
+        for start, size in zip(starts.tolist(), sizes.tolist(), strict=True):
+            members = order[start : start + size]
+            rows.append(np.repeat(members, size))
+            cols.append(np.tile(members, size))
+        if not rows:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        return np.concatenate(rows), np.concatenate(cols)
+
+    def to_dense(self) -> np.ndarray:
+        return self.labels[:, None] == self.labels[None, :]
+
+    def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        return self.labels[sources] == self.labels[targets]
 
     def is_equivalence(self) -> bool:
         return True
@@ -118,8 +164,65 @@ class Partition(Relation):
         return True
 
 
+class DenseArrows(Relation):
+    """Any relation as a dense boolean matrix (for small models).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = DenseArrows(np.array([[0, 1], [0, 1]], dtype=bool))
+    >>> r.box(np.array([True, False])).tolist()
+    [False, False]
+    >>> r.is_kd45(), r.is_equivalence()
+    (True, False)
+    """
+
+    def __init__(self, matrix: np.ndarray) -> None:
+        self.matrix = np.asarray(matrix, dtype=bool)
+        self.n = self.matrix.shape[0]
+
+    def box(self, mask: np.ndarray) -> np.ndarray:
+        return ~(self.matrix & ~mask).any(axis=1)
+
+    def restrict(self, keep: np.ndarray) -> DenseArrows:
+        return DenseArrows(self.matrix[np.ix_(keep, keep)])
+
+    def successors_of(self, mask: np.ndarray) -> np.ndarray:
+        return self.matrix[mask].any(axis=0)
+
+    def predecessors_of(self, mask: np.ndarray) -> np.ndarray:
+        return self.matrix[:, mask].any(axis=1)
+
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.nonzero(self.matrix)
+
+    def to_dense(self) -> np.ndarray:
+        return self.matrix
+
+    def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        return self.matrix[sources, targets]
+
+    def is_equivalence(self) -> bool:
+        m = self.matrix
+        return bool(m.diagonal().all() and (m == m.T).all() and _closed(m, _compose(m, m)))
+
+    def is_kd45(self) -> bool:
+        m = self.matrix
+        serial = bool(m.any(axis=1).all())
+        return serial and _closed(m, _compose(m, m)) and _closed(m, _compose(m.T, m))
+
+
+def _compose(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Relational composition: i -> k when i -> j in ``first`` and j -> k in ``second``."""
+    return (first.astype(np.float32) @ second.astype(np.float32)) > 0
+
+
+def _closed(big: np.ndarray, small: np.ndarray) -> bool:
+    return not (small & ~big).any()
+
+
 class Arrows(Relation):
-    """An arbitrary relation as a sparse boolean matrix.
+    """Any relation as a sparse boolean matrix (for large models).
 
     Examples
     --------
@@ -153,10 +256,18 @@ class Arrows(Relation):
         return hit
 
     def predecessors_of(self, mask: np.ndarray) -> np.ndarray:
-        """Worlds with at least one successor in ``mask``."""
         hit = np.zeros(self.n, dtype=bool)
         hit[self._rows[mask[self.matrix.indices]]] = True
         return hit
+
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._rows, self.matrix.indices
+
+    def to_dense(self) -> np.ndarray:
+        return self.matrix.toarray()
+
+    def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        return np.asarray(self.matrix[sources, targets]).reshape(-1).astype(bool)
 
     def to_csr(self) -> sp.csr_matrix:
         return self.matrix
@@ -164,23 +275,28 @@ class Arrows(Relation):
     def is_equivalence(self) -> bool:
         m = self.matrix
         reflexive = bool(m.diagonal().all())
-        return reflexive and _is_symmetric(m) and _contains(m, m @ m)
+        return reflexive and (m != m.T).nnz == 0 and _contains(m, m @ m)
 
     def is_kd45(self) -> bool:
         m = self.matrix
         serial = bool((np.diff(m.indptr) > 0).all())
-        euclidean = _contains(m, m.T @ m)
-        return serial and _contains(m, m @ m) and euclidean
-
-
-def _is_symmetric(m: sp.csr_matrix) -> bool:
-    return (m != m.T).nnz == 0
+        return serial and _contains(m, m @ m) and _contains(m, m.T @ m)
 
 
 def _contains(big: sp.csr_matrix, small: sp.spmatrix) -> bool:
     """Whether every edge of ``small`` is an edge of ``big``."""
     small = sp.csr_matrix(small, dtype=bool)
     return (small > big).nnz == 0
+
+
+def arrows_from_edges(n: int, sources: np.ndarray, targets: np.ndarray) -> Relation:
+    """A relation from edge lists: dense for small ``n``, sparse otherwise."""
+    if n <= DENSE_LIMIT:
+        matrix = np.zeros((n, n), dtype=bool)
+        matrix[sources, targets] = True
+        return DenseArrows(matrix)
+    data = np.ones(len(sources), dtype=bool)
+    return Arrows(sp.csr_matrix((data, (sources, targets)), shape=(n, n), dtype=bool))
 
 
 def relation_from_pairs(n: int, sources: Sequence[int], targets: Sequence[int]) -> Relation:
@@ -191,19 +307,20 @@ def relation_from_pairs(n: int, sources: Sequence[int], targets: Sequence[int]) 
     >>> type(relation_from_pairs(2, [0, 0, 1, 1], [0, 1, 0, 1])).__name__
     'Partition'
     >>> type(relation_from_pairs(2, [0, 1], [1, 1])).__name__
-    'Arrows'
+    'DenseArrows'
     """
-    sources = np.asarray(sources, dtype=np.int64)
-    targets = np.asarray(targets, dtype=np.int64)
-    matrix = sp.csr_matrix(
-        (np.ones(len(sources), dtype=bool), (sources, targets)), shape=(n, n), dtype=bool
-    )
-    return as_compact(Arrows(matrix))
+    sources = np.asarray(sources, dtype=np.intp)
+    targets = np.asarray(targets, dtype=np.intp)
+    return as_compact(arrows_from_edges(n, sources, targets))
 
 
 def as_compact(relation: Relation) -> Relation:
     """Return ``relation`` as a partition if it is an equivalence, unchanged otherwise."""
-    if isinstance(relation, Arrows) and relation.n and relation.is_equivalence():
-        _, labels = connected_components(relation.matrix, directed=False)
-        return Partition(labels.astype(np.int64))
-    return relation
+    if isinstance(relation, Partition) or not relation.n or not relation.is_equivalence():
+        return relation
+    if isinstance(relation, DenseArrows):
+        # In an equivalence, a world's first related world names its class.
+        return Partition(relation.matrix.argmax(axis=1))
+    from scipy.sparse.csgraph import connected_components
+
+    return Partition(connected_components(relation.matrix, directed=False)[1])

@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.del_ import KripkeModel
-from epistemica.del_.relations import Arrows, Partition
+from epistemica.del_.relations import Arrows, DenseArrows, Partition
 
 from epistemic_strategies import formulas, models, reference_truth
 
@@ -18,19 +18,39 @@ def test_checker_matches_reference(model, formula):
     assert model.truth_set(formula) == reference_truth(model, formula)
 
 
-def _as_arrows(model: KripkeModel) -> KripkeModel:
-    """The same model with every relation forced into the general (arrows) representation."""
-    rel = {a: Arrows(r.to_csr()) for a, r in model._rel.items()}
+REPRESENTATIONS = {
+    "sparse": lambda r: Arrows(r.to_csr()),
+    "dense": lambda r: DenseArrows(r.to_dense()),
+}
+
+
+def _forced(model: KripkeModel, representation: str) -> KripkeModel:
+    """The same model with every relation forced into one general representation."""
+    rel = {a: REPRESENTATIONS[representation](r) for a, r in model._rel.items()}
     return KripkeModel._from_arrays(
         model._names, model.atoms, model._val, model.agents, rel, dict(rel), model._designated
     )
 
 
 @settings(max_examples=100)
-@given(models("s5"), formulas())
-def test_partition_and_arrows_agree(model, formula):
+@given(models("s5"), formulas(), st.sampled_from(sorted(REPRESENTATIONS)))
+def test_partition_and_arrows_agree(model, formula, representation):
     assert all(isinstance(r, Partition) for r in model._rel.values())
-    assert np.array_equal(model.truth_mask(formula), _as_arrows(model).truth_mask(formula))
+    forced = _forced(model, representation)
+    assert np.array_equal(model.truth_mask(formula), forced.truth_mask(formula))
+
+
+@settings(max_examples=100)
+@given(
+    st.sampled_from(["kd45", "any"]).flatmap(models),
+    formulas(),
+    st.sampled_from(sorted(REPRESENTATIONS)),
+)
+def test_every_representation_matches_reference(model, formula, representation):
+    forced = _forced(model, representation)
+    assert forced.truth_set(formula) == reference_truth(model, formula)
+    assert forced.is_kd45("a") == model.is_kd45("a")
+    assert forced.is_s5("b") == model.is_s5("b")
 
 
 def test_non_equivalence_is_never_stored_as_partition():
