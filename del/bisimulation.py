@@ -14,14 +14,12 @@ two different sets collide with probability about 2^-64 per comparison.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_.errors import ModelError
 from epistemica.del_.kripke import KripkeModel
 from epistemica.del_.relations import Partition, Relation, arrows_from_edges
 
-__all__ = ["bisimilar", "bisimulation_classes", "generated_submodel", "minimize"]
+__all__ = ["bisimilar", "bisimulation_classes", "generated_submodel", "minimize", "quotient"]
 
 _SEED = 20170601
 
@@ -100,7 +98,15 @@ def minimize(model: KripkeModel) -> KripkeModel:
     2
     """
     model = generated_submodel(model)
-    blocks = bisimulation_classes(model)
+    return quotient(model, bisimulation_classes(model))
+
+
+def quotient(model: KripkeModel, blocks: np.ndarray) -> KripkeModel:
+    """The model whose worlds are the classes ``blocks`` (labels ``0..k-1``) of a bisimulation.
+
+    Each class is represented by its first world, whose name it keeps. ``blocks`` must be
+    a bisimulation (as from :func:`bisimulation_classes`), or the result is meaningless.
+    """
     count = int(blocks.max()) + 1
     if count == model.n_worlds:
         return model
@@ -188,14 +194,13 @@ def _reach_signature(relation: Relation, blocks: np.ndarray, weights: np.ndarray
 
 def _quotient(relation: Relation, blocks: np.ndarray, count: int) -> Relation:
     if isinstance(relation, Partition):
-        # Blocks meeting a common class are related; bisimulation makes this an equivalence.
-        n_labels = relation.n_labels
-        graph = sp.csr_matrix(
-            (np.ones(relation.n, dtype=bool), (blocks, count + relation.labels)),
-            shape=(count + n_labels, count + n_labels),
-        )
-        labels = connected_components(graph, directed=False)[1][:count]
-        return Partition(labels.astype(np.int64))
+        # Bisimilar worlds reach the same blocks, so the blocks meeting a world's class are
+        # one class of the quotient: name it by its smallest block.
+        smallest = np.full(relation.n_labels, count, dtype=np.intp)
+        np.minimum.at(smallest, relation.labels, blocks)
+        quotient = np.empty(count, dtype=np.intp)
+        quotient[blocks] = smallest[relation.labels]
+        return Partition(quotient)
     rows, cols = relation.edges()
     return arrows_from_edges(count, blocks[rows], blocks[cols])
 

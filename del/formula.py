@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 __all__ = [
     "After",
@@ -86,7 +86,8 @@ class Formula:
     disjunctions and negations; ``f >> g`` builds the implication ``f -> g``.
     """
 
-    __slots__ = ()
+    # The hash is cached: memo tables hash the same (deep) formulas over and over.
+    __slots__ = ("_hash",)
     precedence = _UNARY
 
     def __and__(self, other: Formula) -> Formula:
@@ -380,6 +381,22 @@ class After(Formula):
 
     def __str__(self) -> str:
         return f"[{self.action}] {self._wrap(self.operand, _UNARY)}"
+
+
+def _cached_hash(self: Formula) -> int:
+    try:
+        return self._hash
+    except AttributeError:
+        value = hash((type(self), *(getattr(self, f.name) for f in fields(self))))
+        object.__setattr__(self, "_hash", value)
+        return value
+
+
+for _node in (
+    Top, Bottom, Atom, Not, And, Or, Implies, Iff, Know, Believe, KnowWhether,
+    Everybody, Common, Distributed, Announce, AnnounceDiamond, After,
+):  # fmt: skip
+    _node.__hash__ = _cached_hash
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

@@ -1,0 +1,153 @@
+"""The planner on small problems: optimality (brute force), termination, validation."""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from epistemica.del_ import (
+    InvalidArgumentError,
+    KripkeModel,
+    bisimilar,
+    observability_action,
+    plan,
+    plan_with_stats,
+    validate,
+)
+from epistemica.del_.planner import canonical_key
+
+AGENTS = ["a", "b"]
+
+
+def switch_problem():
+    s0 = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": []}, designated=[])
+    actions = {
+        "flip_p": observability_action(AGENTS, effects={"p": "~p"}, full=AGENTS),
+        "flip_q": observability_action(AGENTS, effects={"q": "~q"}, full=["a"]),
+        "show_q": observability_action(AGENTS, senses="q", full=["b"]),
+    }
+    return s0, actions
+
+
+def test_hand_worked_shortest_plan():
+    s0, actions = switch_problem()
+    # b must come to know q: q is false, so flip it (b oblivious) then let b look: 2 steps.
+    assert plan(s0, actions, "K[b] q") == ["flip_q", "show_q"]
+
+
+def test_unsolvable_returns_none_and_proves_it():
+    s0, actions = switch_problem()
+    result = plan_with_stats(s0, actions, "K[b] p")  # b never sees p: impossible
+    assert result.plan is None and result.complete
+    # the state space has cycles (flips); duplicate detection makes it finite
+    assert result.distinct < 50
+
+
+def test_max_depth_bounds_and_reports_incompleteness():
+    s0, actions = switch_problem()
+    result = plan_with_stats(s0, actions, "K[b] q", max_depth=1)
+    assert result.plan is None and not result.complete
+    assert plan(s0, actions, "K[b] q", max_depth=2) == ["flip_q", "show_q"]
+
+
+@pytest.mark.parametrize("search", ["greedy", "astar"])
+def test_heuristic_searches_return_valid_plans(search):
+    s0, actions = switch_problem()
+    found = plan(s0, actions, "K[b] q & p", search=search)
+    assert found is not None and validate(s0, actions, found, "K[b] q & p")
+    blind = plan(s0, actions, "K[b] q & p", search="astar", heuristic="blind")
+    assert len(blind) == len(plan(s0, actions, "K[b] q & p"))  # admissible: optimal
+
+
+def test_validate_reports_the_reason():
+    s0, actions = switch_problem()
+    bad = validate(s0, actions, ["show_q"], "K[b] q")
+    assert not bad and bad.step == 1 and "goal" in bad.reason
+    assert len(bad.states) == 2
+    with pytest.raises(InvalidArgumentError):
+        validate(s0, actions, ["nope"], "K[b] q")
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"search": "dfs"},
+        {"max_depth": -1},
+        {"max_depth": 1.5},
+        {"heuristic": "goalcount"},  # bfs takes none
+        {"search": "astar", "heuristic": "zero"},
+    ],
+)
+def test_bad_arguments_raise(kwargs):
+    s0, actions = switch_problem()
+    with pytest.raises(InvalidArgumentError):
+        plan(s0, actions, "p", **kwargs)
+
+
+def test_bad_problem_raises():
+    s0, actions = switch_problem()
+    with pytest.raises(InvalidArgumentError):
+        plan("s0", actions, "p")
+    with pytest.raises(InvalidArgumentError):
+        plan(s0, {"x": "not an action"}, "p")
+    other = observability_action(["a"], effects={"p": True}, full=["a"])
+    with pytest.raises(InvalidArgumentError):
+        plan(s0, {"x": other}, "p")
+
+
+# ---- random small problems -----------------------------------------------------------
+
+POOL = {
+    "flip_p": dict(effects={"p": "~p"}, full=AGENTS),
+    "set_q": dict(effects={"q": True}, full=["a"]),
+    "sense_p_a": dict(senses="p", full=["a"], partial=["b"]),
+    "sense_q_b": dict(senses="q", full=["b"]),
+    "tell_p": dict(announces="p", executable="K[a] p", full=AGENTS),
+    "tell_q_if": dict(pre="K[b] q", announces="q", full={"a": True, "b": True}),
+}
+GOALS = ["K[a] p", "K[b] q & ~K[a] q", "B[b] ~q & q", "K[b] K[a] p", "Kw[a] q & p", "~p & K[b] p"]
+
+
+@st.composite
+def problems(draw):
+    names = draw(st.lists(st.sampled_from(sorted(POOL)), min_size=1, max_size=4, unique=True))
+    actions = {n: observability_action(AGENTS, name=n, **POOL[n]) for n in names}
+    actual = draw(st.sets(st.sampled_from(["p", "q"])))
+    s0 = KripkeModel.from_observables(["p", "q"], {"a": [], "b": []}, designated=sorted(actual))
+    return s0, actions, draw(st.sampled_from(GOALS))
+
+
+def _works(s0, actions, sequence, goal):
+    return bool(validate(s0, actions, list(sequence), goal))
+
+
+@settings(max_examples=10)
+@given(problems())
+def test_bfs_is_optimal_against_brute_force(problem):
+    s0, actions, goal = problem
+    found = plan(s0, actions, goal, max_depth=3)
+    bound = 2 if found is None else len(found) - 1
+    if found is not None:
+        assert _works(s0, actions, found, goal)
+    for k in range(bound + 1):
+        for seq in itertools.product(actions, repeat=k):
+            assert not _works(s0, actions, seq, goal), seq
+
+
+@settings(max_examples=15)
+@given(problems(), problems())
+def test_canonical_key_decides_bisimilarity(first, second):
+    states = []
+    for s0, actions, _ in (first, second):
+        m = s0
+        for act in actions.values():
+            if m.is_applicable(act):
+                m = m.update(act)
+        states.append(m)
+    m1, m2 = states
+    same = canonical_key(m1.minimize()) == canonical_key(m2.minimize())
+    assert same == bisimilar(m1, m2)
+    assert canonical_key(m1.minimize()) == canonical_key(m1.minimize().minimize())
