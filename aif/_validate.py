@@ -1,0 +1,100 @@
+"""Eager argument checks shared by the active-inference modules (private)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__: list[str] = []
+
+# Probabilities may be off by rounding; anything further is a caller's mistake.
+_SUM_TOLERANCE = 1e-6
+
+
+def as_finite(value, name: str, *, ndim: int | None = None, shape=None) -> np.ndarray:
+    """Return ``value`` as a float array after checking finiteness and shape."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"{name} must be numeric, got {type(value).__name__}",
+            hint=f"pass {name} as a list or numpy array of numbers",
+        ) from exc
+    if ndim is not None and array.ndim != ndim:
+        raise InvalidArgumentError(
+            f"{name} must have {ndim} dimension(s), got shape {array.shape}",
+            hint=f"reshape {name}; see the function's docstring for the expected shape",
+        )
+    if shape is not None:
+        for axis, (got, want) in enumerate(zip(array.shape, shape, strict=False)):
+            if want is not None and got != want:
+                raise InvalidArgumentError(
+                    f"{name} has shape {array.shape}; axis {axis} should have length {want}",
+                    hint="the arrays passed together must describe the same robots/goals/states",
+                )
+    if not np.all(np.isfinite(array)):
+        raise InvalidArgumentError(
+            f"{name} contains NaN or infinite values",
+            hint="check the observations for missing or diverged measurements",
+        )
+    return array
+
+
+def as_distribution(value, name: str, *, size: int | None = None) -> np.ndarray:
+    """Return ``value`` as a 1-D probability vector (non-negative, summing to one)."""
+    p = as_finite(value, name, ndim=1, shape=(size,))
+    if p.size == 0:
+        raise InvalidArgumentError(
+            f"{name} is empty", hint="a distribution needs at least one state"
+        )
+    if np.any(p < 0):
+        raise InvalidArgumentError(
+            f"{name} has negative entries", hint="probabilities must be >= 0"
+        )
+    total = p.sum()
+    if abs(total - 1.0) > _SUM_TOLERANCE:
+        raise InvalidArgumentError(
+            f"{name} sums to {total:.6g}, not 1",
+            hint=f"normalise it first: {name} / {name}.sum()",
+        )
+    return p / total
+
+
+def as_nonnegative(value, name: str, *, size: int | None = None) -> np.ndarray:
+    """Return a 1-D non-negative vector with at least one positive entry (a likelihood)."""
+    v = as_finite(value, name, ndim=1, shape=(size,))
+    if np.any(v < 0):
+        raise InvalidArgumentError(f"{name} has negative entries", hint="likelihoods are >= 0")
+    if v.size == 0 or not np.any(v > 0):
+        raise InvalidArgumentError(
+            f"{name} is zero everywhere",
+            hint="at least one state must be consistent with the observation",
+        )
+    return v
+
+
+def positive(value, name: str) -> float:
+    """Return ``value`` as a positive finite float."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as exc:
+        raise InvalidArgumentError(
+            f"{name} must be a number, got {value!r}", hint=f"pass a positive {name}"
+        ) from exc
+    if not np.isfinite(x) or x <= 0:
+        raise InvalidArgumentError(
+            f"{name} must be positive and finite, got {value!r}", hint=f"pass a positive {name}"
+        )
+    return x
+
+
+def as_likelihood_matrix(likelihood, n_states: int | None) -> np.ndarray:
+    """Return ``P(o | s)`` as an ``(n_outcomes, n_states)`` array with stochastic columns."""
+    a = as_finite(likelihood, "likelihood", ndim=2, shape=(None, n_states))
+    if np.any(a < 0) or np.any(np.abs(a.sum(axis=0) - 1.0) > 1e-6):
+        raise InvalidArgumentError(
+            "likelihood must be P(o | s): non-negative columns that each sum to 1",
+            hint="pass an (n_outcomes, n_states) array whose every column is a distribution",
+        )
+    return a
