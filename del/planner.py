@@ -309,19 +309,25 @@ def applicable(state: KripkeModel, action: ActionModel) -> bool:
     >>> applicable(both, public_announcement("p", ["a"]))
     False
     """
-    return not inapplicable_worlds(state, action)
+    return bool(_executable_at_points(state, action).all())
 
 
 def inapplicable_worlds(state: KripkeModel, action: ActionModel) -> list[Hashable]:
     """The designated worlds at which no designated event of ``action`` is executable."""
+    ok = _executable_at_points(state, action)
+    names = state.worlds
+    return [names[i] for i in state._designated[~ok]]
+
+
+def _executable_at_points(state: KripkeModel, action: ActionModel) -> np.ndarray:
+    """Per designated world, whether some designated event's precondition holds there."""
     points = state._designated
     ok = np.zeros(len(points), dtype=bool)
     for e in action._designated:
         ok |= evaluate(state, action.pre[e])[points]
         if ok.all():
-            return []
-    names = state.worlds
-    return [names[i] for i in points[~ok]]
+            break
+    return ok
 
 
 def goal_count(goal: Formula | str) -> Heuristic:
@@ -517,14 +523,75 @@ def canonical_key(state: KripkeModel) -> tuple:
 def _canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
     """The canonical refinement's class of each world, and the canonical key."""
     atoms = sorted(a for a, column in zip(state.atoms, state._val.T, strict=True) if column.any())
-    columns = [state.atoms.index(a) for a in atoms]
-    rows = [tuple(np.flatnonzero(row)) for row in state._val[:, columns]]
-    labels = _ranks(rows)
     relations = [
         relation
         for agent in sorted(state.agents)
         for relation in (state._rel[agent], state._know[agent])
     ]
+    if len(atoms) < _MASK_BITS:
+        found = _canonical_bitmasks(state, atoms, relations)
+        if found is not None:
+            return found
+    return _canonical_tuples(state, atoms, relations)
+
+
+# Sets of at most this many classes (and valuations of fewer atoms) are int64 bitmasks.
+_MASK_BITS = 62
+
+
+def _canonical_bitmasks(
+    state: KripkeModel, atoms: list[str], relations: list[Relation]
+) -> tuple[list[int], tuple] | None:
+    """Vectorised canonical refinement; None when the classes outgrow a 64-bit mask.
+
+    Whether it applies depends only on the number of bisimulation classes, so bisimilar
+    states always get keys of the same kind.
+    """
+    columns = [state.atoms.index(a) for a in atoms]
+    codes = state._val[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
+    labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
+    count = int(labels.max()) + 1
+    while True:
+        if count > _MASK_BITS:
+            return None
+        described = [labels] + [_reached_mask(r, labels) for r in relations]
+        order = np.lexsort(described[::-1])
+        changed = np.zeros(len(labels), dtype=bool)
+        for column in described:
+            changed[1:] |= np.diff(column[order]) != 0
+        refined = np.empty_like(labels)
+        refined[order] = np.cumsum(changed)
+        new_count = int(refined.max()) + 1
+        labels = refined
+        if new_count == count:
+            break
+        count = new_count
+    first = np.unique(labels, return_index=True)[1]  # one world per class, by class
+    table = np.column_stack([codes, *described[1:]])[first]
+    points = tuple(np.unique(labels[state._designated]).tolist())
+    return labels.tolist(), (tuple(atoms), table.tobytes(), points)
+
+
+def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
+    """Per world, the set of classes of its successors as a bitmask."""
+    bits = np.int64(1) << labels.astype(np.int64)
+    if isinstance(relation, Partition):
+        per_class = np.zeros(relation.n_labels, dtype=np.int64)
+        np.bitwise_or.at(per_class, relation.labels, bits)
+        return per_class[relation.labels]
+    rows, cols = relation.edges()
+    reached = np.zeros(len(labels), dtype=np.int64)
+    np.bitwise_or.at(reached, rows, bits[cols])
+    return reached
+
+
+def _canonical_tuples(
+    state: KripkeModel, atoms: list[str], relations: list[Relation]
+) -> tuple[list[int], tuple]:
+    """Canonical refinement on Python tuples, for states of many classes."""
+    columns = [state.atoms.index(a) for a in atoms]
+    rows = [tuple(np.flatnonzero(row)) for row in state._val[:, columns]]
+    labels = _ranks(rows)
     count = len(set(labels))
     while True:
         reached = [_reached_labels(relation, labels) for relation in relations]
