@@ -8,10 +8,15 @@ Layers, each importing only the ones before it:
 - this package root: mission specs and the command-line interface.
 """
 
+from importlib.metadata import PackageNotFoundError, version
+
 from epistemica import del_
 from epistemica.del_ import *  # noqa: F403  (the root re-exports the logic layer's API)
 from epistemica.del_ import __all__ as _del_all
 
-__version__ = "0.1.0"
+try:
+    __version__ = version("epistemica")  # one source of truth: pyproject.toml
+except PackageNotFoundError:  # imported from a source tree that was never installed
+    __version__ = "0+unknown"
 
 __all__ = ["__version__", "del_", *_del_all]
