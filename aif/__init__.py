@@ -9,6 +9,11 @@ and scipy. One module per concept:
 - :mod:`~epistemica.aif.belief`: Bayesian and published belief updates;
 - :mod:`~epistemica.aif.information`: entropy, KL divergence, mutual information;
 - :mod:`~epistemica.aif.free_energy`: variational and expected free energy, policies;
+- :mod:`~epistemica.aif.motion`: candidate controls and predicted poses;
+- :mod:`~epistemica.aif.perspective`: the beliefs a robot holds or models, their evidence;
+- :mod:`~epistemica.aif.row_index`: sparse gathers over the valid configurations;
+- :mod:`~epistemica.aif.one_step`: the one-step expected free energy of candidate positions;
+- :mod:`~epistemica.aif.search`: receding-horizon search with pruning of dominated branches;
 - :mod:`~epistemica.aif.controller`: the expected-free-energy controller.
 
 See ``docs/aif.md`` for the equations and how they map to the paper.
@@ -35,17 +40,7 @@ from epistemica.aif.configurations import (
     filter_configurations,
     valid_configurations,
 )
-from epistemica.aif.controller import (
-    DEFAULT_HEADING_CHANGES,
-    DEFAULT_SPEEDS,
-    Controller,
-    Decision,
-    Perspective,
-    Terms,
-    control_grid,
-    decide,
-    predict_poses,
-)
+from epistemica.aif.controller import Controller, Decision, decide
 from epistemica.aif.evidence import (
     BEARING,
     RANGE,
@@ -82,6 +77,14 @@ from epistemica.aif.likelihood import (
     log_likelihood,
     row_sums,
 )
+from epistemica.aif.motion import (
+    DEFAULT_HEADING_CHANGES,
+    DEFAULT_SPEEDS,
+    control_grid,
+    predict_poses,
+)
+from epistemica.aif.one_step import Terms
+from epistemica.aif.perspective import Perspective
 
 __all__ = [
     "BEARING",

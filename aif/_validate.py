@@ -12,8 +12,8 @@ __all__: list[str] = []
 _SUM_TOLERANCE = 1e-6
 
 
-def as_finite(value, name: str, *, ndim: int | None = None, shape=None) -> np.ndarray:
-    """Return ``value`` as a float array after checking finiteness and shape."""
+def _as_array(value, name: str, ndim: int | None, shape) -> np.ndarray:
+    """``value`` as a float array of the given number of dimensions and axis lengths."""
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
@@ -33,12 +33,36 @@ def as_finite(value, name: str, *, ndim: int | None = None, shape=None) -> np.nd
                     f"{name} has shape {array.shape}; axis {axis} should have length {want}",
                     hint="the arrays passed together must describe the same robots/goals/states",
                 )
+    return array
+
+
+def as_finite(value, name: str, *, ndim: int | None = None, shape=None) -> np.ndarray:
+    """Return ``value`` as a float array after checking finiteness and shape."""
+    array = _as_array(value, name, ndim, shape)
     if not np.all(np.isfinite(array)):
         raise InvalidArgumentError(
             f"{name} contains NaN or infinite values",
             hint="check the observations for missing or diverged measurements",
         )
     return array
+
+
+def as_log_values(value, name: str, *, ndim: int | None = None, shape=None) -> np.ndarray:
+    """Return ``value`` as an array of log probabilities: ``-inf`` allowed, NaN and ``+inf`` not."""
+    array = _as_array(value, name, ndim, shape)
+    if np.any(np.isnan(array)) or np.any(array == np.inf):
+        raise InvalidArgumentError(
+            f"{name} must not contain NaN or +inf",
+            hint="log probabilities: use -inf for impossible states and finite values otherwise",
+        )
+    return array
+
+
+def positive_int(value, name: str, hint: str) -> int:
+    """Return ``value`` as an ``int`` after checking it is an integer >= 1 (not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InvalidArgumentError(f"{name} must be a positive integer, got {value!r}", hint=hint)
+    return int(value)
 
 
 def as_distribution(value, name: str, *, size: int | None = None) -> np.ndarray:

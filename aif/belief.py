@@ -21,9 +21,16 @@ Examples
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import logsumexp, softmax
+from scipy.special import softmax
 
-from epistemica.aif._validate import as_distribution, as_finite, as_nonnegative
+from epistemica.aif._logspace import normalise_log
+from epistemica.aif._validate import (
+    as_distribution,
+    as_finite,
+    as_log_values,
+    as_nonnegative,
+    positive_int,
+)
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
@@ -46,12 +53,8 @@ def uniform_belief(n_states: int) -> np.ndarray:
     >>> uniform_belief(4).tolist()
     [0.25, 0.25, 0.25, 0.25]
     """
-    if isinstance(n_states, bool) or not isinstance(n_states, (int, np.integer)) or n_states < 1:
-        raise InvalidArgumentError(
-            f"n_states must be a positive integer, got {n_states!r}",
-            hint="pass the number of valid configurations",
-        )
-    return np.full(int(n_states), 1.0 / n_states)
+    n_states = positive_int(n_states, "n_states", "pass the number of valid configurations")
+    return np.full(n_states, 1.0 / n_states)
 
 
 def bayes_update_log(log_prior, log_likelihood) -> np.ndarray:
@@ -64,26 +67,13 @@ def bayes_update_log(log_prior, log_likelihood) -> np.ndarray:
     >>> np.exp(bayes_update_log(np.log([0.5, 0.5]), [0.0, -np.inf])).tolist()
     [1.0, 0.0]
     """
-    lp = np.asarray(log_prior, dtype=float)
-    ll = np.asarray(log_likelihood, dtype=float)
-    if lp.ndim != 1 or ll.shape != lp.shape:
-        raise InvalidArgumentError(
-            f"log_prior {lp.shape} and log_likelihood {ll.shape} must be 1-D of equal length",
-            hint="both are indexed by the same valid configurations",
-        )
-    if np.any(np.isnan(lp)) or np.any(np.isnan(ll)) or np.any(lp == np.inf) or np.any(ll == np.inf):
-        raise InvalidArgumentError(
-            "log_prior and log_likelihood must not contain NaN or +inf",
-            hint="use -inf for impossible states and finite values otherwise",
-        )
-    joint = lp + ll
-    norm = logsumexp(joint)
-    if not np.isfinite(norm):
-        raise InvalidArgumentError(
-            "the prior and the likelihood have disjoint supports",
-            hint="every configuration the prior allows is ruled out by the observation",
-        )
-    return joint - norm
+    lp = as_log_values(log_prior, "log_prior", ndim=1)
+    ll = as_log_values(log_likelihood, "log_likelihood", ndim=1, shape=lp.shape)
+    return normalise_log(
+        lp + ll,
+        "the prior and the likelihood have disjoint supports",
+        hint="every configuration the prior allows is ruled out by the observation",
+    )
 
 
 def bayes_update(prior, likelihood) -> np.ndarray:

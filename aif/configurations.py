@@ -23,6 +23,7 @@ from math import factorial, prod
 
 import numpy as np
 
+from epistemica.aif._validate import positive_int
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
@@ -40,13 +41,8 @@ _MAX_ROWS = 50_000_000
 
 
 def _check_counts(n_robots, n_goals) -> tuple[int, int]:
-    for name, value in (("n_robots", n_robots), ("n_goals", n_goals)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise InvalidArgumentError(
-                f"{name} must be a positive integer, got {value!r}",
-                hint="a mission needs at least one robot and one goal",
-            )
-    return int(n_robots), int(n_goals)
+    hint = "a mission needs at least one robot and one goal"
+    return positive_int(n_robots, "n_robots", hint), positive_int(n_goals, "n_goals", hint)
 
 
 def _index_dtype(n_goals: int) -> type:

@@ -31,12 +31,14 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import log_softmax, logsumexp, xlogy
+from scipy.special import log_softmax, xlogy
 
+from epistemica.aif._logspace import normalise_log
 from epistemica.aif._validate import (
     as_distribution,
     as_finite,
     as_likelihood_matrix,
+    as_log_values,
     as_nonnegative,
 )
 from epistemica.del_.errors import InvalidArgumentError
@@ -234,19 +236,13 @@ def policy_posterior(G, gamma: float = 1.0, log_prior=None) -> np.ndarray:
         )
     logits = -gam * g
     if log_prior is not None:
-        ln_e = np.asarray(log_prior, dtype=float)
-        if ln_e.shape != g.shape or np.any(np.isnan(ln_e)) or np.any(ln_e == np.inf):
-            raise InvalidArgumentError(
-                "log_prior must be one finite-or--inf log probability per policy",
-                hint="pass ln E with the same length as G",
-            )
-        logits = logits + ln_e
-    norm = logsumexp(logits)
-    if not np.isfinite(norm):
-        raise InvalidArgumentError(
-            "every policy has zero prior probability", hint="give at least one policy a finite ln E"
-        )
-    return np.exp(logits - norm)
+        logits = logits + as_log_values(log_prior, "log_prior", ndim=1, shape=g.shape)
+    log_q = normalise_log(
+        logits,
+        "every policy has zero prior probability",
+        hint="give at least one policy a finite ln E",
+    )
+    return np.exp(log_q)
 
 
 def select_policy(q_pi, rng: np.random.Generator | None = None) -> int:

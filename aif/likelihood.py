@@ -19,9 +19,10 @@ The paper's three-robot, two-goal example (``paper_configs`` in the pymdp vector
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import log_softmax, logsumexp
+from scipy.special import log_softmax
 
-from epistemica.aif._validate import as_finite
+from epistemica.aif._logspace import normalise_log
+from epistemica.aif._validate import as_finite, as_log_values
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
@@ -117,21 +118,13 @@ def log_likelihood(log_p, configurations) -> np.ndarray:
     >>> np.exp(log_likelihood(np.log([[0.5, 0.5], [0.9, 0.1]]), [[0, 1], [1, 0]])).round(9).tolist()
     [0.1, 0.9]
     """
-    lp = np.asarray(log_p, dtype=float)
-    if lp.ndim != 2 or np.any(np.isnan(lp)) or np.any(lp == np.inf):
-        raise InvalidArgumentError(
-            f"log_p must be an (n, m) array of log probabilities, got shape {lp.shape}",
-            hint="compute it with goal_log_probabilities(evidence)",
-        )
+    lp = as_log_values(log_p, "log_p", ndim=2)
     rows = check_configurations(configurations, lp.shape[0], lp.shape[1])
-    joint = row_sums(lp, rows)
-    norm = logsumexp(joint)
-    if not np.isfinite(norm):
-        raise InvalidArgumentError(
-            "every valid configuration has probability zero",
-            hint="some robot's goal distribution excludes all goals the mission allows",
-        )
-    return joint - norm
+    return normalise_log(
+        row_sums(lp, rows),
+        "every valid configuration has probability zero",
+        hint="some robot's goal distribution excludes all goals the mission allows",
+    )
 
 
 def configuration_likelihood(p, configurations) -> np.ndarray:
