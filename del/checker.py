@@ -8,6 +8,9 @@ Semantics, at a world ``w`` of a model ``M``:
 - ``E[G] f``: every agent of ``G`` knows ``f``; ``C[G] f``: ``f`` holds at every world
   reachable in one or more steps by the union of the knowledge relations of ``G``;
   ``D[G] f``: ``f`` holds at every world related to ``w`` by *all* of them (intersection);
+  ``EB[G] f`` and ``CB[G] f``: as ``E`` and ``C`` over the *belief* relations (belief need
+  not be reflexive, so ``CB`` uses the general reachability unless every relation of the
+  group is an equivalence);
 - ``[!f] g``: if ``f`` holds, ``g`` holds in the submodel of the ``f``-worlds;
   ``<!f> g``: ``f`` holds and ``g`` holds in that submodel;
 - ``[ACT] g``: ``g`` holds at ``(w, e)`` in the product update with the named action, for
@@ -42,8 +45,10 @@ from epistemica.del_.formula import (
     Believe,
     Bottom,
     Common,
+    CommonBelief,
     Distributed,
     Everybody,
+    EverybodyBelieves,
     Formula,
     Iff,
     Implies,
@@ -155,14 +160,17 @@ class _Context:
             if isinstance(relation, Partition):
                 return relation.know_whether(inner)
             return relation.box(inner) | relation.box(~inner)
-        if kind is Everybody:
+        if kind is Everybody or kind is EverybodyBelieves:
+            relation_kind = "knowledge" if kind is Everybody else "belief"
             inner = self.eval(model, f.operand)
             result = np.ones(n, dtype=bool)
             for agent in f.group:
-                result &= _relation(model, agent, "knowledge").box(inner)
+                result &= _relation(model, agent, relation_kind).box(inner)
             return result
         if kind is Common:
             return _common_box(model, f.group, self.eval(model, f.operand))
+        if kind is CommonBelief:
+            return _common_box(model, f.group, self.eval(model, f.operand), "belief")
         if kind is Distributed:
             return _distributed(model, f.group).box(self.eval(model, f.operand))
         if kind in (Announce, AnnounceDiamond):
@@ -235,15 +243,19 @@ def _submodel(model: KripkeModel, mask: np.ndarray) -> KripkeModel:
     )
 
 
-def _group(model: KripkeModel, group: tuple[str, ...]) -> list[Relation]:
-    return [_relation(model, agent, "knowledge") for agent in group]
+def _group(model: KripkeModel, group: tuple[str, ...], kind: str = "knowledge") -> list[Relation]:
+    return [_relation(model, agent, kind) for agent in group]
 
 
-def _common_box(model: KripkeModel, group: tuple[str, ...], inner: np.ndarray) -> np.ndarray:
-    relations = _group(model, group)
+def _common_box(
+    model: KripkeModel, group: tuple[str, ...], inner: np.ndarray, kind: str = "knowledge"
+) -> np.ndarray:
+    """``C[group]`` over the agents' ``kind`` relations ("knowledge" or "belief")."""
+    relations = _group(model, group, kind)
     if all(isinstance(r, Partition) for r in relations):
-        # Reflexive relations: reachable in >= 1 step is the connected component.
-        key = ("common-partition", group)
+        # Reflexive relations: reachable in >= 1 step is the connected component. (A
+        # relation is a Partition only if it is an equivalence, belief relations included.)
+        key = ("common-partition", kind, group)
         component = model._derived.get(key)
         if component is None:
             component = model._derived[key] = _component_partition(relations, model.n_worlds)

@@ -29,8 +29,10 @@ from epistemica.del_.formula import (
     Believe,
     Bottom,
     Common,
+    CommonBelief,
     Distributed,
     Everybody,
+    EverybodyBelieves,
     Formula,
     Iff,
     Implies,
@@ -55,7 +57,7 @@ _LOW = [
 ]
 _SUPPORTED = (
     Atom, Top, Bottom, Not, And, Or, Implies, Iff, Know, Believe, KnowWhether,
-    Everybody, Common, Distributed, Announce, AnnounceDiamond,
+    Everybody, Common, Distributed, EverybodyBelieves, CommonBelief, Announce, AnnounceDiamond,
 )  # fmt: skip
 
 
@@ -219,13 +221,14 @@ def _compute(model, f: Formula) -> np.ndarray:
     if kind is KnowWhether:
         inner, hidden = rec(f.operand), _hidden(model, f.agent)
         return cube.box(inner, hidden) | cube.box(~inner, hidden)
-    if kind is Everybody:
+    # One S5 relation per agent, so EB = E and CB = C here.
+    if kind is Everybody or kind is EverybodyBelieves:
         inner = rec(f.operand)
         result = cube.ones()
         for agent in f.group:
             result &= cube.box(inner, _hidden(model, agent))
         return result
-    if kind is Common:
+    if kind is Common or kind is CommonBelief:
         for agent in f.group:
             _hidden(model, agent)
         return cube.common_box(rec(f.operand), f.group)

@@ -2,8 +2,9 @@
 
 The classes mirror the grammar in ``formula.lark``: atoms, the Boolean connectives, the
 individual modalities ``K`` (knowledge), ``B`` (belief) and ``Kw`` (knowing whether), the
-group modalities ``E`` (everybody knows), ``C`` (common knowledge) and ``D`` (distributed
-knowledge), public announcements ``[!f] g`` and ``<!f> g``, and named actions ``[ACT] g``.
+group modalities ``E`` (everybody knows), ``C`` (common knowledge), ``D`` (distributed
+knowledge), ``EB`` (everybody believes) and ``CB`` (common belief), public announcements
+``[!f] g`` and ``<!f> g``, and named actions ``[ACT] g``.
 
 ``str(formula)`` prints the formula in the concrete syntax with as few parentheses as the
 precedence rules allow, so that ``parse_formula(str(f)) == f``.
@@ -35,8 +36,10 @@ __all__ = [
     "Believe",
     "Bottom",
     "Common",
+    "CommonBelief",
     "Distributed",
     "Everybody",
+    "EverybodyBelieves",
     "Formula",
     "Iff",
     "Implies",
@@ -339,6 +342,28 @@ class Distributed(_Group):
 
 
 @dataclass(frozen=True, slots=True)
+class EverybodyBelieves(_Group):
+    """``EB[a, b] f``: every agent of the group believes ``f``."""
+
+    group: tuple[str, ...]
+    operand: Formula
+    keyword = "EB"
+
+
+@dataclass(frozen=True, slots=True)
+class CommonBelief(_Group):
+    """``CB[a, b] f``: ``f`` is common belief in the group.
+
+    ``f`` holds at every world reachable in one or more steps by the union of the group's
+    *belief* relations (``C`` uses the knowledge relations).
+    """
+
+    group: tuple[str, ...]
+    operand: Formula
+    keyword = "CB"
+
+
+@dataclass(frozen=True, slots=True)
 class Announce(Formula):
     """``[!f] g``: after every truthful public announcement of ``f``, ``g`` holds."""
 
@@ -394,7 +419,8 @@ def _cached_hash(self: Formula) -> int:
 
 for _node in (
     Top, Bottom, Atom, Not, And, Or, Implies, Iff, Know, Believe, KnowWhether,
-    Everybody, Common, Distributed, Announce, AnnounceDiamond, After,
+    Everybody, Common, Distributed, EverybodyBelieves, CommonBelief, Announce,
+    AnnounceDiamond, After,
 ):  # fmt: skip
     _node.__hash__ = _cached_hash
 

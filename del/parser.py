@@ -44,8 +44,10 @@ from epistemica.del_.formula import (
     Believe,
     Bottom,
     Common,
+    CommonBelief,
     Distributed,
     Everybody,
+    EverybodyBelieves,
     Formula,
     Iff,
     Implies,
@@ -63,7 +65,7 @@ FORMULA_GRAMMAR = Path(__file__).with_name("formula.lark")
 
 #: Words that the lexer reads as keywords, so they cannot name an atom.
 RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D"}
+    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
 )
 
 
@@ -204,6 +206,12 @@ class FormulaBuilder(Transformer):
     def distributed(self, children: list) -> Formula:
         return Distributed(self._group(children), children[2])
 
+    def everybody_believes(self, children: list) -> Formula:
+        return EverybodyBelieves(self._group(children), children[2])
+
+    def common_belief(self, children: list) -> Formula:
+        return CommonBelief(self._group(children), children[2])
+
     # -- dynamic operators -------------------------------------------------------------
     def announce(self, children: list) -> Formula:
         return Announce(children[1], children[2])
@@ -302,6 +310,8 @@ _FORMULA_START = frozenset(
         "EVERYBODY",
         "COMMON",
         "DISTRIBUTED",
+        "EVERYBODY_BELIEVES",
+        "COMMON_BELIEF",
         "ANNOUNCE_OPEN",
         "DIAMOND_OPEN",
         "LSQB",
@@ -324,7 +334,7 @@ _READABLE = {
     "$END": "end of input",
 }
 _MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE"}
-_GROUP = {"EVERYBODY", "COMMON", "DISTRIBUTED"}
+_GROUP = {"EVERYBODY", "COMMON", "DISTRIBUTED", "EVERYBODY_BELIEVES", "COMMON_BELIEF"}
 _OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN"}
 _CHARACTER_HINTS = {
     "-": "did you mean '->'?",
@@ -478,7 +488,10 @@ def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
     if token.type == "RSQB" and in_group and previous is not None and previous.type == "LSQB":
         hint = "group modalities need at least one agent, as in C[a, b] p"
     elif token.type == "COMMA" and in_modal:
-        hint = f"{before_inner} takes one agent; use E[...], C[...] or D[...] for a group"
+        groups = (
+            "EB[...] or CB[...]" if before_inner.type == "BELIEVE" else "E[...], C[...] or D[...]"
+        )
+        hint = f"{before_inner} takes one agent; use {groups} for a group"
     elif previous is not None and previous.type in _MODAL | _GROUP and token.type != "LSQB":
         hint = (
             f"write the agents in brackets, as in {previous}[a] p; "

@@ -1,12 +1,12 @@
 """Compiling the actions of a spec file (and the relations shared with explicit models).
 
-Helper of :mod:`epistemica.del_.spec`: it expands parametrised action schemas into one
-action per binding and compiles each of the three action forms:
+Helper of :mod:`epistemica.del_.spec_compiler`: for each action (schemas are expanded by
+:func:`epistemica.del_.spec_names.headers`) it compiles one of the three action forms:
 
 - a one-liner (``public F``, ``private F to G``, ``sense F by G``, ``assign p := F``) into
   the helpers of :mod:`epistemica.del_.action`;
-- an observability block (``pre``, ``effect``, ``senses``/``announces``, ``full``,
-  ``partial``, ``oblivious``) into
+- an observability block (``pre``, ``executable``, ``effect``, ``senses``/``announces``,
+  ``full``, ``partial``, ``oblivious``) into
   :func:`epistemica.del_.observability.observability_action`;
 - an explicit event model (``event``, ``relation``/``knowledge``/``partition``,
   ``designated``) into :class:`~epistemica.del_.action.ActionModel`.
@@ -17,66 +17,28 @@ The functions take the spec compiler as their first argument and raise its locat
 
 from __future__ import annotations
 
-import difflib
-import itertools
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from typing import Any
 
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
 from epistemica.del_.formula import Formula, Top
+from epistemica.del_.spec_names import names_hint
 
-__all__ = ["compile_actions", "headers", "members", "relations"]
+__all__ = ["compile_actions", "members", "owners", "relations"]
 
-_OBSERVABILITY = {"pre", "effect_item", "senses", "announces", "full", "partial", "oblivious"}
+_OBSERVABILITY = {
+    "pre", "effect_item", "senses", "announces", "executable", "full", "partial", "oblivious",
+}  # fmt: skip
 _EVENTS = {"event", "event_relation", "event_designated"}
-
-
-def headers(comp: Any, decls: list[Tree], agents: tuple[str, ...]) -> dict[str, tuple]:
-    """Action name -> (declaration, parameter binding), schemas expanded in order."""
-    found: dict[str, tuple] = {}
-    for decl in decls:
-        name, parameters, _body = decl.children
-        bindings: list[dict[str, str]] = [{}]
-        if parameters is not None:
-            names, domains = [], []
-            for param in parameters.children:
-                pname, domain = param.children
-                if str(pname) in names:
-                    raise comp.error(f"parameter '{pname}' given twice", pname, "rename one")
-                if str(pname) in agents:
-                    raise comp.error(
-                        f"parameter '{pname}' has the name of an agent", pname,
-                        "rename the parameter, e.g. to 'i'",
-                    )  # fmt: skip
-                names.append(str(pname))
-                if domain.data == "all_agents":
-                    domains.append(list(agents))
-                else:
-                    domains.append(
-                        list(dict.fromkeys(n for n, _ in comp.expand(domain.children[0], {})))
-                    )
-            bindings = [
-                dict(zip(names, combo, strict=True)) for combo in itertools.product(*domains)
-            ]
-        for env in bindings:
-            key = str(name) if not env else f"{name}({', '.join(env.values())})"
-            if key in found:
-                first = found[key][0].children[0]
-                raise comp.error(
-                    f"action '{key}' declared twice", name,
-                    f"first declared at {first.line}:{first.column}; rename one",
-                )  # fmt: skip
-            found[key] = (decl, env)
-    return found
 
 
 def compile_actions(comp: Any, found: Mapping[str, tuple]) -> dict[str, Any]:
     """Compile every expanded action; see the module docstring for the three forms."""
     actions = {}
     for key, (decl, env) in found.items():
-        name, _parameters, body = decl.children
+        name, _parameters, _owner, body = decl.children
         comp.action_name = str(name)
         comp.params = dict(env)
         try:
@@ -84,6 +46,24 @@ def compile_actions(comp: Any, found: Mapping[str, tuple]) -> dict[str, Any]:
         finally:
             comp.params, comp.action_name = {}, ""
     return actions
+
+
+def owners(comp: Any, found: Mapping[str, tuple]) -> dict[str, str]:
+    """Action name -> owner, for the actions declared ``action NAME by AGENT``.
+
+    The owner may be a parameter of a schema (``action go(i in agents) by i``).
+    """
+    table = {}
+    for key, (decl, env) in found.items():
+        owner = decl.children[2]
+        if owner is not None:
+            token = owner.children[0]
+            comp.action_name, comp.params = str(decl.children[0]), dict(env)
+            try:
+                table[key] = comp.agent(env.get(str(token), str(token)), token)
+            finally:
+                comp.params, comp.action_name = {}, ""
+    return table
 
 
 def _compile(comp: Any, key: str, body: Tree, env: dict[str, str], decl: Tree) -> Any:
@@ -134,7 +114,7 @@ def _effects(comp: Any, nodes: list[Tree], env: Mapping[str, str]) -> dict[str, 
             ref, fml = effect.children
             key, token = comp.atom_ref(ref, env)
             if key not in comp.names.atoms and ref.children[1] is not None:
-                comp._unbound_argument(_tokens(ref.children[1]))
+                comp.unbound_argument(_tokens(ref.children[1]))
             comp.atom(key, token)
             if key in found:
                 raise comp.error(f"'{key}' assigned twice", token, "keep one assignment")
@@ -166,9 +146,10 @@ def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) 
         return agent
 
     for item in items:
-        if item.data in ("pre", "senses", "announces"):
+        if item.data in ("pre", "senses", "announces", "executable"):
+            outcome = item.data in ("senses", "announces")
             clash = once.get(item.data) or (
-                item.data != "pre" and (once.get("senses") or once.get("announces"))
+                outcome and (once.get("senses") or once.get("announces"))
             )
             if clash:
                 raise comp.error(
@@ -199,6 +180,7 @@ def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) 
         full=roles["full"],
         partial=roles["partial"],
         name=key,
+        executable=text("executable"),
     )
 
 
@@ -252,17 +234,6 @@ def members(
             if name not in found:
                 found.append(name)
     return found
-
-
-def names_hint(name: str, options: Iterable[str], kind: str = "name") -> str:
-    """A hint listing the declared names, with the closest match to ``name`` if any."""
-    options = sorted(set(options))
-    listing = ", ".join(options[:12]) + (", ..." if len(options) > 12 else "")
-    hint = f"declared {kind}s: {listing}" if options else f"no {kind}s are declared"
-    match = difflib.get_close_matches(name, options, n=1)
-    if match:
-        hint += f"; did you mean '{match[0]}'?"
-    return hint
 
 
 def relations(

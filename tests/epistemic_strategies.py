@@ -20,8 +20,10 @@ from epistemica.del_ import (
     Believe,
     Bottom,
     Common,
+    CommonBelief,
     Distributed,
     Everybody,
+    EverybodyBelieves,
     Iff,
     Implies,
     Know,
@@ -55,6 +57,8 @@ def formulas(atoms=ATOMS, agents=AGENTS, max_leaves=12, announcements=True):
             st.builds(Everybody, groups, children),
             st.builds(Common, groups, children),
             st.builds(Distributed, groups, children),
+            st.builds(EverybodyBelieves, groups, children),
+            st.builds(CommonBelief, groups, children),
         ]
         if announcements:
             options += [
@@ -96,17 +100,44 @@ def arbitrary_relations(draw, n):
 
 
 @st.composite
+def kd45_in_s5(draw, n):
+    """(belief, knowledge): an S5 knowledge relation and a KD45 belief relation inside it.
+
+    Each knowledge class has a nonempty set of believed worlds, which every world of the
+    class points to (so belief may be false while knowledge is truthful).
+    """
+    labels = draw(st.lists(st.integers(0, n - 1), min_size=n, max_size=n))
+    belief, knowledge = [], []
+    for c in set(labels):
+        members = [w for w in range(n) if labels[w] == c]
+        believed = draw(st.lists(st.sampled_from(members), min_size=1, unique=True))
+        belief += [(w, v) for w in members for v in believed]
+        knowledge += [(w, v) for w in members for v in members]
+    return belief, knowledge
+
+
+@st.composite
 def models(draw, kind="s5", max_worlds=6, atoms=ATOMS, agents=AGENTS):
-    """A random Kripke model of the given kind: ``"s5"``, ``"kd45"`` or ``"any"``."""
+    """A random Kripke model of the given kind.
+
+    ``"s5"``, ``"kd45"`` or ``"any"``: one relation per agent of that class (belief and
+    knowledge coincide); ``"kd45-s5"``: separate KD45 belief inside S5 knowledge.
+    """
     n = draw(st.integers(1, max_worlds))
-    relation = {"s5": partitions, "kd45": kd45_relations, "any": arbitrary_relations}[kind]
     valuation = {
         w: draw(st.lists(st.sampled_from(atoms), unique=True, max_size=len(atoms)))
         for w in range(n)
     }
-    relations = {a: draw(relation(n)) for a in agents}
+    knowledge = None
+    if kind == "kd45-s5":
+        pairs = {a: draw(kd45_in_s5(n)) for a in agents}
+        relations = {a: belief for a, (belief, _) in pairs.items()}
+        knowledge = {a: know for a, (_, know) in pairs.items()}
+    else:
+        relation = {"s5": partitions, "kd45": kd45_relations, "any": arbitrary_relations}[kind]
+        relations = {a: draw(relation(n)) for a in agents}
     designated = draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=2, unique=True))
-    return KripkeModel(list(range(n)), valuation, relations, designated)
+    return KripkeModel(list(range(n)), valuation, relations, designated, knowledge=knowledge)
 
 
 # -- the reference checker -------------------------------------------------------------
@@ -159,16 +190,18 @@ def _truth(f, worlds, val, belief, know):
         return {w for w in worlds if _succ(rel, w, worlds) <= inner}
     if isinstance(f, KnowWhether):
         return rec(Or(Know(f.agent, f.operand), Know(f.agent, Not(f.operand))))
-    if isinstance(f, Everybody):
+    if isinstance(f, (Everybody, EverybodyBelieves)):
+        rel = know if isinstance(f, Everybody) else belief
         inner = rec(f.operand)
-        return {w for w in worlds if all(_succ(know[a], w, worlds) <= inner for a in f.group)}
-    if isinstance(f, Common):
+        return {w for w in worlds if all(_succ(rel[a], w, worlds) <= inner for a in f.group)}
+    if isinstance(f, (Common, CommonBelief)):
+        rel = know if isinstance(f, Common) else belief
         inner = rec(f.operand)
         out = set()
         for w in worlds:
             frontier, seen = {w}, set()
             while frontier:  # worlds reachable in >= 1 step
-                step = set().union(*(_succ(know[a], x, worlds) for a in f.group for x in frontier))
+                step = set().union(*(_succ(rel[a], x, worlds) for a in f.group for x in frontier))
                 frontier = step - seen
                 seen |= step
             if seen <= inner:

@@ -88,3 +88,105 @@ def test_unknown_search_exits_2(capsys):
     with pytest.raises(SystemExit) as info:
         main(["plan", MUDDY, "--search", "dfs"])
     assert info.value.code == 2
+
+
+# -- implicit coordination -----------------------------------------------------------------
+
+TWO_ROBOTS = str(
+    Path(__file__).resolve().parents[1] / "specs" / "planning" / "two_robots_implicit.epi"
+)
+# Worked out in the spec's comments: r1 knows its task (g1) and moves first, which tells
+# r2 where to go; the reverse order works in the actual world but r2 cannot know it does.
+COORDINATED = ["go_r1_g1", "go_r2_g2"]
+UNCOORDINATED = ["go_r2_g2", "go_r1_g1"]
+
+
+def steps_of(out):
+    return [line.split(". ", 1)[1].split("  ")[0] for line in out.splitlines() if ". go_" in line]
+
+
+def test_implicit_plan_is_the_coordinated_order(capsys):
+    code, out, err = run(capsys, "plan", TWO_ROBOTS, "--implicit")
+    assert code == 0, err
+    assert steps_of(out) == COORDINATED
+    assert "coordinated: every owner knows" in out
+    # Plain BFS prefers the other order, which is valid but not coordinated.
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS)
+    assert code == 0 and steps_of(out) == UNCOORDINATED
+
+
+def test_implicit_explain_names_the_acting_agent(capsys):
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS, "--implicit", "--explain")
+    assert code == 0
+    assert "  1. go_r1_g1  (by r1)" in out and "  2. go_r2_g2  (by r2)" in out
+    assert "initial state:" in out
+
+
+def test_verify_reports_why_a_plan_is_not_coordinated(capsys):
+    code, out, _ = run(
+        capsys, "plan", TWO_ROBOTS, "--implicit", "--verify", ",".join(UNCOORDINATED)
+    )
+    assert code == 1
+    assert "plan go_r2_g2, go_r1_g1: not implicitly coordinated" in out
+    # Step 2 belongs to r1, whose move is not executable where r1's task is g2: a world
+    # that r2 could not rule out when it moved at step 1.
+    assert "step 2 (go_r1_g1): r1 does not know that go_r1_g1 is applicable" in out
+    assert "at step 1 r2 could not tell" in out
+
+
+def test_verify_json_gives_step_agent_and_kind(capsys):
+    argv = ["plan", TWO_ROBOTS, "--implicit", "--json", "--verify", "go_r2_g2, go_r1_g1"]
+    code, out, _ = run(capsys, *argv)
+    data = json.loads(out)
+    assert code == 1 and data["coordinated"] is False and data["plan"] == UNCOORDINATED
+    assert (data["step"], data["agent"], data["action"], data["kind"]) == (
+        2, "r1", "go_r1_g1", "not-applicable",
+    )  # fmt: skip
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS, "--implicit", "--json", "--verify",
+                       ",".join(COORDINATED))  # fmt: skip
+    assert code == 0 and json.loads(out)["coordinated"] is True
+
+
+def test_verify_without_implicit_only_validates(capsys):
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS, "--verify", ",".join(UNCOORDINATED))
+    assert code == 0 and "go_r1_g1: valid" in out
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS, "--verify", "go_r2_g2")
+    assert code == 1 and "not valid" in out
+
+
+def test_implicit_json_lists_owners(capsys):
+    code, out, _ = run(capsys, "plan", TWO_ROBOTS, "--implicit", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["plan"] == COORDINATED and data["owners"] == ["r1", "r2"]
+    assert data["coordinated"] is True and data["complete"] is True
+
+
+def test_schema_owners_and_arguments_in_verify(capsys, tmp_path):
+    path = tmp_path / "doors.epi"
+    path.write_text(
+        "agents a, b\natoms open(a), open(b)\nobserves a, b: open(a), open(b)\nactual {}\n"
+        "action open(i in agents) by i: assign open(i) := true\ngoal open(a) & open(b)\n"
+    )
+    code, out, _ = run(capsys, "plan", str(path), "--implicit", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["length"] == 2 and sorted(data["owners"]) == ["a", "b"]
+    code, out, _ = run(capsys, "plan", str(path), "--implicit", "--verify", "open(b),open( a )")
+    assert code == 0 and "plan open(b), open(a): implicitly coordinated" in out
+
+
+def test_implicit_needs_owners(capsys):
+    code, _, err = run(capsys, "plan", MUDDY, "--implicit")
+    assert code == 2 and "has no owner" in err and "by AGENT" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--verify", "go_r1_g1,go_r2_g3"], "did you mean 'go_r2_g2'?"),
+        (["--verify", "go_r1_g1,,go_r2_g2"], "cannot read the plan"),
+        (["--search", "astar"], "breadth-first only"),
+    ],
+)
+def test_implicit_bad_input_exits_2(capsys, extra, message):
+    code, _, err = run(capsys, "plan", TWO_ROBOTS, "--implicit", *extra)
+    assert code == 2 and message in err and "hint:" in err

@@ -5,7 +5,10 @@ Commands:
 - ``epistemica check FILE``: evaluate every ``check`` claim of a spec file;
   ``epistemica check FILE --formula F``: whether ``F`` holds at the designated worlds and
   where it holds;
-- ``epistemica plan FILE``: search for a plan reaching the spec's ``goal``.
+- ``epistemica plan FILE``: search for a plan reaching the spec's ``goal``;
+  ``--implicit``: an implicitly coordinated plan (each action's owner knows the rest of
+  the plan works); ``--verify A,B,C``: check a given plan instead (valid, or with
+  ``--implicit`` implicitly coordinated, and why not).
 
 Exit status (grep-like, so that shell scripts can branch on it): 0 on success (every claim
 as expected, the formula holds, a plan was found), 1 when a claim fails, the formula does
@@ -39,6 +42,8 @@ examples:
   epistemica check specs/puzzles/sally_anne.epi --json
   epistemica plan specs/puzzles/muddy_children.epi --explain
   epistemica plan specs/puzzles/muddy_children.epi --search astar --max-depth 5 --json
+  epistemica plan specs/planning/two_robots_implicit.epi --implicit --explain
+  epistemica plan specs/planning/two_robots_implicit.epi --implicit --verify go_r2_g2,go_r1_g1
 
 exit status: 0 success, 1 a claim or formula is false or no plan exists, 2 bad input
 """
@@ -95,14 +100,32 @@ def build_parser() -> argparse.ArgumentParser:
         "spec's goal holds at every designated world; the plan is validated step by step.",
         epilog="examples:\n"
         "  epistemica plan specs/puzzles/muddy_children.epi --explain\n"
-        "  epistemica plan specs/puzzles/muddy_children.epi --search astar --json\n",
+        "  epistemica plan specs/puzzles/muddy_children.epi --search astar --json\n"
+        "  epistemica plan specs/planning/two_robots_implicit.epi --implicit --explain\n"
+        "  epistemica plan specs/planning/two_robots_implicit.epi --implicit "
+        "--verify go_r2_g2,go_r1_g1\n",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     plan.add_argument("file", metavar="SPEC", help="a spec file with a 'goal' line")
-    plan.add_argument("--search", choices=("bfs", "astar", "greedy"), default="bfs")
+    plan.add_argument(
+        "--search", choices=("bfs", "astar", "greedy"), help="search strategy (default: bfs)"
+    )
     plan.add_argument("--max-depth", type=_depth, metavar="N", help="longest plan to try")
     plan.add_argument(
-        "--explain", action="store_true", help="print the epistemic state after each step"
+        "--explain",
+        action="store_true",
+        help="print the epistemic state after each step (and, with --implicit, who acts)",
+    )
+    plan.add_argument(
+        "--implicit",
+        action="store_true",
+        help="find an implicitly coordinated plan; actions need owners ('action NAME by AGENT')",
+    )
+    plan.add_argument(
+        "--verify",
+        metavar="A,B,C",
+        help="check this plan (comma-separated actions) instead of searching; with "
+        "--implicit, whether it is implicitly coordinated and why not",
     )
     plan.add_argument("--json", action="store_true", help="print a JSON object")
     plan.set_defaults(handler=_plan)
@@ -249,8 +272,12 @@ def _plan(args: argparse.Namespace) -> int:
             filename=args.file,
             hint="declare 'action' lines to plan with",
         )
+    if args.verify is not None or args.implicit:
+        from epistemica.cli_coordination import plan_implicit, verify_plan
+
+        return verify_plan(args, spec) if args.verify is not None else plan_implicit(args, spec)
     result = plan_with_stats(
-        spec.model, spec.actions, spec.goal, search=args.search, max_depth=args.max_depth
+        spec.model, spec.actions, spec.goal, search=args.search or "bfs", max_depth=args.max_depth
     )
     check = (
         None if result.plan is None else validate(spec.model, spec.actions, result.plan, spec.goal)

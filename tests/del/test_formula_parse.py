@@ -20,9 +20,11 @@ from epistemica.del_ import (
     Believe,
     Bottom,
     Common,
+    CommonBelief,
     Distributed,
     EpistemicaError,
     Everybody,
+    EverybodyBelieves,
     Iff,
     Implies,
     InvalidArgumentError,
@@ -68,6 +70,10 @@ p, q, r, s = Atom("p"), Atom("q"), Atom("r"), Atom("s")
         ("K[r_2] p", Know("r_2", p)),
         ("E[a,b] p", Everybody(("a", "b"), p)),
         ("C[a, b] p", Common(("a", "b"), p)),
+        ("CB[a, b] p", CommonBelief(("a", "b"), p)),
+        ("EB[b, a, b] p", EverybodyBelieves(("a", "b"), p)),
+        ("CB[a] p & q", And(CommonBelief(("a",), p), q)),
+        ("CB[a, c] EB[b] ~p", CommonBelief(("a", "c"), EverybodyBelieves(("b",), Not(p)))),
         ("D[a] p", Distributed(("a",), p)),
         ("E[b, a, b] p", Everybody(("a", "b"), p)),  # groups are sets
         ("[!p] q", Announce(p, q)),
@@ -156,12 +162,14 @@ def test_keyword_prefixes_are_atoms():
     )
     assert parse_formula("Kw2 -> truex") == Implies(Atom("Kw2"), Atom("truex"))
     assert parse_formula("Kx") == Atom("Kx")
+    assert parse_formula("CBx | EB1") == Or(Atom("CBx"), Atom("EB1"))
 
 
 def test_reserved_words_allowed_inside_brackets():
     # Where only a name can occur (agents, actions, arguments), keywords are names.
     assert parse_formula("K[K] p") == Know("K", p)
     assert parse_formula("C[E, and] p") == Common(("E", "and"), p)
+    assert parse_formula("CB[CB, EB] p") == CommonBelief(("CB", "EB"), p)
     assert parse_formula("[not] p") == After("not", p)
     assert parse_formula("at(true, K)") == Atom("at", ("true", "K"))
 
@@ -179,6 +187,8 @@ def test_reserved_words_allowed_inside_brackets():
         ("K[a] (~K[b] (p))", "K[a] ~K[b] p"),
         ("[!(p & q)] (r)", "[!p & q] r"),
         ("E[c,a] p", "E[a, c] p"),
+        ("CB[c,a] (p)", "CB[a, c] p"),
+        ("EB[a] (p & q)", "EB[a] (p & q)"),
         ("M[a] p", "~K[a] ~p"),
         ("not p and q => r", "~p & q -> r"),
         ("at(r1,g1)", "at(r1, g1)"),
@@ -207,6 +217,9 @@ def test_printing(text, printed):
         ("p q", 1, 3, "found 'q'", "connective such as '&'"),
         ("K p", 1, 3, "expected '[', found 'p'", "K[a] p"),
         ("K[a, b] p", 1, 4, "found ','", "use E[...], C[...] or D[...]"),
+        ("B[a, b] p", 1, 4, "found ','", "use EB[...] or CB[...]"),
+        ("CB[] p", 1, 4, "expected an agent name, found ']'", "at least one agent"),
+        ("CB & p", 1, 4, "expected '['", "reserved word"),
         ("E & p", 1, 3, "expected '['", "reserved word"),
         ("p = q", 1, 3, "unexpected character '='", "'->'"),
         ("p - q", 1, 3, "unexpected character '-'", "did you mean '->'?"),

@@ -9,9 +9,12 @@ from hypothesis import strategies as st
 from epistemica.del_ import (
     Announce,
     Believe,
+    Bottom,
     Common,
+    CommonBelief,
     Distributed,
     Everybody,
+    EverybodyBelieves,
     Iff,
     Implies,
     Know,
@@ -49,6 +52,43 @@ def test_group_knowledge_chain(model, f, group, a):
     assert valid(model, Implies(Everybody(group, f), f))
     # K_a f -> D_G f for a in G (and for the group extended by a).
     assert valid(model, Implies(Know(a, f), Distributed((*group, a), f)))
+
+
+groups = st.lists(agent, min_size=1, unique=True)
+any_kind = st.sampled_from(["s5", "kd45", "any", "kd45-s5"]).flatmap(models)
+
+
+@settings(max_examples=60)
+@given(models("s5"), small, groups)
+def test_common_belief_is_common_knowledge_on_s5(model, f, group):
+    assert valid(model, Iff(CommonBelief(group, f), Common(group, f)))
+    assert valid(model, Iff(EverybodyBelieves(group, f), Everybody(group, f)))
+
+
+@settings(max_examples=60)
+@given(st.sampled_from(["kd45", "kd45-s5"]).flatmap(models), small, groups)
+def test_common_belief_implies_everybody_believes_on_kd45(model, f, group):
+    assert valid(model, Implies(CommonBelief(group, f), EverybodyBelieves(group, f)))
+    # KD45 belief is consistent: common belief in false is impossible.
+    assert not model.truth_mask(CommonBelief(group, Bottom())).any()
+
+
+@settings(max_examples=80)
+@given(any_kind, small, groups)
+def test_common_belief_fixpoint_and_induction(model, f, group):
+    # Valid on every frame: CB f holds at w iff f holds at every world reachable in
+    # >= 1 steps; by induction on the length of the path, EB f plus (f -> EB f) at
+    # every reachable world gives f at all of them.
+    EB = lambda x: EverybodyBelieves(group, x)  # noqa: E731
+    CB = lambda x: CommonBelief(group, x)  # noqa: E731
+    assert valid(model, Iff(CB(f), EB(f & CB(f))))
+    assert valid(model, Implies(CB(Implies(f, EB(f))) & EB(f), CB(f)))
+
+
+@settings(max_examples=60)
+@given(models("kd45-s5"), small, groups)
+def test_common_knowledge_implies_common_belief_when_belief_is_inside_knowledge(model, f, group):
+    assert valid(model, Implies(Common(group, f), CommonBelief(group, f)))
 
 
 @settings(max_examples=80)

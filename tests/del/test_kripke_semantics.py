@@ -13,7 +13,7 @@ from epistemic_strategies import formulas, models, reference_truth
 
 
 @settings(max_examples=150)
-@given(st.sampled_from(["s5", "kd45", "any"]).flatmap(models), formulas())
+@given(st.sampled_from(["s5", "kd45", "any", "kd45-s5"]).flatmap(models), formulas())
 def test_checker_matches_reference(model, formula):
     assert model.truth_set(formula) == reference_truth(model, formula)
 
@@ -76,3 +76,26 @@ def test_distributed_knowledge_is_the_intersection():
         "pq",
     )
     assert m.holds("D[a, b] (p & q) & ~K[a] q & ~K[b] p")
+
+
+def test_common_belief_follows_belief_not_knowledge():
+    # Sally-Anne in miniature: p is true at w, a cannot tell w from v (knowledge) but
+    # believes v (~p) everywhere. Reachable by belief from w: {v} only; by knowledge: {w, v}.
+    m = KripkeModel(
+        ["w", "v"],
+        {"w": {"p"}},
+        {"a": [("w", "v"), ("v", "v")], "b": [("w", "v"), ("v", "v")]},
+        "w",
+        knowledge={"a": [(x, y) for x in "wv" for y in "wv"], "b": [("w", "w"), ("v", "v")]},
+    )
+    assert m.holds("p & CB[a, b] ~p & EB[a, b] ~p")  # a shared false belief
+    assert m.holds("~C[a] ~p & ~E[a, b] ~p & K[b] p")
+    assert m.holds("~CB[a, b] p & C[b] p")
+
+
+def test_common_belief_needs_one_step_and_is_vacuous_without_successors():
+    # w0 -> w1 -> w2 (dead end): CB[a] p at w0 looks at w1 and w2, not at w0 itself.
+    m = KripkeModel([0, 1, 2], {1: {"p"}, 2: {"p"}}, {"a": [(0, 1), (1, 2)]}, [0, 1, 2])
+    assert m.truth_set("CB[a] p") == {0, 1, 2}
+    assert m.truth_set("CB[a] false") == {2}
+    assert m.truth_set("EB[a] ~p") == {2}

@@ -221,6 +221,73 @@ def test_observability_block_announces_and_pre():
     assert spec.holds("[say] (K[a] p & ~Kw[b] p & K[b] Kw[a] p)")
 
 
+# b falsely believes that a does not know p: b believes the world w2, where p holds
+# but a cannot tell it from w3 (~p); actually (w1) a knows p.
+FALSE_BELIEF = """
+agents a, b
+atoms p
+world w1 {p}
+world w2 {p}
+world w3 {}
+partition a: {w1}, {w2, w3}
+relation b: w1 -> w2, w2 -> w2, w3 -> w2
+knowledge b: {w1, w2, w3}
+designated w1
+"""
+
+
+def test_executable_is_checked_at_the_actual_world_only():
+    # mA*: B[a] p holds at w1 only. b sees the announcement as the event "p" (its belief
+    # world w2 survives), so b comes to believe p, and that a knows it.
+    text = FALSE_BELIEF + "action tell {\n announces p\n executable B[a] p\n full a, b\n}"
+    spec = parse_spec(text)
+    assert spec.holds("B[b] ~K[a] p & [tell] (B[b] p & B[b] K[a] p & ~B[b] false)")
+    # The condition is not observed, but it is required where the action happens.
+    assert spec.model.is_applicable(spec.actions["tell"])
+    not_here = parse_spec(text.replace("designated w1", "designated w2"))
+    assert not not_here.model.is_applicable(not_here.actions["tell"])
+
+
+def test_precondition_inside_the_events_collapses_the_observers_beliefs():
+    # The same condition as `pre`: every event requires B[a] p, which fails at b's only
+    # belief world w2, so after the action b has no belief world and believes everything.
+    text = FALSE_BELIEF + "action tell {\n pre B[a] p\n announces p\n full a, b\n}"
+    assert parse_spec(text).holds("[tell] B[b] false")
+
+
+def test_executable_line_compiles_to_observability_action():
+    from epistemica.del_ import observability_action
+
+    text = BASE + "action say {\n pre q\n announces p\n executable K[a] p\n full a\n}"
+    got = parse_spec(text).actions["say"]
+    want = observability_action(["a", "b"], pre="q", announces="p", full=["a"],
+                                name="say", executable="K[a] p")  # fmt: skip
+    assert got.events == want.events and got.pre == want.pre and got.post == want.post
+    assert got.designated == want.designated == ("say!",)
+    assert got._edges == want._edges and got._know_edges == want._know_edges
+
+
+def test_action_owners_by_name_and_by_parameter():
+    text = """
+    agents a, b
+    atoms open(a), open(b), p
+    actual {}
+    action open(i in agents) by i: assign open(i) := true
+    action tell by b { announces p  full a, b }
+    action toss: assign p := ~p
+    """
+    spec = parse_spec(text)
+    assert spec.owners == {"open(a)": "a", "open(b)": "b", "tell": "b"}
+    assert parse_spec("agents a\natoms p\naction x: public p").owners == {}
+
+
+def test_the_word_by_still_names_sensing_observers_and_atoms():
+    text = "agents a, b\natoms by\nactual {by}\naction look by a: sense by by b"
+    spec = parse_spec(text)
+    assert spec.owners == {"look": "a"}
+    assert spec.holds("[look] (K[b] by & ~Kw[a] by)")
+
+
 def test_explicit_event_model_with_edge_conditions():
     # Two events: 'on' sets q, 'off' clears it. a tells them apart only where p holds.
     text = """

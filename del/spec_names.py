@@ -1,0 +1,155 @@
+"""Names in spec files: ranges, predicate atoms, parameters and action schemas.
+
+Helper of :mod:`epistemica.del_.spec_compiler`. A list of names may use ranges
+(``m1..m4``, ``m[1..4]``); a predicate atom expands over the ranges of its arguments
+(``at(r1..r2, g1)``); a parametrised action header ``action open(i in agents)`` expands
+into one action per binding of its parameters, and the parameters are substituted in the
+action's formulas (:func:`bind`) and lists. The functions take the spec compiler as their
+first argument and raise its located :class:`~epistemica.del_.errors.SpecError`.
+
+Examples
+--------
+>>> names_hint("alcie", ["alice", "bob"], "agent")
+"declared agents: alice, bob; did you mean 'alice'?"
+"""
+
+from __future__ import annotations
+
+import difflib
+import itertools
+import re
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from lark import Token, Tree
+
+__all__ = ["MAX_RANGE", "atom_items", "atom_ref", "bind", "expand", "headers", "names_hint"]
+
+#: A range such as m1..m1000000 is almost certainly a typo; refuse it before it eats memory.
+MAX_RANGE = 100_000
+_NUMBERED = re.compile(r"^(.*?)(\d+)$")
+
+
+def expand(comp: Any, item: Tree | Token, env: Mapping[str, str]) -> list[tuple[str, Token]]:
+    """Names of a ``names``/``name`` node with ranges expanded and parameters bound."""
+    if isinstance(item, Token):
+        return [(env.get(str(item), str(item)), item)]
+    if item.data == "names" or item.data == "arguments":
+        return [pair for child in item.children for pair in expand(comp, child, env)]
+    if item.data in ("single", "number"):
+        return expand(comp, item.children[0], env)
+    if item.data == "indexed":
+        stem, low, high = item.children
+        return _range(comp, stem, str(stem), int(low), int(high), len(str(low)), high)
+    first, last = item.children  # span: m1..m4
+    head, tail = _NUMBERED.match(str(first)), _NUMBERED.match(str(last))
+    if head is None or tail is None or head.group(1) != tail.group(1):
+        raise comp.error(
+            f"cannot expand the range {first}..{last}",
+            first,
+            "a range joins two names that differ only in a final number, as in m1..m4",
+        )
+    digits = head.group(2)
+    return _range(comp, first, head.group(1), int(digits), int(tail.group(2)), len(digits), last)
+
+
+def _range(comp: Any, at: Token, stem: str, low: int, high: int, width: int, end: Token):
+    if high < low:
+        raise comp.error(f"empty range from {low} to {high}", end, "write the smaller first")
+    if high - low >= MAX_RANGE:
+        raise comp.error(
+            f"the range has {high - low + 1} names, more than {MAX_RANGE}", end,
+            "check the bounds of the range",
+        )  # fmt: skip
+    width = width if width > 1 else 1  # m01..m10 keeps its zero padding
+    return [(f"{stem}{i:0{width}d}", at) for i in range(low, high + 1)]
+
+
+def atom_items(comp: Any, node: Tree, env: Mapping[str, str]) -> list[tuple[str, Token]]:
+    """Atom keys of an ``atoms`` node (predicates expanded over their argument ranges)."""
+    found = []
+    for child in node.children:
+        if isinstance(child, Tree) and child.data == "predicate":
+            stem, arguments = child.children
+            options = [[n for n, _ in expand(comp, a, env)] for a in arguments.children]
+            for combo in itertools.product(*options):
+                found.append((f"{stem}({', '.join(combo)})", stem))
+        else:
+            found.extend(expand(comp, child, env))
+    return found
+
+
+def atom_ref(comp: Any, node: Tree, env: Mapping[str, str]) -> tuple[str, Token]:
+    """The key of an ``atom_ref`` node (the target of an assignment), parameters bound."""
+    stem, arguments = node.children
+    if arguments is None:
+        return env.get(str(stem), str(stem)), stem
+    args = [n for n, _ in expand(comp, arguments, env)]
+    return f"{stem}({', '.join(args)})", stem
+
+
+def bind(tree: Tree, env: Mapping[str, str]) -> Tree:
+    """A copy of a formula tree with parameter names replaced, positions kept."""
+    children = []
+    for child in tree.children:
+        if isinstance(child, Tree):
+            children.append(bind(child, env))
+        elif isinstance(child, Token) and child.type in ("NAME", "INT") and str(child) in env:
+            children.append(child.update(value=env[str(child)]))
+        else:
+            children.append(child)
+    return Tree(tree.data, children, tree.meta)
+
+
+def headers(comp: Any, decls: list[Tree], agents: tuple[str, ...]) -> dict[str, tuple]:
+    """Action name -> (declaration, parameter binding), schemas expanded in order.
+
+    A schema ``action tell(i in {a, b}, x in agents)`` contributes ``tell(a, a)``,
+    ``tell(a, b)``, ... (the product of the domains, in the order written).
+    """
+    found: dict[str, tuple] = {}
+    for decl in decls:
+        name, parameters = decl.children[:2]
+        bindings: list[dict[str, str]] = [{}]
+        if parameters is not None:
+            names, domains = [], []
+            for param in parameters.children:
+                pname, domain = param.children
+                if str(pname) in names:
+                    raise comp.error(f"parameter '{pname}' given twice", pname, "rename one")
+                if str(pname) in agents:
+                    raise comp.error(
+                        f"parameter '{pname}' has the name of an agent", pname,
+                        "rename the parameter, e.g. to 'i'",
+                    )  # fmt: skip
+                names.append(str(pname))
+                if domain.data == "all_agents":
+                    domains.append(list(agents))
+                else:
+                    domains.append(
+                        list(dict.fromkeys(n for n, _ in expand(comp, domain.children[0], {})))
+                    )
+            bindings = [
+                dict(zip(names, combo, strict=True)) for combo in itertools.product(*domains)
+            ]
+        for env in bindings:
+            key = str(name) if not env else f"{name}({', '.join(env.values())})"
+            if key in found:
+                first = found[key][0].children[0]
+                raise comp.error(
+                    f"action '{key}' declared twice", name,
+                    f"first declared at {first.line}:{first.column}; rename one",
+                )  # fmt: skip
+            found[key] = (decl, env)
+    return found
+
+
+def names_hint(name: str, options: Iterable[str], kind: str = "name") -> str:
+    """A hint listing the declared names, with the closest match to ``name`` if any."""
+    options = sorted(set(options))
+    listing = ", ".join(options[:12]) + (", ..." if len(options) > 12 else "")
+    hint = f"declared {kind}s: {listing}" if options else f"no {kind}s are declared"
+    match = difflib.get_close_matches(name, options, n=1)
+    if match:
+        hint += f"; did you mean '{match[0]}'?"
+    return hint

@@ -1,0 +1,210 @@
+"""``epistemica plan --implicit`` and ``--verify``: implicitly coordinated plans.
+
+Helper of :mod:`epistemica.cli`. With ``--implicit`` the planner searches for a plan in
+which the owner of every step (``action NAME by AGENT`` in the spec) knows, from its
+own perspective, that the rest of the plan reaches the goal
+(:func:`epistemica.del_.coordination.plan_implicitly_coordinated`). ``--verify A,B,C``
+checks a given plan instead: with ``--implicit`` whether it is implicitly coordinated
+(and if not, which step fails, for which owner and why), without it whether it is
+valid. Exit status as for the rest of the command line: 0 yes, 1 no, 2 bad input.
+
+Examples
+--------
+>>> split_plan("go_r1_g1, open(a, 2),go_r2_g2")
+['go_r1_g1', 'open(a, 2)', 'go_r2_g2']
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import Any
+
+from epistemica.del_.errors import InvalidArgumentError, SpecError
+
+__all__ = ["plan_implicit", "split_plan", "verify_plan"]
+
+EXIT_OK, EXIT_FALSE = 0, 1
+
+
+def split_plan(text: str) -> list[str]:
+    """The action names of a comma-separated plan; commas inside ``(...)`` are kept.
+
+    Raises
+    ------
+    InvalidArgumentError
+        An empty step or unbalanced parentheses.
+    """
+    steps, depth, current = [], 0, []
+    for char in text:
+        if char == "," and depth == 0:
+            steps.append("".join(current))
+            current = []
+            continue
+        depth += {"(": 1, ")": -1}.get(char, 0)
+        if depth < 0:
+            break
+        current.append(char)
+    steps.append("".join(current))
+    names = [" ".join(step.split()).replace("( ", "(").replace(" )", ")") for step in steps]
+    if depth != 0 or not all(names):
+        raise InvalidArgumentError(
+            f"cannot read the plan {text!r}",
+            hint="list action names separated by commas, e.g. --verify go_r1_g1,go_r2_g2",
+        )
+    # Arguments are canonical with one space after each comma, as in `open(a, 2)`.
+    return [_canonical(name) for name in names]
+
+
+def _canonical(name: str) -> str:
+    stem, paren, rest = name.partition("(")
+    if not paren:
+        return name
+    args = rest[:-1].split(",") if rest.endswith(")") else [rest]
+    return f"{stem.strip()}({', '.join(a.strip() for a in args)})"
+
+
+def _owners(spec: Any, file: str) -> dict[str, str]:
+    missing = [name for name in spec.actions if name not in spec.owners]
+    if missing:
+        raise SpecError(
+            f"action '{missing[0]}' has no owner"
+            + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""),
+            filename=file,
+            hint="implicit coordination needs the agent that executes each action: declare "
+            "it as 'action NAME by AGENT { ... }' (schemas: 'action go(i in agents) by i')",
+        )
+    return dict(spec.owners)
+
+
+def _check_steps(spec: Any, steps: list[str]) -> None:
+    from epistemica.del_.spec_names import names_hint
+
+    for name in steps:
+        if name not in spec.actions:
+            raise InvalidArgumentError(
+                f"the plan names an unknown action '{name}'",
+                hint=names_hint(name, spec.actions, "action"),
+            )
+
+
+def _states(spec: Any, steps: list[str]) -> list[str]:
+    from epistemica.del_.describe import describe_model
+    from epistemica.del_.planner import validate
+
+    run = validate(spec.model, spec.actions, steps, spec.goal)
+    return [describe_model(s) for s in run.states]
+
+
+def _print_steps(steps: list[str], owners: dict[str, str], states: list[str] | None) -> None:
+    # With states (--explain): the state after each step, and each step's acting agent.
+    if states is not None:
+        print("initial state:")
+        print(_indent(states[0]))
+    for i, name in enumerate(steps, start=1):
+        print(f"  {i}. {name}" + (f"  (by {owners[name]})" if name in owners else ""))
+        if states is not None and i < len(states):
+            print(_indent(states[i]))
+
+
+def _report_json(report: Any) -> dict[str, Any]:
+    return {
+        "coordinated": report.coordinated,
+        "reason": report.reason,
+        "step": None if report.step is None else report.step + 1,
+        "agent": report.agent,
+        "action": report.action,
+        "kind": report.kind,
+        "world": None if report.world is None else str(report.world),
+    }
+
+
+def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
+    """Search for the shortest implicitly coordinated plan (breadth-first)."""
+    from epistemica.del_.coordination import (
+        check_implicit_coordination,
+        plan_implicitly_coordinated_with_stats,
+    )
+
+    if args.search not in (None, "bfs"):
+        raise InvalidArgumentError(
+            f"--implicit searches breadth-first only, not with --search {args.search}",
+            hint="drop --search (implicitly coordinated plans are found by BFS)",
+        )
+    owners = _owners(spec, args.file)
+    result = plan_implicitly_coordinated_with_stats(
+        spec.model, spec.actions, owners, spec.goal, max_depth=args.max_depth
+    )
+    report = None
+    if result.plan is not None:
+        report = check_implicit_coordination(
+            spec.model, spec.actions, owners, result.plan, spec.goal
+        )
+    ok = report is not None and report.coordinated
+    if args.json:
+        out = {
+            "file": args.file,
+            "goal": str(spec.goal),
+            "implicit": True,
+            "plan": result.plan,
+            "owners": None if result.plan is None else [owners[n] for n in result.plan],
+            "length": result.length,
+            **({"coordinated": False, "reason": None} if report is None else _report_json(report)),
+            "expanded": result.expanded,
+            "generated": result.generated,
+            "distinct": result.distinct,
+            "seconds": round(result.seconds, 6),
+            "complete": result.complete,
+        }
+        if args.explain and result.plan is not None:
+            out["states"] = _states(spec, result.plan)
+        print(json.dumps(out, indent=2))
+        return EXIT_OK if ok else EXIT_FALSE
+    stats = f"bfs, {result.distinct} distinct states, {result.seconds:.3f} s"
+    if result.plan is None:
+        why = "exists" if result.complete else "within the search bound"
+        print(f"no implicitly coordinated plan {why} for goal {spec.goal} ({stats})")
+        return EXIT_FALSE
+    n = result.length
+    print(f"implicitly coordinated plan of {n} step{'s' if n != 1 else ''} ({stats}):")
+    if args.explain:
+        _print_steps(result.plan, owners, _states(spec, result.plan))
+    else:
+        _print_steps(result.plan, {}, None)
+    print(("coordinated: " if ok else "NOT COORDINATED: ") + report.reason)
+    return EXIT_OK if ok else EXIT_FALSE
+
+
+def verify_plan(args: argparse.Namespace, spec: Any) -> int:
+    """Check the plan given with ``--verify``: implicitly coordinated, or just valid."""
+    from epistemica.del_.coordination import check_implicit_coordination
+    from epistemica.del_.planner import validate
+
+    steps = split_plan(args.verify)
+    _check_steps(spec, steps)
+    if args.implicit:
+        owners = _owners(spec, args.file)
+        report = check_implicit_coordination(spec.model, spec.actions, owners, steps, spec.goal)
+        ok, reason, verdict = report.coordinated, report.reason, "implicitly coordinated"
+        extra = _report_json(report)
+    else:
+        owners = dict(spec.owners)
+        run = validate(spec.model, spec.actions, steps, spec.goal)
+        ok, reason, verdict = run.valid, run.reason, "valid"
+        extra = {"valid": run.valid, "reason": run.reason, "step": run.step}
+    if args.json:
+        out = {"file": args.file, "goal": str(spec.goal), "implicit": args.implicit}
+        out.update({"plan": steps, **extra})
+        if args.explain:
+            out["states"] = _states(spec, steps)
+        print(json.dumps(out, indent=2))
+        return EXIT_OK if ok else EXIT_FALSE
+    print(f"plan {', '.join(steps)}: {'' if ok else 'not '}{verdict}")
+    if args.explain:
+        _print_steps(steps, owners, _states(spec, steps))
+    print(f"  {reason}")
+    return EXIT_OK if ok else EXIT_FALSE
+
+
+def _indent(text: str) -> str:
+    return "\n".join("       " + line for line in text.splitlines())
