@@ -124,7 +124,11 @@ class ActionModel:
                     f"knowledge edges given for unknown agent {a!r}",
                     hint=f"agents with a relation: {', '.join(self.agents)}",
                 )
-            self._know_edges[str(a)] = _edges(index, edges, a)
+            known = _edges(index, edges, a)
+            # Equal edges share one object, so the product computes the relation once.
+            self._know_edges[str(a)] = (
+                self._edges[str(a)] if known == self._edges[str(a)] else known
+            )
         try:
             points = [index[designated]]
         except (KeyError, TypeError):
@@ -175,11 +179,13 @@ def _check_agents(model: KripkeModel, action: ActionModel) -> None:
 
 
 def product_with_provenance(
-    model: KripkeModel, action: ActionModel
+    model: KripkeModel, action: ActionModel, *, beliefs_only: bool = False
 ) -> tuple[KripkeModel, np.ndarray, np.ndarray]:
     """The full product ``model ⊗ action`` and, per product world, its world and event.
 
-    Unlike :func:`product_update`, the product may have no designated world.
+    Unlike :func:`product_update`, the product may have no designated world. With
+    ``beliefs_only``, the separate knowledge relations are not computed (``K`` then reads
+    the belief relation): for callers whose formulas never mention knowledge.
     """
     _check_agents(model, action)
     blocks = [np.flatnonzero(checker.evaluate(model, pre)) for pre in action.pre]
@@ -204,7 +210,7 @@ def product_with_provenance(
         rel[agent] = _product_relation(model, model._rel[agent], action._edges[agent], blocks)
         same_model = model._know[agent] is model._rel[agent]
         same_action = action._know_edges[agent] is action._edges[agent]
-        if same_model and same_action:
+        if beliefs_only or (same_model and same_action):
             know[agent] = rel[agent]
         else:
             edges = action._know_edges[agent]
@@ -323,8 +329,13 @@ def is_applicable(model: KripkeModel, action: ActionModel) -> bool:
     return False
 
 
-def product_update(model: KripkeModel, action: ActionModel) -> KripkeModel:
+def product_update(
+    model: KripkeModel, action: ActionModel, *, beliefs_only: bool = False
+) -> KripkeModel:
     """The product update ``model ⊗ action``, pointed at the executable designated pairs.
+
+    ``beliefs_only`` skips the separate knowledge relations (see
+    :func:`product_with_provenance`).
 
     Raises
     ------
@@ -344,7 +355,7 @@ def product_update(model: KripkeModel, action: ActionModel) -> KripkeModel:
             "designated world",
             hint="check model.is_applicable(action) before updating",
         )
-    return product_with_provenance(model, action)[0]
+    return product_with_provenance(model, action, beliefs_only=beliefs_only)[0]
 
 
 def _reflexive(agents: Iterable[str], events: Sequence[Event]) -> dict[str, list[tuple]]:

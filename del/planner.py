@@ -55,11 +55,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel
+from epistemica.del_.action import ActionModel, product_update
 from epistemica.del_.bisimulation import generated_submodel, quotient
 from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import And, Formula
+from epistemica.del_.formula import (
+    And,
+    Common,
+    Distributed,
+    Everybody,
+    Formula,
+    Know,
+    KnowWhether,
+)
 from epistemica.del_.kripke import KripkeModel
 from epistemica.del_.relations import Partition, Relation
 
@@ -72,6 +80,7 @@ __all__ = [
     "goal_count",
     "plan",
     "plan_with_stats",
+    "uses_knowledge",
     "validate",
 ]
 
@@ -213,11 +222,16 @@ def plan_with_stats(
     _check_problem(initial, actions)
     tree = as_formula(goal)
     table = dict(actions)
+    # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
+    # the search then tracks belief relations only (half the relational work).
+    beliefs_only = not uses_knowledge(tree, table.values())
+    if beliefs_only:
+        initial = _forget_knowledge(initial)
 
     def successors(state: KripkeModel) -> Iterable[tuple[str, KripkeModel]]:
         for name, action in table.items():
             if applicable(state, action):
-                yield name, state.update(action)
+                yield name, product_update(state, action, beliefs_only=beliefs_only)
 
     def is_goal(state: KripkeModel) -> bool:
         return state.holds(tree, actions=table)
@@ -296,6 +310,39 @@ def validate(
         )
     return Validation(
         True, f"the plan reaches the goal in {len(steps)} step(s)", None, tuple(states)
+    )
+
+
+_KNOWLEDGE_NODES = (Know, KnowWhether, Everybody, Common, Distributed)
+
+
+def uses_knowledge(goal: Formula, actions: Iterable[ActionModel]) -> bool:
+    """Whether a knowledge modality occurs in the goal or in any action's formulas.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import parse_formula, public_announcement
+    >>> uses_knowledge(parse_formula("B[a] p"), [public_announcement("K[a] p", ["a"])])
+    True
+    >>> uses_knowledge(parse_formula("B[a] p"), [public_announcement("p", ["a"])])
+    False
+    """
+    formulas = [goal]
+    for action in actions:
+        formulas.extend(action.pre)
+        formulas.extend(v for changes in action.post for v in changes.values())
+        for edges in (*action._edges.values(), *action._know_edges.values()):
+            formulas.extend(c for _, _, c in edges if c is not None)
+    return any(isinstance(g, _KNOWLEDGE_NODES) for f in formulas for g in f.subformulas())
+
+
+def _forget_knowledge(state: KripkeModel) -> KripkeModel:
+    """The same state with each agent's knowledge relation replaced by its belief relation."""
+    if not state.has_separate_knowledge():
+        return state
+    rel = state._rel
+    return KripkeModel._from_arrays(
+        state._names, state.atoms, state._val, state.agents, rel, dict(rel), state._designated
     )
 
 
@@ -554,7 +601,11 @@ def _canonical_bitmasks(
     while True:
         if count > _MASK_BITS:
             return None
-        described = [labels] + [_reached_mask(r, labels) for r in relations]
+        masks: dict[int, np.ndarray] = {}  # a relation shared by belief and knowledge
+        for r in relations:
+            if id(r) not in masks:
+                masks[id(r)] = _reached_mask(r, labels)
+        described = [labels] + [masks[id(r)] for r in relations]
         order = np.lexsort(described[::-1])
         changed = np.zeros(len(labels), dtype=bool)
         for column in described:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -19,6 +20,7 @@ from epistemica.del_ import (
 )
 from epistemica.del_.planner import canonical_key
 
+SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 AGENTS = ["a", "b"]
 
 
@@ -108,7 +110,10 @@ POOL = {
     "tell_p": dict(announces="p", executable="K[a] p", full=AGENTS),
     "tell_q_if": dict(pre="K[b] q", announces="q", full={"a": True, "b": True}),
 }
-GOALS = ["K[a] p", "K[b] q & ~K[a] q", "B[b] ~q & q", "K[b] K[a] p", "Kw[a] q & p", "~p & K[b] p"]
+GOALS = [
+    "K[a] p", "K[b] q & ~K[a] q", "B[b] ~q & q", "K[b] K[a] p", "Kw[a] q & p", "~p & K[b] p",
+    "B[a] p & B[b] ~p", "B[b] B[a] q & ~q", "CB[a, b] p",
+]  # fmt: skip
 
 
 @st.composite
@@ -151,3 +156,20 @@ def test_canonical_key_decides_bisimilarity(first, second):
     same = canonical_key(m1.minimize()) == canonical_key(m2.minimize())
     assert same == bisimilar(m1, m2)
     assert canonical_key(m1.minimize()) == canonical_key(m1.minimize().minimize())
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["coin_in_the_box_b", "coin_in_the_box_d", "sally_anne", "cc_2_2_3_pl4", "grapevine"],
+)
+def test_belief_only_search_finds_the_same_lengths(name, monkeypatch):
+    """Tracking beliefs only (no K in the problem) must not change the shortest length."""
+    from epistemica.del_ import load_spec, planner
+
+    spec = load_spec(SPECS / f"{name}.epi")
+    assert not planner.uses_knowledge(spec.goal, spec.actions.values())
+    light = planner.plan(spec.model, spec.actions, spec.goal)
+    monkeypatch.setattr(planner, "uses_knowledge", lambda *args: True)
+    full = planner.plan(spec.model, spec.actions, spec.goal)
+    assert light is not None and full is not None and len(light) == len(full)
+    assert validate(spec.model, spec.actions, light, spec.goal)
