@@ -605,11 +605,11 @@ def _canonical_bitmasks(
         for r in relations:
             if id(r) not in masks:
                 masks[id(r)] = _reached_mask(r, labels)
-        described = [labels] + [masks[id(r)] for r in relations]
-        order = np.lexsort(described[::-1])
+        described = np.column_stack([labels] + [masks[id(r)] for r in relations])
+        order = np.lexsort(described.T[::-1])
+        ordered = described[order]
         changed = np.zeros(len(labels), dtype=bool)
-        for column in described:
-            changed[1:] |= np.diff(column[order]) != 0
+        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
         refined = np.empty_like(labels)
         refined[order] = np.cumsum(changed)
         new_count = int(refined.max()) + 1
@@ -618,7 +618,7 @@ def _canonical_bitmasks(
             break
         count = new_count
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
-    table = np.column_stack([codes, *described[1:]])[first]
+    table = np.column_stack([codes, described[:, 1:]])[first]
     points = tuple(np.unique(labels[state._designated]).tolist())
     return labels.tolist(), (tuple(atoms), table.tobytes(), points)
 
