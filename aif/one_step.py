@@ -41,6 +41,7 @@ from epistemica.aif._validate import (
     as_distribution,
     as_finite,
     as_log_values,
+    nonnegative,
     positive,
     positive_int,
 )
@@ -123,8 +124,8 @@ class OneStepEFE:
             raise InvalidArgumentError(
                 f"weight must lie in [0, 1], got {weight!r}", hint="the published runs use 0.2"
             )
-        self.progress_weight = float(progress_weight)
-        self.social_weight = float(social_weight)
+        self.progress_weight = nonnegative(progress_weight, "progress_weight")
+        self.social_weight = nonnegative(social_weight, "social_weight")
         self.preference_floor = float(preference_floor)
         if not 0.0 < self.preference_floor < 1.0:
             raise InvalidArgumentError("preference_floor must lie in (0, 1)", hint="e.g. 0.01")
