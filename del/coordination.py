@@ -54,13 +54,8 @@ from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import Formula
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.planner import (
-    PlanResult,
-    _check_problem,
-    applicable,
-    inapplicable_worlds,
-    search_states,
-)
+from epistemica.del_.planner import _check_problem, applicable, inapplicable_worlds
+from epistemica.del_.state_space import PlanResult, search_states
 
 __all__ = [
     "CoordinationReport",

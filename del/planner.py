@@ -18,13 +18,9 @@ Search: ``"bfs"`` (breadth-first, shortest plans), ``"greedy"`` (greedy best-fir
 ``"astar"`` (A*), the last two guided by a heuristic (default: the number of top-level
 conjuncts of the goal that do not hold yet, which is not admissible, so A* with it may
 return a longer plan than breadth-first search; ``heuristic="blind"`` is admissible).
-States are deduplicated up to bisimulation: each contracted state is keyed by an exact
-canonical form of its bisimulation class (:func:`canonical_key`, a partition refinement
-with order-independent class names), so a hash lookup replaces pairwise
-:func:`~epistemica.del_.bisimulation.bisimilar` tests.
-One object is kept per distinct state, so the engine's per-model memo of truth sets is
-reused by every precondition and goal test on that state, and nested modalities are
-evaluated once per subformula and state.
+The engine is :func:`~epistemica.del_.state_space.search_states`, which stores each state
+once up to bisimulation (keyed by :func:`~epistemica.del_.canonical.canonical_key`), so
+the per-model memo of truth sets is reused by every precondition and goal test on it.
 
 The search terminates whenever finitely many states are reachable up to bisimulation
 (for example with public actions only); plan existence in DEL is undecidable in general,
@@ -46,17 +42,13 @@ True
 
 from __future__ import annotations
 
-import heapq
-import math
-import time
-from collections import deque
-from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
+from collections.abc import Hashable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from epistemica.del_.action import ActionModel, product_update
-from epistemica.del_.bisimulation import generated_submodel, quotient
+from epistemica.del_.canonical import canonical_key
 from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import (
@@ -69,8 +61,9 @@ from epistemica.del_.formula import (
     KnowWhether,
 )
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition, Relation
+from epistemica.del_.state_space import SEARCHES, Heuristic, PlanResult, search_states
 
+# SEARCHES, PlanResult (from state_space) and canonical_key are re-exported here.
 __all__ = [
     "SEARCHES",
     "PlanResult",
@@ -83,52 +76,6 @@ __all__ = [
     "uses_knowledge",
     "validate",
 ]
-
-SEARCHES = ("bfs", "greedy", "astar")
-
-Heuristic = Callable[[KripkeModel], float]
-
-
-@dataclass(frozen=True)
-class PlanResult:
-    """The outcome of a search, with statistics.
-
-    Attributes
-    ----------
-    plan : list of str or None
-        The action names of the plan found, or ``None``.
-    expanded : int
-        States whose successors were generated.
-    generated : int
-        Successor states produced (before duplicate detection).
-    distinct : int
-        Distinct states (up to bisimulation) stored.
-    seconds : float
-        Wall-clock time of the search.
-    complete : bool
-        True when the search ended without hitting ``max_depth`` or ``max_states``;
-        then ``plan is None`` proves that no plan exists.
-    search : str
-        The strategy used.
-    """
-
-    plan: list[str] | None
-    expanded: int
-    generated: int
-    distinct: int
-    seconds: float
-    complete: bool
-    search: str
-
-    @property
-    def solved(self) -> bool:
-        """Whether a plan was found."""
-        return self.plan is not None
-
-    @property
-    def length(self) -> int | None:
-        """The number of actions of the plan, or ``None``."""
-        return None if self.plan is None else len(self.plan)
 
 
 @dataclass(frozen=True)
@@ -395,289 +342,6 @@ def goal_count(goal: Formula | str) -> Heuristic:
     return count
 
 
-def search_states(
-    initial: KripkeModel,
-    successors: Callable[[KripkeModel], Iterable[tuple[str, KripkeModel]]],
-    is_goal: Callable[[KripkeModel], bool],
-    search: str = "bfs",
-    max_depth: int | None = None,
-    heuristic: Heuristic | None = None,
-    max_states: int | None = None,
-) -> PlanResult:
-    """Generic search over epistemic states with duplicate detection up to bisimulation.
-
-    ``successors(state)`` yields ``(action name, next state)`` pairs; next states are
-    contracted and deduplicated here. Used by :func:`plan_with_stats` and by the search
-    for implicitly coordinated plans.
-    """
-    if search not in SEARCHES:
-        raise InvalidArgumentError(
-            f"unknown search {search!r}", hint=f"choose one of {', '.join(SEARCHES)}"
-        )
-    _check_bound(max_depth, "max_depth", minimum=0)
-    _check_bound(max_states, "max_states", minimum=1)
-    start = time.perf_counter()
-    table = _StateTable()
-    root = table.add(initial.minimize())[0]
-    parent: dict[int, tuple[int, str] | None] = {root: None}
-    depth = {root: 0}
-    stats = {"expanded": 0, "generated": 0}
-    truncated = False
-
-    def result(found: int | None) -> PlanResult:
-        steps = None
-        if found is not None:
-            steps = []
-            node = found
-            while parent[node] is not None:
-                node, name = parent[node]  # type: ignore[misc]
-                steps.append(name)
-            steps.reverse()
-        return PlanResult(
-            steps,
-            stats["expanded"],
-            stats["generated"],
-            len(table),
-            time.perf_counter() - start,
-            found is not None or not truncated,
-            search,
-        )
-
-    def children(node: int):
-        nonlocal truncated
-        if max_depth is not None and depth[node] >= max_depth:
-            truncated = True
-            return
-        stats["expanded"] += 1
-        for name, child in successors(table.states[node]):
-            stats["generated"] += 1
-            if max_states is not None and len(table) >= max_states:
-                truncated = True
-                found = table.find(child)
-                if found is None:
-                    continue
-                yield name, found, False
-                continue
-            index, new = table.add(child)
-            yield name, index, new
-
-    if search == "bfs":
-        if is_goal(table.states[root]):
-            return result(root)
-        queue = deque([root])
-        while queue:
-            node = queue.popleft()
-            for name, child, new in children(node):
-                if not new:
-                    continue
-                parent[child] = (node, name)
-                depth[child] = depth[node] + 1
-                if is_goal(table.states[child]):
-                    return result(child)
-                queue.append(child)
-        return result(None)
-
-    h = heuristic if heuristic is not None else (lambda s: 0.0)
-    greedy = search == "greedy"
-    goal_memo: dict[int, bool] = {}
-
-    def goal_of(node: int) -> bool:
-        if node not in goal_memo:
-            goal_memo[node] = bool(is_goal(table.states[node]))
-        return goal_memo[node]
-
-    def priority(node: int) -> float:
-        value = float(h(table.states[node]))
-        if math.isnan(value) or value < 0:
-            raise InvalidArgumentError(
-                f"the heuristic returned {value}", hint="return a non-negative number"
-            )
-        return value if greedy else depth[node] + value
-
-    counter = 0
-    heap = [(priority(root), counter, root)]
-    closed: set[int] = set()
-    while heap:
-        _, _, node = heapq.heappop(heap)
-        if node in closed:
-            continue
-        if goal_of(node):
-            return result(node)
-        closed.add(node)
-        for name, child, new in children(node):
-            better = not new and not greedy and depth[node] + 1 < depth[child]
-            if not (new or better):
-                continue
-            parent[child] = (node, name)
-            depth[child] = depth[node] + 1
-            closed.discard(child)
-            if greedy and goal_of(child):
-                return result(child)
-            counter += 1
-            heapq.heappush(heap, (priority(child), counter, child))
-    return result(None)
-
-
-class _StateTable:
-    """Distinct states up to bisimulation, keyed by :func:`canonical_key`."""
-
-    def __init__(self) -> None:
-        self.states: list[KripkeModel] = []
-        self._index: dict[tuple, int] = {}
-
-    def __len__(self) -> int:
-        return len(self.states)
-
-    def find(self, state: KripkeModel) -> int | None:
-        return self._index.get(canonical_key(generated_submodel(state)))
-
-    def add(self, state: KripkeModel) -> tuple[int, bool]:
-        """Contract ``state`` and store it unless a bisimilar state is stored already."""
-        state = generated_submodel(state)
-        labels, key = _canonical_classes(state)
-        found = self._index.get(key)
-        if found is not None:
-            return found, False
-        self.states.append(quotient(state, np.asarray(labels, dtype=np.intp)))
-        self._index[key] = len(self.states) - 1
-        return len(self.states) - 1, True
-
-
-def canonical_key(state: KripkeModel) -> tuple:
-    """A canonical form of the bisimulation class of a pointed model.
-
-    Partition refinement in which every class is named by its rank in the sorted order
-    of its description (valuation first, then per agent and relation the set of classes
-    reached), so the names do not depend on the order or names of the worlds. At the
-    fixed point the classes are the bisimulation classes and the key spells out the
-    quotient model (each class's valuation and successors, and the designated classes).
-    Two models get the same key exactly when they are bisimilar, provided both are
-    contracted (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`); for other models
-    equal keys still imply bisimilarity.
-
-    Examples
-    --------
-    >>> from epistemica.del_ import KripkeModel
-    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"]}, designated=["p"])
-    >>> canonical_key(m.minimize()) == canonical_key(m.announce("q | ~q").minimize())
-    True
-    >>> canonical_key(m.minimize()) == canonical_key(m.announce("~q").minimize())
-    False
-    """
-    return _canonical_classes(state)[1]
-
-
-def _canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
-    """The canonical refinement's class of each world, and the canonical key."""
-    atoms = sorted(a for a, column in zip(state.atoms, state._val.T, strict=True) if column.any())
-    relations = [
-        relation
-        for agent in sorted(state.agents)
-        for relation in (state._rel[agent], state._know[agent])
-    ]
-    if len(atoms) < _MASK_BITS:
-        found = _canonical_bitmasks(state, atoms, relations)
-        if found is not None:
-            return found
-    return _canonical_tuples(state, atoms, relations)
-
-
-# Sets of at most this many classes (and valuations of fewer atoms) are int64 bitmasks.
-_MASK_BITS = 62
-
-
-def _canonical_bitmasks(
-    state: KripkeModel, atoms: list[str], relations: list[Relation]
-) -> tuple[list[int], tuple] | None:
-    """Vectorised canonical refinement; None when the classes outgrow a 64-bit mask.
-
-    Whether it applies depends only on the number of bisimulation classes, so bisimilar
-    states always get keys of the same kind.
-    """
-    columns = [state.atoms.index(a) for a in atoms]
-    codes = state._val[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
-    labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
-    count = int(labels.max()) + 1
-    while True:
-        if count > _MASK_BITS:
-            return None
-        masks: dict[int, np.ndarray] = {}  # a relation shared by belief and knowledge
-        for r in relations:
-            if id(r) not in masks:
-                masks[id(r)] = _reached_mask(r, labels)
-        described = np.column_stack([labels] + [masks[id(r)] for r in relations])
-        order = np.lexsort(described.T[::-1])
-        ordered = described[order]
-        changed = np.zeros(len(labels), dtype=bool)
-        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-        refined = np.empty_like(labels)
-        refined[order] = np.cumsum(changed)
-        new_count = int(refined.max()) + 1
-        labels = refined
-        if new_count == count:
-            break
-        count = new_count
-    first = np.unique(labels, return_index=True)[1]  # one world per class, by class
-    table = np.column_stack([codes, described[:, 1:]])[first]
-    points = tuple(np.unique(labels[state._designated]).tolist())
-    return labels.tolist(), (tuple(atoms), table.tobytes(), points)
-
-
-def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
-    """Per world, the set of classes of its successors as a bitmask."""
-    bits = np.int64(1) << labels.astype(np.int64)
-    if isinstance(relation, Partition):
-        per_class = np.zeros(relation.n_labels, dtype=np.int64)
-        np.bitwise_or.at(per_class, relation.labels, bits)
-        return per_class[relation.labels]
-    rows, cols = relation.edges()
-    reached = np.zeros(len(labels), dtype=np.int64)
-    np.bitwise_or.at(reached, rows, bits[cols])
-    return reached
-
-
-def _canonical_tuples(
-    state: KripkeModel, atoms: list[str], relations: list[Relation]
-) -> tuple[list[int], tuple]:
-    """Canonical refinement on Python tuples, for states of many classes."""
-    columns = [state.atoms.index(a) for a in atoms]
-    rows = [tuple(np.flatnonzero(row)) for row in state._val[:, columns]]
-    labels = _ranks(rows)
-    count = len(set(labels))
-    while True:
-        reached = [_reached_labels(relation, labels) for relation in relations]
-        described = [(labels[w], *(r[w] for r in reached)) for w in range(state.n_worlds)]
-        labels = _ranks(described)
-        new_count = len(set(labels))
-        if new_count == count:
-            break
-        count = new_count
-    classes = {}
-    for w, label in enumerate(labels):
-        classes.setdefault(label, (rows[w], described[w][1:]))
-    points = tuple(sorted({labels[i] for i in state._designated}))
-    return labels, (tuple(atoms), tuple(classes[k] for k in range(count)), points)
-
-
-def _reached_labels(relation: Relation, labels: list[int]) -> list[tuple[int, ...]]:
-    """Per world, the sorted labels of its successors."""
-    if isinstance(relation, Partition):
-        members: dict[int, set[int]] = {}
-        for cls, label in zip(relation.labels.tolist(), labels, strict=True):
-            members.setdefault(cls, set()).add(label)
-        frozen = {cls: tuple(sorted(found)) for cls, found in members.items()}
-        return [frozen[cls] for cls in relation.labels.tolist()]
-    found: list[set[int]] = [set() for _ in labels]
-    for w, v in zip(*(side.tolist() for side in relation.edges()), strict=True):
-        found[w].add(labels[v])
-    return [tuple(sorted(targets)) for targets in found]
-
-
-def _ranks(items: list) -> list[int]:
-    order = {item: rank for rank, item in enumerate(sorted(set(items)))}
-    return [order[item] for item in items]
-
-
 def _conjuncts(f: Formula) -> list[Formula]:
     if isinstance(f, And):
         return _conjuncts(f.left) + _conjuncts(f.right)
@@ -713,16 +377,6 @@ def _heuristic(
         f"unknown heuristic {heuristic!r}",
         hint="use 'goalcount', 'blind' or a function state -> number",
     )
-
-
-def _check_bound(value: object, name: str, minimum: int) -> None:
-    if value is None:
-        return
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InvalidArgumentError(
-            f"{name} must be an integer >= {minimum} or None, got {value!r}",
-            hint=f"e.g. {name}=10",
-        )
 
 
 def _check_problem(initial: object, actions: object) -> None:

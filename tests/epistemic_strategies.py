@@ -38,13 +38,26 @@ AGENTS = ("a", "b")
 ATOMS = ("p", "q", "r")
 
 
-def formulas(atoms=ATOMS, agents=AGENTS, max_leaves=12, announcements=True):
-    """Random formulas over ``atoms`` and ``agents`` (no named actions)."""
-    groups = st.lists(st.sampled_from(agents), min_size=1, max_size=len(agents), unique=True)
-    leaves = st.one_of(st.sampled_from([Atom(a) for a in atoms]), st.just(Top()), st.just(Bottom()))
+def formulas(atoms=ATOMS, agents=AGENTS, max_leaves=12, announcements=True, actions=None):
+    """Random formulas over every node kind of the logic.
+
+    ``atoms`` and ``agents`` are names to sample from, or strategies (of ``Atom`` nodes and
+    of agent names) for wider alphabets such as the parser's; a drawn group has 1 to 3
+    agents (repeats collapse). ``announcements`` adds ``[!f] g`` and ``<!f> g``; ``actions``
+    (names, or a strategy of names) adds ``[ACT] g``, left out by default because it needs
+    action models to evaluate.
+    """
+    if isinstance(agents, st.SearchStrategy):
+        agent = agents
+        groups = st.lists(agents, min_size=1, max_size=3)
+    else:
+        agent = st.sampled_from(agents)
+        groups = st.lists(agent, min_size=1, max_size=len(agents), unique=True)
+    if not isinstance(atoms, st.SearchStrategy):
+        atoms = st.sampled_from([Atom(a) for a in atoms])
+    leaves = st.one_of(atoms, st.just(Top()), st.just(Bottom()))
 
     def extend(children):
-        agent = st.sampled_from(agents)
         options = [
             children.map(Not),
             st.builds(And, children, children),
@@ -65,6 +78,9 @@ def formulas(atoms=ATOMS, agents=AGENTS, max_leaves=12, announcements=True):
                 st.builds(Announce, children, children),
                 st.builds(AnnounceDiamond, children, children),
             ]
+        if actions is not None:
+            names = actions if isinstance(actions, st.SearchStrategy) else st.sampled_from(actions)
+            options.append(st.builds(After, names, children))
         return st.one_of(options)
 
     return st.recursive(leaves, extend, max_leaves=max_leaves)

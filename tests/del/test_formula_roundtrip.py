@@ -10,30 +10,10 @@ from hypothesis import strategies as st
 from hypothesis.extra.lark import from_lark
 from lark import Lark
 
-from epistemica.del_ import (
-    After,
-    And,
-    Announce,
-    AnnounceDiamond,
-    Atom,
-    Believe,
-    Bottom,
-    Common,
-    CommonBelief,
-    Distributed,
-    Everybody,
-    EverybodyBelieves,
-    Iff,
-    Implies,
-    Know,
-    KnowWhether,
-    Not,
-    Or,
-    ParseError,
-    Top,
-    parse_formula,
-)
+from epistemica.del_ import Atom, ParseError, parse_formula
 from epistemica.del_.parser import FORMULA_GRAMMAR, RESERVED_WORDS
+
+from epistemic_strategies import formulas
 
 # ---------------------------------------------------------------------------------------
 # random trees
@@ -49,40 +29,16 @@ atoms = st.one_of(
     st.builds(Atom, atom_names),
     st.builds(Atom, atom_names, arguments),
 )
-leaves = st.one_of(atoms, st.just(Top()), st.just(Bottom()))
-groups = st.lists(words, min_size=1, max_size=3)
 actions = st.one_of(
     names,
     st.builds(lambda n, a: f"{n}({', '.join(a)})", names, arguments),
 )
-
-
-def _extend(children):
-    return st.one_of(
-        st.builds(Not, children),
-        st.builds(And, children, children),
-        st.builds(Or, children, children),
-        st.builds(Implies, children, children),
-        st.builds(Iff, children, children),
-        st.builds(Know, words, children),
-        st.builds(Believe, words, children),
-        st.builds(KnowWhether, words, children),
-        st.builds(Everybody, groups, children),
-        st.builds(Common, groups, children),
-        st.builds(Distributed, groups, children),
-        st.builds(EverybodyBelieves, groups, children),
-        st.builds(CommonBelief, groups, children),
-        st.builds(Announce, children, children),
-        st.builds(AnnounceDiamond, children, children),
-        st.builds(After, actions, children),
-    )
-
-
-formulas = st.recursive(leaves, _extend, max_leaves=12)
+# Every node kind, with random names (agents may be keywords or numbers inside brackets).
+trees = formulas(atoms=atoms, agents=words, actions=actions)
 
 
 @settings(max_examples=150)
-@given(formulas)
+@given(trees)
 def test_parse_inverts_str(f):
     assert parse_formula(str(f)) == f
 
@@ -104,7 +60,7 @@ def _formula_paren_pairs(text: str):
 
 
 @settings(max_examples=80)
-@given(formulas)
+@given(trees)
 def test_printed_parentheses_are_all_needed(f):
     # "as few parentheses as the precedence rules allow": dropping any printed pair
     # either breaks the syntax or changes the tree.

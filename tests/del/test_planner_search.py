@@ -18,7 +18,7 @@ from epistemica.del_ import (
     plan_with_stats,
     validate,
 )
-from epistemica.del_.planner import canonical_key
+from epistemica.del_.canonical import canonical_key
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 AGENTS = ["a", "b"]

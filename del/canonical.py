@@ -1,0 +1,184 @@
+"""Canonical forms of bisimulation classes, for hashing epistemic states.
+
+:func:`canonical_key` names the bisimulation class of a pointed Kripke model by a
+hashable value, so that a planner can detect a state it has seen before with one dict
+lookup instead of pairwise :func:`~epistemica.del_.bisimulation.bisimilar` tests.
+
+The key comes from a partition refinement in which every class is named by its rank in
+the sorted order of its description (valuation first, then per agent and relation the
+set of classes reached), so the names do not depend on the order or names of the worlds.
+At the fixed point the classes are the bisimulation classes and the key spells out the
+quotient model. Refinement runs on int64 bitmasks while there are at most 62 classes
+(vectorised with numpy) and on Python tuples beyond that.
+
+Examples
+--------
+>>> from epistemica.del_ import KripkeModel
+>>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
+>>> canonical_key(m.minimize()) == canonical_key(m.announce("p | ~p").minimize())
+True
+>>> canonical_key(m.minimize()) == canonical_key(m.announce("p").minimize())  # a learns p
+False
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.relations import Partition, Relation
+
+__all__ = ["canonical_classes", "canonical_key"]
+
+# Sets of at most this many classes (and valuations of fewer atoms) are int64 bitmasks.
+_MASK_BITS = 62
+
+
+def canonical_key(state: KripkeModel) -> tuple:
+    """A canonical form of the bisimulation class of a pointed model.
+
+    Partition refinement in which every class is named by its rank in the sorted order
+    of its description (valuation first, then per agent and relation the set of classes
+    reached), so the names do not depend on the order or names of the worlds. At the
+    fixed point the classes are the bisimulation classes and the key spells out the
+    quotient model (each class's valuation and successors, and the designated classes).
+    Two models get the same key exactly when they are bisimilar, provided both are
+    contracted (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`); for other models
+    equal keys still imply bisimilarity.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"]}, designated=["p"])
+    >>> canonical_key(m.minimize()) == canonical_key(m.announce("q | ~q").minimize())
+    True
+    >>> canonical_key(m.minimize()) == canonical_key(m.announce("~q").minimize())
+    False
+    """
+    return canonical_classes(state)[1]
+
+
+def canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
+    """The canonical refinement's class of each world, and the canonical key.
+
+    Returns
+    -------
+    labels : list of int
+        Per world (in model order), its class, numbered ``0, 1, ...`` in canonical order.
+    key : tuple
+        :func:`canonical_key` of ``state``.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"]})
+    >>> labels, key = canonical_classes(m)
+    >>> sorted(labels)   # four valuations, so four classes
+    [0, 1, 2, 3]
+    >>> key == canonical_key(m)
+    True
+    """
+    atoms = sorted(a for a, column in zip(state.atoms, state._val.T, strict=True) if column.any())
+    relations = [
+        relation
+        for agent in sorted(state.agents)
+        for relation in (state._rel[agent], state._know[agent])
+    ]
+    if len(atoms) < _MASK_BITS:
+        found = _canonical_bitmasks(state, atoms, relations)
+        if found is not None:
+            return found
+    return _canonical_tuples(state, atoms, relations)
+
+
+def _canonical_bitmasks(
+    state: KripkeModel, atoms: list[str], relations: list[Relation]
+) -> tuple[list[int], tuple] | None:
+    """Vectorised canonical refinement; None when the classes outgrow a 64-bit mask.
+
+    Whether it applies depends only on the number of bisimulation classes, so bisimilar
+    states always get keys of the same kind.
+    """
+    columns = [state.atoms.index(a) for a in atoms]
+    codes = state._val[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
+    labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
+    count = int(labels.max()) + 1
+    while True:
+        if count > _MASK_BITS:
+            return None
+        masks: dict[int, np.ndarray] = {}  # a relation shared by belief and knowledge
+        for r in relations:
+            if id(r) not in masks:
+                masks[id(r)] = _reached_mask(r, labels)
+        described = np.column_stack([labels] + [masks[id(r)] for r in relations])
+        order = np.lexsort(described.T[::-1])
+        ordered = described[order]
+        changed = np.zeros(len(labels), dtype=bool)
+        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+        refined = np.empty_like(labels)
+        refined[order] = np.cumsum(changed)
+        new_count = int(refined.max()) + 1
+        labels = refined
+        if new_count == count:
+            break
+        count = new_count
+    first = np.unique(labels, return_index=True)[1]  # one world per class, by class
+    table = np.column_stack([codes, described[:, 1:]])[first]
+    points = tuple(np.unique(labels[state._designated]).tolist())
+    return labels.tolist(), (tuple(atoms), table.tobytes(), points)
+
+
+def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
+    """Per world, the set of classes of its successors as a bitmask."""
+    bits = np.int64(1) << labels.astype(np.int64)
+    if isinstance(relation, Partition):
+        per_class = np.zeros(relation.n_labels, dtype=np.int64)
+        np.bitwise_or.at(per_class, relation.labels, bits)
+        return per_class[relation.labels]
+    rows, cols = relation.edges()
+    reached = np.zeros(len(labels), dtype=np.int64)
+    np.bitwise_or.at(reached, rows, bits[cols])
+    return reached
+
+
+def _canonical_tuples(
+    state: KripkeModel, atoms: list[str], relations: list[Relation]
+) -> tuple[list[int], tuple]:
+    """Canonical refinement on Python tuples, for states of many classes."""
+    columns = [state.atoms.index(a) for a in atoms]
+    rows = [tuple(np.flatnonzero(row)) for row in state._val[:, columns]]
+    labels = _ranks(rows)
+    count = len(set(labels))
+    while True:
+        reached = [_reached_labels(relation, labels) for relation in relations]
+        described = [(labels[w], *(r[w] for r in reached)) for w in range(state.n_worlds)]
+        labels = _ranks(described)
+        new_count = len(set(labels))
+        if new_count == count:
+            break
+        count = new_count
+    classes = {}
+    for w, label in enumerate(labels):
+        classes.setdefault(label, (rows[w], described[w][1:]))
+    points = tuple(sorted({labels[i] for i in state._designated}))
+    return labels, (tuple(atoms), tuple(classes[k] for k in range(count)), points)
+
+
+def _reached_labels(relation: Relation, labels: list[int]) -> list[tuple[int, ...]]:
+    """Per world, the sorted labels of its successors."""
+    if isinstance(relation, Partition):
+        members: dict[int, set[int]] = {}
+        for cls, label in zip(relation.labels.tolist(), labels, strict=True):
+            members.setdefault(cls, set()).add(label)
+        frozen = {cls: tuple(sorted(found)) for cls, found in members.items()}
+        return [frozen[cls] for cls in relation.labels.tolist()]
+    found: list[set[int]] = [set() for _ in labels]
+    for w, v in zip(*(side.tolist() for side in relation.edges()), strict=True):
+        found[w].add(labels[v])
+    return [tuple(sorted(targets)) for targets in found]
+
+
+def _ranks(items: list) -> list[int]:
+    # Each distinct item's rank in sorted order: names independent of world order.
+    order = {item: rank for rank, item in enumerate(sorted(set(items)))}
+    return [order[item] for item in items]

@@ -1,0 +1,273 @@
+"""Search over epistemic states with duplicate detection up to bisimulation.
+
+:func:`search_states` is the search engine behind
+:func:`~epistemica.del_.planner.plan_with_stats` and
+:func:`~epistemica.del_.coordination.plan_implicitly_coordinated`: given a start state, a
+successor function and a goal test, it runs ``"bfs"`` (breadth-first, shortest plans),
+``"greedy"`` (greedy best-first) or ``"astar"`` (A*) and returns a :class:`PlanResult`.
+
+Every state is contracted to its bisimulation minimum and stored once, keyed by
+:func:`~epistemica.del_.canonical.canonical_key`, so a hash lookup replaces pairwise
+:func:`~epistemica.del_.bisimulation.bisimilar` tests. One object is kept per distinct
+state, so the engine's per-model memo of truth sets is reused by every test on that state.
+
+Examples
+--------
+Toggling a light that nobody sees; the two states (on, off) are found once each:
+
+>>> from epistemica.del_ import KripkeModel, public_assignment
+>>> s0 = KripkeModel.from_observables(["on"], {"a": ["on"]}, designated=[])
+>>> toggle = public_assignment({"on": "~on"}, ["a"])
+>>> result = search_states(s0, lambda s: [("toggle", s.update(toggle))],
+...                        lambda s: s.holds("on"))
+>>> result.plan, result.distinct, result.complete
+(['toggle'], 2, True)
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from epistemica.del_.bisimulation import generated_submodel, quotient
+from epistemica.del_.canonical import canonical_classes, canonical_key
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.kripke import KripkeModel
+
+__all__ = ["SEARCHES", "Heuristic", "PlanResult", "search_states"]
+
+#: The search strategies that :func:`search_states` accepts.
+SEARCHES = ("bfs", "greedy", "astar")
+
+#: A heuristic maps a state to a non-negative estimate of the remaining plan length.
+Heuristic = Callable[[KripkeModel], float]
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    """The outcome of a search, with statistics.
+
+    Attributes
+    ----------
+    plan : list of str or None
+        The action names of the plan found, or ``None``.
+    expanded : int
+        States whose successors were generated.
+    generated : int
+        Successor states produced (before duplicate detection).
+    distinct : int
+        Distinct states (up to bisimulation) stored.
+    seconds : float
+        Wall-clock time of the search.
+    complete : bool
+        True when the search ended without hitting ``max_depth`` or ``max_states``;
+        then ``plan is None`` proves that no plan exists.
+    search : str
+        The strategy used.
+    """
+
+    plan: list[str] | None
+    expanded: int
+    generated: int
+    distinct: int
+    seconds: float
+    complete: bool
+    search: str
+
+    @property
+    def solved(self) -> bool:
+        """Whether a plan was found."""
+        return self.plan is not None
+
+    @property
+    def length(self) -> int | None:
+        """The number of actions of the plan, or ``None``."""
+        return None if self.plan is None else len(self.plan)
+
+
+def search_states(
+    initial: KripkeModel,
+    successors: Callable[[KripkeModel], Iterable[tuple[str, KripkeModel]]],
+    is_goal: Callable[[KripkeModel], bool],
+    search: str = "bfs",
+    max_depth: int | None = None,
+    heuristic: Heuristic | None = None,
+    max_states: int | None = None,
+) -> PlanResult:
+    """Generic search over epistemic states with duplicate detection up to bisimulation.
+
+    Parameters
+    ----------
+    initial : KripkeModel
+        The start state.
+    successors : callable
+        ``successors(state)`` yields ``(action name, next state)`` pairs; next states are
+        contracted and deduplicated here.
+    is_goal : callable
+        ``is_goal(state)`` tells whether the search may stop at ``state``.
+    search : {"bfs", "greedy", "astar"}
+        Breadth-first (shortest plans), greedy best-first or A*.
+    max_depth : int, optional
+        Longest plan considered.
+    heuristic : callable, optional
+        For ``greedy``/``astar``: a state's non-negative estimate (default 0).
+    max_states : int, optional
+        Stop storing new states after this many distinct ones.
+
+    Returns
+    -------
+    PlanResult
+        The plan (or ``None``) with statistics.
+
+    Raises
+    ------
+    InvalidArgumentError
+        On an unknown search, a bad bound, or a negative or NaN heuristic value.
+    """
+    if search not in SEARCHES:
+        raise InvalidArgumentError(
+            f"unknown search {search!r}", hint=f"choose one of {', '.join(SEARCHES)}"
+        )
+    _check_bound(max_depth, "max_depth", minimum=0)
+    _check_bound(max_states, "max_states", minimum=1)
+    start = time.perf_counter()
+    table = _StateTable()
+    root = table.add(initial.minimize())[0]
+    parent: dict[int, tuple[int, str] | None] = {root: None}
+    depth = {root: 0}
+    stats = {"expanded": 0, "generated": 0}
+    truncated = False
+
+    def result(found: int | None) -> PlanResult:
+        steps = None
+        if found is not None:
+            steps = []
+            node = found
+            while parent[node] is not None:
+                node, name = parent[node]  # type: ignore[misc]
+                steps.append(name)
+            steps.reverse()
+        return PlanResult(
+            steps,
+            stats["expanded"],
+            stats["generated"],
+            len(table),
+            time.perf_counter() - start,
+            found is not None or not truncated,
+            search,
+        )
+
+    def children(node: int):
+        nonlocal truncated
+        if max_depth is not None and depth[node] >= max_depth:
+            truncated = True
+            return
+        stats["expanded"] += 1
+        for name, child in successors(table.states[node]):
+            stats["generated"] += 1
+            if max_states is not None and len(table) >= max_states:
+                truncated = True
+                found = table.find(child)
+                if found is None:
+                    continue
+                yield name, found, False
+                continue
+            index, new = table.add(child)
+            yield name, index, new
+
+    if search == "bfs":
+        if is_goal(table.states[root]):
+            return result(root)
+        queue = deque([root])
+        while queue:
+            node = queue.popleft()
+            for name, child, new in children(node):
+                if not new:
+                    continue
+                parent[child] = (node, name)
+                depth[child] = depth[node] + 1
+                if is_goal(table.states[child]):
+                    return result(child)
+                queue.append(child)
+        return result(None)
+
+    h = heuristic if heuristic is not None else (lambda s: 0.0)
+    greedy = search == "greedy"
+    goal_memo: dict[int, bool] = {}
+
+    def goal_of(node: int) -> bool:
+        if node not in goal_memo:
+            goal_memo[node] = bool(is_goal(table.states[node]))
+        return goal_memo[node]
+
+    def priority(node: int) -> float:
+        value = float(h(table.states[node]))
+        if math.isnan(value) or value < 0:
+            raise InvalidArgumentError(
+                f"the heuristic returned {value}", hint="return a non-negative number"
+            )
+        return value if greedy else depth[node] + value
+
+    counter = 0
+    heap = [(priority(root), counter, root)]
+    closed: set[int] = set()
+    while heap:
+        _, _, node = heapq.heappop(heap)
+        if node in closed:
+            continue
+        if goal_of(node):
+            return result(node)
+        closed.add(node)
+        for name, child, new in children(node):
+            better = not new and not greedy and depth[node] + 1 < depth[child]
+            if not (new or better):
+                continue
+            parent[child] = (node, name)
+            depth[child] = depth[node] + 1
+            closed.discard(child)
+            if greedy and goal_of(child):
+                return result(child)
+            counter += 1
+            heapq.heappush(heap, (priority(child), counter, child))
+    return result(None)
+
+
+class _StateTable:
+    """Distinct states up to bisimulation, keyed by :func:`canonical_key`."""
+
+    def __init__(self) -> None:
+        self.states: list[KripkeModel] = []
+        self._index: dict[tuple, int] = {}
+
+    def __len__(self) -> int:
+        return len(self.states)
+
+    def find(self, state: KripkeModel) -> int | None:
+        return self._index.get(canonical_key(generated_submodel(state)))
+
+    def add(self, state: KripkeModel) -> tuple[int, bool]:
+        """Contract ``state`` and store it unless a bisimilar state is stored already."""
+        state = generated_submodel(state)
+        labels, key = canonical_classes(state)
+        found = self._index.get(key)
+        if found is not None:
+            return found, False
+        self.states.append(quotient(state, np.asarray(labels, dtype=np.intp)))
+        self._index[key] = len(self.states) - 1
+        return len(self.states) - 1, True
+
+
+def _check_bound(value: object, name: str, minimum: int) -> None:
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InvalidArgumentError(
+            f"{name} must be an integer >= {minimum} or None, got {value!r}",
+            hint=f"e.g. {name}=10",
+        )
