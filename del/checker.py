@@ -234,13 +234,7 @@ def _relation(model: KripkeModel, agent: str, kind: str) -> Relation:
 
 def _submodel(model: KripkeModel, mask: np.ndarray) -> KripkeModel:
     """The restriction to ``mask`` for evaluation only (designated worlds may vanish)."""
-    from epistemica.del_.kripke import KripkeModel
-
-    rel = {a: r.restrict(mask) for a, r in model._rel.items()}
-    know = {a: rel[a] if k is model._rel[a] else k.restrict(mask) for a, k in model._know.items()}
-    return KripkeModel._from_arrays(
-        None, model.atoms, model._val[mask], model.agents, rel, know, np.zeros(0, dtype=np.int64)
-    )
+    return model._restricted(mask, np.zeros(0, dtype=np.intp))
 
 
 def _group(model: KripkeModel, group: tuple[str, ...], kind: str = "knowledge") -> list[Relation]:

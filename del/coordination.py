@@ -54,8 +54,8 @@ from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import Formula
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.planner import _check_problem, applicable, inapplicable_worlds
-from epistemica.del_.state_space import PlanResult, search_states
+from epistemica.del_.planner import applicable, inapplicable_worlds
+from epistemica.del_.state_space import PlanResult, check_problem, search_states
 
 __all__ = [
     "CoordinationReport",
@@ -158,7 +158,7 @@ def check_implicit_coordination(
     CoordinationReport
         True in a boolean context when the plan is implicitly coordinated.
     """
-    _check_problem(initial, actions)
+    check_problem(initial, actions)
     _check_owners(initial, actions, owners)
     tree = as_formula(goal)
     table = dict(actions)
@@ -244,7 +244,7 @@ def plan_implicitly_coordinated_with_stats(
     max_depth: int | None = None,
 ) -> PlanResult:
     """Like :func:`plan_implicitly_coordinated`, with search statistics."""
-    _check_problem(initial, actions)
+    check_problem(initial, actions)
     _check_owners(initial, actions, owners)
     tree = as_formula(goal)
     table = dict(actions)

@@ -426,13 +426,22 @@ class KripkeModel:
         kept_points = self._designated[mask[self._designated]]
         if not len(kept_points):
             raise InvalidArgumentError("the restriction removes every designated world")
-        rel = {a: r.restrict(mask) for a, r in self._rel.items()}
-        know = {a: rel[a] if k is self._rel[a] else k.restrict(mask) for a, k in self._know.items()}
-        names = _pick_names(self._names, mask)
         # New index of a kept world = number of kept worlds before it.
         designated = np.cumsum(mask[: kept_points[-1] + 1])[kept_points] - 1
+        return self._restricted(mask, designated)
+
+    def _restricted(self, mask: np.ndarray, designated: np.ndarray) -> KripkeModel:
+        """The submodel on ``mask`` with the given (new) designated indices, possibly none."""
+        rel = {a: r.restrict(mask) for a, r in self._rel.items()}
+        know = {a: rel[a] if k is self._rel[a] else k.restrict(mask) for a, k in self._know.items()}
         return KripkeModel._from_arrays(
-            names, self._atoms, self._val[mask], self._agents, rel, know, designated
+            _pick_names(self._names, mask),
+            self._atoms,
+            self._val[mask],
+            self._agents,
+            rel,
+            know,
+            designated,
         )
 
     def repoint(self, designated: World | Iterable[World]) -> KripkeModel:

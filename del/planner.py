@@ -61,7 +61,13 @@ from epistemica.del_.formula import (
     KnowWhether,
 )
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.state_space import SEARCHES, Heuristic, PlanResult, search_states
+from epistemica.del_.state_space import (
+    SEARCHES,
+    Heuristic,
+    PlanResult,
+    check_problem,
+    search_states,
+)
 
 # SEARCHES, PlanResult (from state_space) and canonical_key are re-exported here.
 __all__ = [
@@ -166,7 +172,7 @@ def plan_with_stats(
     >>> result.plan, result.expanded, result.complete
     (['tell'], 1, True)
     """
-    _check_problem(initial, actions)
+    check_problem(initial, actions)
     tree = as_formula(goal)
     table = dict(actions)
     # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
@@ -214,7 +220,7 @@ def validate(
     >>> print(validate(s0, acts, ["deny"], "K[a] p").reason)  # doctest: +ELLIPSIS
     step 1 (deny) is not applicable: ... at designated world(s) [1]
     """
-    _check_problem(initial, actions)
+    check_problem(initial, actions)
     tree = as_formula(goal)
     table = dict(actions)
     if isinstance(plan, str):
@@ -377,33 +383,3 @@ def _heuristic(
         f"unknown heuristic {heuristic!r}",
         hint="use 'goalcount', 'blind' or a function state -> number",
     )
-
-
-def _check_problem(initial: object, actions: object) -> None:
-    if not isinstance(initial, KripkeModel):
-        raise InvalidArgumentError(
-            f"the initial state must be a KripkeModel, got {type(initial).__name__}",
-            hint="build one with KripkeModel(...) or KripkeModel.from_observables(...)",
-        )
-    if not isinstance(actions, Mapping):
-        raise InvalidArgumentError(
-            "actions must map action names to ActionModels",
-            hint="e.g. {'open': open_action, 'peek': peek_action}",
-        )
-    agents = set(initial.agents)
-    for name, action in actions.items():
-        if not isinstance(name, str) or not name:
-            raise InvalidArgumentError(
-                f"action names must be non-empty strings, got {name!r}", hint="e.g. 'open'"
-            )
-        if not isinstance(action, ActionModel):
-            raise InvalidArgumentError(
-                f"action {name!r} is a {type(action).__name__}, not an ActionModel",
-                hint="build it with ActionModel(...) or observability_action(...)",
-            )
-        if set(action.agents) != agents:
-            raise InvalidArgumentError(
-                f"action {name!r} has agents {sorted(action.agents)}, the initial state "
-                f"{sorted(agents)}",
-                hint="every action must give a relation to exactly the model's agents",
-            )

@@ -30,17 +30,18 @@ import heapq
 import math
 import time
 from collections import deque
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from epistemica.del_.action import ActionModel
 from epistemica.del_.bisimulation import generated_submodel, quotient
 from epistemica.del_.canonical import canonical_classes, canonical_key
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.kripke import KripkeModel
 
-__all__ = ["SEARCHES", "Heuristic", "PlanResult", "search_states"]
+__all__ = ["SEARCHES", "Heuristic", "PlanResult", "check_problem", "search_states"]
 
 #: The search strategies that :func:`search_states` accepts.
 SEARCHES = ("bfs", "greedy", "astar")
@@ -271,3 +272,34 @@ def _check_bound(value: object, name: str, minimum: int) -> None:
             f"{name} must be an integer >= {minimum} or None, got {value!r}",
             hint=f"e.g. {name}=10",
         )
+
+
+def check_problem(initial: object, actions: object) -> None:
+    """Validate a planning problem's initial state and named actions eagerly."""
+    if not isinstance(initial, KripkeModel):
+        raise InvalidArgumentError(
+            f"the initial state must be a KripkeModel, got {type(initial).__name__}",
+            hint="build one with KripkeModel(...) or KripkeModel.from_observables(...)",
+        )
+    if not isinstance(actions, Mapping):
+        raise InvalidArgumentError(
+            "actions must map action names to ActionModels",
+            hint="e.g. {'open': open_action, 'peek': peek_action}",
+        )
+    agents = set(initial.agents)
+    for name, action in actions.items():
+        if not isinstance(name, str) or not name:
+            raise InvalidArgumentError(
+                f"action names must be non-empty strings, got {name!r}", hint="e.g. 'open'"
+            )
+        if not isinstance(action, ActionModel):
+            raise InvalidArgumentError(
+                f"action {name!r} is a {type(action).__name__}, not an ActionModel",
+                hint="build it with ActionModel(...) or observability_action(...)",
+            )
+        if set(action.agents) != agents:
+            raise InvalidArgumentError(
+                f"action {name!r} has agents {sorted(action.agents)}, the initial state "
+                f"{sorted(agents)}",
+                hint="every action must give a relation to exactly the model's agents",
+            )
