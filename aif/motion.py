@@ -21,7 +21,14 @@ import numpy as np
 from epistemica.aif._validate import as_finite, positive
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["DEFAULT_HEADING_CHANGES", "DEFAULT_SPEEDS", "control_grid", "predict_poses"]
+__all__ = [
+    "DEFAULT_HEADING_CHANGES",
+    "DEFAULT_SPEEDS",
+    "control_grid",
+    "move",
+    "predict_poses",
+    "wrap_angle",
+]
 
 #: Speeds (m/s) of the paper protocol; 0 is "stop".
 DEFAULT_SPEEDS = (0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0)
@@ -89,7 +96,50 @@ def predict_poses(pose, controls, dt: float = 1.0) -> np.ndarray:
         raise InvalidArgumentError(
             f"pose must end in (x, y, heading), got shape {p.shape}", hint="pass three numbers"
         )
-    heading = np.angle(np.exp(1j * (p[..., 2:3] + u[:, 1])))  # wrap to (-pi, pi]
-    x = p[..., 0:1] + u[:, 0] * dt * np.cos(heading)
-    y = p[..., 1:2] + u[:, 0] * dt * np.sin(heading)
+    return _turn_then_move(p[..., None, :], u, dt)
+
+
+def move(poses, controls, dt: float = 1.0) -> np.ndarray:
+    """Each robot's next pose under its own control: turn first, then move ``v·dt``.
+
+    The same dynamics as :func:`predict_poses`, one control per robot instead of every
+    control for one pose; the simulator steps the world with it.
+
+    Parameters
+    ----------
+    poses : array_like
+        ``(n, 3)`` poses ``x, y, heading``.
+    controls : array_like
+        ``(n, 2)`` ``(speed, heading change)``, row ``i`` for robot ``i``.
+    dt : float
+        Time step (s).
+
+    Examples
+    --------
+    >>> move([[0.0, 0.0, 0.0], [1.0, 1.0, np.pi]], [[1.0, np.pi / 2], [2.0, 0.0]]).round(6)
+    array([[ 0.      ,  1.      ,  1.570796],
+           [-1.      ,  1.      ,  3.141593]])
+    """
+    p = as_finite(poses, "poses", ndim=2, shape=(None, 3))
+    u = as_finite(controls, "controls", ndim=2, shape=(p.shape[0], 2))
+    return _turn_then_move(p, u, positive(dt, "dt"))
+
+
+def wrap_angle(angle) -> np.ndarray:
+    """Angles wrapped to ``(-pi, pi]``.
+
+    Examples
+    --------
+    >>> wrap_angle([np.pi, -np.pi, 3 * np.pi / 2]).round(6).tolist()
+    [3.141593, 3.141593, -1.570796]
+    """
+    a = np.asarray(angle, dtype=float)
+    return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
+
+
+def _turn_then_move(p: np.ndarray, u: np.ndarray, dt: float) -> np.ndarray:
+    # p (..., 3) broadcasts against u (..., 2): the one implementation of the dynamics.
+    heading = wrap_angle(p[..., 2] + u[..., 1])
+    x = p[..., 0] + u[..., 0] * dt * np.cos(heading)
+    y = p[..., 1] + u[..., 0] * dt * np.sin(heading)
     return np.stack([x, y, heading], axis=-1)

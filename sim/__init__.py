@@ -1,6 +1,52 @@
-"""Batched kinematic multi-robot simulation (not yet implemented).
+"""Kinematic multi-robot simulation: missions, reasoning levels, baselines.
 
-Imported as ``epistemica.sim``. Depends on ``epistemica.aif`` and ``epistemica.del_``.
+Imported as ``epistemica.sim``. Depends on ``epistemica.aif`` and ``epistemica.del_``,
+never on the package root. One module per concept:
+
+- :mod:`~epistemica.sim.scenario`: :class:`Scenario`, the world and its rules;
+- :mod:`~epistemica.sim.sensing`: observation models and what each robot knows;
+- :mod:`~epistemica.sim.missions`: when a mission holds;
+- :mod:`~epistemica.sim.policy`: the policy interface;
+- :mod:`~epistemica.sim.baselines`: greedy (``"zero"``) and the convention;
+- :mod:`~epistemica.sim.active`: the active-inference levels;
+- :mod:`~epistemica.sim.tasking`: multitask upper level (which tasks now);
+- :mod:`~epistemica.sim.simulate`: :func:`simulate`, one trial;
+- :mod:`~epistemica.sim.trial`: :class:`Trial`, its record.
+
+Examples
+--------
+>>> from epistemica.sim import Scenario, simulate
+>>> trial = simulate(Scenario.paper("allocation", 3, seed=0), "convention", seed=0)
+>>> trial.success, trial.trajectory.shape[1:]
+(True, (3, 3))
 """
 
-__all__: list[str] = []
+from epistemica.sim.active import LEVELS, ActiveInference
+from epistemica.sim.baselines import Convention, Greedy
+from epistemica.sim.missions import mission_holds
+from epistemica.sim.policy import Decisions, FunctionPolicy, Policy, steer
+from epistemica.sim.scenario import MISSIONS, OBSERVATIONS, Scenario
+from epistemica.sim.sensing import Observations, Sensing
+from epistemica.sim.simulate import REASONING, make_policy, simulate
+from epistemica.sim.trial import Trial
+
+__all__ = [
+    "LEVELS",
+    "MISSIONS",
+    "OBSERVATIONS",
+    "REASONING",
+    "ActiveInference",
+    "Convention",
+    "Decisions",
+    "FunctionPolicy",
+    "Greedy",
+    "Observations",
+    "Policy",
+    "Scenario",
+    "Sensing",
+    "Trial",
+    "make_policy",
+    "mission_holds",
+    "simulate",
+    "steer",
+]

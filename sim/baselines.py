@@ -1,0 +1,117 @@
+"""The simple rules every claim is measured against: greedy and a shared convention.
+
+- :class:`Greedy` (level ``"zero"``): drive to the nearest goal the robot knows of
+  (multitask: the nearest task it does not know to be done), ignoring the others.
+- :class:`Convention`: every step, from the robot's own observations, the configuration of
+  least total distance over the valid set (rendezvous: the goal minimising the summed
+  distance; allocation, multitask: an optimal assignment; capacity: an optimal assignment
+  to goal slots), then drive straight to its own part. Memoryless, no belief: when all
+  robots see nearly the same scene they compute nearly the same configuration.
+
+Both drive straight (turn to face the target, then move), not on a control grid.
+
+Examples
+--------
+>>> from epistemica.sim import Scenario, simulate
+>>> s = Scenario("allocation", [[0, 0, 0], [20, 0, 0]], [[2, 0], [18, 0]], ["range"] * 2)
+>>> simulate(s, "convention", seed=0).success
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.missions import distances
+from epistemica.sim.policy import Decisions, Policy, steer
+from epistemica.sim.sensing import Observations
+
+__all__ = ["Convention", "Greedy", "open_goals"]
+
+
+def open_goals(scenario, observations: Observations, robot: int) -> np.ndarray:
+    """Indices of the goals ``robot`` knows of (multitask: and does not know are done)."""
+    mask = observations.known_goals[robot].copy()
+    if scenario.mission == "multitask":
+        mask &= ~observations.known_done[robot]
+    return np.flatnonzero(mask)
+
+
+class _Straight(Policy):
+    """Shared machinery: pick a configuration per robot, steer straight to its part."""
+
+    def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
+        s = self.scenario
+        focal = np.full((len(robots), s.n_robots), -1)
+        targets = np.empty((len(robots), 2))
+        for row, robot in enumerate(robots):
+            view = observations.poses[robot]
+            goals = open_goals(s, observations, robot)
+            if goals.size == 0:  # nothing known: hold position
+                targets[row] = view[robot, :2]
+                continue
+            focal[row] = self.configuration(view, goals, robot)
+            own = focal[row, robot]
+            targets[row] = s.goals[own] if own >= 0 else view[robot, :2]
+        poses = observations.poses[robots, robots]
+        controls = steer(poses, targets, s.max_speed[robots], s.max_turn[robots], s.dt)
+        return Decisions.of(controls, focal)
+
+    def configuration(self, view: np.ndarray, goals: np.ndarray, robot: int) -> np.ndarray:
+        raise NotImplementedError
+
+
+class Greedy(_Straight):
+    """Level ``"zero"``: the nearest known goal; the others are not modelled."""
+
+    name = "zero"
+
+    def configuration(self, view, goals, robot):
+        row = np.full(view.shape[0], -1)
+        row[robot] = goals[
+            np.argmin(distances(view[robot : robot + 1], self.scenario.goals[goals])[0])
+        ]
+        return row
+
+
+class Convention(_Straight):
+    """Least total distance over the valid configurations, from the robot's own view.
+
+    Parameters
+    ----------
+    tie_break : {"index", "reverse"}
+        Which of equally good configurations wins: scipy's order over goals as given, or
+        over goals in reverse order (a teammate with a different convention).
+    """
+
+    name = "convention"
+
+    def __init__(self, tie_break: str = "index") -> None:
+        if tie_break not in ("index", "reverse"):
+            raise InvalidArgumentError(
+                f"unknown tie_break {tie_break!r}", hint="use 'index' or 'reverse'"
+            )
+        self.tie_break = tie_break
+        if tie_break != "index":
+            self.name = f"convention-{tie_break}"
+
+    def configuration(self, view, goals, robot):
+        s = self.scenario
+        if self.tie_break == "reverse":
+            goals = goals[::-1]
+        cost = distances(view[:, :2], s.goals[goals])  # (n, m')
+        row = np.full(view.shape[0], -1)
+        if s.mission == "rendezvous":
+            row[:] = goals[np.argmin(cost.sum(axis=0))]
+            return row
+        if s.mission == "capacity":
+            slots = np.repeat(np.arange(len(goals)), np.asarray(s.capacities)[goals])
+            cost = cost[:, slots]
+            goals = goals[slots]
+        robots, columns = linear_sum_assignment(cost)
+        row[robots] = goals[columns]
+        if row[robot] < 0:  # more robots than goals: the unassigned one takes its nearest
+            row[robot] = goals[np.argmin(cost[robot])]
+        return row

@@ -1,0 +1,82 @@
+"""When a mission holds: the success conditions, decided by matching, not enumeration.
+
+Rendezvous holds when one goal is within the success radius of every robot; allocation
+when the robots can be matched to pairwise distinct goals each within the radius;
+capacity when they can be matched to goal slots (goal ``g`` repeated ``capacities[g]``
+times). Matching (``scipy.sparse.csgraph.maximum_bipartite_matching``) answers in
+polynomial time what the definition states over all valid configurations.
+
+Examples
+--------
+>>> goals = np.array([[0.0, 0.0], [10.0, 0.0]])
+>>> mission_holds("allocation", np.array([[0.5, 0.0], [9.0, 0.5]]), goals, 5 / 3)
+True
+>>> mission_holds("rendezvous", np.array([[0.5, 0.0], [9.0, 0.5]]), goals, 5 / 3)
+False
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import maximum_bipartite_matching
+
+__all__ = ["distances", "mission_holds", "within"]
+
+
+def distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
+    """Euclidean distances ``(n, m)`` from every position to every goal.
+
+    Examples
+    --------
+    >>> distances(np.array([[0.0, 0.0]]), np.array([[3.0, 4.0]])).tolist()
+    [[5.0]]
+    """
+    return np.hypot(*(positions[:, None, :2] - goals[None, :, :2]).transpose(2, 0, 1))
+
+
+def within(positions: np.ndarray, goals: np.ndarray, radius: float) -> np.ndarray:
+    """``(n, m)`` booleans: robot ``i`` is within ``radius`` of goal ``g``."""
+    return distances(positions, goals) <= radius
+
+
+def mission_holds(
+    mission: str,
+    positions: np.ndarray,
+    goals: np.ndarray,
+    radius: float,
+    capacities: Sequence[int] | None = None,
+) -> bool:
+    """Whether the robots at ``positions`` satisfy the mission right now.
+
+    Parameters
+    ----------
+    mission : {"rendezvous", "allocation", "capacity"}
+    positions : numpy.ndarray
+        ``(n, 2)`` or ``(n, 3)`` robot positions (poses).
+    goals : numpy.ndarray
+        ``(m, 2)`` goal positions.
+    radius : float
+        Success radius.
+    capacities : sequence of int, optional
+        Robots per goal, for ``"capacity"``.
+
+    Examples
+    --------
+    >>> goals = np.array([[0.0, 0.0], [10.0, 0.0]])
+    >>> mission_holds("capacity", np.array([[0, 0], [10, 0], [10, 1.0]]), goals, 5 / 3,
+    ...               capacities=[1, 2])
+    True
+    """
+    near = within(positions, goals, radius)
+    if mission == "rendezvous":
+        return bool(near.all(axis=0).any())
+    if mission == "capacity":
+        near = np.repeat(near, np.asarray(capacities, dtype=int), axis=1)
+    n = near.shape[0]
+    if near.shape[1] < n:
+        return False
+    matched = maximum_bipartite_matching(csr_matrix(near), perm_type="column")
+    return bool(np.all(matched >= 0))

@@ -1,0 +1,322 @@
+"""One simulated world: mission, robots, goals, sensing and the rules of success.
+
+A :class:`Scenario` is frozen and validated when built; every array is read-only. It holds
+no randomness: the noise of a trial comes from the seed given to
+:func:`~epistemica.sim.simulate`, so one scenario runs identically for every reasoning level.
+
+Examples
+--------
+>>> s = Scenario("rendezvous", [[0, 0], [10, 0]], [[5, 5], [20, 20]], ["range", "bearing"])
+>>> s.n_robots, s.n_goals, s.starts[1].tolist()
+(2, 2, [10.0, 0.0, 0.0])
+>>> Scenario.paper("allocation", 3, 3, seed=7).sensors == Scenario.paper(
+...     "allocation", 3, 3, seed=7).sensors
+True
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+from epistemica.aif.configurations import count_configurations, valid_configurations
+from epistemica.aif.evidence import SENSORS
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim._streams import trial_streams
+
+__all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
+
+#: Missions the simulator runs.
+MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
+#: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
+OBSERVATIONS = ("paper", "honest")
+
+
+def _fail(message: str, hint: str) -> InvalidArgumentError:
+    return InvalidArgumentError(message, hint=hint)
+
+
+def _array(value, name: str, columns: Sequence[int]) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise _fail(f"{name} must be numbers, got {value!r}", "pass a list of rows") from exc
+    if a.ndim != 2 or a.shape[1] not in columns or a.shape[0] == 0:
+        want = " or ".join(f"(n, {c})" for c in columns)
+        raise _fail(f"{name} must have shape {want}, got {a.shape}", f"one row per {name[:-1]}")
+    if not np.all(np.isfinite(a)):
+        raise _fail(f"{name} contains NaN or infinity", "every coordinate must be a number")
+    return a
+
+
+def _per_robot(value, name: str, n: int, low: float, high: float) -> np.ndarray:
+    a = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
+    if np.any(~(a >= low)) or np.any(a > high):  # ~(a >= low) also catches NaN
+        raise _fail(f"{name} must lie in [{low}, {high}], got {a.tolist()}", "one value per robot")
+    return a
+
+
+def _non_negative(value, name: str, allow_none: bool = False, positive: bool = False):
+    if value is None and allow_none:
+        return None
+    v = float(value)
+    if not math.isfinite(v) or v < 0 or (positive and v == 0):
+        bound = "> 0" if positive else ">= 0"
+        raise _fail(f"{name} must be a finite number {bound}, got {value!r}", f"e.g. {name}=1.0")
+    return v
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A multi-robot mission to simulate.
+
+    Parameters
+    ----------
+    mission : {"rendezvous", "allocation", "capacity", "multitask"}
+        Rendezvous: every robot within ``success_radius`` of one common goal. Allocation:
+        pairwise distinct goals. Capacity: goal ``g`` needs ``capacities[g]`` robots.
+        Multitask: the goals are tasks; a task is done when any robot comes within
+        ``success_radius``; the mission is done when every task is.
+    starts : array_like
+        ``(n, 2)`` positions (heading 0) or ``(n, 3)`` poses ``x, y, heading``.
+    goals : array_like
+        ``(m, 2)`` goal (task) positions.
+    sensors : sequence of {"range", "bearing"}
+        One sensor type per robot.
+    workspace : float
+        Side of the square workspace ``[0, workspace]²`` (m).
+    bounded : bool
+        Keep robots inside the workspace (positions are clipped after each move).
+    observation : {"paper", "honest"}
+        ``"paper"``: every robot receives the others' positions with ``N(0,
+        position_noise)`` per axis. ``"honest"``: a bearing robot measures angles only
+        (``N(0, angle_noise)``); a range robot measures range (``N(0, position_noise)``)
+        and angle.
+    position_noise, angle_noise : float
+        Variances (m², rad²) of the observation noise.
+    process_noise : float
+        Variance (m²) per axis of the Gaussian noise added to every move.
+    sensing_range : float, optional
+        Robots beyond it are not observed (the observer knows it saw nothing); ``None``:
+        everyone sees everyone.
+    discovery_range : float, optional
+        Distance within which a robot discovers an unknown goal, or sees that a task is
+        done; default ``sensing_range``, or 10 m when sensing is unlimited.
+    known_goals : array_like, optional
+        ``(n, m)`` booleans: the goals each robot knows at the start (default all).
+    capacities : sequence of int, optional
+        Robots needed per goal, for ``"capacity"``.
+    max_speed, max_turn : float or array_like
+        Per-robot limits on speed (m/s) and heading change per step (rad).
+    dt : float
+        Time step (s).
+    max_steps : int
+        Step limit.
+    success_radius : float
+        Distance (m) at which a robot counts as at a goal.
+    dwell : int
+        Steps, not necessarily consecutive, on which the mission must hold to succeed
+        (rendezvous, allocation, capacity).
+    tasking : int, optional
+        Multitask: the most tasks the team works on at once (the paper's ``K``); default
+        the number of robots.
+    """
+
+    mission: str
+    starts: np.ndarray
+    goals: np.ndarray
+    sensors: tuple[str, ...]
+    workspace: float = 30.0
+    bounded: bool = False
+    observation: str = "paper"
+    position_noise: float = 0.5
+    angle_noise: float = 0.1
+    process_noise: float = 0.0
+    sensing_range: float | None = None
+    discovery_range: float | None = None
+    known_goals: np.ndarray | None = None
+    capacities: tuple[int, ...] | None = None
+    max_speed: np.ndarray = field(default=1.0)  # type: ignore[assignment]
+    max_turn: np.ndarray = field(default=math.pi)  # type: ignore[assignment]
+    dt: float = 1.0
+    max_steps: int = 100
+    success_radius: float = 5.0 / 3.0
+    dwell: int = 5
+    tasking: int | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        if self.mission not in MISSIONS:
+            raise _fail(f"unknown mission {self.mission!r}", f"use one of {', '.join(MISSIONS)}")
+        if self.observation not in OBSERVATIONS:
+            raise _fail(
+                f"unknown observation model {self.observation!r}",
+                f"use one of {', '.join(OBSERVATIONS)}",
+            )
+        starts = _array(self.starts, "starts", (2, 3))
+        if starts.shape[1] == 2:
+            starts = np.column_stack([starts, np.zeros(len(starts))])
+        goals = _array(self.goals, "goals", (2,))
+        n, m = starts.shape[0], goals.shape[0]
+        sensors = (self.sensors,) if isinstance(self.sensors, str) else tuple(self.sensors)
+        bad = [s for s in sensors if s not in SENSORS]
+        if bad or len(sensors) != n:
+            raise _fail(
+                f"sensors {list(sensors)!r} for {n} robots",
+                f"one of {', '.join(SENSORS)} per robot",
+            )
+        set_(self, "sensors", sensors)
+        for name in ("position_noise", "angle_noise", "process_noise"):
+            set_(self, name, _non_negative(getattr(self, name), name))
+        for name in ("workspace", "dt", "success_radius"):
+            set_(self, name, _non_negative(getattr(self, name), name, positive=True))
+        for name in ("sensing_range", "discovery_range"):
+            set_(self, name, _non_negative(getattr(self, name), name, allow_none=True))
+        outside = np.any((starts[:, :2] < 0) | (starts[:, :2] > self.workspace), axis=1)
+        if np.any(outside):
+            raise _fail(
+                f"robot {int(np.argmax(outside))} starts at {starts[outside][0, :2].tolist()}, "
+                f"outside the workspace [0, {self.workspace:g}]²",
+                "move the start inside, or enlarge `workspace`",
+            )
+        set_(self, "max_speed", _per_robot(self.max_speed, "max_speed", n, 0.0, 1e6))
+        set_(self, "max_turn", _per_robot(self.max_turn, "max_turn", n, 0.0, math.pi))
+        for name in ("max_steps", "dwell"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+                raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=5")
+            set_(self, name, int(value))
+        self._check_goal_knowledge(n, m)
+        self._check_mission(n, m)
+        for name, value in (("starts", starts), ("goals", goals)):
+            value.setflags(write=False)
+            set_(self, name, value)
+        for name in ("max_speed", "max_turn"):
+            getattr(self, name).setflags(write=False)
+
+    def _check_goal_knowledge(self, n: int, m: int) -> None:
+        if self.known_goals is None:
+            return
+        known = np.array(self.known_goals)
+        if known.shape != (n, m) or known.dtype != bool:
+            raise _fail(
+                f"known_goals must be ({n}, {m}) booleans, got {known.shape} {known.dtype}",
+                "row i marks the goals robot i knows at the start",
+            )
+        known.setflags(write=False)
+        object.__setattr__(self, "known_goals", known)
+
+    def _check_mission(self, n: int, m: int) -> None:
+        if self.mission == "capacity":
+            if self.capacities is None:
+                raise _fail("a capacity mission needs `capacities`", "one count per goal")
+            object.__setattr__(self, "capacities", tuple(int(c) for c in self.capacities))
+        elif self.capacities is not None:
+            raise _fail(f"`capacities` given for a {self.mission} mission", "drop it")
+        if self.mission == "multitask":
+            if self.tasking is not None and (not isinstance(self.tasking, int) or self.tasking < 1):
+                raise _fail(f"tasking must be an integer >= 1, got {self.tasking!r}", "e.g. 3")
+            return
+        # Raises a clear error for impossible constraints (more robots than goals, ...).
+        count_configurations(self.mission, n, m, self.capacities)
+
+    @property
+    def n_robots(self) -> int:
+        """Number of robots."""
+        return self.starts.shape[0]
+
+    @property
+    def n_goals(self) -> int:
+        """Number of goals (tasks)."""
+        return self.goals.shape[0]
+
+    def configurations(self) -> np.ndarray:
+        """The valid goal configurations of the mission, ``(k, n)`` goal indices.
+
+        Examples
+        --------
+        >>> Scenario("allocation", [[0, 0], [1, 1]], [[5, 5], [9, 9]], ["range"] * 2
+        ...          ).configurations().tolist()
+        [[0, 1], [1, 0]]
+        """
+        if self.mission == "multitask":
+            raise _fail(
+                "a multitask mission has no fixed configuration set",
+                "its configurations are re-chosen every step (epistemica.sim.tasking)",
+            )
+        return valid_configurations(self.mission, self.n_robots, self.n_goals, self.capacities)
+
+    def replace(self, **changes) -> Scenario:
+        """A copy with some fields changed (validated again).
+
+        Examples
+        --------
+        >>> s = Scenario.paper("rendezvous", 2, 3, seed=0)
+        >>> s.replace(sensing_range=10.0).sensing_range
+        10.0
+        """
+        names = {f.name for f in fields(self)}
+        unknown = sorted(set(changes) - names)
+        if unknown:
+            raise _fail(f"Scenario has no field {unknown[0]!r}", f"fields: {', '.join(names)}")
+        return replace(self, **changes)
+
+    @classmethod
+    def paper(
+        cls, mission: str, robots: int, goals: int | None = None, seed: int = 0, **options
+    ) -> Scenario:
+        """One trial of the published protocol (``paper-results.md``), drawn from ``seed``.
+
+        Rendezvous and allocation: goals uniform in ``[1, 29]²``, starts uniform in
+        ``[0, 30]²`` with heading 0, each sensor uniform over range/bearing, step limit
+        100. Multitask: starts ``(n-1, n-1) + N(0, 1)`` per axis (clipped into the
+        workspace), turns of at most ``pi/4`` per step, speeds up to 1 m/s, step limit 150.
+
+        Parameters
+        ----------
+        mission : {"rendezvous", "allocation", "multitask"}
+        robots : int
+            Team size.
+        goals : int, optional
+            Goals (tasks); allocation defaults to ``robots``, multitask to 20.
+        seed : int
+            Trial seed: the same seed gives the same geometry and sensors.
+        **options
+            Other :class:`Scenario` fields (e.g. ``sensing_range=10.0``).
+
+        Examples
+        --------
+        >>> s = Scenario.paper("rendezvous", 3, 4, seed=1)
+        >>> s.starts.shape, s.goals.shape, s.max_steps
+        ((3, 3), (4, 2), 100)
+        >>> bool(np.all((s.goals >= 1) & (s.goals <= 29)))
+        True
+        """
+        if mission not in ("rendezvous", "allocation", "multitask"):
+            raise _fail(
+                f"the paper protocol has no {mission!r} mission",
+                "use rendezvous, allocation or multitask",
+            )
+        n = _count(robots, "robots")
+        m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
+        streams = trial_streams(seed, n)
+        geometry, sensing = streams.geometry, streams.sensors
+        task_goals = geometry.uniform(1.0, 29.0, size=(m, 2))
+        if mission == "multitask":
+            xy = np.clip((n - 1) + geometry.normal(0.0, 1.0, size=(n, 2)), 0.0, 30.0)
+            defaults = {"max_steps": 150, "max_turn": math.pi / 4}
+        else:
+            xy = geometry.uniform(0.0, 30.0, size=(n, 2))
+            defaults = {"max_steps": 100}
+        sensors = tuple(SENSORS[i] for i in sensing.integers(0, 2, size=n))
+        starts = np.column_stack([xy, np.zeros(n)])
+        return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
+
+
+def _count(value, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=3")
+    return int(value)

@@ -1,0 +1,221 @@
+"""Run one trial: perceive, decide, move, until the mission holds or time runs out.
+
+Examples
+--------
+>>> from epistemica.sim import Scenario
+>>> s = Scenario.paper("rendezvous", 3, 3, seed=4)
+>>> a, b = simulate(s, "zero", seed=4), simulate(s, "convention", seed=4)
+>>> bool(np.array_equal(a.trajectory[0], b.trajectory[0]))  # same trial for every level
+True
+>>> simulate(s, "convention", seed=4, policies={0: "zero"}).policies
+('zero', 'convention', 'convention')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from time import perf_counter
+
+import numpy as np
+
+from epistemica.aif.motion import move
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim._streams import trial_streams
+from epistemica.sim.active import LEVELS, ActiveInference
+from epistemica.sim.baselines import Convention, Greedy
+from epistemica.sim.missions import distances, mission_holds
+from epistemica.sim.policy import Policy
+from epistemica.sim.scenario import Scenario
+from epistemica.sim.sensing import Sensing
+from epistemica.sim.trial import Trial
+
+__all__ = ["REASONING", "make_policy", "simulate"]
+
+#: Names accepted for ``reasoning`` (and as values of ``policies``).
+REASONING = ("zero", "convention", "first", "second", "third")
+
+# A robot that moved less than this (m) in the last step, within the success radius of a
+# goal, is seen to have settled there.
+_SETTLED = 0.05
+
+
+def make_policy(name: str) -> Policy:
+    """A fresh policy for a level name.
+
+    Examples
+    --------
+    >>> make_policy("third").order
+    3
+    """
+    if isinstance(name, Policy):
+        return name
+    if name == "zero":
+        return Greedy()
+    if name == "convention":
+        return Convention()
+    if name in LEVELS:
+        return ActiveInference(LEVELS[name])
+    raise InvalidArgumentError(
+        f"unknown reasoning level {name!r}",
+        hint=f"use one of {', '.join(REASONING)}, or pass a Policy object",
+    )
+
+
+def _groups(n: int, reasoning, policies: Mapping | None) -> list[tuple[Policy, np.ndarray]]:
+    chosen: dict[int, object] = dict.fromkeys(range(n), reasoning)
+    for robot, value in (policies or {}).items():
+        if isinstance(robot, bool) or not isinstance(robot, int | np.integer) or not 0 <= robot < n:
+            raise InvalidArgumentError(
+                f"policies names robot {robot!r}, but the team has robots 0..{n - 1}",
+                hint="keys are robot indices",
+            )
+        chosen[int(robot)] = value
+    instances: dict[object, Policy] = {}
+    members: dict[int, list[int]] = {}
+    for robot in range(n):
+        value = chosen[robot]
+        key = id(value) if isinstance(value, Policy) else value
+        if key not in instances:
+            instances[key] = make_policy(value)
+        members.setdefault(id(instances[key]), []).append(robot)
+    by_id = {id(p): p for p in instances.values()}
+    return [(by_id[k], np.array(v)) for k, v in members.items()]
+
+
+def simulate(
+    scenario: Scenario,
+    reasoning="third",
+    seed: int = 0,
+    *,
+    policies: Mapping | None = None,
+) -> Trial:
+    """Simulate one trial of ``scenario``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The world.
+    reasoning : str or Policy
+        The level of every robot: ``"zero"``, ``"convention"``, ``"first"``,
+        ``"second"``, ``"third"`` (and the ``"paper-*"`` levels of
+        :mod:`epistemica.sim.paper`), or a :class:`~epistemica.sim.policy.Policy`.
+    seed : int
+        Trial seed: observation and process noise, and any policy randomness. The same
+        seed gives the same noise for every level.
+    policies : mapping, optional
+        Robot index to level name or policy, overriding ``reasoning`` for that robot.
+
+    Returns
+    -------
+    Trial
+    """
+    if not isinstance(scenario, Scenario):
+        raise InvalidArgumentError(
+            f"expected a Scenario, got {type(scenario).__name__}",
+            hint="build one with Scenario(...) or Scenario.paper(...)",
+        )
+    s, n = scenario, scenario.n_robots
+    streams = trial_streams(seed, n)
+    groups = _groups(n, reasoning, policies)
+    names = [""] * n
+    for policy, robots in groups:
+        policy.start(s, robots, [streams.policy[r] for r in robots])
+        for r in robots:
+            names[r] = policy.name
+    run = _Run(s, streams)
+    for step in range(s.max_steps):
+        done = run.done >= 0 if s.mission == "multitask" else None
+        obs = run.sensing.observe(run.poses, step, run.settled(), done)
+        controls = np.empty((n, 2))
+        started = perf_counter()
+        for policy, robots in groups:
+            decisions = policy.decide(obs, robots)
+            controls[robots] = _checked(decisions.controls, policy, len(robots))
+            run.focal[step, robots] = decisions.focal
+            run.entropy[step, robots] = decisions.entropy
+            run.considered[step, robots] = decisions.considered
+        run.time[step] = perf_counter() - started
+        if run.advance(step, controls):
+            break
+    return run.trial(tuple(names), seed)
+
+
+def _checked(controls: np.ndarray, policy: Policy, count: int) -> np.ndarray:
+    controls = np.asarray(controls, dtype=float)
+    if controls.shape != (count, 2) or not np.all(np.isfinite(controls)):
+        raise InvalidArgumentError(
+            f"policy {policy.name!r} returned controls of shape {controls.shape} "
+            f"(finite: {bool(np.all(np.isfinite(controls)))}), expected ({count}, 2) finite",
+            hint="decide() returns one finite (speed, heading change) row per robot",
+        )
+    return controls
+
+
+class _Run:
+    """The mutable state of one trial (true poses, counters, records)."""
+
+    def __init__(self, s: Scenario, streams) -> None:
+        n, steps = s.n_robots, s.max_steps
+        self.s, self.streams = s, streams
+        self.sensing = Sensing(s, streams.observation)
+        self.poses = np.array(s.starts, dtype=float)
+        self.path = [self.poses.copy()]
+        self.held = 0
+        self.success = False
+        self.completion: int | None = None
+        self.done = np.full(s.n_goals if s.mission == "multitask" else 0, -1)
+        self.focal = np.full((steps, n, n), -1)
+        self.entropy = np.full((steps, n), np.nan)
+        self.considered = np.zeros((steps, n), dtype=int)
+        self.time = np.zeros(steps)
+
+    def settled(self) -> np.ndarray:
+        if len(self.path) < 2:
+            return np.zeros(self.poses.shape[0], dtype=bool)
+        still = np.hypot(*(self.path[-1][:, :2] - self.path[-2][:, :2]).T) < _SETTLED
+        near = (distances(self.poses, self.s.goals) <= self.s.success_radius).any(axis=1)
+        return still & near
+
+    def advance(self, step: int, controls: np.ndarray) -> bool:
+        """Apply the controls; True when the trial is over."""
+        s = self.s
+        controls[:, 0] = np.clip(controls[:, 0], 0.0, s.max_speed)
+        controls[:, 1] = np.clip(controls[:, 1], -s.max_turn, s.max_turn)
+        poses = move(self.poses, controls, s.dt)
+        jitter = np.stack([g.standard_normal(2) for g in self.streams.process])
+        poses[:, :2] += np.sqrt(s.process_noise) * jitter
+        if s.bounded:
+            poses[:, :2] = np.clip(poses[:, :2], 0.0, s.workspace)
+        self.poses = poses
+        self.path.append(poses.copy())
+        if s.mission == "multitask":
+            return self._tasks(step)
+        if mission_holds(s.mission, poses, s.goals, s.success_radius, s.capacities):
+            self.held += 1
+        self.success = self.held >= s.dwell
+        return self.success
+
+    def _tasks(self, step: int) -> bool:
+        near = distances(self.poses, self.s.goals) <= self.s.success_radius  # (n, m)
+        for task in np.flatnonzero(near.any(axis=0) & (self.done < 0)):
+            self.done[task] = step + 1
+            self.sensing.task_completed(self.poses, near[:, task], [task])
+        if np.all(self.done >= 0):
+            self.success, self.completion = True, step + 1
+        return self.success
+
+    def trial(self, names: tuple[str, ...], seed: int) -> Trial:
+        steps = len(self.path) - 1
+        return Trial(
+            success=self.success,
+            steps=steps,
+            completion_step=self.completion,
+            tasks_done=self.done.copy(),
+            trajectory=np.stack(self.path),
+            focal=self.focal[:steps],
+            entropy=self.entropy[:steps],
+            considered=self.considered[:steps],
+            decision_time=self.time[:steps],
+            policies=names,
+            seed=int(seed),
+        )

@@ -1,0 +1,80 @@
+"""The record of one simulated trial.
+
+Examples
+--------
+>>> from epistemica.sim import Scenario, simulate
+>>> t = simulate(Scenario.paper("rendezvous", 2, 2, seed=0), "convention", seed=0)
+>>> t.trajectory.shape[1:], t.focal.shape[1:], t.steps == t.trajectory.shape[0] - 1
+((2, 3), (2, 2), True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Trial"]
+
+
+@dataclass(frozen=True, eq=False)
+class Trial:
+    """Outcome and per-step record of one trial.
+
+    Attributes
+    ----------
+    success : bool
+        The mission held on ``dwell`` steps (multitask: every task done) within the limit.
+    steps : int
+        Steps simulated: the step of success, or the step limit.
+    completion_step : int or None
+        Multitask: the step at which the last task was done (None if not all were).
+    tasks_done : numpy.ndarray
+        Multitask: the step at which each task was done (-1: never); empty otherwise.
+    trajectory : numpy.ndarray
+        ``(steps + 1, n, 3)`` true poses, the start first.
+    focal : numpy.ndarray
+        ``(steps, n, n)``: at each step, the configuration robot ``i`` acted on (goal index
+        per robot, -1 where it had none).
+    entropy : numpy.ndarray
+        ``(steps, n)`` entropy (nats) of each robot's belief (NaN without one).
+    considered : numpy.ndarray
+        ``(steps, n)`` configurations each robot considered.
+    decision_time : numpy.ndarray
+        ``(steps,)`` seconds the whole team spent deciding at each step.
+    policies : tuple of str
+        The policy name of each robot.
+    seed : int
+        The trial seed.
+    """
+
+    success: bool
+    steps: int
+    completion_step: int | None
+    tasks_done: np.ndarray
+    trajectory: np.ndarray
+    focal: np.ndarray
+    entropy: np.ndarray
+    considered: np.ndarray
+    decision_time: np.ndarray
+    policies: tuple[str, ...]
+    seed: int
+
+    def summary(self) -> dict:
+        """A JSON-ready dictionary of the outcome (no per-step arrays).
+
+        Examples
+        --------
+        >>> from epistemica.sim import Scenario, simulate
+        >>> sorted(simulate(Scenario.paper("allocation", 2, seed=1), "zero").summary())[:3]
+        ['completion_step', 'final_positions', 'mean_decision_ms']
+        """
+        return {
+            "success": self.success,
+            "steps": self.steps,
+            "completion_step": self.completion_step,
+            "policies": list(self.policies),
+            "seed": self.seed,
+            "mean_decision_ms": float(np.mean(self.decision_time) * 1e3) if self.steps else 0.0,
+            "final_positions": self.trajectory[-1, :, :2].round(3).tolist(),
+        }
