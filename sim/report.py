@@ -1,0 +1,187 @@
+"""Summaries of sweep results: success with Wilson intervals, steps, completion, figures.
+
+Examples
+--------
+>>> lo, hi = wilson_interval(45, 50)
+>>> round(lo, 3), round(hi, 3)
+(0.786, 0.957)
+>>> rows = [{"mission": "rendezvous", "robots": 2, "goals": 2, "reasoning": "zero",
+...          "options": "{}", "success": s, "steps": 10, "completion_step": None,
+...          "decision_ms": 0.1, "considered": 1.0} for s in (1, 1, 0)]
+>>> cell = summarise(rows)[0]
+>>> cell.trials, cell.successes, cell.mean_steps
+(3, 2, 10.0)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable
+from typing import NamedTuple
+
+import numpy as np
+
+from epistemica.del_.errors import EpistemicaError
+
+__all__ = ["Cell", "format_table", "plot_results", "summarise", "wilson_interval"]
+
+_Z95 = 1.959963984540054
+
+
+def wilson_interval(successes: int, trials: int, z: float = _Z95) -> tuple[float, float]:
+    """The Wilson score interval of a binomial proportion (95 % by default)."""
+    if trials == 0:
+        return 0.0, 1.0
+    p = successes / trials
+    centre = (p + z * z / (2 * trials)) / (1 + z * z / trials)
+    half = (
+        z * math.sqrt(p * (1 - p) / trials + z * z / (4 * trials * trials)) / (1 + z * z / trials)
+    )
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+class Cell(NamedTuple):
+    """The trials of one (mission, robots, goals, level, options) cell."""
+
+    mission: str
+    robots: int
+    goals: int
+    reasoning: str
+    options: str
+    trials: int
+    successes: int
+    low: float
+    high: float
+    mean_steps: float
+    mean_completion: float
+    decision_ms: float
+    considered: float
+
+    @property
+    def rate(self) -> float:
+        """Success rate in [0, 1]."""
+        return self.successes / self.trials
+
+
+def summarise(rows: Iterable[dict], step_limit_for_failures: int = 150) -> list[Cell]:
+    """One :class:`Cell` per parameter combination, sorted.
+
+    ``mean_steps`` is over successful trials (NaN if none); ``mean_completion`` (multitask)
+    counts a failed trial as ``step_limit_for_failures``, as the published study did.
+    """
+    groups: dict[tuple, list[dict]] = {}
+    for row in rows:
+        key = (row["mission"], row["robots"], row["goals"], row["reasoning"], row["options"])
+        groups.setdefault(key, []).append(row)
+    cells = []
+    for key, members in sorted(groups.items()):
+        ok = [r for r in members if r["success"]]
+        completion = [
+            r["completion_step"] if r["completion_step"] is not None else step_limit_for_failures
+            for r in members
+        ]
+        cells.append(
+            Cell(
+                *key,
+                len(members),
+                len(ok),
+                *wilson_interval(len(ok), len(members)),
+                float(np.mean([r["steps"] for r in ok])) if ok else math.nan,
+                float(np.mean(completion)) if key[0] == "multitask" else math.nan,
+                float(np.mean([r["decision_ms"] for r in members])),
+                float(np.mean([r["considered"] for r in members])),
+            )
+        )
+    return cells
+
+
+def format_table(cells: list[Cell], markdown: bool = False) -> str:
+    """The success table: one line per cell, rate with its 95 % interval and mean steps."""
+    head = [
+        "mission",
+        "robots",
+        "goals",
+        "level",
+        "options",
+        "trials",
+        "success % [95 % CI]",
+        "mean steps (successes)",
+        "mean completion",
+        "team step ms",
+        "configs",
+    ]
+    lines = []
+    for c in cells:
+        options = (
+            ""
+            if c.options == "{}"
+            else ", ".join(f"{k}={v}" for k, v in json.loads(c.options).items())
+        )
+        lines.append(
+            [
+                c.mission,
+                str(c.robots),
+                str(c.goals),
+                c.reasoning,
+                options,
+                str(c.trials),
+                f"{100 * c.rate:.1f} [{100 * c.low:.1f}, {100 * c.high:.1f}]",
+                "-" if math.isnan(c.mean_steps) else f"{c.mean_steps:.1f}",
+                "-" if math.isnan(c.mean_completion) else f"{c.mean_completion:.1f}",
+                f"{c.decision_ms:.2f}",
+                f"{c.considered:.0f}",
+            ]
+        )
+    if markdown:
+        out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        out += ["| " + " | ".join(line) + " |" for line in lines]
+        return "\n".join(out)
+    widths = [max(len(h), *(len(line[i]) for line in lines)) for i, h in enumerate(head)]
+    fmt = "  ".join(f"{{:<{w}}}" for w in widths)
+    return "\n".join([fmt.format(*head), *(fmt.format(*line) for line in lines)])
+
+
+def plot_results(cells: list[Cell], path) -> None:
+    """The paper-style figure: per mission, success rate (multitask: mean completion step)
+    against team size, one line per level, 95 % bands; written as PNG to ``path``."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise EpistemicaError(
+            "figures need matplotlib", hint="install the plot extra: pip install 'epistemica[plot]'"
+        ) from exc
+    missions = sorted({c.mission for c in cells})
+    fig, axes = plt.subplots(1, len(missions), figsize=(5.2 * len(missions), 4.2), squeeze=False)
+    for ax, mission in zip(axes[0], missions, strict=True):
+        mine = [c for c in cells if c.mission == mission]
+        for level in dict.fromkeys(c.reasoning for c in mine):
+            _plot_level(ax, [c for c in mine if c.reasoning == level], level, mission)
+        ax.set_xlabel("robots")
+        ax.set_xticks(sorted({c.robots for c in mine}))
+        ax.set_title(f"{mission} ({max(c.trials for c in mine)} trials per cell)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _plot_level(ax, cells: list[Cell], level: str, mission: str) -> None:
+    sizes = sorted({c.robots for c in cells})
+    if mission == "multitask":
+        means = [np.mean([c.mean_completion for c in cells if c.robots == n]) for n in sizes]
+        ax.plot(sizes, means, marker="o", label=level)
+        ax.set_ylabel("mean completion step (failures = limit)")
+        return
+    # Pool the goal counts of one team size, as the paper's per-team-size figure does.
+    ok = np.array([sum(c.successes for c in cells if c.robots == n) for n in sizes])
+    total = np.array([sum(c.trials for c in cells if c.robots == n) for n in sizes])
+    bands = np.array([wilson_interval(k, t) for k, t in zip(ok, total, strict=True)])
+    (line,) = ax.plot(sizes, 100 * ok / total, marker="o", label=level)
+    ax.fill_between(sizes, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.2, color=line.get_color())
+    ax.set_ylabel("success rate (%) with 95 % interval")
+    ax.set_ylim(-2, 102)
