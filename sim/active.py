@@ -10,6 +10,8 @@ changes that include "straight ahead" (the full turn when allowed, else nine val
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from epistemica.aif.configurations import valid_configurations
@@ -34,6 +36,14 @@ def _grid(max_speed: float, max_turn: float) -> np.ndarray:
     else:
         changes = np.linspace(-max_turn, max_turn, 9)
     return control_grid(speeds, changes)
+
+
+@lru_cache(maxsize=32)
+def _allocations(n: int, m: int) -> np.ndarray:
+    # Read-only: shared by every controller over an n-robot, m-slot subset.
+    rows = valid_configurations("allocation", n, m)
+    rows.setflags(write=False)
+    return rows
 
 
 class ActiveInference(Policy):
@@ -82,7 +92,7 @@ class ActiveInference(Policy):
         known = open_goals(s, observations, robot)
         if s.mission == "multitask":
             slots = task_slots(select_tasks(observations.poses[robot], s.goals, known), n)
-            return slots, lambda: valid_configurations("allocation", n, len(slots))
+            return slots, lambda: _allocations(n, len(slots))
         if known.size == s.n_goals:
             return known, s.configurations
         rows = s.configurations()
