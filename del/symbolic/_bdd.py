@@ -8,11 +8,14 @@ by unrelated structures: a BDD is only ever combined with BDDs of its own struct
 
 from __future__ import annotations
 
+import contextlib
 import functools
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 
 from oxidd.bdd import BDDFunction, BDDManager
-from oxidd.util import BooleanOperator
+from oxidd.util import BooleanOperator, DDMemoryError
+
+from epistemica.del_.errors import EpistemicaError
 
 __all__ = [
     "AND",
@@ -21,6 +24,7 @@ __all__ = [
     "cube",
     "false",
     "minterm",
+    "node_limit",
     "prime",
     "primed",
     "true",
@@ -39,6 +43,18 @@ _CACHE_CAPACITY = 1 << 20
 def manager() -> BDDManager:
     """The process-wide manager (created on first use)."""
     return BDDManager(_NODE_CAPACITY, _CACHE_CAPACITY, 1)
+
+
+@contextlib.contextmanager
+def node_limit() -> Iterator[None]:
+    """Turn the manager running out of nodes into an :class:`EpistemicaError`."""
+    try:
+        yield
+    except DDMemoryError:
+        raise EpistemicaError(
+            f"the BDDs outgrew the node limit ({_NODE_CAPACITY:,} nodes)",
+            hint="the formula or action is too large for the symbolic backend; simplify it",
+        ) from None
 
 
 def _ensure(slot: int) -> None:

@@ -58,7 +58,8 @@ def evaluate(
     >>> evaluate(s, Know("b", Atom("p"))) == s.truth("p")
     True
     """
-    return _Context(actions).eval(structure, formula)
+    with _bdd.node_limit():
+        return _Context(actions).eval(structure, formula)
 
 
 def propositional(f: Formula, atom: Callable[[Atom], BDDFunction]) -> BDDFunction:

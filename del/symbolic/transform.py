@@ -52,7 +52,8 @@ def product(
     key = ("after", id(action))
     cached = s._derived.get(key)
     if cached is None or cached[0] is not action:
-        cached = s._derived[key] = (action, _product(s, action, truth or s.truth))
+        with _bdd.node_limit():
+            cached = s._derived[key] = (action, _product(s, action, truth or s.truth))
     return cached[1]
 
 
