@@ -21,6 +21,7 @@ from epistemica.del_ import (
     KripkeModel,
     ModelError,
     load_spec,
+    plan,
     private_announcement,
     public_announcement,
     semi_private_sensing,
@@ -29,6 +30,7 @@ from epistemica.del_ import (
 from epistemic_strategies import AGENTS, ATOMS, formulas, models
 
 SPECS = sorted(Path(__file__).resolve().parents[2].glob("specs/**/*.epi"))
+PLANNING = [p for p in SPECS if p.parent.name == "planning"]
 
 MUDDY = {"c1": ["m2", "m3"], "c2": ["m1", "m3"], "c3": ["m1", "m2"]}
 NOBODY_KNOWS = "~Kw[c1] m1 & ~Kw[c2] m2 & ~Kw[c3] m3"
@@ -133,7 +135,9 @@ FORMULAS = formulas(max_leaves=10)
 @settings(max_examples=600)
 @given(ANY_MODEL, FORMULAS)
 def test_same_truth_value(model, f):
-    assert model.to_symbolic(ATOMS).holds(f) == model.holds(f)
+    s = model.to_symbolic(ATOMS)
+    assert s.holds(f) == model.holds(f)
+    assert s.count_designated(f) == sum(w in model.truth_set(f) for w in model.designated)
 
 
 @settings(max_examples=250)
@@ -225,6 +229,7 @@ def test_same_truth_after_random_action_models(model, action, f):
         after, symbolic_after = model.update(action), s.update(action)
         assert symbolic_after.n_worlds == after.n_worlds
         assert symbolic_after.holds(f, actions) == after.holds(f, actions)
+        assert symbolic_after.count(f, actions) == len(after.truth_set(f, actions))
 
 
 @settings(max_examples=200)
@@ -264,5 +269,26 @@ def test_shipped_specs_give_the_same_answers(path):
     s = spec.model.to_symbolic(spec.atoms)
     for check in spec.checks:
         assert s.holds(check.formula, spec.actions) == spec.holds(check.formula), check.name
-    if spec.goal is not None:
-        assert s.holds(spec.goal, spec.actions) == spec.holds(spec.goal)
+    if spec.goal is None:
+        return
+    assert s.holds(spec.goal, spec.actions) == spec.holds(spec.goal)
+    # Every action once from the initial state: the same applicability, size and goal.
+    for name, action in spec.actions.items():
+        assert s.is_applicable(action) == spec.model.is_applicable(action), name
+        if spec.model.is_applicable(action):
+            after, symbolic_after = spec.model.update(action), s.update(action)
+            assert symbolic_after.n_worlds == after.n_worlds, name
+            assert symbolic_after.holds(spec.goal) == after.holds(spec.goal), name
+
+
+@pytest.mark.parametrize("path", PLANNING, ids=[p.name for p in PLANNING])
+def test_explicit_plans_work_step_by_step_on_the_symbolic_backend(path):
+    spec = load_spec(path)
+    steps = plan(spec.model, spec.actions, spec.goal)
+    assert steps is not None
+    model, s = spec.model, spec.model.to_symbolic(spec.atoms)
+    for name in steps:
+        assert s.holds(spec.goal) == model.holds(spec.goal), name
+        model, s = model.update(spec.actions[name]), s.update(spec.actions[name])
+        assert s.n_worlds == model.n_worlds, name
+    assert s.holds(spec.goal)
