@@ -34,9 +34,12 @@ __all__ = [
 AND = BooleanOperator.AND
 IMP = BooleanOperator.IMP
 
-# Inner-node capacity is an upper bound (memory is taken as nodes are made).
+# Inner-node capacity is an upper bound (memory is taken as nodes are made). oxidd does
+# not collect garbage by itself here, so every evaluation starts by collecting once the
+# manager holds more than _COLLECT_ABOVE nodes (those of live BDDs are kept).
 _NODE_CAPACITY = 1 << 26
 _CACHE_CAPACITY = 1 << 20
+_COLLECT_ABOVE = 1 << 22
 
 
 @functools.cache
@@ -47,7 +50,10 @@ def manager() -> BDDManager:
 
 @contextlib.contextmanager
 def node_limit() -> Iterator[None]:
-    """Turn the manager running out of nodes into an :class:`EpistemicaError`."""
+    """Collect garbage if the manager is large; turn running out of nodes into an
+    :class:`EpistemicaError`."""
+    if manager().approx_num_inner_nodes() > _COLLECT_ABOVE:
+        manager().gc()
     try:
         yield
     except DDMemoryError:
