@@ -65,7 +65,22 @@ class KnowledgeStructure:
 
     Build one with :meth:`from_observables` or :meth:`KripkeModel.to_symbolic
     <epistemica.del_.KripkeModel.to_symbolic>`; it is an immutable value whose updates
-    (:meth:`announce`, :meth:`update`) return new structures.
+    (:meth:`announce`, :meth:`update`) return new structures. The constructor takes the
+    parts directly (for the translations and transformers of this package).
+
+    Parameters
+    ----------
+    atoms : mapping
+        Atom -> the slot of the state variable holding its (current) value.
+    slots : sequence of int
+        Every state variable (atoms, event bits, values before an update, labels).
+    law : BDDFunction
+        The state law over ``slots``.
+    agents : sequence of str
+    belief, knowledge : mapping
+        Agent -> :class:`~.relations.Observes` or :class:`~.relations.Arrows`.
+    designated : BDDFunction
+        The designated states (intersected with the law).
     """
 
     def __init__(

@@ -215,7 +215,7 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
 
     formula = spec.formula(args.formula)
     model = spec.model
-    if not hasattr(model, "truth_set"):
+    if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
         return _check_formula_symbolic(spec, formula, args)
     labels = world_labels(model)
     where = model.truth_set(formula, actions=spec.actions)
