@@ -59,6 +59,7 @@ from epistemica.del_.observability import observability_action
 from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, parse_formula
 from epistemica.del_.planner import PlanResult, Validation, plan, plan_with_stats, validate
 from epistemica.del_.spec import Check, Spec, load_spec, parse_spec
+from epistemica.del_.symbolic import KnowledgeStructure
 
 __all__ = [
     "FORMULA_GRAMMAR",
@@ -85,6 +86,7 @@ __all__ = [
     "InvalidArgumentError",
     "Know",
     "KnowWhether",
+    "KnowledgeStructure",
     "KripkeModel",
     "ModelError",
     "Not",

@@ -489,6 +489,23 @@ class KripkeModel:
 
         return minimize(self)
 
+    def to_symbolic(self, atoms: Iterable[str] | None = None) -> Any:
+        """This model as a :class:`~epistemica.del_.symbolic.KnowledgeStructure` (BDDs).
+
+        ``atoms`` declares further atoms, false everywhere (see
+        :meth:`KnowledgeStructure.from_kripke
+        <epistemica.del_.symbolic.KnowledgeStructure.from_kripke>`).
+
+        Examples
+        --------
+        >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
+        >>> m.to_symbolic().holds("p & ~K[a] p")
+        True
+        """
+        from epistemica.del_.symbolic import KnowledgeStructure
+
+        return KnowledgeStructure.from_kripke(self, atoms)
+
     def to_networkx(self) -> Any:
         """The model as a :class:`networkx.MultiDiGraph` (see :mod:`epistemica.del_.export`)."""
         from epistemica.del_.export import to_networkx

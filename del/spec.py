@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -51,7 +52,8 @@ class Spec:
     Attributes
     ----------
     model : KripkeModel
-        The initial model.
+        The initial model (a :class:`~epistemica.del_.symbolic.KnowledgeStructure` when
+        loaded for the symbolic backend).
     actions : dict
         Action name -> :class:`~epistemica.del_.action.ActionModel`; a parametrised schema
         contributes one entry per binding, named like ``open(a)``.
@@ -119,7 +121,9 @@ class Spec:
         return compile_formula(text, filename, names)
 
 
-def parse_spec(text: str, filename: str = "<string>") -> Spec:
+def parse_spec(
+    text: str, filename: str = "<string>", observables: Callable[..., Any] | None = None
+) -> Spec:
     """Compile the text of a spec file.
 
     Parameters
@@ -128,6 +132,10 @@ def parse_spec(text: str, filename: str = "<string>") -> Spec:
         The spec, in the language of ``docs/language.md``.
     filename : str
         Shown in error messages.
+    observables : callable, optional
+        Builds the model of an ``observes`` spec (see
+        :func:`epistemica.del_.symbolic.backend.load_spec`); default
+        :meth:`KripkeModel.from_observables`.
 
     Raises
     ------
@@ -156,12 +164,12 @@ def parse_spec(text: str, filename: str = "<string>") -> Spec:
     hint: declared agents: a
     """
     tree = parse(text, filename, start="start")
-    parts = Compiler(text, filename).compile(tree)
+    parts = Compiler(text, filename, observables=observables).compile(tree)
     return Spec(**parts._asdict(), filename=filename, source=text)
 
 
-def load_spec(path: str | Path) -> Spec:
-    """Read and compile a spec file.
+def load_spec(path: str | Path, observables: Callable[..., Any] | None = None) -> Spec:
+    """Read and compile a spec file (``observables``: see :func:`parse_spec`).
 
     Raises
     ------
@@ -178,4 +186,4 @@ def load_spec(path: str | Path) -> Spec:
             filename=str(path),
             hint="check the path; spec files are UTF-8 text such as specs/puzzles/*.epi",
         ) from None
-    return parse_spec(text, filename=str(path))
+    return parse_spec(text, filename=str(path), observables=observables)

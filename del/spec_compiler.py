@@ -21,7 +21,7 @@ Examples
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -132,9 +132,20 @@ class Compiler:
     filename : str
     names : Names, optional
         The declared names, when compiling a formula for an already compiled spec.
+    observables : callable, optional
+        Builds the initial model of an ``observes`` spec from ``(atoms, observes, law=,
+        designated=)`` instead of :meth:`KripkeModel.from_observables` (the symbolic backend
+        passes a chooser that never enumerates 2^n valuations).
     """
 
-    def __init__(self, source: str, filename: str, names: Names | None = None) -> None:
+    def __init__(
+        self,
+        source: str,
+        filename: str,
+        names: Names | None = None,
+        observables: Callable[..., Any] | None = None,
+    ) -> None:
+        self.observables = observables
         self.source = source
         self.filename = filename
         self.names = names or Names((), (), frozenset())

@@ -21,15 +21,17 @@ from epistemica.del_.spec_actions import members, relations
 __all__ = ["explicit_model", "observables_model", "satisfies"]
 
 
-def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> KripkeModel:
+def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> Any:
     """The S5 model of ``observes``/``law``/``actual`` statements."""
     atoms = comp.names.atoms
-    if len(atoms) > MAX_ENUMERATED_ATOMS:
+    build = comp.observables or KripkeModel.from_observables
+    if comp.observables is None and len(atoms) > MAX_ENUMERATED_ATOMS:
         stmt = by_kind["atoms_decl"][0]
         raise comp.error(
             f"{len(atoms)} atoms give 2^{len(atoms)} valuations, too many to enumerate",
             stmt,
-            f"use at most {MAX_ENUMERATED_ATOMS} atoms with 'observes', or explicit worlds",
+            f"use at most {MAX_ENUMERATED_ATOMS} atoms with 'observes', explicit worlds, or "
+            "the symbolic backend (epistemica check --backend symbolic)",
         )
     observes: dict[str, list[str]] = {a: [] for a in comp.names.agents}
     for stmt in by_kind.get("observes_decl", []):
@@ -53,7 +55,7 @@ def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -
             )
         designated = sorted(true)
     try:
-        return KripkeModel.from_observables(atoms, observes, law=law, designated=designated)
+        return build(atoms, observes, law=law, designated=designated)
     except EpistemicaError as exc:
         laws = [s.children[0] for s in by_kind.get("law_decl", [])]
         where = (laws or by_kind.get("atoms_decl") or [None])[0]

@@ -91,6 +91,13 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("file", metavar="FILE", help="a spec file (.epi)")
     check.add_argument("--formula", "-f", metavar="F", help="check this formula instead")
     check.add_argument("--json", action="store_true", help="print a JSON object")
+    check.add_argument(
+        "--backend",
+        choices=("auto", "explicit", "symbolic"),
+        default="auto",
+        help="explicit Kripke model or BDD knowledge structure (default auto: symbolic "
+        "above 20 observed atoms)",
+    )
     check.set_defaults(handler=_check)
 
     plan = commands.add_parser(
@@ -165,9 +172,9 @@ def _show(entry: dict[str, Any]) -> str:
 
 
 def _check(args: argparse.Namespace) -> int:
-    from epistemica.del_.spec import load_spec
+    from epistemica.del_.symbolic.backend import load_spec
 
-    spec = load_spec(args.file)
+    spec = load_spec(args.file, args.backend)
     if args.formula is not None:
         return _check_formula(spec, args)
     results = [(c, spec.holds(c.formula)) for c in spec.checks]
@@ -211,6 +218,8 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
 
     formula = spec.formula(args.formula)
     model = spec.model
+    if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
+        return _check_formula_symbolic(spec, formula, args)
     labels = world_labels(model)
     where = model.truth_set(formula, actions=spec.actions)
     designated = [{**_world(model, w, labels), "holds": w in where} for w in model.designated]
@@ -250,6 +259,23 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     if shown:
         print(f"    {shown}{tail}")
     return EXIT_OK if holds else EXIT_FALSE
+
+
+def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -> int:
+    """Counts instead of world lists: a knowledge structure does not list its states."""
+    from epistemica.del_.symbolic.backend import formula_summary
+
+    summary = formula_summary(spec, formula)
+    if args.json:
+        print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
+        return EXIT_OK if summary["holds"] else EXIT_FALSE
+    print(f"{formula}")
+    print(
+        f"  {'true' if summary['holds'] else 'false'} at the designated worlds: holds at "
+        f"{summary['n_designated_true']} of {summary['n_designated']}"
+    )
+    print(f"  holds at {summary['n_true']} of {summary['n_worlds']} worlds (symbolic backend)")
+    return EXIT_OK if summary["holds"] else EXIT_FALSE
 
 
 # --------------------------------------------------------------------------------------
