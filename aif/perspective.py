@@ -27,7 +27,7 @@ import numpy as np
 
 from epistemica.aif.evidence import _check_order, _check_robot, _sensors, _stack, chain_counts
 
-__all__ = ["Perspective", "perspectives"]
+__all__ = ["Perspective", "perspectives", "row_weights"]
 
 
 class Perspective(NamedTuple):
@@ -90,6 +90,32 @@ def _perspective(sensors, agent: int, order: int, weight: float, root=False) -> 
     return Perspective(agent, order, weight, root, counts[1:].sum(axis=0).astype(float))
 
 
+def row_weights(views: Sequence[Perspective], n: int) -> np.ndarray:
+    """How many evidence terms reach each robot's row in each perspective, ``(P, n)``.
+
+    A row gets one term per chain whose viewpoint measures it (a viewpoint never
+    measures itself) plus, for the perspective's own agent, its exact position. The
+    evidence of a row is the mean of its terms: summing them would count the agent's own
+    row (and rows measured by many chains) several times while others count once, and
+    two robots with the same information would then each trust their own nearest goal
+    more than the other's, claiming the same goal.
+
+    Examples
+    --------
+    Two range robots at order 2, robot 0 deciding: in its own belief its row gets its
+    position and robot 1's view of it, robot 1's row only robot 0's view of it; in its
+    model of robot 1 (order 1), each row gets one term.
+
+    >>> row_weights(perspectives(["range", "range"], 0, 2), 2).tolist()
+    [[2.0, 1.0], [1.0, 1.0]]
+    """
+    out = np.zeros((len(views), n))
+    for p, view in enumerate(views):
+        out[p] = view.counts.sum() - view.counts
+        out[p, view.agent] += 1.0
+    return np.maximum(out, 1.0)  # a row nobody measures stays at zero evidence
+
+
 def _predicted_evidence(
     views: list[Perspective],
     robot: int,
@@ -127,6 +153,7 @@ def _predicted_evidence(
     agents = np.array([p.agent for p in views])
     # Order 0: each perspective's agent knows its own position exactly.
     e[np.arange(len(views)), :, agents] += ranged[:, agents].transpose(1, 0, 2)
+    e /= row_weights(views, positions.shape[0])[:, None, :, None]
     others = np.arange(positions.shape[0]) != robot
     e[0, :, robot] = e[0, 0, robot]  # own motion is not evidence about own goal
     e[1:, :, others] = e[1:, :1, others]

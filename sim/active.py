@@ -18,6 +18,8 @@ from epistemica.aif.configurations import valid_configurations
 from epistemica.aif.controller import Controller
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
+from epistemica.aif.prior import shared_rank, team_log_prior
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.baselines import open_goals
 from epistemica.sim.policy import Decisions, Policy
 from epistemica.sim.sensing import Observations
@@ -29,12 +31,14 @@ __all__ = ["LEVELS", "ActiveInference"]
 LEVELS = {"first": 1, "second": 2, "third": 3}
 
 
-def _grid(max_speed: float, max_turn: float) -> np.ndarray:
+def _grid(max_speed: float, max_turn: float, headings: int = 8) -> np.ndarray:
     speeds = max_speed * np.array([0.0, 1 / 3, 2 / 3, 1.0])
-    if max_turn >= np.pi:
+    if max_turn >= np.pi and headings == len(DEFAULT_HEADING_CHANGES):
         changes = DEFAULT_HEADING_CHANGES
+    elif max_turn >= np.pi:
+        changes = np.linspace(-np.pi, np.pi, headings, endpoint=False)
     else:
-        changes = np.linspace(-max_turn, max_turn, 9)
+        changes = np.linspace(-max_turn, max_turn, headings + 1)
     return control_grid(speeds, changes)
 
 
@@ -53,25 +57,57 @@ class ActiveInference(Policy):
     ----------
     order : {1, 2, 3}
         Order of reasoning.
+    prior_scale : float or None
+        Metres of total distance per nat of the team prior
+        (:func:`epistemica.aif.prior.team_log_prior`); ``None``: a uniform prior.
+    tie_weight : float
+        Nats of the shared tie-breaking preference.
+    memory : float
+        Exponent ``rho`` in ``[0, 1]`` of the previous posterior in the next prior,
+        ``p_t ∝ team_prior_t · q_{t-1}^rho``: 0 forgets, 1 is a plain Bayes filter.
+    headings : int
+        Heading changes in the control grid.
     **options
         Passed to :class:`epistemica.aif.Controller` (weights, horizon, ...).
     """
 
-    def __init__(self, order: int, **options) -> None:
+    #: Log-prior floor (nats below the best configuration): keeps every probability
+    #: representable in float32, where the controller computes over large sets.
+    LOG_PRIOR_FLOOR = -80.0
+
+    def __init__(
+        self,
+        order: int,
+        prior_scale: float | None = 1.0,
+        tie_weight: float = 1.0,
+        memory: float = 0.0,
+        headings: int = 16,
+        **options,
+    ) -> None:
+        if not 0.0 <= float(memory) <= 1.0:
+            raise InvalidArgumentError(
+                f"memory must lie in [0, 1], got {memory!r}", hint="0 forgets, 1 is a filter"
+            )
+        self.memory = float(memory)
         self.order = int(order)
+        self.headings = int(headings)
+        self.prior_scale = prior_scale
+        self.tie_weight = tie_weight
         self.options = options
         self.name = {v: k for k, v in LEVELS.items()}.get(self.order, f"order-{order}")
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
         self._controllers: dict[tuple, Controller] = {}
+        self._ranks: dict[int, np.ndarray] = {}
+        self._beliefs: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (controller, q)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
         key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
         ctrl = self._controllers.get(key)
         if ctrl is None:
-            grid = _grid(s.max_speed[robot], s.max_turn[robot])
+            grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
             ctrl = Controller(
                 s.goals[goals],
                 s.sensors,
@@ -83,8 +119,27 @@ class ActiveInference(Policy):
             )
             if len(self._controllers) > 64:  # multitask subsets change: bound the cache
                 self._controllers.clear()
+                self._ranks.clear()
             self._controllers[key] = ctrl
         return ctrl
+
+    def _prior(self, ctrl: Controller, view: np.ndarray, robot: int) -> np.ndarray | None:
+        log_prior = np.zeros(ctrl.configurations.shape[0])
+        if self.prior_scale is not None:
+            rank = self._ranks.get(id(ctrl))
+            if rank is None:
+                rank = self._ranks[id(ctrl)] = shared_rank(ctrl.goals, ctrl.configurations)
+            log_prior += team_log_prior(
+                view, ctrl.goals, ctrl.configurations, self.prior_scale, self.tie_weight, rank
+            )
+        remembered = self._beliefs.get(robot)
+        if self.memory > 0 and remembered is not None and remembered[0] == id(ctrl):
+            with np.errstate(divide="ignore"):
+                log_prior += self.memory * np.log(remembered[1])
+        if not log_prior.any():
+            return None
+        prior = np.exp(np.maximum(log_prior - log_prior.max(), self.LOG_PRIOR_FLOOR))
+        return prior / prior.sum()
 
     def _configurations(self, observations: Observations, robot: int):
         """Goal indices the robot reasons over, and a builder of their configurations."""
@@ -111,7 +166,9 @@ class ActiveInference(Policy):
             if goals.size == 0:
                 continue  # stays put: nothing known to go to
             ctrl = self._controller(robot, goals, configurations)
-            d = ctrl.decide(robot, observations.poses[robot])
+            view = observations.poses[robot]
+            d = ctrl.decide(robot, view, prior=self._prior(ctrl, view, robot))
+            self._beliefs[robot] = (id(ctrl), d.belief)
             out.controls[row] = d.control
             out.focal[row] = goals[ctrl.configurations[d.focal]]
             out.entropy[row] = entropy(d.belief)

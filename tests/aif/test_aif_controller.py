@@ -37,7 +37,15 @@ def reference_terms(goals, sensors, configs, order, robot, poses, x, prior, upda
         return bayes_update(prior, L) if update == "bayes" else published_update(prior, L)
 
     def ev(agent, depth, pos):
-        return evidence_by_order(agent, pos, goals, sensors, depth, ETA, ETA_B).sum(axis=0)
+        # Each row's evidence is the mean of the terms that reach it: one per chain whose
+        # last robot measures the row (never itself), and the agent's own position.
+        terms = np.zeros(len(sensors))
+        terms[agent] += 1
+        for chains in perspective_sets(sensors, agent, depth)[1:]:
+            for chain in chains:
+                terms += np.arange(len(sensors)) != chain[-1]
+        total = evidence_by_order(agent, pos, goals, sensors, depth, ETA, ETA_B).sum(axis=0)
+        return total / np.maximum(terms, 1)[:, None]
 
     levels = perspective_sets(sensors, robot, order)
     persp = [(robot, order)]
@@ -98,6 +106,7 @@ def test_controller_matches_definition(scene, order, update):
         eta_bearing=ETA_B,
         update=update,
         preference_floor=EPS,
+        progress_weight=1.0,  # the reference below computes the unweighted term
     )
     for robot in range(n):
         cands = predict_poses(poses[robot], ctrl.controls)[:, :2]
