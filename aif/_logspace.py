@@ -47,10 +47,18 @@ def log_normalise(x: np.ndarray, axis: int) -> np.ndarray:
     >>> x = np.array([[0.0, 0.0], [np.log(3.0), -np.inf]])
     >>> np.exp(log_normalise(x, 0)).round(9).tolist()
     [[0.25, 1.0], [0.75, 0.0]]
+
+    An all ``-inf`` slice (nothing possible) stays ``-inf``, never NaN:
+
+    >>> log_normalise(np.array([[-np.inf, -np.inf], [0.0, 0.0]]), 1).round(6).tolist()
+    [[-inf, -inf], [-0.693147, -0.693147]]
     """
     top = x.max(axis=axis, keepdims=True)
-    top = np.where(np.isfinite(top), top, 0.0)
-    return x - (top + np.log(np.exp(x - top).sum(axis=axis, keepdims=True)))
+    empty = ~np.isfinite(top)
+    top = np.where(empty, 0.0, top)
+    with np.errstate(divide="ignore"):
+        norm = top + np.log(np.exp(x - top).sum(axis=axis, keepdims=True))
+    return np.where(empty, -np.inf, x - np.where(empty, 0.0, norm))
 
 
 def log_softmax(x: np.ndarray, axis: int) -> np.ndarray:

@@ -350,7 +350,9 @@ class Controller:
                 self.beam,
             )
         finite = np.isfinite(G)
-        logits = np.where(finite, -self.gamma * np.where(finite, G, 0.0), -np.inf)
+        shifted = np.where(finite, G - G[finite].min(), 0.0)
+        with np.errstate(over="ignore"):  # a huge precision: logits -inf, never NaN
+            logits = np.where(finite, -self.gamma * shifted, -np.inf)
         q_pi = softmax(logits)
         if rng is None:
             best = np.flatnonzero(G == G[finite].min())

@@ -234,7 +234,10 @@ def policy_posterior(G, gamma: float = 1.0, log_prior=None) -> np.ndarray:
         raise InvalidArgumentError(
             f"gamma must be >= 0, got {gamma!r}", hint="gamma is a precision"
         )
-    logits = -gam * g
+    # Shifting G by its minimum changes nothing after normalisation and keeps a huge
+    # precision from overflowing: the best policy's logit is 0, the others <= 0 (or -inf).
+    with np.errstate(over="ignore"):
+        logits = -gam * (g - g.min())
     if log_prior is not None:
         logits = logits + as_log_values(log_prior, "log_prior", ndim=1, shape=g.shape)
     log_q = normalise_log(

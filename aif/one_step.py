@@ -329,7 +329,8 @@ class OneStepEFE:
         w = np.exp(b)
         groups = self.index.groups(robot)
         mass = np.asarray(groups @ w).T  # (P, m)
-        tilt = np.asarray(groups @ (w * b)).T
+        # 0 · log 0 = 0: configurations with zero prior carry no mass and no entropy.
+        tilt = np.asarray(groups @ np.multiply(w, b, out=np.zeros_like(w), where=w > 0)).T
         with np.errstate(divide="ignore", invalid="ignore"):
             ln_mass = np.log(mass)
             h_within = np.where(mass > 0, ln_mass - tilt / np.where(mass > 0, mass, 1), 0.0)

@@ -32,10 +32,15 @@ FAST = settings(max_examples=30, deadline=None)
 
 
 def distributions(size: int | None = None, min_size: int = 1, max_size: int = 8):
-    """Strictly positive probability vectors (positive weights, normalised)."""
+    """Probability vectors, exact zeros included (a posterior fed back as a prior has them)."""
     n = st.just(size) if size is not None else st.integers(min_size, max_size)
+    weight = st.one_of(st.just(0.0), st.floats(0.01, 1.0))
     return n.flatmap(
-        lambda k: arrays(float, k, elements=st.floats(0.01, 1.0)).map(lambda w: w / w.sum())
+        lambda k: (
+            arrays(float, k, elements=weight)
+            .filter(lambda w: w.sum() > 0)
+            .map(lambda w: w / w.sum())
+        )
     )
 
 

@@ -1,10 +1,11 @@
 """Reproduce the pymdp reference vectors wherever our definitions coincide with pymdp's.
 
 The vectors were computed with pymdp 1.0.4 and ship as tests/data/pymdp_vectors.json
-(fields described in tests/data/README.md); pymdp itself is not imported. Multi-factor models are flattened into one joint state
-space (C order, first factor slowest) and their modalities into one joint outcome, which
-is what our single-variable functions take. Where the definitions differ, the documented
-relation is asserted instead (docs/aif.md, "Where we differ from pymdp"):
+(fields described in tests/data/README.md); pymdp itself is not imported. Multi-factor
+models are flattened into one joint state space (C order, first factor slowest) and their
+modalities into one joint outcome, which is what our single-variable functions take.
+Where the definitions differ, the documented relation is asserted instead (docs/aif.md,
+"Where we differ from pymdp"):
 
 - pymdp sums the information gain per modality; ours is the joint mutual information.
   The difference is the total correlation TC of the predicted outcomes, and the same TC

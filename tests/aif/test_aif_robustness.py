@@ -145,3 +145,32 @@ def test_bad_function_inputs(call, match):
     with pytest.raises(InvalidArgumentError, match=match) as err:
         call()
     assert err.value.hint
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    order=st.integers(0, 3),
+    update=st.sampled_from(["bayes", "published"]),
+    zeros=st.lists(st.booleans(), min_size=6, max_size=6).filter(lambda z: not all(z)),
+    gamma=st.sampled_from([0.0, 1.0, 1e12, 1e300]),
+    robot=st.integers(0, 1),
+)
+def test_zero_prior_mass_and_huge_precision_stay_finite(order, update, zeros, gamma, robot):
+    """A posterior fed back as a prior has exact zeros: no NaN, no warning, no raw error."""
+    ctrl = Controller(
+        [[10, 0], [-10, 0], [0, 10]],
+        ["range", "bearing"],
+        valid_configurations("allocation", 2, 3),
+        order=order,
+        update=update,
+        gamma=gamma,
+    )
+    prior = np.where(zeros, 0.0, 1.0)
+    prior /= prior.sum()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        d = ctrl.decide(robot, [[1.0, 0.0, 0.0], [-2.0, 1.0, 0.0]], prior=prior)
+    assert np.all(np.isfinite(d.G)) and np.isclose(d.q_pi.sum(), 1.0)
+    if update == "bayes":  # the published softmax rule is not Bayesian: zeros revive
+        assert np.all(d.belief[np.asarray(zeros)] == 0.0)
+    assert np.isclose(d.belief.sum(), 1.0)
