@@ -220,8 +220,9 @@ class Scenario:
             if self.tasking is not None and (not isinstance(self.tasking, int) or self.tasking < 1):
                 raise _fail(f"tasking must be an integer >= 1, got {self.tasking!r}", "e.g. 3")
             return
-        # Raises a clear error for impossible constraints (more robots than goals, ...).
-        count_configurations(self.mission, n, m, self.capacities)
+        if count_configurations(self.mission, n, m, self.capacities) == 0:
+            # Building the (empty) set raises the specific error: too few goals, ...
+            valid_configurations(self.mission, n, m, self.capacities)
 
     @property
     def n_robots(self) -> int:

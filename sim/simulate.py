@@ -24,6 +24,7 @@ from epistemica.sim._streams import trial_streams
 from epistemica.sim.active import LEVELS, ActiveInference
 from epistemica.sim.baselines import Convention, Greedy
 from epistemica.sim.missions import distances, mission_holds
+from epistemica.sim.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.policy import Policy
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.sensing import Sensing
@@ -32,7 +33,16 @@ from epistemica.sim.trial import Trial
 __all__ = ["REASONING", "make_policy", "simulate"]
 
 #: Names accepted for ``reasoning`` (and as values of ``policies``).
-REASONING = ("zero", "convention", "first", "second", "third")
+REASONING = (
+    "zero",
+    "convention",
+    "first",
+    "second",
+    "third",
+    "paper-first",
+    "paper-higher",
+    "paper-higher-fixed",
+)
 
 # A robot that moved less than this (m) in the last step, within the success radius of a
 # goal, is seen to have settled there.
@@ -55,6 +65,8 @@ def make_policy(name: str) -> Policy:
         return Convention()
     if name in LEVELS:
         return ActiveInference(LEVELS[name])
+    if name in PAPER_LEVELS:
+        return PaperPolicy(name)
     raise InvalidArgumentError(
         f"unknown reasoning level {name!r}",
         hint=f"use one of {', '.join(REASONING)}, or pass a Policy object",
