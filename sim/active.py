@@ -159,8 +159,9 @@ class ActiveInference(Policy):
         return known, lambda: remap[rows[usable]]
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
-        n = self.scenario.n_robots
+        n, m = self.scenario.n_robots, self.scenario.n_goals
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
+        out = out._replace(goal_belief=np.zeros((len(robots), m)))
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
@@ -173,4 +174,6 @@ class ActiveInference(Policy):
             out.focal[row] = goals[ctrl.configurations[d.focal]]
             out.entropy[row] = entropy(d.belief)
             out.considered[row] = ctrl.configurations.shape[0]
+            own = goals[ctrl.configurations[:, robot]]
+            out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)
         return out

@@ -128,6 +128,7 @@ class PaperPolicy(Policy):
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         s, n = self.scenario, self.scenario.n_robots
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
+        out = out._replace(goal_belief=np.zeros((len(robots), s.n_goals)))
         for row, robot in enumerate(robots):
             goals, rows = self._goals(observations, robot)
             if rows is None or goals.size == 0:
@@ -150,6 +151,9 @@ class PaperPolicy(Policy):
             out.focal[row] = goals[rows[int(np.argmax(q_now))]]
             out.entropy[row] = float(-np.sum(q_now * np.log(np.maximum(q_now, 1e-300))))
             out.considered[row] = rows.shape[0]
+            out.goal_belief[row] = np.bincount(
+                goals[rows[:, robot]], weights=q_now, minlength=s.n_goals
+            )
         return out
 
     def _update(self, robot: int, goals: np.ndarray, likelihood: np.ndarray) -> np.ndarray:

@@ -48,12 +48,16 @@ class Decisions(NamedTuple):
         ``(r,)`` entropy (nats) of each robot's belief; NaN for policies without one.
     considered : numpy.ndarray
         ``(r,)`` configurations each robot considered.
+    goal_belief : numpy.ndarray or None
+        ``(r, m)``: each robot's belief about its own goal (the marginal of its belief over
+        configurations); ``None``: certainty on its focal goal.
     """
 
     controls: np.ndarray
     focal: np.ndarray
     entropy: np.ndarray
     considered: np.ndarray
+    goal_belief: np.ndarray | None = None
 
     @classmethod
     def of(cls, controls, focal, entropy=None, considered=None) -> Decisions:

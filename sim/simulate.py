@@ -146,6 +146,7 @@ def simulate(
             run.focal[step, robots] = decisions.focal
             run.entropy[step, robots] = decisions.entropy
             run.considered[step, robots] = decisions.considered
+            run.record_goal_belief(step, robots, decisions)
         run.time[step] = perf_counter() - started
         if run.advance(step, controls):
             break
@@ -179,7 +180,16 @@ class _Run:
         self.focal = np.full((steps, n, n), -1)
         self.entropy = np.full((steps, n), np.nan)
         self.considered = np.zeros((steps, n), dtype=int)
+        self.goal_belief = np.zeros((steps, n, s.n_goals))
         self.time = np.zeros(steps)
+
+    def record_goal_belief(self, step: int, robots: np.ndarray, decisions) -> None:
+        if decisions.goal_belief is not None:
+            self.goal_belief[step, robots] = decisions.goal_belief
+            return
+        own = decisions.focal[np.arange(len(robots)), robots]  # certainty on the focal goal
+        has = own >= 0
+        self.goal_belief[step, robots[has], own[has]] = 1.0
 
     def settled(self) -> np.ndarray:
         if len(self.path) < 2:
@@ -227,6 +237,7 @@ class _Run:
             focal=self.focal[:steps],
             entropy=self.entropy[:steps],
             considered=self.considered[:steps],
+            goal_belief=self.goal_belief[:steps],
             decision_time=self.time[:steps],
             policies=names,
             seed=int(seed),

@@ -40,6 +40,8 @@ class Trial:
         ``(steps, n)`` entropy (nats) of each robot's belief (NaN without one).
     considered : numpy.ndarray
         ``(steps, n)`` configurations each robot considered.
+    goal_belief : numpy.ndarray
+        ``(steps, n, m)``: each robot's belief about its own goal.
     decision_time : numpy.ndarray
         ``(steps,)`` seconds the whole team spent deciding at each step.
     policies : tuple of str
@@ -56,6 +58,7 @@ class Trial:
     focal: np.ndarray
     entropy: np.ndarray
     considered: np.ndarray
+    goal_belief: np.ndarray
     decision_time: np.ndarray
     policies: tuple[str, ...]
     seed: int

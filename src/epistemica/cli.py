@@ -136,8 +136,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     plan.add_argument("--json", action="store_true", help="print a JSON object")
     plan.set_defaults(handler=_plan)
+    from epistemica.cli_simulate import add_command as add_simulate_command
     from epistemica.cli_sweep import add_commands as add_sweep_commands
 
+    add_simulate_command(commands)
     add_sweep_commands(commands)
     return parser
 
