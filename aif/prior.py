@@ -34,8 +34,9 @@ import numpy as np
 
 from epistemica.aif._validate import as_finite, nonnegative, positive
 from epistemica.aif.likelihood import check_configurations
+from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["shared_rank", "team_log_prior"]
+__all__ = ["plausible_configurations", "shared_rank", "team_log_prior"]
 
 
 def shared_rank(goals, configurations, seed: int | None = None) -> np.ndarray:
@@ -112,3 +113,101 @@ def team_log_prior(
     logits = -(cost - cost.min()) / scale - tie_weight * rank
     logits -= logits.max()
     return logits - np.log(np.exp(logits).sum())
+
+
+def plausible_configurations(
+    cost,
+    mission: str,
+    capacities=None,
+    within: float = 30.0,
+    limit: int = 20_000,
+) -> np.ndarray:
+    """The valid configurations whose total cost is within ``within`` of the least.
+
+    Under :func:`team_log_prior` with ``scale`` metres per nat, a configuration ``D``
+    metres costlier than the best has prior odds ``exp(-D / scale)`` against it, while
+    motion evidence moves the odds by at most about one nat per robot. Configurations
+    beyond ``within = scale · (margin + n)`` cannot win, so the belief need not range
+    over them. They are never built: rows grow robot by robot (as in
+    :func:`~epistemica.aif.valid_configurations`), and a prefix is dropped as soon as its
+    cost plus the cheapest completion exceeds the bound. If more than ``limit`` rows
+    survive a level, the ``limit`` most promising prefixes are kept (a beam; the least-cost
+    configuration always survives).
+
+    Parameters
+    ----------
+    cost : array_like
+        ``(n, m)`` cost of robot ``r`` taking goal ``g`` (distances as observed).
+    mission : {"rendezvous", "allocation", "capacity"}
+    capacities : sequence of int, optional
+        For ``"capacity"``.
+    within : float
+        Cost margin over the least-cost configuration.
+    limit : int
+        Most rows kept per level.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(k, n)`` configurations in lexicographic order (for a fixed cost, the same set
+        and order as filtering :func:`~epistemica.aif.valid_configurations`).
+
+    Examples
+    --------
+    >>> cost = np.array([[1.0, 9.0, 9.0], [9.0, 1.0, 9.0], [9.0, 9.0, 1.0]])
+    >>> plausible_configurations(cost, "allocation", within=5.0).tolist()
+    [[0, 1, 2]]
+    >>> len(plausible_configurations(cost, "allocation", within=100.0))
+    6
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    from epistemica.aif.configurations import _check_capacities, _extend, _index_dtype
+
+    c = as_finite(cost, "cost", ndim=2)
+    n, m = c.shape
+    within = nonnegative(within, "within")
+    if mission == "rendezvous":
+        total = c.sum(axis=0)
+        goals = np.flatnonzero(total <= total.min() + within)
+        return np.repeat(goals[:, None], n, axis=1).astype(_index_dtype(m))
+    if mission == "allocation":
+        if n > m:
+            raise InvalidArgumentError(
+                f"allocation needs pairwise distinct goals, but {n} robots > {m} goals",
+                hint="use n_robots <= n_goals",
+            )
+        slots, state = c, np.ones((1, m), dtype=np.int64)
+    elif mission == "capacity":
+        caps = _check_capacities(capacities, n, m)
+        slots, state = np.repeat(c, caps, axis=1), caps[None, :].astype(np.int64)
+    else:
+        raise InvalidArgumentError(
+            f"no cost bound for mission {mission!r}",
+            hint="use rendezvous, allocation or capacity",
+        )
+    rows_r, cols_r = linear_sum_assignment(slots)
+    bound = slots[rows_r, cols_r].sum() + within
+    # Expand the most decided robots first (largest gap between their two cheapest goals):
+    # their costly alternatives are cut at the first levels, where prefixes are few.
+    ranked = np.sort(c, axis=1)
+    order = np.argsort(-(ranked[:, 1] - ranked[:, 0]) if m > 1 else np.zeros(n), kind="stable")
+    c_ordered = c[order]
+    cheapest_rest = np.concatenate([np.cumsum(c_ordered.min(axis=1)[::-1])[::-1], [0.0]])
+    rows = np.empty((1, 0), dtype=_index_dtype(m))
+    spent = np.zeros(1)
+    for r in range(n):
+        rows, parent = _extend(rows, state > 0)
+        goal = rows[:, -1].astype(np.intp)
+        spent = spent[parent] + c_ordered[r, goal]
+        state = state[parent]
+        state[np.arange(rows.shape[0]), goal] -= 1
+        promise = spent + cheapest_rest[r + 1]
+        keep = promise <= bound + 1e-9
+        if np.count_nonzero(keep) > limit:
+            cut = np.partition(promise[keep], limit - 1)[limit - 1]
+            keep &= promise <= cut
+        rows, spent, state = rows[keep], spent[keep], state[keep]
+    out = np.empty_like(rows)
+    out[:, order] = rows
+    return out[np.lexsort(out.T[::-1])]

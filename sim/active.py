@@ -10,15 +10,16 @@ changes that include "straight ahead" (the full turn when allowed, else nine val
 
 from __future__ import annotations
 
+import weakref
 from functools import lru_cache
 
 import numpy as np
 
-from epistemica.aif.configurations import valid_configurations
+from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.aif.controller import Controller
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
-from epistemica.aif.prior import shared_rank, team_log_prior
+from epistemica.aif.prior import plausible_configurations, shared_rank, team_log_prior
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.baselines import open_goals
 from epistemica.sim.policy import Decisions, Policy
@@ -50,6 +51,16 @@ def _allocations(n: int, m: int) -> np.ndarray:
     return rows
 
 
+class _Pruned:
+    """The plausible configurations of one robot at one step (not shared, not cached)."""
+
+    def __init__(self, rows: np.ndarray) -> None:
+        self.rows = rows
+
+    def __call__(self) -> np.ndarray:
+        return self.rows
+
+
 class ActiveInference(Policy):
     """Expected-free-energy control at a given order of reasoning.
 
@@ -74,6 +85,11 @@ class ActiveInference(Policy):
     #: Log-prior floor (nats below the best configuration): keeps every probability
     #: representable in float32, where the controller computes over large sets.
     LOG_PRIOR_FLOOR = -80.0
+    #: From this many valid configurations on, a robot reasons over the plausible ones
+    #: only: those within ``prior_scale * (n + PLAUSIBLE_MARGIN)`` of the least total
+    #: distance (:func:`epistemica.aif.prior.plausible_configurations`).
+    PRUNE_FROM = 2_000
+    PLAUSIBLE_MARGIN = 10.0
 
     def __init__(
         self,
@@ -99,12 +115,25 @@ class ActiveInference(Policy):
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
         self._controllers: dict[tuple, Controller] = {}
-        self._ranks: dict[int, np.ndarray] = {}
-        self._beliefs: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (controller, q)
+        # Keyed by the controller object, weakly: per-step controllers come and go, and
+        # an id() of a collected one may be reused by the next.
+        self._ranks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._beliefs: dict[int, tuple[Controller, np.ndarray]] = {}  # robot -> (ctrl, q)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
         key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
+        if isinstance(configurations, _Pruned):  # a set of its own each step: no caching
+            grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
+            return Controller(
+                s.goals[goals],
+                s.sensors,
+                configurations(),
+                order=self.order,
+                controls=grid,
+                dt=s.dt,
+                **self.options,
+            )
         ctrl = self._controllers.get(key)
         if ctrl is None:
             grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
@@ -119,21 +148,20 @@ class ActiveInference(Policy):
             )
             if len(self._controllers) > 64:  # multitask subsets change: bound the cache
                 self._controllers.clear()
-                self._ranks.clear()
             self._controllers[key] = ctrl
         return ctrl
 
     def _prior(self, ctrl: Controller, view: np.ndarray, robot: int) -> np.ndarray | None:
         log_prior = np.zeros(ctrl.configurations.shape[0])
         if self.prior_scale is not None:
-            rank = self._ranks.get(id(ctrl))
+            rank = self._ranks.get(ctrl)
             if rank is None:
-                rank = self._ranks[id(ctrl)] = shared_rank(ctrl.goals, ctrl.configurations)
+                rank = self._ranks[ctrl] = shared_rank(ctrl.goals, ctrl.configurations)
             log_prior += team_log_prior(
                 view, ctrl.goals, ctrl.configurations, self.prior_scale, self.tie_weight, rank
             )
         remembered = self._beliefs.get(robot)
-        if self.memory > 0 and remembered is not None and remembered[0] == id(ctrl):
+        if self.memory > 0 and remembered is not None and remembered[0] is ctrl:
             with np.errstate(divide="ignore"):
                 log_prior += self.memory * np.log(remembered[1])
         if not log_prior.any():
@@ -147,8 +175,17 @@ class ActiveInference(Policy):
         known = open_goals(s, observations, robot)
         if s.mission == "multitask":
             slots = task_slots(select_tasks(observations.poses[robot], s.goals, known), n)
-            return slots, lambda: _allocations(n, len(slots))
+            # Fewer open tasks than robots: each task takes as many robots as it has slots.
+            tasks, copies = np.unique(slots, return_counts=True)
+            mission, caps = ("allocation", None) if len(tasks) == n else ("capacity", copies)
+            if len(tasks) and count_configurations(mission, n, len(tasks), caps) >= self.PRUNE_FROM:
+                return tasks, self._plausible(observations, robot, tasks, mission, caps)
+            if mission == "allocation":
+                return tasks, lambda: _allocations(n, n)
+            return tasks, lambda: valid_configurations(mission, n, len(tasks), caps)
         if known.size == s.n_goals:
+            if count_configurations(s.mission, n, s.n_goals, s.capacities) >= self.PRUNE_FROM:
+                return known, self._plausible(observations, robot, known, s.mission, s.capacities)
             return known, s.configurations
         rows = s.configurations()
         usable = np.isin(rows, known).all(axis=1)
@@ -157,6 +194,14 @@ class ActiveInference(Policy):
         remap = np.full(s.n_goals, -1)
         remap[known] = np.arange(known.size)
         return known, lambda: remap[rows[usable]]
+
+    def _plausible(self, observations, robot, goals, mission, capacities):
+        view = observations.poses[robot, :, :2]
+        cost = np.hypot(*(view[:, None, :] - self.scenario.goals[goals][None]).transpose(2, 0, 1))
+        scale = 1.0 if self.prior_scale is None else self.prior_scale
+        within = scale * (len(view) + self.PLAUSIBLE_MARGIN)
+        rows = plausible_configurations(cost, mission, capacities, within)
+        return _Pruned(rows)
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         n, m = self.scenario.n_robots, self.scenario.n_goals
@@ -169,7 +214,8 @@ class ActiveInference(Policy):
             ctrl = self._controller(robot, goals, configurations)
             view = observations.poses[robot]
             d = ctrl.decide(robot, view, prior=self._prior(ctrl, view, robot))
-            self._beliefs[robot] = (id(ctrl), d.belief)
+            if self.memory > 0:
+                self._beliefs[robot] = (ctrl, d.belief)
             out.controls[row] = d.control
             out.focal[row] = goals[ctrl.configurations[d.focal]]
             out.entropy[row] = entropy(d.belief)
