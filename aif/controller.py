@@ -133,6 +133,12 @@ class Controller:
         progress and robots dither short of an agreed goal.
     preference_floor : float
         ``eps`` of the preferred distribution ``C*`` over configurations.
+    position_noise : float
+        Variance (m², per axis) of the noise on the observed positions of the others. The
+        evidence of each other robot's row is attenuated by the probit approximation
+        ``1 / sqrt(1 + pi s² / 8)``, ``s²`` the variance the noise induces in that row's
+        evidence (docs/aif.md, "Observation noise"): the likelihood is less confident at
+        32 m² than at 0.5 m². 0 (default) trusts observations as exact.
     """
 
     def __init__(
@@ -154,6 +160,7 @@ class Controller:
         progress_weight: float = 30.0,
         social_weight: float = 1.0,
         preference_floor: float = 0.01,
+        position_noise: float = 0.0,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.sensors = _sensors(sensors)
@@ -203,6 +210,11 @@ class Controller:
         self.social_weight = self._model.social_weight
         self.preference_floor = self._model.preference_floor
         self._perspective_cache: dict[int, list[Perspective]] = {}
+        self.position_noise = float(as_finite(position_noise, "position_noise"))
+        if self.position_noise < 0:
+            raise InvalidArgumentError(
+                f"position_noise must be >= 0, got {position_noise!r}", hint="a variance, m²"
+            )
 
     def perspectives(self, robot: int) -> list[Perspective]:
         """The beliefs robot ``robot`` holds (first) or models, with their evidence chains.
@@ -240,9 +252,29 @@ class Controller:
 
     def _evidence(self, views, robot: int, pos: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """Evidence ``(P, b, n, m)`` of ``views`` with ``robot`` at each of ``xs (b, 2)``."""
-        return _predicted_evidence(
+        e = _predicted_evidence(
             views, robot, pos, xs, self.goals, self._bearing, self.eta, self.eta_bearing
         )
+        if self.position_noise > 0:
+            e *= self._attenuation(robot, pos)[None, None, :, None]
+        return e
+
+    def _attenuation(self, robot: int, pos: np.ndarray) -> np.ndarray:
+        """Per-row factor ``1 / sqrt(1 + pi s² / 8)`` for noisy observed positions.
+
+        A row's evidence differs between goals by about ``Δd / eta`` (range) or
+        ``Δangle / eta_bearing`` (bearing, seen from ``robot``); noise of variance ``σ²``
+        per axis gives those differences a variance ``s² ≈ 2σ² / eta²`` or
+        ``2σ² / (eta_bearing · ρ)²`` at range ``ρ``. The deciding robot's own row is exact.
+        """
+        if self._bearing[robot]:
+            rho = np.maximum(np.hypot(*(pos - pos[robot]).T), 1.0)
+            s2 = 2.0 * self.position_noise / (self.eta_bearing * rho) ** 2
+        else:
+            s2 = np.full(pos.shape[0], 2.0 * self.position_noise / self.eta**2)
+        factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
+        factor[robot] = 1.0
+        return factor
 
     def beliefs(self, robot: int, poses, prior=None) -> tuple[np.ndarray, int]:
         """Robot ``robot``'s current belief over the configurations and its focal row.

@@ -122,34 +122,24 @@ class ActiveInference(Policy):
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
-        key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
         if isinstance(configurations, _Pruned):  # a set of its own each step: no caching
-            grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
-            return Controller(
-                s.goals[goals],
-                s.sensors,
-                configurations(),
-                order=self.order,
-                controls=grid,
-                dt=s.dt,
-                **self.options,
-            )
+            return self._build(robot, goals, configurations())
+        key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
         ctrl = self._controllers.get(key)
         if ctrl is None:
-            grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
-            ctrl = Controller(
-                s.goals[goals],
-                s.sensors,
-                configurations(),
-                order=self.order,
-                controls=grid,
-                dt=s.dt,
-                **self.options,
-            )
+            ctrl = self._build(robot, goals, configurations())
             if len(self._controllers) > 64:  # multitask subsets change: bound the cache
                 self._controllers.clear()
             self._controllers[key] = ctrl
         return ctrl
+
+    def _build(self, robot: int, goals: np.ndarray, rows: np.ndarray) -> Controller:
+        s = self.scenario
+        options = {"position_noise": s.position_noise, **self.options}
+        grid = _grid(s.max_speed[robot], s.max_turn[robot], self.headings)
+        return Controller(
+            s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
+        )
 
     def _prior(self, ctrl: Controller, view: np.ndarray, robot: int) -> np.ndarray | None:
         log_prior = np.zeros(ctrl.configurations.shape[0])

@@ -53,3 +53,29 @@ def test_every_row_weight_counts_its_terms(sensors, data):
     ):
         terms = view.counts.sum() - view.counts + (np.arange(len(sensors)) == view.agent)
         assert np.array_equal(weights, np.maximum(terms, 1))
+
+
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    noise=st.floats(0.1, 64.0),
+    order=st.integers(1, 3),
+    sensors=st.lists(st.sampled_from(["range", "bearing"]), min_size=2, max_size=4),
+)
+def test_more_observation_noise_means_less_confident_beliefs(seed, noise, order, sensors):
+    """Attenuated evidence: each robot's goal distribution moves towards uniform (its KL
+    from uniform shrinks) as the stated noise grows; zero noise changes nothing."""
+    from epistemica.aif import entropy
+
+    n = len(sensors)
+    rng = np.random.default_rng(seed)
+    goals, poses = rng.uniform(0, 30, (n, 2)), rng.uniform(0, 30, (n, 2))
+    rows = valid_configurations("all", n, 2)
+    exact = Controller(goals[:2], sensors, rows, order=order)
+    noisy = Controller(goals[:2], sensors, rows, order=order, position_noise=noise)
+    noisier = Controller(goals[:2], sensors, rows, order=order, position_noise=4 * noise)
+    for robot in range(n):
+        q = [c.beliefs(robot, poses)[0] for c in (exact, noisy, noisier)]
+        h = [entropy(x) for x in q]  # "all" rows: independent robots, entropy adds up
+        assert h[0] <= h[1] + 1e-12 <= h[2] + 2e-12
+    zero = Controller(goals[:2], sensors, rows, order=order, position_noise=0.0)
+    assert np.array_equal(zero.beliefs(0, poses)[0], exact.beliefs(0, poses)[0])
