@@ -65,7 +65,7 @@ def main(paths: list[str]) -> None:
                 if cell is None:
                     parts.append("-")
                     continue
-                miss = not cell.low <= rates[k] / 100 <= cell.high
+                miss = not cell.low - 1e-9 <= rates[k] / 100 <= cell.high + 1e-9
                 outside += miss
                 total += 1
                 parts.append(

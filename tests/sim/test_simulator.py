@@ -312,8 +312,13 @@ def test_policy_mapping_and_errors():
 
 # Published per-cell success (50 trials), paper-results.md. Two-robot cells: there our
 # reproduction falls inside the interval; larger teams do not (docs/results.md says by how
-# much), so this test guards the cells we claim, not the ones we miss.
-PUBLISHED = {("rendezvous", 2, 2): (72, 90), ("rendezvous", 2, 3): (88, 98)}
+# much), so this test guards the cells we claim, not the ones we miss. The allocation
+# cell's published 100 % is a weak check (it fails only below 47/50).
+PUBLISHED = {
+    ("rendezvous", 2, 2): (72, 90),
+    ("rendezvous", 2, 3): (88, 98),
+    ("allocation", 2, 2): (100, 100),
+}
 
 
 @pytest.mark.parametrize("cell", sorted(PUBLISHED))

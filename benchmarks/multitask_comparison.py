@@ -1,0 +1,47 @@
+"""Multitask mean completion step (failures count as 150) beside the published numbers.
+
+Usage: ``python benchmarks/multitask_comparison.py runs/multitask.sqlite``; prints a
+markdown table with 95 % normal intervals of the means.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from epistemica.sim.store import read_rows
+
+# paper-results.md, mean completion step (150 for failures), 150 trials per team size.
+PUBLISHED_ZERO = {2: 107.4, 3: 99.4, 4: 89.8, 5: 81.6, 6: 71.9, 7: 68.1, 8: 61.9}
+PUBLISHED_HIGHER = {2: 97.4, 3: 73.2, 4: 61.9, 5: 56.0, 6: 51.4, 7: 48.8, 8: 49.2}
+
+
+def mean_ci(values: list[float]) -> str:
+    half = 1.96 * np.std(values, ddof=1) / np.sqrt(len(values)) if len(values) > 1 else 0.0
+    return f"{np.mean(values):.1f} ± {half:.1f}"
+
+
+def main(path: str) -> None:
+    rows = read_rows(path)
+    print(
+        "| robots | zero (published zero) | convention | third | published higher | "
+        "third successes |"
+    )
+    print("|---|---|---|---|---|---|")
+    for n in sorted({r["robots"] for r in rows}):
+        cell = {}
+        for level in ("zero", "convention", "third"):
+            mine = [r for r in rows if r["robots"] == n and r["reasoning"] == level]
+            cell[level] = mine
+        done = {k: [r["completion_step"] or 150 for r in v] for k, v in cell.items()}
+        ok = sum(r["success"] for r in cell["third"])
+        print(
+            f"| {n} | {mean_ci(done['zero'])} ({PUBLISHED_ZERO.get(n, '-')}) | "
+            f"{mean_ci(done['convention'])} | {mean_ci(done['third'])} | "
+            f"{PUBLISHED_HIGHER.get(n, '-')} | {ok}/{len(cell['third'])} |"
+        )
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
