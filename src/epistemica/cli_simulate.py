@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 import json
 
+from epistemica.cli_options import add_scenario_options, scenario_options
+
 __all__ = ["add_command"]
 
 _EXAMPLES = """\
@@ -44,9 +46,7 @@ def add_command(commands) -> None:
         help="zero, convention, first, second, third, paper-first, paper-higher, "
         "paper-higher-fixed (default third)",
     )
-    cmd.add_argument("--observation", default=None, help="paper (default) or honest")
-    cmd.add_argument("--sensing-range", type=float, default=None, help="metres")
-    cmd.add_argument("--max-steps", type=int, default=None, help="step limit")
+    add_scenario_options(cmd)
     cmd.add_argument("--json", action="store_true", help="print a JSON object")
     cmd.add_argument("--png", metavar="FILE", help="write the trajectories as a PNG")
     cmd.add_argument("--gif", metavar="FILE", help="write an animation with the beliefs")
@@ -56,12 +56,7 @@ def add_command(commands) -> None:
 def _simulate(args: argparse.Namespace) -> int:
     from epistemica.sim import Scenario, simulate
 
-    options = {
-        "observation": args.observation,
-        "sensing_range": args.sensing_range,
-        "max_steps": args.max_steps,
-    }
-    options = {k: v for k, v in options.items() if v is not None}
+    options = scenario_options(args)
     scenario = Scenario.paper(args.mission, args.robots, args.goals, args.seed, **options)
     trial = simulate(scenario, args.reasoning, seed=args.seed)
     if args.png:

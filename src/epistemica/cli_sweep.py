@@ -13,6 +13,8 @@ import os
 import sys
 import time
 
+from epistemica.cli_options import add_scenario_options, scenario_options
+
 __all__ = ["add_commands", "parse_counts"]
 
 _EXAMPLES = """\
@@ -94,9 +96,7 @@ def add_commands(commands) -> None:
         metavar="tcp://HOST:PORT",
         help="run on this Dask scheduler (needs epistemica[cluster])",
     )
-    sweep.add_argument("--observation", default=None, help="paper or honest")
-    sweep.add_argument("--sensing-range", type=float, default=None, help="metres")
-    sweep.add_argument("--position-noise", type=float, default=None, help="variance, m²")
+    add_scenario_options(sweep)
     sweep.set_defaults(handler=_sweep)
 
     report = commands.add_parser(
@@ -111,15 +111,6 @@ def add_commands(commands) -> None:
     report.set_defaults(handler=_report)
 
 
-def _options(args: argparse.Namespace) -> dict:
-    chosen = {
-        "observation": args.observation,
-        "sensing_range": args.sensing_range,
-        "position_noise": args.position_noise,
-    }
-    return {k: v for k, v in chosen.items() if v is not None}
-
-
 def _sweep(args: argparse.Namespace) -> int:
     from epistemica.sim.store import ResultStore
     from epistemica.sim.sweep import plan_sweep, run_sweep
@@ -131,7 +122,7 @@ def _sweep(args: argparse.Namespace) -> int:
         args.reasoning,
         args.trials,
         args.seed,
-        _options(args),
+        scenario_options(args),
     )
     started = time.perf_counter()
     with ResultStore(args.out, resume=args.resume) as store:
