@@ -45,8 +45,7 @@ examples:
   epistemica plan specs/planning/two_robots_implicit.epi --implicit --explain
   epistemica plan specs/planning/two_robots_implicit.epi --implicit --verify go_r2_g2,go_r1_g1
   epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third --gif t.gif
-  epistemica sweep --mission rendezvous --robots 2..5 --reasoning zero,convention,third \
-      --trials 50 --out runs/study.sqlite
+  epistemica sweep --mission rendezvous --robots 2..5 --trials 50 --out runs/study.sqlite
   epistemica report runs/study.sqlite --markdown
 
 exit status: 0 success, 1 a claim or formula is false, no plan exists or a simulated
