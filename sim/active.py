@@ -78,6 +78,11 @@ class ActiveInference(Policy):
         ``p_t ∝ team_prior_t · q_{t-1}^rho``: 0 forgets, 1 is a plain Bayes filter.
     headings : int
         Heading changes in the control grid.
+    pruning : bool
+        Reason only over the configurations the robot still considers possible after the
+        observation events it saw (settled teammates, facts it was told:
+        :class:`~epistemica.sim.knowledge.TeamKnowledge`). Goals it does not know of
+        and tasks it knows are done are left out either way.
     **options
         Passed to :class:`epistemica.aif.Controller` (weights, horizon, ...).
     """
@@ -98,6 +103,7 @@ class ActiveInference(Policy):
         tie_weight: float = 1.0,
         memory: float = 0.0,
         headings: int = 16,
+        pruning: bool = True,
         **options,
     ) -> None:
         if not 0.0 <= float(memory) <= 1.0:
@@ -110,7 +116,10 @@ class ActiveInference(Policy):
         self.prior_scale = prior_scale
         self.tie_weight = tie_weight
         self.options = options
+        self.pruning = bool(pruning)
         self.name = {v: k for k, v in LEVELS.items()}.get(self.order, f"order-{order}")
+        if not self.pruning:
+            self.name += "-unpruned"
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
@@ -193,14 +202,26 @@ class ActiveInference(Policy):
         rows = plausible_configurations(cost, mission, capacities, within)
         return _Pruned(rows)
 
+    def _pruned(self, observations: Observations, robot: int, goals, configurations):
+        """The configurations left by what the robot knows, and how many there were."""
+        knowledge = observations.knowledge
+        if not self.pruning or knowledge is None or not knowledge.constrains((robot,)):
+            return configurations, -1
+        rows = configurations()
+        keep = knowledge.possible((robot,), goals[rows])
+        return _Pruned(rows[keep]), rows.shape[0]
+
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         n, m = self.scenario.n_robots, self.scenario.n_goals
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
         out = out._replace(goal_belief=np.zeros((len(robots), m)))
+        out = out._replace(unpruned=np.zeros(len(robots), dtype=int))
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
                 continue  # stays put: nothing known to go to
+            configurations, before = self._pruned(observations, robot, goals, configurations)
+            out.unpruned[row] = before
             ctrl = self._controller(robot, goals, configurations)
             view = observations.poses[robot]
             d = ctrl.decide(robot, view, prior=self._prior(ctrl, view, robot))
@@ -210,6 +231,8 @@ class ActiveInference(Policy):
             out.focal[row] = goals[ctrl.configurations[d.focal]]
             out.entropy[row] = entropy(d.belief)
             out.considered[row] = ctrl.configurations.shape[0]
+            if out.unpruned[row] < 0:
+                out.unpruned[row] = out.considered[row]
             own = goals[ctrl.configurations[:, robot]]
             out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)
         return out

@@ -44,6 +44,7 @@ class _Straight(Policy):
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         s = self.scenario
+        self._knowledge = observations.knowledge
         focal = np.full((len(robots), s.n_robots), -1)
         targets = np.empty((len(robots), 2))
         for row, robot in enumerate(robots):
@@ -99,6 +100,12 @@ class Convention(_Straight):
 
     def configuration(self, view, goals, robot):
         s = self.scenario
+        knowledge = getattr(self, "_knowledge", None)
+        constrained = knowledge is not None and knowledge.constrains((robot,))
+        if s.mission != "multitask" and (s.valid is not None or constrained):
+            row = self._tabled(view, goals, robot, knowledge)
+            if row is not None:
+                return row
         if self.tie_break == "reverse":
             goals = goals[::-1]
         cost = distances(view[:, :2], s.goals[goals])  # (n, m')
@@ -115,3 +122,19 @@ class Convention(_Straight):
         if row[robot] < 0:  # more robots than goals: the unassigned one takes its nearest
             row[robot] = goals[np.argmin(cost[robot])]
         return row
+
+    def _tabled(self, view, goals, robot, knowledge) -> np.ndarray | None:
+        """Least total distance over an explicit table of valid configurations, pruned by
+        what the robot knows; None when nothing in it uses only goals it knows of."""
+        s = self.scenario
+        rows = s.configurations()
+        usable = np.isin(rows, goals).all(axis=1)
+        if knowledge is not None:
+            usable &= knowledge.possible((robot,), rows)
+        if not usable.any():
+            return None
+        rows = rows[usable]
+        cost = distances(view[:, :2], s.goals)
+        total = cost[np.arange(rows.shape[1]), rows].sum(axis=1)
+        best = np.flatnonzero(total <= total.min() + 1e-9)
+        return rows[best[-1] if self.tie_break == "reverse" else best[0]].copy()

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import maximum_bipartite_matching
 
-__all__ = ["distances", "mission_holds", "within"]
+__all__ = ["distances", "mission_holds", "realises", "within"]
 
 
 def distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
@@ -40,6 +40,19 @@ def distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
 def within(positions: np.ndarray, goals: np.ndarray, radius: float) -> np.ndarray:
     """``(n, m)`` booleans: robot ``i`` is within ``radius`` of goal ``g``."""
     return distances(positions, goals) <= radius
+
+
+def realises(positions: np.ndarray, goals: np.ndarray, radius: float, rows: np.ndarray) -> bool:
+    """Whether every robot is within ``radius`` of its goal in one of ``rows`` (``(k, n)``).
+
+    Examples
+    --------
+    >>> goals = np.array([[0.0, 0.0], [10.0, 0.0]])
+    >>> realises(np.array([[0.0, 0.5], [9.0, 0.0]]), goals, 5 / 3, np.array([[1, 0], [0, 1]]))
+    True
+    """
+    near = within(positions, goals, radius)
+    return bool(near[np.arange(near.shape[0]), rows].all(axis=1).any())
 
 
 def mission_holds(

@@ -51,6 +51,9 @@ class Decisions(NamedTuple):
     goal_belief : numpy.ndarray or None
         ``(r, m)``: each robot's belief about its own goal (the marginal of its belief over
         configurations); ``None``: certainty on its focal goal.
+    unpruned : numpy.ndarray or None
+        ``(r,)`` configurations each robot had before pruning by what it knows
+        (:class:`~epistemica.sim.knowledge.TeamKnowledge`); ``None``: as ``considered``.
     """
 
     controls: np.ndarray
@@ -58,6 +61,7 @@ class Decisions(NamedTuple):
     entropy: np.ndarray
     considered: np.ndarray
     goal_belief: np.ndarray | None = None
+    unpruned: np.ndarray | None = None
 
     @classmethod
     def of(cls, controls, focal, entropy=None, considered=None) -> Decisions:

@@ -24,7 +24,7 @@ import numpy as np
 
 from epistemica.del_.errors import EpistemicaError
 
-__all__ = ["Cell", "format_table", "plot_results", "summarise", "wilson_interval"]
+__all__ = ["Cell", "format_table", "plot_levels", "plot_results", "summarise", "wilson_interval"]
 
 _Z95 = 1.959963984540054
 
@@ -57,6 +57,7 @@ class Cell(NamedTuple):
     mean_completion: float
     decision_ms: float
     considered: float
+    unpruned: float = math.nan
 
     @property
     def rate(self) -> float:
@@ -91,9 +92,21 @@ def summarise(rows: Iterable[dict], step_limit_for_failures: int = 150) -> list[
                 float(np.mean(completion)) if key[0] == "multitask" else math.nan,
                 float(np.mean([r["decision_ms"] for r in members])),
                 float(np.mean([r["considered"] for r in members])),
+                _mean_unpruned(members),
             )
         )
     return cells
+
+
+def _mean_unpruned(rows: list[dict]) -> float:
+    values = [r["unpruned"] for r in rows if r.get("unpruned") is not None]
+    return float(np.mean(values)) if values else math.nan
+
+
+def _configs(c: Cell) -> str:
+    if math.isnan(c.unpruned) or c.unpruned <= c.considered + 0.05:
+        return f"{c.considered:.0f}"
+    return f"{c.considered:.1f} of {c.unpruned:.1f}"
 
 
 def format_table(cells: list[Cell], markdown: bool = False) -> str:
@@ -109,7 +122,7 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
         "mean steps (successes)",
         "mean completion",
         "team step ms",
-        "configs",
+        "configs (pruned of)",
     ]
     lines = []
     for c in cells:
@@ -130,7 +143,7 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
                 "-" if math.isnan(c.mean_steps) else f"{c.mean_steps:.1f}",
                 "-" if math.isnan(c.mean_completion) else f"{c.mean_completion:.1f}",
                 f"{c.decision_ms:.2f}",
-                f"{c.considered:.0f}",
+                _configs(c),
             ]
         )
     if markdown:
@@ -145,15 +158,7 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
 def plot_results(cells: list[Cell], path) -> None:
     """The paper-style figure: per mission, success rate (multitask: mean completion step)
     against team size, one line per level, 95 % bands; written as PNG to ``path``."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise EpistemicaError(
-            "figures need matplotlib", hint="install the plot extra: pip install 'epistemica[plot]'"
-        ) from exc
+    plt = _pyplot()
     missions = sorted({c.mission for c in cells})
     fig, axes = plt.subplots(1, len(missions), figsize=(5.2 * len(missions), 4.2), squeeze=False)
     for ax, mission in zip(axes[0], missions, strict=True):
@@ -185,3 +190,45 @@ def _plot_level(ax, cells: list[Cell], level: str, mission: str) -> None:
     ax.fill_between(sizes, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.2, color=line.get_color())
     ax.set_ylabel("success rate (%) with 95 % interval")
     ax.set_ylim(-2, 102)
+
+
+def plot_levels(cells: list[Cell], path, title: str) -> None:
+    """One study's levels side by side: success rate with its 95 % interval (multitask:
+    mean completion step), mean steps of the successes written on each bar; PNG."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(1.2 + 1.3 * len(cells), 4.2))
+    names = [c.reasoning for c in cells]
+    x = np.arange(len(cells))
+    if cells and cells[0].mission == "multitask":
+        values = [c.mean_completion for c in cells]
+        ax.bar(x, values, color="tab:blue", alpha=0.8)
+        ax.set_ylabel("mean completion step (failures = limit)")
+    else:
+        rate = np.array([100 * c.rate for c in cells])
+        low = rate - np.array([100 * c.low for c in cells])
+        high = np.array([100 * c.high for c in cells]) - rate
+        ax.bar(x, rate, yerr=[low, high], capsize=4, color="tab:blue", alpha=0.8)
+        ax.set_ylabel("success rate (%) with 95 % interval")
+        ax.set_ylim(0, 105)
+        for i, c in enumerate(cells):
+            if not math.isnan(c.mean_steps):
+                ax.text(i, 3, f"{c.mean_steps:.0f} steps", ha="center", fontsize=8, color="white")
+    ax.set_xticks(x, names, rotation=20)
+    ax.set_title(f"{title} ({max((c.trials for c in cells), default=0)} trials per level)")
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _pyplot():
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise EpistemicaError(
+            "figures need matplotlib", hint="install the plot extra: pip install 'epistemica[plot]'"
+        ) from exc
+    return plt

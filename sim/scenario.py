@@ -27,12 +27,15 @@ from epistemica.aif.evidence import SENSORS
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
 
-__all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
+__all__ = ["EVENTS", "MISSIONS", "OBSERVATIONS", "SEEN_BY", "Scenario"]
 
 #: Missions the simulator runs.
 MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
+#: Observation events (``Scenario.events``) and who sees them.
+EVENTS = ("settle", "complete")
+SEEN_BY = ("nearby", "everyone")
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -123,6 +126,22 @@ class Scenario:
     tasking : int, optional
         Multitask: the most tasks the team works on at once (the paper's ``K``); default
         the number of robots.
+    valid : array_like, optional
+        ``(k, n)`` goal indices: an explicit set of valid configurations (a subset of the
+        mission's, e.g. compiled from a mission file's ``valid`` formula); the mission
+        holds when the robots realise one of them.
+    events : sequence of (kind, seen_by)
+        Observation events that update the robots' knowledge
+        (:class:`~epistemica.sim.knowledge.TeamKnowledge`): ``"settle"`` (a robot stopped
+        at a goal reveals that goal) and ``"complete"`` (multitask: a task done), seen by
+        ``"nearby"`` robots (within sensing range, the robot itself included) or
+        ``"everyone"``.
+    told : sequence of (observers, formula)
+        Facts over ``assigned(ROBOT, GOAL)`` atoms that the robots marked in
+        ``observers`` (``n`` booleans) know at the start (and know each other to know).
+    robot_names, goal_names : sequence of str, optional
+        Names used by ``told`` formulas and in reports; default ``r1, r2, ...`` and
+        ``g1, g2, ...``.
     """
 
     mission: str
@@ -146,6 +165,11 @@ class Scenario:
     success_radius: float = 5.0 / 3.0
     dwell: int = 5
     tasking: int | None = None
+    valid: np.ndarray | None = None
+    events: tuple[tuple[str, str], ...] = ()
+    told: tuple = ()
+    robot_names: tuple[str, ...] | None = None
+    goal_names: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -191,6 +215,7 @@ class Scenario:
             set_(self, name, int(value))
         self._check_goal_knowledge(n, m)
         self._check_mission(n, m)
+        self._check_epistemics(n, m)
         for name, value in (("starts", starts), ("goals", goals)):
             value.setflags(write=False)
             set_(self, name, value)
@@ -224,6 +249,41 @@ class Scenario:
             # Building the (empty) set raises the specific error: too few goals, ...
             valid_configurations(self.mission, n, m, self.capacities)
 
+    def _check_epistemics(self, n: int, m: int) -> None:
+        set_ = object.__setattr__
+        for name, count, prefix in (("robot_names", n, "r"), ("goal_names", m, "g")):
+            names = getattr(self, name)
+            names = tuple(f"{prefix}{i + 1}" for i in range(count)) if names is None else names
+            if len(names) != count or len(set(names)) != count:
+                raise _fail(f"{name} must be {count} distinct names, got {names!r}", "one each")
+            set_(self, name, tuple(str(x) for x in names))
+        events = tuple((str(k), str(b)) for k, b in self.events)
+        for kind, seen_by in events:
+            if kind not in EVENTS or seen_by not in SEEN_BY:
+                raise _fail(
+                    f"unknown event ({kind!r}, {seen_by!r})",
+                    f"kinds: {', '.join(EVENTS)}; seen by: {', '.join(SEEN_BY)}",
+                )
+        set_(self, "events", events)
+        told = []
+        for observers, formula in self.told:
+            mask = np.asarray(observers, dtype=bool)
+            if mask.shape != (n,):
+                raise _fail(f"told observers must be {n} booleans", "one per robot")
+            told.append((tuple(bool(x) for x in mask), formula))
+        set_(self, "told", tuple(told))
+        if self.valid is None:
+            return
+        if self.mission == "multitask":
+            raise _fail("`valid` is not used by a multitask mission", "drop it")
+        rows = np.array(self.valid)
+        if rows.ndim != 2 or rows.shape[1] != n or rows.shape[0] == 0:
+            raise _fail(f"valid must be (k, {n}) goal indices, got {rows.shape}", "one per robot")
+        if not np.issubdtype(rows.dtype, np.integer) or rows.min() < 0 or rows.max() >= m:
+            raise _fail(f"valid must hold goal indices 0..{m - 1}", "one row per configuration")
+        rows.setflags(write=False)
+        set_(self, "valid", rows)
+
     @property
     def n_robots(self) -> int:
         """Number of robots."""
@@ -248,6 +308,8 @@ class Scenario:
                 "a multitask mission has no fixed configuration set",
                 "its configurations are re-chosen every step (epistemica.sim.tasking)",
             )
+        if self.valid is not None:
+            return self.valid
         return valid_configurations(self.mission, self.n_robots, self.n_goals, self.capacities)
 
     def replace(self, **changes) -> Scenario:

@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from epistemica.sim.knowledge import TeamKnowledge
 from epistemica.sim.missions import distances
 from epistemica.sim.scenario import Scenario
 
@@ -46,6 +47,9 @@ class Observations(NamedTuple):
         ``(n, m)`` booleans: the goals (tasks) robot ``i`` knows of.
     known_done : numpy.ndarray
         ``(n, m)`` booleans: the tasks robot ``i`` knows are done (multitask).
+    knowledge : TeamKnowledge or None
+        The facts each robot (and each chain of robots) learnt from observation events
+        (:mod:`epistemica.sim.knowledge`); read it, never change it.
     """
 
     step: int
@@ -54,6 +58,7 @@ class Observations(NamedTuple):
     last_seen: np.ndarray
     known_goals: np.ndarray
     known_done: np.ndarray
+    knowledge: TeamKnowledge | None = None
 
 
 class Sensing:
@@ -121,11 +126,12 @@ class Sensing:
             self.known_done.copy(),
         )
 
-    def task_completed(self, poses: np.ndarray, completers: np.ndarray, tasks) -> None:
+    def task_completed(self, poses: np.ndarray, completers: np.ndarray, tasks) -> np.ndarray:
         """Tasks ``tasks`` were just completed by the robots ``completers`` (a mask):
-        they and whoever sees one of them learn it."""
+        they and whoever sees one of them learn it. Returns the witnesses (a mask)."""
         witnesses = (self.visible(poses) & np.asarray(completers)[None, :]).any(axis=1)
         self.known_done[np.ix_(witnesses, np.asarray(tasks, dtype=int))] = True
+        return witnesses
 
     def _measure(self, poses: np.ndarray, noise: np.ndarray) -> np.ndarray:
         s = self.scenario

@@ -23,7 +23,8 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.active import LEVELS, ActiveInference
 from epistemica.sim.baselines import Convention, Greedy
-from epistemica.sim.missions import distances, mission_holds
+from epistemica.sim.knowledge import initial_knowledge
+from epistemica.sim.missions import distances, mission_holds, realises
 from epistemica.sim.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.policy import Policy
 from epistemica.sim.scenario import Scenario
@@ -39,6 +40,9 @@ REASONING = (
     "first",
     "second",
     "third",
+    "first-unpruned",
+    "second-unpruned",
+    "third-unpruned",
     "paper-first",
     "paper-higher",
     "paper-higher-fixed",
@@ -65,6 +69,8 @@ def make_policy(name: str) -> Policy:
         return Convention()
     if name in LEVELS:
         return ActiveInference(LEVELS[name])
+    if name.endswith("-unpruned") and name.removesuffix("-unpruned") in LEVELS:
+        return ActiveInference(LEVELS[name.removesuffix("-unpruned")], pruning=False)
     if name in PAPER_LEVELS:
         return PaperPolicy(name)
     raise InvalidArgumentError(
@@ -137,7 +143,7 @@ def simulate(
     run = _Run(s, streams)
     for step in range(s.max_steps):
         done = run.done >= 0 if s.mission == "multitask" else None
-        obs = run.sensing.observe(run.poses, step, run.settled(), done)
+        obs = run.perceive(step, done)
         controls = np.empty((n, 2))
         started = perf_counter()
         for policy, robots in groups:
@@ -146,6 +152,8 @@ def simulate(
             run.focal[step, robots] = decisions.focal
             run.entropy[step, robots] = decisions.entropy
             run.considered[step, robots] = decisions.considered
+            unpruned = decisions.unpruned
+            run.unpruned[step, robots] = decisions.considered if unpruned is None else unpruned
             run.record_goal_belief(step, robots, decisions)
         run.time[step] = perf_counter() - started
         if run.advance(step, controls):
@@ -164,6 +172,10 @@ def _checked(controls: np.ndarray, policy: Policy, count: int) -> np.ndarray:
     return controls
 
 
+def _indices(mask: np.ndarray) -> tuple[int, ...]:
+    return tuple(int(i) for i in np.flatnonzero(mask))
+
+
 class _Run:
     """The mutable state of one trial (true poses, counters, records)."""
 
@@ -180,6 +192,10 @@ class _Run:
         self.focal = np.full((steps, n, n), -1)
         self.entropy = np.full((steps, n), np.nan)
         self.considered = np.zeros((steps, n), dtype=int)
+        self.unpruned = np.zeros((steps, n), dtype=int)
+        self.knowledge = initial_knowledge(s)
+        self.seen_by = dict(s.events)
+        self.events: list[tuple] = []
         self.goal_belief = np.zeros((steps, n, s.n_goals))
         self.time = np.zeros(steps)
 
@@ -190,6 +206,26 @@ class _Run:
         own = decisions.focal[np.arange(len(robots)), robots]  # certainty on the focal goal
         has = own >= 0
         self.goal_belief[step, robots[has], own[has]] = 1.0
+
+    def perceive(self, step: int, done):
+        """The team's observations at ``step``, after this step's observation events."""
+        settled = self.settled()
+        before = self.sensing.known_goals.copy()
+        obs = self.sensing.observe(self.poses, step, settled, done)
+        for i, g in zip(*np.nonzero(obs.known_goals & ~before), strict=True):
+            self.knowledge.discover(g, np.arange(self.s.n_robots) == i)
+        if "settle" in self.seen_by and settled.any():
+            d = distances(self.poses, self.s.goals)
+            for r in np.flatnonzero(settled):
+                goal, observers = int(np.argmin(d[r])), self._observers("settle", r)
+                if self.knowledge.settle(r, goal, observers):
+                    self.events.append((step, "settle", int(r), goal, _indices(observers)))
+        return obs._replace(knowledge=self.knowledge)
+
+    def _observers(self, kind: str, robot: int) -> np.ndarray:
+        if self.seen_by[kind] == "everyone":
+            return np.ones(self.s.n_robots, dtype=bool)
+        return self.sensing.visible(self.poses)[:, robot]
 
     def settled(self) -> np.ndarray:
         if len(self.path) < 2:
@@ -212,7 +248,11 @@ class _Run:
         self.path.append(poses.copy())
         if s.mission == "multitask":
             return self._tasks(step)
-        if mission_holds(s.mission, poses, s.goals, s.success_radius, s.capacities):
+        if s.valid is not None:
+            holds = realises(poses, s.goals, s.success_radius, s.valid)
+        else:
+            holds = mission_holds(s.mission, poses, s.goals, s.success_radius, s.capacities)
+        if holds:
             self.held += 1
         self.success = self.held >= s.dwell
         return self.success
@@ -221,7 +261,13 @@ class _Run:
         near = distances(self.poses, self.s.goals) <= self.s.success_radius  # (n, m)
         for task in np.flatnonzero(near.any(axis=0) & (self.done < 0)):
             self.done[task] = step + 1
-            self.sensing.task_completed(self.poses, near[:, task], [task])
+            witnesses = self.sensing.task_completed(self.poses, near[:, task], [task])
+            if self.seen_by.get("complete") == "everyone":
+                witnesses = np.ones_like(witnesses)
+                self.sensing.known_done[:, task] = True
+            if self.knowledge.complete(task, witnesses):
+                done_by = int(np.flatnonzero(near[:, task])[0])
+                self.events.append((step + 1, "complete", done_by, int(task), _indices(witnesses)))
         if np.all(self.done >= 0):
             self.success, self.completion = True, step + 1
         return self.success
@@ -237,8 +283,10 @@ class _Run:
             focal=self.focal[:steps],
             entropy=self.entropy[:steps],
             considered=self.considered[:steps],
+            unpruned=self.unpruned[:steps],
             goal_belief=self.goal_belief[:steps],
             decision_time=self.time[:steps],
             policies=names,
             seed=int(seed),
+            events=tuple(self.events),
         )

@@ -43,7 +43,10 @@ COLUMNS = {
     "decision_ms": "REAL NOT NULL",
     "considered": "REAL NOT NULL",
     "version": "TEXT NOT NULL",
+    "unpruned": "REAL",
 }
+# Columns added after the first release: an older file gains them when opened.
+_ADDED = ("unpruned",)
 #: The columns that depend only on the trial, not on the machine that ran it.
 OUTCOME_COLUMNS = tuple(c for c in COLUMNS if c not in ("wall_time", "decision_ms"))
 
@@ -72,6 +75,10 @@ class ResultStore:
             self._db.execute("PRAGMA synchronous=FULL")
             columns = ", ".join(f"{name} {kind}" for name, kind in COLUMNS.items())
             self._db.execute(f"CREATE TABLE IF NOT EXISTS trials ({columns})")
+            present = {row[1] for row in self._db.execute("PRAGMA table_info(trials)")}
+            for name in _ADDED:
+                if name not in present:
+                    self._db.execute(f"ALTER TABLE trials ADD COLUMN {name} {COLUMNS[name]}")
             self._db.commit()
         except sqlite3.DatabaseError as exc:
             raise InvalidArgumentError(
@@ -101,7 +108,7 @@ class ResultStore:
         with self._db:
             self._db.execute(
                 f"INSERT OR IGNORE INTO trials ({names}) VALUES ({marks})",
-                [row[c] for c in COLUMNS],
+                [row.get(c) for c in COLUMNS],
             )
 
     def rows(self) -> list[dict]:

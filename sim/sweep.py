@@ -122,7 +122,11 @@ def _default_goals(mission: str, n: int) -> int:
 
 
 def run_trial(spec: TrialSpec) -> dict:
-    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`)."""
+    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`).
+
+    ``spec`` is a :class:`TrialSpec` or any object with the same attributes and methods
+    (a mission file's trials: :class:`epistemica.run.MissionTrial`).
+    """
     started = time.perf_counter()
     trial = simulate(spec.scenario(), spec.reasoning, seed=spec.seed)
     return {
@@ -139,6 +143,7 @@ def run_trial(spec: TrialSpec) -> dict:
         "wall_time": time.perf_counter() - started,
         "decision_ms": float(np.mean(trial.decision_time) * 1e3) if trial.steps else 0.0,
         "considered": float(np.mean(trial.considered)) if trial.steps else 0.0,
+        "unpruned": float(np.mean(trial.unpruned)) if trial.steps else 0.0,
         "version": _version(),
     }
 

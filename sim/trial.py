@@ -40,6 +40,9 @@ class Trial:
         ``(steps, n)`` entropy (nats) of each robot's belief (NaN without one).
     considered : numpy.ndarray
         ``(steps, n)`` configurations each robot considered.
+    unpruned : numpy.ndarray
+        ``(steps, n)`` configurations each robot had before pruning by what it knows
+        (equal to ``considered`` where nothing was pruned).
     goal_belief : numpy.ndarray
         ``(steps, n, m)``: each robot's belief about its own goal.
     decision_time : numpy.ndarray
@@ -48,6 +51,11 @@ class Trial:
         The policy name of each robot.
     seed : int
         The trial seed.
+    events : tuple
+        The observation events, in order: ``(step, kind, robot, goal, observers)`` with
+        ``kind`` ``"settle"`` (``robot`` settled at ``goal``) or ``"complete"`` (``robot``
+        completed task ``goal``), ``observers`` the robots that saw it (indices). Only
+        events that taught someone something are listed.
     """
 
     success: bool
@@ -58,10 +66,12 @@ class Trial:
     focal: np.ndarray
     entropy: np.ndarray
     considered: np.ndarray
+    unpruned: np.ndarray
     goal_belief: np.ndarray
     decision_time: np.ndarray
     policies: tuple[str, ...]
     seed: int
+    events: tuple = ()
 
     def summary(self) -> dict:
         """A JSON-ready dictionary of the outcome (no per-step arrays).

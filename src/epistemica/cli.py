@@ -26,7 +26,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from epistemica import __version__
-from epistemica.del_.errors import EpistemicaError, SpecError
+from epistemica.del_.errors import EpistemicaError, InvalidArgumentError, SpecError
 
 __all__ = ["build_parser", "main"]
 
@@ -102,6 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="explicit Kripke model or BDD knowledge structure (default auto: symbolic "
         "above 20 observed atoms)",
     )
+    from epistemica.cli_run import add_check_options
+
+    add_check_options(check)
     check.set_defaults(handler=_check)
 
     plan = commands.add_parser(
@@ -140,9 +143,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     plan.add_argument("--json", action="store_true", help="print a JSON object")
     plan.set_defaults(handler=_plan)
+    from epistemica.cli_run import add_command as add_run_command
     from epistemica.cli_simulate import add_command as add_simulate_command
     from epistemica.cli_sweep import add_commands as add_sweep_commands
 
+    add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
     return parser
@@ -178,7 +183,15 @@ def _show(entry: dict[str, Any]) -> str:
 
 
 def _check(args: argparse.Namespace) -> int:
+    from epistemica.cli_run import check_mission, is_mission_file
     from epistemica.del_.symbolic.backend import load_spec
+
+    if is_mission_file(args.file):
+        return check_mission(args)
+    if args.after is not None or args.robot is not None:
+        raise InvalidArgumentError(
+            "--after and --robot apply to mission files", hint="a file starting with 'mission'"
+        )
 
     spec = load_spec(args.file, args.backend)
     if args.formula is not None:

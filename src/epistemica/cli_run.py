@@ -1,0 +1,200 @@
+"""``epistemica run MISSION`` and ``epistemica check MISSION``: mission files on the CLI.
+
+``run`` compiles a mission file, runs its Monte Carlo comparison of reasoning levels (local
+processes, one SQLite row per trial under ``runs/``, resumed when run again), prints the
+results table and writes the figure (PNG) and one animated trial (GIF). ``check`` on a
+mission file evaluates its claims, or one formula, on the initial model, or on the model
+after the first steps of a seeded trial (each observation event applied by product update).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+__all__ = ["add_command", "check_mission", "is_mission_file"]
+
+EXIT_OK, EXIT_FALSE = 0, 1
+
+_EXAMPLES = """\
+examples:
+  epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
+  epistemica run specs/task_allocation.epi --trials 50    # the published trial count
+  epistemica run specs/multi_task.epi --levels convention,third --no-gif
+  epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
+      --formula "K[r1] assigned(r2, g2)"
+
+exit status: 0 done, 2 bad input
+"""
+
+
+def is_mission_file(path: str) -> bool:
+    """Whether the file's first statement is a ``mission`` line."""
+    try:
+        with open(path, encoding="utf-8") as handle:
+            for line in handle:
+                words = line.split("#", 1)[0].split()
+                if words:
+                    return words[0] == "mission"
+    except (OSError, UnicodeDecodeError):
+        return False
+    return False
+
+
+def add_command(commands) -> None:
+    """Register ``run`` on an argparse subparsers object."""
+    cmd = commands.add_parser(
+        "run",
+        help="run a mission file's study: table, figure and an animated trial",
+        description="Compile a mission file, simulate its study (every level on the same "
+        "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
+        "success table and write runs/NAME.png and runs/NAME.gif.",
+        epilog=_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument("file", metavar="MISSION", help="a mission file (.epi)")
+    cmd.add_argument("--trials", type=int, default=None, help="trials per level (default: file)")
+    cmd.add_argument(
+        "--paper-scale", action="store_true", help="50 trials per level, as the published study"
+    )
+    cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
+    cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
+    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
+    cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+    cmd.set_defaults(handler=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from epistemica.mission import load_mission
+    from epistemica.run import mission_trials, run_study
+    from epistemica.sim.report import format_table, plot_levels, summarise
+    from epistemica.sim.store import ResultStore
+
+    mission = load_mission(args.file)
+    levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
+    trials = 50 if args.paper_scale else args.trials
+    specs = mission_trials(mission, levels, trials)
+    out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    started = time.perf_counter()
+    # The default file resumes: a trial's id is its text, level and seed, so a stored row
+    # is the same result; an explicit --out is never added to silently.
+    with ResultStore(out, resume=args.out is None) as store:
+        ids = {s.id for s in specs}
+        stored = len(store.done_ids() & ids)
+        print(
+            f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
+            f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
+            f"{len(specs)} trials ({stored} already in {out})"
+        )
+        try:
+            ran, _ = run_study(specs, store, workers=args.workers)
+        except KeyboardInterrupt:
+            print(
+                f"interrupted: {len(store.done_ids() & ids)} of {len(specs)} trials stored "
+                f"in {out}; run the same command again to finish",
+                file=sys.stderr,
+            )
+            return 130
+        rows = [r for r in store.rows() if r["id"] in ids]
+    cells = summarise(rows)
+    order = {s.reasoning: i for i, s in enumerate(specs)}
+    cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
+    print(format_table(cells, markdown=args.markdown))
+    png = out.with_suffix(".png")
+    plot_levels(cells, png, mission.name)
+    print(f"figure: {png}")
+    if not args.no_gif:
+        gif = out.with_suffix(".gif")
+        _animate(mission, specs[-1].reasoning, mission.study.seed, gif)
+        print(f"animation ({specs[-1].reasoning}, seed {mission.study.seed}): {gif}")
+    print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
+    return EXIT_OK
+
+
+def _animate(mission, level: str, seed: int, path: Path) -> None:
+    from epistemica.sim.figures import animate_trial
+    from epistemica.sim.simulate import simulate
+
+    scenario = mission.scenario(seed)
+    animate_trial(scenario, simulate(scenario, level, seed=seed), path)
+
+
+def add_check_options(check) -> None:
+    """The mission-only options of ``check``."""
+    check.add_argument(
+        "--after",
+        type=int,
+        default=None,
+        metavar="STEPS",
+        help="mission files: check after the first STEPS steps of a seeded trial",
+    )
+    check.add_argument("--seed", type=int, default=None, help="that trial's seed (mission)")
+    check.add_argument("--robot", default=None, help="mission: check K[ROBOT] of the formula")
+    check.add_argument("--reasoning", default=None, help="mission: level of that trial")
+
+
+def check_mission(args: argparse.Namespace) -> int:
+    """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps."""
+    from epistemica.del_.errors import InvalidArgumentError
+    from epistemica.del_.parser import parse_formula
+    from epistemica.mission import load_mission
+
+    mission = load_mission(args.file)
+    model, where = mission.model, "initially"
+    if args.after is not None:
+        model, where = _after(mission, args)
+    if args.formula is not None:
+        formula = parse_formula(args.formula)
+        if args.robot is not None:
+            if args.robot not in mission.robots:
+                raise InvalidArgumentError(
+                    f"unknown robot {args.robot!r}", hint=f"robots: {', '.join(mission.robots)}"
+                )
+            formula = parse_formula(f"K[{args.robot}] ({args.formula})")
+        claims = [("--formula", str(formula), True, model.holds(formula))]
+    else:
+        claims = [(c.name, c.text, c.expected, model.holds(c.formula)) for c in mission.checks]
+    failed = [c for c in claims if c[2] != c[3]]
+    if args.json:
+        out = [
+            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h}
+            for n, t, e, h in claims
+        ]
+        print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
+        return EXIT_FALSE if failed else EXIT_OK
+    print(f"{args.file}: {where}; {model.n_worlds} worlds, robots {', '.join(mission.robots)}")
+    for name, text, expected, holds in claims:
+        mark = "ok  " if expected == holds else "FAIL"
+        print(f"  {mark}  {'true ' if holds else 'false'}  {name}: {text}")
+    print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
+    return EXIT_FALSE if failed else EXIT_OK
+
+
+def _after(mission, args: argparse.Namespace):
+    """The model after the first ``args.after`` steps of a seeded trial, and a label."""
+    from epistemica.del_.errors import InvalidArgumentError
+    from epistemica.sim.simulate import simulate
+
+    if args.after < 0:
+        raise InvalidArgumentError("--after must be >= 0", hint="a number of steps")
+    seed = mission.study.seed if args.seed is None else args.seed
+    level = args.reasoning or mission.study.levels[-1]
+    scenario = mission.scenario(seed)
+    steps = min(args.after, scenario.max_steps)
+    trial = simulate(scenario.replace(max_steps=max(steps, 1)), level, seed=seed)
+    model = mission.model
+    count = 0
+    for step, kind, robot, goal, observers in trial.events:
+        if step < steps:
+            names = [mission.robots[i] for i in observers]
+            model = model.update(
+                mission.event(kind, mission.robots[robot], mission.goals[goal], names)
+            )
+            count += 1
+    label = f"after {steps} steps of trial {seed} ({level}, {count} events)"
+    return model, label
