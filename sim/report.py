@@ -205,8 +205,8 @@ def plot_levels(cells: list[Cell], path, title: str) -> None:
         ax.set_ylabel("mean completion step (failures = limit)")
     else:
         rate = np.array([100 * c.rate for c in cells])
-        low = rate - np.array([100 * c.low for c in cells])
-        high = np.array([100 * c.high for c in cells]) - rate
+        low = np.maximum(rate - np.array([100 * c.low for c in cells]), 0.0)
+        high = np.maximum(np.array([100 * c.high for c in cells]) - rate, 0.0)
         ax.bar(x, rate, yerr=[low, high], capsize=4, color="tab:blue", alpha=0.8)
         ax.set_ylabel("success rate (%) with 95 % interval")
         ax.set_ylim(0, 105)

@@ -188,13 +188,17 @@ def _after(mission, args: argparse.Namespace):
     steps = min(args.after, scenario.max_steps)
     trial = simulate(scenario.replace(max_steps=max(steps, 1)), level, seed=seed)
     model = mission.model
-    count = 0
+    count = ignored = 0
     for step, kind, robot, goal, observers in trial.events:
-        if step < steps:
-            names = [mission.robots[i] for i in observers]
-            model = model.update(
-                mission.event(kind, mission.robots[robot], mission.goals[goal], names)
-            )
-            count += 1
-    label = f"after {steps} steps of trial {seed} ({level}, {count} events)"
+        if step >= steps:
+            continue
+        names = [mission.robots[i] for i in observers]
+        event = mission.event(kind, mission.robots[robot], mission.goals[goal], names)
+        if not model.is_applicable(event):  # contradicts what happened before: revised away
+            ignored += 1
+            continue
+        model = model.update(event)
+        count += 1
+    label = f"after {steps} steps of trial {seed} ({level}, {count} events"
+    label += f", {ignored} contradictory ignored)" if ignored else ")"
     return model, label

@@ -1,0 +1,163 @@
+"""TeamKnowledge: soundness of pruning, and agreement with the model checker.
+
+The chain sets of :class:`TeamKnowledge` are checked against the Kripke model over the
+valid configurations after the same events applied by product update
+(:func:`epistemica.del_.configuration_model.observed`): ``K[i] K[j] f`` holds at the true
+world exactly when ``f`` holds on every configuration of the chain ``(i, j)``.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from epistemica.aif.configurations import valid_configurations
+from epistemica.del_.configuration_model import configuration_model, observed
+from epistemica.del_.parser import parse_formula
+from epistemica.sim import Scenario, simulate
+from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying
+
+
+@st.composite
+def histories(draw):
+    """A mission, its true configuration and a sequence of events consistent with it."""
+    n = draw(st.integers(2, 3))
+    m = draw(st.integers(n, 3))
+    kind = draw(st.sampled_from(["allocation", "rendezvous"]))
+    rows = valid_configurations(kind, n, m)
+    truth = rows[draw(st.integers(0, rows.shape[0] - 1))]
+    robots = [f"r{i + 1}" for i in range(n)]
+    goals = [f"g{g + 1}" for g in range(m)]
+    events = []
+    for _ in range(draw(st.integers(0, 4))):
+        observers = draw(st.lists(st.booleans(), min_size=n, max_size=n))
+        if draw(st.booleans()):  # a robot seen settled at its true goal
+            r = draw(st.integers(0, n - 1))
+            events.append(("settle", r, int(truth[r]), observers))
+        else:  # a true fact told: some robot does not go to some other goal
+            r = draw(st.integers(0, n - 1))
+            others = [g for g in range(m) if g != truth[r]]
+            if others:
+                g = draw(st.sampled_from(others))
+                events.append(("tell", r, g, observers))
+    return kind, rows, truth, robots, goals, events
+
+
+def _fact(kind, r, g, robots, goals):
+    atom = f"assigned({robots[r]}, {goals[g]})"
+    return atom if kind == "settle" else f"~{atom}"
+
+
+def _told(formula, robots, goals):
+    return lambda rows: rows_satisfying(formula, rows, robots, goals)
+
+
+def _replay(rows, robots, goals, events, truth):
+    knowledge = TeamKnowledge(len(robots), len(goals))
+    model = configuration_model(robots, goals, rows)
+    true_world = " ".join(goals[g] for g in truth)
+    model = model.repoint(true_world)
+    for kind, r, g, observers in events:
+        fact = _fact(kind, r, g, robots, goals)
+        if kind == "settle":
+            knowledge.settle(r, g, observers)
+        else:
+            knowledge.tell(_told(parse_formula(fact), robots, goals), observers)
+        names = [robots[i] for i, seen in enumerate(observers) if seen]
+        model = model.update(observed(fact, names, robots))
+    return knowledge, model
+
+
+@settings(max_examples=60, deadline=None)
+@given(histories())
+def test_the_true_configuration_is_never_pruned(history):
+    _, rows, truth, robots, goals, events = history
+    knowledge, _ = _replay(rows, robots, goals, events, truth)
+    true_row = np.flatnonzero((rows == truth).all(axis=1))[0]
+    for length in (1, 2, 3):
+        for chain in itertools.product(range(len(robots)), repeat=length):
+            assert knowledge.possible(chain, rows)[true_row]
+
+
+@settings(max_examples=60, deadline=None)
+@given(histories())
+def test_a_configuration_is_pruned_only_by_an_observed_event(history):
+    _, rows, truth, robots, goals, events = history
+    knowledge, _ = _replay(rows, robots, goals, events, truth)
+    for i in range(len(robots)):
+        kept = knowledge.possible((i,), rows)
+        seen = [e for e in events if e[3][i]]
+        for row in rows[~kept]:
+            contradicted = [
+                e
+                for e in seen
+                if not rows_satisfying(
+                    parse_formula(_fact(e[0], e[1], e[2], robots, goals)),
+                    row[None],
+                    robots,
+                    goals,
+                )[0]
+            ]
+            assert contradicted, f"robot {i} pruned {row} without seeing why"
+
+
+@settings(max_examples=60, deadline=None)
+@given(histories(), st.data())
+def test_nested_sets_agree_with_the_model_checker(history, data):
+    _, rows, truth, robots, goals, events = history
+    knowledge, model = _replay(rows, robots, goals, events, truth)
+    r = data.draw(st.integers(0, len(robots) - 1))
+    g = data.draw(st.integers(0, len(goals) - 1))
+    fact = data.draw(st.sampled_from(["", "~"])) + f"assigned({robots[r]}, {goals[g]})"
+    for length in (1, 2, 3):
+        chain = data.draw(st.lists(st.integers(0, len(robots) - 1), min_size=length,
+                                   max_size=length))  # fmt: skip
+        on_set = rows_satisfying(parse_formula(fact), rows, robots, goals)
+        expected = bool(on_set[knowledge.possible(chain, rows)].all())
+        for modality in ("K", "B"):
+            prefix = "".join(f"{modality}[{robots[i]}] " for i in chain)
+            assert model.holds(prefix + fact) == expected, (prefix + fact, events)
+
+
+def test_an_oblivious_teammate_keeps_the_larger_set():
+    # Hand-worked: robot 0 sees robot 2 settle at goal 1; robot 1 is out of range.
+    rows = valid_configurations("allocation", 3, 3)
+    k = TeamKnowledge(3, 3)
+    k.settle(2, 1, [True, False, True])
+    assert k.possible((0,), rows).sum() == 2  # r3 at g2: r1 and r2 share g1, g3
+    assert k.possible((1,), rows).sum() == 6
+    assert k.possible((0, 1), rows).sum() == 6  # r1 knows r2 did not see it
+    assert k.possible((0, 2), rows).sum() == 2  # ... and that r3 knows r1 saw it
+
+
+def test_a_contradictory_settle_is_ignored_not_an_empty_set():
+    rows = valid_configurations("rendezvous", 2, 2)
+    k = TeamKnowledge(2, 2)
+    k.settle(0, 0, [True, True])
+    k.settle(1, 1, [True, True])  # cannot both hold in a rendezvous
+    assert k.possible((0,), rows).tolist() == [True, False]
+
+
+def test_settle_events_of_a_trial_are_recorded_with_their_observers():
+    s = Scenario(
+        "allocation",
+        [[4, 4], [6, 5], [26, 26]],
+        [[5, 8], [12, 4], [24, 22]],
+        ["range", "range", "bearing"],
+        sensing_range=8.0,
+        events=[("settle", "nearby")],
+    )
+    trial = simulate(s, "third", seed=0)
+    assert trial.success
+    settles = [e for e in trial.events if e[1] == "settle"]
+    assert {e[2] for e in settles} == {0, 1, 2}
+    final = trial.trajectory[-1, :, :2]
+    for step, _, robot, goal, observers in settles:
+        assert robot in observers
+        assert np.hypot(*(final[robot] - s.goals[goal])) <= s.success_radius
+        here = trial.trajectory[step, :, :2]
+        near = np.flatnonzero(np.hypot(*(here - here[robot]).T) <= 8.0)
+        assert set(observers) == set(near.tolist())

@@ -1,0 +1,119 @@
+"""``epistemica run`` and ``epistemica check`` on mission files."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from pathlib import Path
+
+import pytest
+
+from epistemica.cli import main
+from epistemica.del_.parser import parse_formula
+from epistemica.mission import load_mission
+from epistemica.sim import simulate
+from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying
+
+ROOT = Path(__file__).resolve().parents[1]
+
+TINY = """\
+mission allocation
+robot a: range at random
+robot b: bearing at random
+goal x at random
+goal y at random
+event settle seen by nearby
+sensing range 12
+simulate trials 3 seed 5 steps 60 levels zero, convention, third
+"""
+
+
+@pytest.fixture
+def tiny(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "tiny.epi"
+    path.write_text(TINY)
+    return path
+
+
+def test_run_writes_rows_table_figure_and_animation(tiny, capsys):
+    assert main(["run", str(tiny)]) == 0
+    out = capsys.readouterr().out
+    for level in ("zero", "convention", "third"):
+        assert f" {level} " in out
+    db = Path("runs/tiny.sqlite")
+    rows = sqlite3.connect(db).execute("SELECT reasoning, seed FROM trials").fetchall()
+    assert sorted(rows) == sorted(
+        (lv, s) for lv in ("zero", "convention", "third") for s in (5, 6, 7)
+    )
+    assert Path("runs/tiny.png").stat().st_size > 0
+    assert Path("runs/tiny.gif").read_bytes()[:3] == b"GIF"
+
+
+def test_run_again_resumes_and_runs_nothing(tiny, capsys):
+    assert main(["run", str(tiny), "--no-gif"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(tiny), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    assert "9 trials (9 already in" in out and "0 trials run" in out
+
+
+def test_an_explicit_out_is_never_added_to_silently(tiny, capsys):
+    assert main(["run", str(tiny), "--no-gif", "--out", "mine.sqlite"]) == 0
+    assert main(["run", str(tiny), "--no-gif", "--out", "mine.sqlite"]) == 2
+    assert "already exists" in capsys.readouterr().err
+
+
+def test_the_stored_rows_are_the_simulator_outcomes(tiny):
+    assert main(["run", str(tiny), "--no-gif", "--trials", "2"]) == 0
+    mission = load_mission(tiny)
+    db = sqlite3.connect("runs/tiny.sqlite")
+    for level, seed, success, steps in db.execute(
+        "SELECT reasoning, seed, success, steps FROM trials"
+    ):
+        trial = simulate(mission.scenario(seed), level, seed=seed)
+        assert (bool(success), steps) == (trial.success, trial.steps)
+
+
+def test_bad_mission_exits_2_with_location(tmp_path, capsys):
+    path = tmp_path / "bad.epi"
+    path.write_text(TINY.replace("goal y at random", "goal y at randm"))
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}:5:" in err and "Traceback" not in err
+
+
+def test_check_claims_of_a_mission(capsys):
+    assert main(["check", str(ROOT / "specs" / "capacity.epi")]) == 0
+    assert "3 passed, 0 failed" in capsys.readouterr().out
+
+
+def test_check_after_steps_applies_the_trial_events(capsys):
+    path = ROOT / "specs" / "sensing_radius.epi"
+    mission = load_mission(path)
+    trial = simulate(mission.scenario(0), "third", seed=0)
+    settles = [e for e in trial.events if e[1] == "settle"]
+    assert settles, "the spec's first trial should show a settle event"
+    step = max(e[0] for e in settles) + 1
+    # Independently: the chain (r1, r3) from TeamKnowledge after the same events.
+    knowledge = TeamKnowledge(3, 3)
+    for _, _, robot, goal, observers in settles:
+        knowledge.settle(robot, goal, [i in observers for i in range(3)])
+    rows = mission.configurations()
+    for i, j in [(0, 2), (2, 0), (0, 1)]:
+        for r, g in [(0, 0), (1, 1), (2, 2)]:
+            fact = f"assigned(r{r + 1}, g{g + 1})"
+            on = rows_satisfying(parse_formula(fact), rows, mission.robots, mission.goals)
+            expected = bool(on[knowledge.possible((i, j), rows)].all())
+            formula = f"K[r{j + 1}] {fact}"
+            args = ["check", str(path), "--after", str(step), "--seed", "0", "--json"]
+            code = main([*args, "--robot", f"r{i + 1}", "--formula", formula])
+            out = json.loads(capsys.readouterr().out)
+            assert out["claims"][0]["holds"] == expected
+            assert code == (0 if expected else 1)
+
+
+def test_after_and_robot_are_for_missions_only(capsys):
+    spec = ROOT / "specs" / "puzzles" / "coin_toss.epi"
+    assert main(["check", str(spec), "--after", "3"]) == 2
+    assert "mission files" in capsys.readouterr().err

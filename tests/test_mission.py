@@ -1,0 +1,156 @@
+"""Mission files: compilation, shipped specs, located errors and mutated input."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from epistemica.cli_run import is_mission_file
+from epistemica.del_.errors import EpistemicaError, SourceError
+from epistemica.mission import load_mission, parse_mission
+from epistemica.sim import simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if is_mission_file(str(p)))
+
+TWO = """\
+mission allocation
+robot a: range at (5, 5)
+robot b: bearing at (25, 5)
+goal x at (5, 20)
+goal y at (25, 20)
+"""
+
+
+def test_the_shipped_missions_are_found():
+    names = {p.stem for p in MISSIONS}
+    assert {"rendezvous", "task_allocation", "multi_task", "heterogeneous", "capacity"} <= names
+    assert "sensing_radius" in names
+
+
+@pytest.mark.parametrize("path", MISSIONS, ids=lambda p: p.stem)
+def test_shipped_missions_compile_and_their_claims_hold(path):
+    mission = load_mission(path)
+    scenario = mission.scenario()
+    assert scenario.n_robots == len(mission.robots)
+    assert scenario.robot_names == mission.robots
+    if mission.kind != "multitask":
+        assert mission.model.n_worlds >= mission.configurations().shape[0]
+        for check in mission.checks:
+            assert mission.holds(check.formula) == check.expected, check.name
+    trial = simulate(scenario.replace(max_steps=5), "convention", seed=1)
+    assert trial.steps <= 5
+
+
+def test_worlds_are_the_valid_configurations():
+    mission = parse_mission(TWO + "valid ~assigned(a, y)\n")
+    assert mission.configurations().tolist() == [[0, 1]]
+    assert mission.model.n_worlds == 1
+    assert mission.holds("C[a, b] (assigned(a, x) & assigned(b, y))")
+
+
+def test_a_capacity_mission_has_the_hand_counted_configurations():
+    # Three robots, g2 needs two: the robot at g1 is any of the three.
+    mission = load_mission(ROOT / "specs" / "capacity.epi")
+    rows = mission.configurations()
+    assert sorted(map(tuple, rows.tolist())) == [(0, 1, 1), (1, 0, 1), (1, 1, 0)]
+
+
+def test_learns_is_a_private_announcement():
+    mission = parse_mission(TWO + "learns a: assigned(a, x)\n")
+    assert mission.holds("K[a] assigned(b, y)")
+    assert not mission.holds("K[b] assigned(b, y)")
+    assert not mission.holds("K[b] (K[a] assigned(a, x) | K[a] ~assigned(a, x))")
+    told = mission.scenario().told
+    assert [observers for observers, _ in told] == [(True, False)]
+
+
+def test_initially_is_common_knowledge():
+    mission = parse_mission(TWO + "initially assigned(b, y)\n")
+    assert mission.holds("C[a, b] assigned(a, x)")
+
+
+def test_random_places_come_from_the_trial_seed():
+    text = "mission rendezvous\nrobot a: range at random\nrobot b: range at (1, 1)\n"
+    mission = parse_mission(text + "goal x at random\n")
+    one, again, other = mission.scenario(4), mission.scenario(4), mission.scenario(5)
+    assert np.array_equal(one.starts, again.starts) and np.array_equal(one.goals, again.goals)
+    assert not np.array_equal(one.goals, other.goals)
+    assert one.starts[1].tolist() == [1.0, 1.0, 0.0]
+    assert np.all((one.goals >= 1) & (one.goals <= 29))
+
+
+def test_the_study_line():
+    mission = parse_mission(TWO + "simulate trials 7 seed 3 levels convention, third_unpruned\n")
+    assert (mission.study.trials, mission.study.seed) == (7, 3)
+    assert mission.study.levels == ("convention", "third-unpruned")
+
+
+BAD = [
+    # (text appended to TWO or whole text, message fragment, line, column)
+    (TWO + "learns c: assigned(a, x)\n", "unknown robot 'c'", 6, 8),
+    (TWO + 'check "x": K[a] assigned(a, z)\n', "unknown goal 'z'", 6, 29),
+    (TWO + "goal x at (1, 1)\n", "goal 'x' is declared twice", 6, 6),
+    (TWO + "valid assigned(a, x) & assigned(b, x)\n", "no configuration satisfies", 1, 1),
+    (TWO.replace("(25, 5)", "(45, 5)"), "outside the workspace", 3, 7),
+    (TWO + "sensing noise -0.5\n", "outside [0, 1e+06]", 6, 15),
+    (TWO + "event settle seen by everybody\n", "unknown observer rule 'everybody'", 6, 22),
+    (TWO.replace("bearing", "lidar"), "unknown sensor 'lidar'", 3, 10),
+    (TWO + "simulate levels fourth\n", "unknown reasoning level 'fourth'", 6, 17),
+    (TWO.replace("mission allocation\n", ""), "no 'mission' line", 5, 1),
+    (TWO + "goal z at (1, 1) needs 2\n", "'needs' in a allocation mission", 6, 24),
+    (TWO + "valid K[a] assigned(a, x)\n", "cannot speak of knowledge", 6, 9),
+    (TWO + "workspace 1" + "0" * 50 + "\n", "number of 51 characters", 6, 11),
+    (TWO + "robot and: range at (1, 1)\n", "reserved word", 6, 7),
+    (TWO + "mision rendezvous\n", "did you mean 'mission'", 6, 1),
+]
+
+
+@pytest.mark.parametrize(("text", "fragment", "line", "column"), BAD)
+def test_bad_missions_are_located_with_a_hint(text, fragment, line, column):
+    with pytest.raises(SourceError) as info:
+        parse_mission(text, "bad.epi")
+    message = str(info.value)
+    assert fragment in message
+    assert message.startswith(f"bad.epi:{line}:{column}: error:"), message
+    assert "hint:" in message
+    if info.value.source is not None and line <= len(text.splitlines()):
+        assert re.search(r"\n {4}.*\n {4} *\^", message), "no caret under the line"
+
+
+def _tokens(text: str) -> list[str]:
+    return re.findall(r"[A-Za-z_][A-Za-z0-9_]*|-?[0-9.]+|\"[^\"\n]*\"|\S", text)
+
+
+@settings(
+    max_examples=150,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
+@given(st.sampled_from(MISSIONS), st.data())
+def test_mutated_missions_compile_or_fail_cleanly(path, data):
+    tokens = _tokens(path.read_text())
+    for _ in range(data.draw(st.integers(1, 3))):
+        i = data.draw(st.integers(0, len(tokens) - 1))
+        action = data.draw(st.sampled_from(["delete", "insert", "swap", "truncate"]))
+        if action == "delete":
+            del tokens[i]
+        elif action == "insert":
+            tokens.insert(i, data.draw(st.sampled_from([*tokens, "(", ",", "at", "9e99"])))
+        elif action == "swap":
+            j = data.draw(st.integers(0, len(tokens) - 1))
+            tokens[i], tokens[j] = tokens[j], tokens[i]
+        else:
+            tokens = tokens[:i]
+        if not tokens:
+            tokens = ["mission"]
+    try:
+        mission = parse_mission(" ".join(tokens), "mutant.epi")
+    except EpistemicaError:
+        return
+    mission.scenario()  # a mission that compiles is a valid simulator world
