@@ -19,4 +19,15 @@ try:
 except PackageNotFoundError:  # imported from a source tree that was never installed
     __version__ = "0+unknown"
 
-__all__ = ["__version__", "del_", *_del_all]
+#: Mission files (loaded on first use: they import the simulator).
+_MISSION = ("Mission", "load_mission", "parse_mission")
+
+__all__ = ["__version__", "del_", *_MISSION, *_del_all]
+
+
+def __getattr__(name: str):
+    if name in _MISSION:
+        from epistemica import mission
+
+        return getattr(mission, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -69,6 +69,7 @@ def add_command(commands) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from epistemica.del_.errors import EpistemicaError
     from epistemica.mission import load_mission
     from epistemica.run import mission_trials, run_study
     from epistemica.sim.report import format_table, plot_levels, summarise
@@ -105,13 +106,16 @@ def _run(args: argparse.Namespace) -> int:
     order = {s.reasoning: i for i, s in enumerate(specs)}
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
     print(format_table(cells, markdown=args.markdown))
-    png = out.with_suffix(".png")
-    plot_levels(cells, png, mission.name)
-    print(f"figure: {png}")
-    if not args.no_gif:
-        gif = out.with_suffix(".gif")
-        _animate(mission, specs[-1].reasoning, mission.study.seed, gif)
-        print(f"animation ({specs[-1].reasoning}, seed {mission.study.seed}): {gif}")
+    try:
+        png = out.with_suffix(".png")
+        plot_levels(cells, png, mission.name)
+        print(f"figure: {png}")
+        if not args.no_gif:
+            gif = out.with_suffix(".gif")
+            _animate(mission, specs[-1].reasoning, mission.study.seed, gif)
+            print(f"animation ({specs[-1].reasoning}, seed {mission.study.seed}): {gif}")
+    except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
+        print(f"figures skipped: {exc}", file=sys.stderr)
     print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
     return EXIT_OK
 
