@@ -55,15 +55,18 @@ def run_show(args: argparse.Namespace) -> int:
     spec = load_spec(args.file)
     steps = split_plan(args.after) if args.after.strip() else []
     model = model_after(spec, steps)
+    # The atoms in the order the spec declares them (a model of explicit worlds may hold
+    # them in another), the worlds by their spec names: the JSON form has both, and the
+    # model read back from it is what the text and DOT outputs show.
+    data = model_to_json(model, spec.atoms)
     if args.json:
-        print(json.dumps({"file": args.file, "after": steps, **model_to_json(model)}, indent=2))
+        print(json.dumps({"file": args.file, "after": steps, **data}, indent=2))
     elif args.dot:
-        # Rebuilt from its JSON form so that DOT labels are the names people read.
-        text = to_dot(model_from_json(model_to_json(model)))
+        text = to_dot(model_from_json(data))
         with open(args.dot, "w", encoding="utf-8") as out:
             out.write(text + "\n")
         print(f"wrote {args.dot}: {model.n_worlds} worlds, agents {', '.join(model.agents)}")
     else:
         print(f"{args.file}" + (f" after {', '.join(steps)}" if steps else ""))
-        print(describe_model(model_from_json(model_to_json(model))))
+        print(describe_model(model_from_json(data)))
     return EXIT_OK

@@ -28,7 +28,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Mapping
+from collections.abc import Hashable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -86,8 +86,14 @@ def _relation(model: KripkeModel, agent: str, kind: str, names: Mapping) -> dict
     return {"arrows": arrows}
 
 
-def model_to_json(model: KripkeModel) -> dict[str, Any]:
-    """The model as a JSON-ready dict (see the module docstring for the layout)."""
+def model_to_json(model: KripkeModel, atoms: Sequence[str] | None = None) -> dict[str, Any]:
+    """The model as a JSON-ready dict (see the module docstring for the layout).
+
+    ``atoms`` gives the order of the atoms (a spec's declaration order); atoms of the
+    model it omits follow, atoms it adds that the model lacks are left out.
+    """
+    order = [a for a in atoms or () if a in model.atoms]
+    order += [a for a in model.atoms if a not in order]
     names = world_names(model)
     relations = {}
     for agent in model.agents:
@@ -101,9 +107,9 @@ def model_to_json(model: KripkeModel) -> dict[str, Any]:
     return {
         "format": FORMAT,
         "agents": list(model.agents),
-        "atoms": list(model.atoms),
+        "atoms": order,
         "worlds": [
-            {"name": names[w], "atoms": [a for a in model.atoms if a in model.valuation_of(w)]}
+            {"name": names[w], "atoms": [a for a in order if a in model.valuation_of(w)]}
             for w in model.worlds
         ],
         "designated": [names[w] for w in model.designated],
