@@ -179,3 +179,13 @@ def test_help_cites_no_path_that_exists_only_in_a_source_checkout():
     # The examples name spec files of the source tree, and say so.
     assert "specs/ folder of the source distribution" in texts["epistemica"]
     assert "3 an internal error" in texts["epistemica"]
+
+
+def test_version_goes_to_standard_output(capsys):
+    import epistemica
+
+    with pytest.raises(SystemExit) as info:
+        main(["--version"])
+    out, err = capsys.readouterr()
+    assert info.value.code == 0 and err == ""
+    assert out == f"epistemica {epistemica.__version__}\n" and epistemica.__version__[0].isdigit()

@@ -84,7 +84,8 @@ class _Version(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         from epistemica import __version__
 
-        parser.exit(message=f"epistemica {__version__}\n")
+        print(f"epistemica {__version__}")  # on standard output, as argparse's own
+        parser.exit()
 
 
 def build_parser() -> argparse.ArgumentParser:
