@@ -4,62 +4,92 @@ bisimulation contraction and epistemic planning. Pure logic, no robots.
 Imported as ``epistemica.del_`` (``del`` is a Python keyword).
 """
 
-from epistemica.del_.action import (
-    ActionModel,
-    private_announcement,
-    product_update,
-    public_announcement,
-    public_assignment,
-    semi_private_sensing,
-)
-from epistemica.del_.bisimulation import bisimilar, bisimulation_classes, minimize
-from epistemica.del_.checker import evaluate
-from epistemica.del_.coordination import (
-    CoordinationReport,
-    check_implicit_coordination,
-    plan_implicitly_coordinated,
-)
-from epistemica.del_.describe import describe_model
-from epistemica.del_.errors import (
-    EpistemicaError,
-    InvalidArgumentError,
-    ModelError,
-    ParseError,
-    SourceError,
-    SpecError,
-)
-from epistemica.del_.export import to_dot, to_networkx
-from epistemica.del_.formula import (
-    After,
-    And,
-    Announce,
-    AnnounceDiamond,
-    Atom,
-    Believe,
-    Bottom,
-    Common,
-    CommonBelief,
-    Distributed,
-    Everybody,
-    EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
-    Know,
-    KnowWhether,
-    Not,
-    Or,
-    Top,
-    canonical_atom,
-    conjunction,
-    disjunction,
-)
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.observability import observability_action
-from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, parse_formula
-from epistemica.del_.planner import PlanResult, Validation, plan, plan_with_stats, validate
-from epistemica.del_.spec import Check, Spec, load_spec, parse_spec
-from epistemica.del_.symbolic import KnowledgeStructure
+import importlib
+
+# Each public name and the submodule it lives in. They are loaded on first use (PEP 562),
+# so that importing the package, and with it the command line's --help, does not pay
+# for numpy, scipy, networkx, lark and oxidd before they are needed.
+_SOURCES = {
+    "action": (
+        "ActionModel",
+        "private_announcement",
+        "product_update",
+        "public_announcement",
+        "public_assignment",
+        "semi_private_sensing",
+    ),
+    "bisimulation": ("bisimilar", "bisimulation_classes", "minimize"),
+    "checker": ("evaluate",),
+    "coordination": (
+        "CoordinationReport",
+        "check_implicit_coordination",
+        "plan_implicitly_coordinated",
+    ),
+    "describe": ("describe_model",),
+    "errors": (
+        "EpistemicaError",
+        "InvalidArgumentError",
+        "ModelError",
+        "ParseError",
+        "SourceError",
+        "SpecError",
+    ),
+    "export": ("to_dot", "to_networkx"),
+    "formula": (
+        "After",
+        "And",
+        "Announce",
+        "AnnounceDiamond",
+        "Atom",
+        "Believe",
+        "Bottom",
+        "Common",
+        "CommonBelief",
+        "Distributed",
+        "Everybody",
+        "EverybodyBelieves",
+        "Formula",
+        "Iff",
+        "Implies",
+        "Know",
+        "KnowWhether",
+        "Not",
+        "Or",
+        "Top",
+        "canonical_atom",
+        "conjunction",
+        "disjunction",
+    ),
+    "kripke": ("KripkeModel",),
+    "observability": ("observability_action",),
+    "parser": ("FORMULA_GRAMMAR", "FormulaBuilder", "parse_formula"),
+    "planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
+    "spec": ("Check", "Spec", "load_spec", "parse_spec"),
+    "symbolic": ("KnowledgeStructure",),
+}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str):
+    module = _WHERE.get(name)
+    if module is not None:
+        value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    elif not name.startswith("__"):  # a submodule, e.g. epistemica.del_.checker
+        try:
+            value = importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
+
 
 __all__ = [
     "FORMULA_GRAMMAR",

@@ -190,3 +190,51 @@ def test_implicit_needs_owners(capsys):
 def test_implicit_bad_input_exits_2(capsys, extra, message):
     code, _, err = run(capsys, "plan", TWO_ROBOTS, "--implicit", *extra)
     assert code == 2 and message in err and "hint:" in err
+
+
+# One agent flips p on and off; `use` needs p and makes q true (the goal).
+SWITCH = """\
+agents a
+atoms p, q
+observes a: p, q
+actual {}
+action on by a: assign p := true
+action off by a: assign p := false
+action use by a {
+    pre p
+    effect q := true
+    full a
+}
+goal q
+"""
+
+
+@pytest.mark.parametrize(
+    ("plan", "step", "inapplicable"),
+    [
+        ("use", 1, True),  # p is false at first
+        ("on,off,use", 3, True),  # p is false again when `use` comes
+        ("on,off", 2, False),  # every step runs, the goal fails: charged to the last step
+    ],
+)
+def test_plan_steps_count_from_1_in_every_output(capsys, tmp_path, plan, step, inapplicable):
+    path = tmp_path / "switch.epi"
+    path.write_text(SWITCH)
+    outputs = []
+    for implicit in ([], ["--implicit"]):
+        code, out, _ = run(capsys, "plan", str(path), *implicit, "--verify", plan, "--json")
+        assert code == 1
+        outputs.append(json.loads(out)["step"])
+        code, out, _ = run(capsys, "plan", str(path), *implicit, "--verify", plan)
+        if inapplicable:  # both texts name the step that cannot happen
+            assert f"step {step} (use)" in out
+    assert outputs == [step, step]
+
+
+def test_found_plans_are_listed_from_1(capsys, tmp_path):
+    path = tmp_path / "switch.epi"
+    path.write_text(SWITCH)
+    for implicit in ([], ["--implicit"]):
+        code, out, _ = run(capsys, "plan", str(path), *implicit)
+        assert code == 0
+        assert "  1. on" in out and "  2. use" in out and "  0." not in out

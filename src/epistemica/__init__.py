@@ -6,28 +6,44 @@ Layers, each importing only the ones before it:
 - :mod:`epistemica.aif`: active inference over valid goal configurations;
 - :mod:`epistemica.sim`: multi-robot simulation;
 - this package root: mission specs and the command-line interface.
+
+The root re-exports the logic layer's API (``epistemica.KripkeModel`` is
+``epistemica.del_.KripkeModel``). Names are loaded on first use (PEP 562), so that
+``epistemica --help`` starts without numpy, scipy or lark.
 """
 
-from importlib.metadata import PackageNotFoundError, version
+import importlib
 
-from epistemica import del_
-from epistemica.del_ import *  # noqa: F403  (the root re-exports the logic layer's API)
-from epistemica.del_ import __all__ as _del_all
-
-try:
-    __version__ = version("epistemica")  # one source of truth: pyproject.toml
-except PackageNotFoundError:  # imported from a source tree that was never installed
-    __version__ = "0+unknown"
-
-#: Mission files (loaded on first use: they import the simulator).
+_DEL = "epistemica.del_"
+#: Mission files: ``epistemica.load_mission`` and friends (they import the simulator).
 _MISSION = ("Mission", "load_mission", "parse_mission")
 
-__all__ = ["__version__", "del_", *_MISSION, *_del_all]
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("epistemica")  # one source of truth: pyproject.toml
+    except PackageNotFoundError:  # imported from a source tree that was never installed
+        return "0+unknown"
 
 
 def __getattr__(name: str):
-    if name in _MISSION:
-        from epistemica import mission
+    if name == "__version__":
+        value = _version()
+    elif name == "__all__":
+        value = ["__version__", "del_", *_MISSION, *importlib.import_module(_DEL).__all__]
+    elif name in _MISSION:
+        value = getattr(importlib.import_module("epistemica.mission"), name)
+    elif name == "del_":
+        value = importlib.import_module(_DEL)
+    elif name in importlib.import_module(_DEL).__all__:
+        value = getattr(importlib.import_module(_DEL), name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
 
-        return getattr(mission, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__getattr__("__all__")})

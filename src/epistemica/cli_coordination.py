@@ -12,6 +12,8 @@ Examples
 --------
 >>> split_plan("go_r1_g1, open(a, 2),go_r2_g2")
 ['go_r1_g1', 'open(a, 2)', 'go_r2_g2']
+>>> split_plan("go_r1_g1 go_r2_g2")
+['go_r1_g1', 'go_r2_g2']
 """
 
 from __future__ import annotations
@@ -22,38 +24,54 @@ from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 
-__all__ = ["plan_implicit", "split_plan", "verify_plan"]
+__all__ = ["plan_implicit", "print_steps", "split_plan", "verify_plan"]
 
 EXIT_OK, EXIT_FALSE = 0, 1
 
 
 def split_plan(text: str) -> list[str]:
-    """The action names of a comma-separated plan; commas inside ``(...)`` are kept.
+    """The action names of a plan separated by commas or spaces; ``(...)`` is kept whole.
+
+    Examples
+    --------
+    >>> split_plan("father nobody_knows, open(a, 2)")
+    ['father', 'nobody_knows', 'open(a, 2)']
 
     Raises
     ------
     InvalidArgumentError
-        An empty step or unbalanced parentheses.
+        An empty step (``a,,b``) or unbalanced parentheses.
     """
-    steps, depth, current = [], 0, []
+    steps = []
+    pieces = _split_outside_parentheses(text, ",")
+    for piece in pieces or [""]:
+        words = [w for w in _split_outside_parentheses(piece, None) or [""] if w]
+        if not words or pieces is None:
+            raise InvalidArgumentError(
+                f"cannot read the plan {text!r}",
+                hint="list action names separated by commas or spaces, e.g. "
+                "go_r1_g1,go_r2_g2 or 'go_r1_g1 go_r2_g2'",
+            )
+        steps.extend(words)
+    # Arguments are canonical with one space after each comma, as in `open(a, 2)`.
+    return [_canonical(" ".join(s.split()).replace("( ", "(").replace(" )", ")")) for s in steps]
+
+
+def _split_outside_parentheses(text: str, separator: str | None) -> list[str] | None:
+    """``text`` split at ``separator`` (None: whitespace) outside parentheses; None if
+    the parentheses do not balance."""
+    parts, depth, current = [], 0, []
     for char in text:
-        if char == "," and depth == 0:
-            steps.append("".join(current))
+        if depth == 0 and (char == separator if separator else char.isspace()):
+            parts.append("".join(current))
             current = []
             continue
         depth += {"(": 1, ")": -1}.get(char, 0)
         if depth < 0:
-            break
+            return None
         current.append(char)
-    steps.append("".join(current))
-    names = [" ".join(step.split()).replace("( ", "(").replace(" )", ")") for step in steps]
-    if depth != 0 or not all(names):
-        raise InvalidArgumentError(
-            f"cannot read the plan {text!r}",
-            hint="list action names separated by commas, e.g. --verify go_r1_g1,go_r2_g2",
-        )
-    # Arguments are canonical with one space after each comma, as in `open(a, 2)`.
-    return [_canonical(name) for name in names]
+    parts.append("".join(current))
+    return parts if depth == 0 else None
 
 
 def _canonical(name: str) -> str:
@@ -96,8 +114,11 @@ def _states(spec: Any, steps: list[str]) -> list[str]:
     return [describe_model(s) for s in run.states]
 
 
-def _print_steps(steps: list[str], owners: dict[str, str], states: list[str] | None) -> None:
-    # With states (--explain): the state after each step, and each step's acting agent.
+def print_steps(steps: list[str], owners: dict[str, str], states: list[str] | None) -> None:
+    """Print a plan's steps numbered from 1, each with its owner when ``owners`` has it.
+
+    With ``states`` (``--explain``): the initial state first, then the state after each step.
+    """
     if states is not None:
         print("initial state:")
         print(_indent(states[0]))
@@ -168,9 +189,9 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
     n = result.length
     print(f"implicitly coordinated plan of {n} step{'s' if n != 1 else ''} ({stats}):")
     if args.explain:
-        _print_steps(result.plan, owners, _states(spec, result.plan))
+        print_steps(result.plan, owners, _states(spec, result.plan))
     else:
-        _print_steps(result.plan, {}, None)
+        print_steps(result.plan, {}, None)
     print(("coordinated: " if ok else "NOT COORDINATED: ") + report.reason)
     return EXIT_OK if ok else EXIT_FALSE
 
@@ -191,7 +212,11 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
         owners = dict(spec.owners)
         run = validate(spec.model, spec.actions, steps, spec.goal)
         ok, reason, verdict = run.valid, run.reason, "valid"
-        extra = {"valid": run.valid, "reason": run.reason, "step": run.step}
+        # Steps count from 1 in every output, and a goal that fails only at the end is
+        # charged to the last step, as --implicit does (Validation.step is 0-based and
+        # points past the plan then).
+        step = None if run.step is None else min(run.step + 1, len(steps))
+        extra = {"valid": run.valid, "reason": run.reason, "step": step}
     if args.json:
         out = {"file": args.file, "goal": str(spec.goal), "implicit": args.implicit}
         out.update({"plan": steps, **extra})
@@ -201,7 +226,7 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
         return EXIT_OK if ok else EXIT_FALSE
     print(f"plan {', '.join(steps)}: {'' if ok else 'not '}{verdict}")
     if args.explain:
-        _print_steps(steps, owners, _states(spec, steps))
+        print_steps(steps, owners, _states(spec, steps))
     print(f"  {reason}")
     return EXIT_OK if ok else EXIT_FALSE
 

@@ -1,0 +1,71 @@
+"""Benchmark: wall time of short ``epistemica`` commands, start-up included.
+
+Each command is run as a fresh process (the installed ``epistemica`` console script next
+to this Python, else ``python -m epistemica``) ``--repeats`` times after one warm-up run
+(which fills the file cache and, if enabled, lark's grammar cache); the median and the
+minimum are reported. Targets from issue 12: ``--help`` ≤ 0.15 s, ``check
+specs/puzzles/muddy_children.epi`` ≤ 0.4 s. Also printed: the seconds ``python -c pass``
+takes, the floor every command pays.
+
+Usage: ``python benchmarks/cli_startup.py [--repeats 11]``; prints a markdown table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MUDDY = str(ROOT / "specs" / "puzzles" / "muddy_children.epi")
+
+COMMANDS = {
+    "python -c pass": ([sys.executable, "-c", "pass"], None),
+    "epistemica --help": (["--help"], 0.15),
+    "epistemica check muddy_children.epi": (["check", MUDDY], 0.4),
+    "epistemica show muddy_children.epi": (["show", MUDDY, "--after", "father"], None),
+    "epistemica plan muddy_children.epi": (["plan", MUDDY], None),
+}
+
+
+def _command() -> list[str]:
+    script = Path(sys.executable).with_name("epistemica")
+    if script.exists():
+        return [str(script)]
+    found = shutil.which("epistemica")
+    return [found] if found else [sys.executable, "-m", "epistemica"]
+
+
+def _time(argv: list[str]) -> float | None:
+    """Seconds of one run; None if the command failed (e.g. absent from an older version)."""
+    start = time.perf_counter()
+    done = subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    elapsed = time.perf_counter() - start
+    return elapsed if done.returncode == 0 else None
+
+
+def main() -> None:
+    options = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    options.add_argument("--repeats", type=int, default=11)
+    repeats = options.parse_args().repeats
+    base = _command()
+    print(f"command: {' '.join(base)}; {repeats} runs each after one warm-up\n")
+    print("| command | median (s) | min (s) | target (s) |")
+    print("|---|---|---|---|")
+    for label, (args, target) in COMMANDS.items():
+        argv = args if label.startswith("python") else [*base, *args]
+        if _time(argv) is None:
+            print(f"| `{label}` | failed | | |")
+            continue
+        times = [_time(argv) for _ in range(repeats)]
+        median = statistics.median(times)
+        verdict = "" if target is None else f"{target} ({'met' if median <= target else 'MISSED'})"
+        print(f"| `{label}` | {median:.3f} | {min(times):.3f} | {verdict} |")
+
+
+if __name__ == "__main__":
+    main()

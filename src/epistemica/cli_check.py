@@ -1,0 +1,139 @@
+"""``epistemica check``: the claims of a spec file, or one formula (``--formula``).
+
+Helper of :mod:`epistemica.cli`, imported only when the command runs. Exit status 0 when
+every claim is as expected (or the formula holds at every designated world), 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import Any
+
+from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
+from epistemica.del_.describe import world_labels
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.symbolic.backend import formula_summary, load_spec
+
+__all__ = ["run_check"]
+
+# Worlds listed by `check --formula` before "... and N more" (text) / truncation (JSON).
+_LIST_TEXT, _LIST_JSON = 12, 1000
+
+
+def _world(model: Any, world: Any, labels: dict) -> dict[str, Any]:
+    true = model.valuation_of(world)
+    return {"world": labels[world], "atoms": [a for a in model.atoms if a in true]}
+
+
+def _show(entry: dict[str, Any]) -> str:
+    return f"{entry['world']} {{{', '.join(entry['atoms'])}}}"
+
+
+def run_check(args: argparse.Namespace) -> int:
+    from epistemica.cli_run import check_mission, is_mission_file
+
+    if is_mission_file(args.file):
+        return check_mission(args)
+    if args.after is not None or args.robot is not None:
+        raise InvalidArgumentError(
+            "--after and --robot apply to mission files", hint="a file starting with 'mission'"
+        )
+    spec = load_spec(args.file, args.backend)
+    if args.formula is not None:
+        return _check_formula(spec, args)
+    results = [(c, spec.holds(c.formula)) for c in spec.checks]
+    failed = [c for c, value in results if value != c.expected]
+    if args.json:
+        claims = [
+            {
+                "name": c.name,
+                "formula": c.text,
+                "expected": c.expected,
+                "holds": value,
+                "ok": value == c.expected,
+                "line": c.line,
+                "column": c.column,
+            }
+            for c, value in results
+        ]
+        out = {"file": args.file, "claims": claims, "passed": len(results) - len(failed)}
+        print(json.dumps({**out, "failed": len(failed)}, indent=2))
+        return EXIT_FALSE if failed else EXIT_OK
+    model = spec.model
+    print(
+        f"{args.file}: {len(results)} claim{'s' if len(results) != 1 else ''}; "
+        f"{model.n_worlds} worlds, agents {', '.join(spec.agents)}"
+    )
+    if not results:
+        print("no claims: add 'check \"name\": FORMULA' lines, or pass --formula")
+    for c, value in results:
+        verdict = "true " if value else "false"
+        if value == c.expected:
+            print(f"  ok    {verdict}  {c.name}")
+        else:
+            print(f"  FAIL  {verdict}  {c.name}  (expected {str(c.expected).lower()})")
+            print(f"        {c.location}: {c.text}")
+    print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
+    return EXIT_FALSE if failed else EXIT_OK
+
+
+def _check_formula(spec: Any, args: argparse.Namespace) -> int:
+    formula = spec.formula(args.formula)
+    model = spec.model
+    if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
+        return _check_formula_symbolic(spec, formula, args)
+    labels = world_labels(model)
+    where = model.truth_set(formula, actions=spec.actions)
+    designated = [{**_world(model, w, labels), "holds": w in where} for w in model.designated]
+    holds = all(d["holds"] for d in designated)
+    true_worlds = [w for w in model.worlds if w in where]
+    if args.json:
+        listed = [_world(model, w, labels) for w in true_worlds[:_LIST_JSON]]
+        print(
+            json.dumps(
+                {
+                    "file": args.file,
+                    "formula": str(formula),
+                    "holds": holds,
+                    "designated": designated,
+                    "n_worlds": model.n_worlds,
+                    "n_true": len(true_worlds),
+                    "worlds": listed,
+                    "truncated": len(true_worlds) > len(listed),
+                },
+                indent=2,
+            )
+        )
+        return EXIT_OK if holds else EXIT_FALSE
+    print(f"{formula}")
+    print(f"  {'true' if holds else 'false'} at the designated world", end="")
+    if len(designated) == 1:
+        print(f" {_show(designated[0])}")
+    else:
+        n_ok = sum(d["holds"] for d in designated)
+        print(f"s: holds at {n_ok} of {len(designated)}")
+        for d in designated[:_LIST_TEXT]:
+            print(f"    {'true ' if d['holds'] else 'false'}  {_show(d)}")
+    shown = ", ".join(_show(_world(model, w, labels)) for w in true_worlds[:_LIST_TEXT])
+    more = len(true_worlds) - _LIST_TEXT
+    tail = f", ... and {more} more" if more > 0 else ""
+    print(f"  holds at {len(true_worlds)} of {model.n_worlds} worlds" + (":" if shown else ""))
+    if shown:
+        print(f"    {shown}{tail}")
+    return EXIT_OK if holds else EXIT_FALSE
+
+
+def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -> int:
+    """Counts instead of world lists: a knowledge structure does not list its states."""
+    summary = formula_summary(spec, formula)
+    if args.json:
+        print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
+        return EXIT_OK if summary["holds"] else EXIT_FALSE
+    print(f"{formula}")
+    print(
+        f"  {'true' if summary['holds'] else 'false'} at the designated worlds: holds at "
+        f"{summary['n_designated_true']} of {summary['n_designated']}"
+    )
+    print(f"  holds at {summary['n_true']} of {summary['n_worlds']} worlds (symbolic backend)")
+    return EXIT_OK if summary["holds"] else EXIT_FALSE
