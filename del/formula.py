@@ -28,7 +28,10 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
 from typing import TypeVar
 
+from epistemica.del_.errors import InvalidArgumentError
+
 __all__ = [
+    "RESERVED_WORDS",
     "After",
     "And",
     "Announce",
@@ -59,6 +62,11 @@ __all__ = [
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
 # announcements, actions) all share the top level.
 _UNARY, _AND, _OR, _IMPLIES, _IFF = 5, 4, 3, 2, 1
+
+#: Words that the lexer reads as keywords, so they cannot name an atom.
+RESERVED_WORDS = frozenset(
+    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
+)
 
 _ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")
 
@@ -236,6 +244,12 @@ class Atom(Formula):
         return str(self)
 
     def __post_init__(self) -> None:
+        if self.name in RESERVED_WORDS:
+            # It would print as a keyword, and the printed formula would not parse back.
+            raise InvalidArgumentError(
+                f"'{self.name}' is a reserved word and cannot name an atom",
+                hint="rename the atom, e.g. to '" + self.name + "_'",
+            )
         object.__setattr__(self, "args", tuple(str(a) for a in self.args))
         Formula.__post_init__(self)
 

@@ -38,6 +38,7 @@ from lark.exceptions import UnexpectedInput
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.formula import (
+    RESERVED_WORDS,  # re-exported for the grammar users
     After,
     And,
     Announce,
@@ -73,11 +74,6 @@ __all__ = [
 
 #: Path of the grammar file, for ``import_paths`` of grammars that ``%import`` it.
 FORMULA_GRAMMAR = Path(__file__).with_name("formula.lark")
-
-#: Words that the lexer reads as keywords, so they cannot name an atom.
-RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
-)
 
 
 def _names(tokens: list[Token]) -> tuple[str, ...]:
@@ -357,6 +353,6 @@ def parse_formula(
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:
-        raise syntax_error(exc, text, filename) from None
+        raise syntax_error(exc, text, filename, parser=_lark()) from None
     builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
     return builder.transform(tree)

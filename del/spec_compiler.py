@@ -31,6 +31,7 @@ from lark.visitors import merge_transformers
 from epistemica.del_ import spec_actions, spec_model, spec_names
 from epistemica.del_.errors import SpecError
 from epistemica.del_.formula import (
+    RESERVED_WORDS,
     And,
     Atom,
     Bottom,
@@ -270,6 +271,12 @@ class Compiler:
         if not agents:
             raise self.error("no agents declared", None, "start the spec with 'agents a, b'")
         for key, token in atoms.items():
+            stem = key.partition("(")[0]
+            if stem in RESERVED_WORDS:
+                raise self.error(
+                    f"'{stem}' is a reserved word and cannot name an atom", token,
+                    f"rename it, e.g. to '{stem}_'; reserved: {' '.join(sorted(RESERVED_WORDS))}",
+                )  # fmt: skip
             if key in agents:
                 raise self.error(f"'{key}' names both an agent and an atom", token, "rename one")
         headers = spec_names.headers(self, by_kind.get("action_decl", []), tuple(agents))
