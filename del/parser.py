@@ -217,6 +217,15 @@ class FormulaBuilder(Transformer):
 
     def atom(self, children: list) -> Atom:
         name, args = children
+        if name in RESERVED_WORDS:  # "and" where a formula starts: the lexer read a name
+            raise ParseError(
+                f"'{name}' is a reserved word and cannot name an atom",
+                line=name.line,
+                column=name.column,
+                source=self.source,
+                filename=self.filename,
+                hint=f"'{name}' joins two formulas, as in 'p {name} q'",
+            )
         return Atom(str(name), args or ())
 
     def action(self, children: list) -> str:
