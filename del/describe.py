@@ -25,22 +25,45 @@ __all__ = ["describe_model", "world_labels"]
 
 
 def world_labels(model: KripkeModel) -> dict[Hashable, str]:
-    """Short printable names of the worlds.
+    """Short printable names of the worlds, made of the names the user wrote.
 
-    World names that are strings (explicit worlds of a spec) are kept; any other names
-    (integers, the ``(world, event)`` pairs of product updates) become ``w<index>``.
+    A world named by a string (an explicit world of a spec) keeps its name; a world of a
+    product update, a pair ``(world, event)``, is named ``world.event`` from the names of
+    its parts (so ``u.tell.skip`` after two updates of world ``u``); a world numbered by
+    :meth:`KripkeModel.from_observables` (the index of its valuation) is ``w<number>``.
+    Should two worlds get the same label, every world is named ``w<index>`` instead.
 
     Examples
     --------
+    >>> from epistemica.del_.action import public_announcement
     >>> from epistemica.del_.kripke import KripkeModel
-    >>> m = KripkeModel.from_observables(["p"], {"a": []})
-    >>> world_labels(m)
+    >>> world_labels(KripkeModel.from_observables(["p"], {"a": []}))
     {0: 'w0', 1: 'w1'}
+    >>> m = KripkeModel(["u", "v"], {"u": {"p"}}, {"a": []}, ["u"])
+    >>> world_labels(m.update(public_announcement("p", ["a"])))
+    {('u', 'announce'): 'u.announce'}
     """
-    worlds = model.worlds
-    if all(isinstance(w, str) for w in worlds):
-        return {w: w for w in worlds}
-    return {w: f"w{i}" for i, w in enumerate(worlds)}
+    labels = {w: _label(w) for w in model.worlds}
+    if len(set(labels.values())) < len(labels):
+        return {w: f"w{i}" for i, w in enumerate(model.worlds)}
+    return labels
+
+
+def _label(world: Hashable) -> str:
+    # Iteratively: a world after n updates is a pair nested n deep.
+    parts: list[str] = []
+    stack = [world]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, tuple):
+            stack.extend(reversed(item))
+        elif isinstance(item, str):
+            parts.append(item)
+        elif isinstance(item, int):
+            parts.append(f"w{item}")
+        else:
+            parts.append(str(item))
+    return ".".join(parts)
 
 
 def _atoms(model: KripkeModel, world: Hashable) -> str:

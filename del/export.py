@@ -5,6 +5,7 @@ from __future__ import annotations
 import networkx as nx
 import numpy as np
 
+from epistemica.del_.describe import world_labels
 from epistemica.del_.kripke import KripkeModel
 
 __all__ = ["to_dot", "to_networkx"]
@@ -56,7 +57,9 @@ def _quote(text: object) -> str:
 def to_dot(model: KripkeModel) -> str:
     """The model in Graphviz DOT: designated worlds double-circled, edges labelled by agent.
 
-    Knowledge edges (when separate from belief) are dashed.
+    Knowledge edges (when separate from belief) are dashed. Worlds are labelled with the
+    names the user wrote (:func:`~epistemica.del_.describe.world_labels`: ``u``, ``u.tell``
+    after an update) and their true atoms.
 
     Examples
     --------
@@ -65,10 +68,12 @@ def to_dot(model: KripkeModel) -> str:
     digraph kripke {
     """
     graph = to_networkx(model)
+    # Node ids are internal; the labels carry the user's names.
     ids = {name: f"w{i}" for i, name in enumerate(graph.nodes)}
+    names = world_labels(model)
     lines = ["digraph kripke {", "  node [shape=circle];"]
     for name, data in graph.nodes(data=True):
-        label = f"{name}\\n{', '.join(data['atoms'])}"
+        label = f"{names[name]}\\n{', '.join(data['atoms'])}"
         shape = "doublecircle" if data["designated"] else "circle"
         lines.append(f"  {ids[name]} [label={_quote(label)}, shape={shape}];")
     for w, v, data in graph.edges(data=True):

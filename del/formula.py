@@ -24,10 +24,14 @@ K[a] (p & ~q)
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
+from typing import TypeVar
+
+from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
+    "RESERVED_WORDS",
     "After",
     "And",
     "Announce",
@@ -51,11 +55,18 @@ __all__ = [
     "canonical_atom",
     "conjunction",
     "disjunction",
+    "fold",
+    "iter_postorder",
 ]
 
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
 # announcements, actions) all share the top level.
 _UNARY, _AND, _OR, _IMPLIES, _IFF = 5, 4, 3, 2, 1
+
+#: Words that the lexer reads as keywords, so they cannot name an atom.
+RESERVED_WORDS = frozenset(
+    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
+)
 
 _ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")
 
@@ -82,16 +93,73 @@ def canonical_atom(text: str) -> str:
     return f"{name}({', '.join(a.strip() for a in args.split(','))})"
 
 
+# A piece of printed text: literal text, or a subformula to print where it stands and the
+# binding strength below which it needs parentheses.
+_Part = str | tuple["Formula", int]
+
+
 class Formula:
     """Base class of all formulas.
 
     Formulas compare and hash structurally. ``&``, ``|`` and ``~`` build conjunctions,
     disjunctions and negations; ``f >> g`` builds the implication ``f -> g``.
+
+    Construction, hashing, comparison, ``str`` and ``repr`` never recurse, so a formula
+    nested 10,000 deep or a chain of 100,000 conjuncts is handled in linear time; code
+    walking a formula should do the same with :func:`iter_postorder` or :func:`fold`.
     """
 
-    # The hash is cached: memo tables hash the same (deep) formulas over and over.
+    # The hash is computed once, at construction, from the (cached) hashes of the
+    # children: memo tables hash the same deep formulas over and over, and a lazily
+    # computed hash would recurse down the whole tree the first time.
     __slots__ = ("_hash",)
     precedence = _UNARY
+
+    def __post_init__(self) -> None:
+        values = (getattr(self, name) for name in _field_names(type(self)))
+        object.__setattr__(self, "_hash", hash((type(self), *values)))
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other: object) -> bool:
+        if self is other:
+            return True
+        if type(self) is not type(other):
+            return NotImplemented
+        return _equal(self, other)  # type: ignore[arg-type]
+
+    def __str__(self) -> str:
+        out: list[str] = []
+        stack: list[_Part] = [(self, 0)]
+        while stack:
+            item = stack.pop()
+            if isinstance(item, str):
+                out.append(item)
+                continue
+            node, minimum = item
+            parts = node._parts()
+            if node.precedence < minimum:
+                parts = ("(", *parts, ")")
+            stack.extend(reversed(parts))
+        return "".join(out)
+
+    def __repr__(self) -> str:
+        out: list[str] = []
+        stack: list[str | Formula] = [self]
+        while stack:
+            item = stack.pop()
+            if isinstance(item, str):
+                out.append(item)
+                continue
+            parts: list[str | Formula] = [f"{type(item).__name__}("]
+            for i, name in enumerate(_field_names(type(item))):
+                value = getattr(item, name)
+                parts.append(f"{', ' if i else ''}{name}=")
+                parts.append(value if isinstance(value, Formula) else repr(value))
+            parts.append(")")
+            stack.extend(reversed(parts))
+        return "".join(out)
 
     def __and__(self, other: Formula) -> Formula:
         return And(self, other)
@@ -109,20 +177,22 @@ class Formula:
         """The immediate subformulas, in left-to-right order."""
         return ()
 
+    def _parts(self) -> tuple[_Part, ...]:
+        # The printed text of this node, its subformulas left as (child, minimum) pieces.
+        raise NotImplementedError
+
     def subformulas(self) -> Iterator[Formula]:
         """Every subformula, children before parents (each occurrence once)."""
-        for child in self.children():
-            yield from child.subformulas()
-        yield self
+        return iter_postorder(self)
 
     def atoms(self) -> frozenset[Atom]:
         """The atoms occurring in the formula."""
-        return frozenset(f for f in self.subformulas() if isinstance(f, Atom))
+        return frozenset(f for f in iter_postorder(self, unique=True) if isinstance(f, Atom))
 
     def agents(self) -> frozenset[str]:
         """The agents named by the formula's modalities."""
         found: set[str] = set()
-        for f in self.subformulas():
+        for f in iter_postorder(self, unique=True):
             found.update(getattr(f, "group", ()))
             if isinstance(f, _Individual):
                 found.add(f.agent)
@@ -130,31 +200,30 @@ class Formula:
 
     def modal_depth(self) -> int:
         """Nesting depth of epistemic modalities (announcements and actions count 0)."""
-        inner = max((c.modal_depth() for c in self.children()), default=0)
-        return inner + (1 if isinstance(self, (_Individual, _Group)) else 0)
 
-    def _wrap(self, child: Formula, minimum: int) -> str:
-        text = str(child)
-        return f"({text})" if child.precedence < minimum else text
+        def depth(f: Formula, inner: tuple[int, ...]) -> int:
+            return max(inner, default=0) + (1 if isinstance(f, (_Individual, _Group)) else 0)
+
+        return fold(self, depth)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Top(Formula):
     """The formula ``true``."""
 
-    def __str__(self) -> str:
-        return "true"
+    def _parts(self) -> tuple[_Part, ...]:
+        return ("true",)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Bottom(Formula):
     """The formula ``false``."""
 
-    def __str__(self) -> str:
-        return "false"
+    def _parts(self) -> tuple[_Part, ...]:
+        return ("false",)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Atom(Formula):
     """A propositional atom ``p`` or a predicate atom ``at(r1, g1)``.
 
@@ -169,21 +238,31 @@ class Atom(Formula):
     name: str
     args: tuple[str, ...] = ()
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "args", tuple(str(a) for a in self.args))
-
     @property
     def key(self) -> str:
         """The canonical text of the atom, used as its key in valuations."""
         return str(self)
+
+    def __post_init__(self) -> None:
+        if self.name in RESERVED_WORDS:
+            # It would print as a keyword, and the printed formula would not parse back.
+            raise InvalidArgumentError(
+                f"'{self.name}' is a reserved word and cannot name an atom",
+                hint="rename the atom, e.g. to '" + self.name + "_'",
+            )
+        object.__setattr__(self, "args", tuple(str(a) for a in self.args))
+        Formula.__post_init__(self)
 
     def __str__(self) -> str:
         if not self.args:
             return self.name
         return f"{self.name}({', '.join(self.args)})"
 
+    def _parts(self) -> tuple[_Part, ...]:
+        return (str(self),)
 
-@dataclass(frozen=True, slots=True)
+
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Not(Formula):
     """Negation ``~f``."""
 
@@ -192,8 +271,8 @@ class Not(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)
 
-    def __str__(self) -> str:
-        return "~" + self._wrap(self.operand, _UNARY)
+    def _parts(self) -> tuple[_Part, ...]:
+        return ("~", (self.operand, _UNARY))
 
 
 class _Binary(Formula):
@@ -204,15 +283,14 @@ class _Binary(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)  # type: ignore[attr-defined]
 
-    def __str__(self) -> str:
+    def _parts(self) -> tuple[_Part, ...]:
         p = self.precedence
         left_min, right_min = (p + 1, p) if self.right_assoc else (p, p + 1)
-        left = self._wrap(self.left, left_min)  # type: ignore[attr-defined]
-        right = self._wrap(self.right, right_min)  # type: ignore[attr-defined]
-        return f"{left} {self.symbol} {right}"
+        left, right = self.left, self.right  # type: ignore[attr-defined]
+        return ((left, left_min), f" {self.symbol} ", (right, right_min))
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class And(_Binary):
     """Conjunction ``f & g`` (left-associative)."""
 
@@ -222,7 +300,7 @@ class And(_Binary):
     symbol = "&"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Or(_Binary):
     """Disjunction ``f | g`` (left-associative)."""
 
@@ -232,7 +310,7 @@ class Or(_Binary):
     symbol = "|"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Implies(_Binary):
     """Implication ``f -> g`` (right-associative)."""
 
@@ -243,7 +321,7 @@ class Implies(_Binary):
     right_assoc = True
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Iff(_Binary):
     """Equivalence ``f <-> g`` (left-associative)."""
 
@@ -262,12 +340,12 @@ class _Individual(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)  # type: ignore[attr-defined]
 
-    def __str__(self) -> str:
-        operand = self._wrap(self.operand, _UNARY)  # type: ignore[attr-defined]
-        return f"{self.keyword}[{self.agent}] {operand}"  # type: ignore[attr-defined]
+    def _parts(self) -> tuple[_Part, ...]:
+        operand = self.operand  # type: ignore[attr-defined]
+        return (f"{self.keyword}[{self.agent}] ", (operand, _UNARY))  # type: ignore[attr-defined]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Know(_Individual):
     """``K[a] f``: agent ``a`` knows ``f`` (box over a's knowledge relation)."""
 
@@ -276,7 +354,7 @@ class Know(_Individual):
     keyword = "K"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Believe(_Individual):
     """``B[a] f``: agent ``a`` believes ``f`` (box over a's belief relation)."""
 
@@ -285,7 +363,7 @@ class Believe(_Individual):
     keyword = "B"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class KnowWhether(_Individual):
     """``Kw[a] f``: agent ``a`` knows whether ``f``, i.e. ``K[a] f | K[a] ~f``."""
 
@@ -305,16 +383,17 @@ class _Group(Formula):
         if not group:
             raise ValueError(f"{self.keyword}[...] needs at least one agent")
         object.__setattr__(self, "group", group)
+        Formula.__post_init__(self)
 
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)  # type: ignore[attr-defined]
 
-    def __str__(self) -> str:
-        operand = self._wrap(self.operand, _UNARY)  # type: ignore[attr-defined]
-        return f"{self.keyword}[{', '.join(self.group)}] {operand}"  # type: ignore[attr-defined]
+    def _parts(self) -> tuple[_Part, ...]:
+        group = ", ".join(self.group)  # type: ignore[attr-defined]
+        return (f"{self.keyword}[{group}] ", (self.operand, _UNARY))  # type: ignore[attr-defined]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Everybody(_Group):
     """``E[a, b] f``: every agent of the group knows ``f``."""
 
@@ -323,7 +402,7 @@ class Everybody(_Group):
     keyword = "E"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Common(_Group):
     """``C[a, b] f``: ``f`` is common knowledge in the group."""
 
@@ -332,7 +411,7 @@ class Common(_Group):
     keyword = "C"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Distributed(_Group):
     """``D[a, b] f``: ``f`` is distributed knowledge in the group."""
 
@@ -341,7 +420,7 @@ class Distributed(_Group):
     keyword = "D"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class EverybodyBelieves(_Group):
     """``EB[a, b] f``: every agent of the group believes ``f``."""
 
@@ -350,7 +429,7 @@ class EverybodyBelieves(_Group):
     keyword = "EB"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class CommonBelief(_Group):
     """``CB[a, b] f``: ``f`` is common belief in the group.
 
@@ -363,7 +442,7 @@ class CommonBelief(_Group):
     keyword = "CB"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class Announce(Formula):
     """``[!f] g``: after every truthful public announcement of ``f``, ``g`` holds."""
 
@@ -373,11 +452,11 @@ class Announce(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.announcement, self.operand)
 
-    def __str__(self) -> str:
-        return f"[!{self.announcement}] {self._wrap(self.operand, _UNARY)}"
+    def _parts(self) -> tuple[_Part, ...]:
+        return ("[!", (self.announcement, 0), "] ", (self.operand, _UNARY))
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class AnnounceDiamond(Formula):
     """``<!f> g``: ``f`` is true (so announceable) and after announcing it ``g`` holds."""
 
@@ -387,11 +466,11 @@ class AnnounceDiamond(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.announcement, self.operand)
 
-    def __str__(self) -> str:
-        return f"<!{self.announcement}> {self._wrap(self.operand, _UNARY)}"
+    def _parts(self) -> tuple[_Part, ...]:
+        return ("<!", (self.announcement, 0), "> ", (self.operand, _UNARY))
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
 class After(Formula):
     """``[ACT] g``: after every execution of the named action ``ACT``, ``g`` holds.
 
@@ -404,25 +483,103 @@ class After(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)
 
-    def __str__(self) -> str:
-        return f"[{self.action}] {self._wrap(self.operand, _UNARY)}"
+    def _parts(self) -> tuple[_Part, ...]:
+        return (f"[{self.action}] ", (self.operand, _UNARY))
 
 
-def _cached_hash(self: Formula) -> int:
+_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _field_names(cls: type) -> tuple[str, ...]:
+    # dataclasses.fields() is slow enough to matter once per node of a 100,000-node formula.
     try:
-        return self._hash
-    except AttributeError:
-        value = hash((type(self), *(getattr(self, f.name) for f in fields(self))))
-        object.__setattr__(self, "_hash", value)
-        return value
+        return _FIELDS[cls]
+    except KeyError:
+        names = _FIELDS[cls] = tuple(f.name for f in fields(cls))
+        return names
 
 
-for _node in (
-    Top, Bottom, Atom, Not, And, Or, Implies, Iff, Know, Believe, KnowWhether,
-    Everybody, Common, Distributed, EverybodyBelieves, CommonBelief, Announce,
-    AnnounceDiamond, After,
-):  # fmt: skip
-    _node.__hash__ = _cached_hash
+def _equal(first: Formula, second: Formula) -> bool:
+    # Pairs still to compare; the cached hashes tell most unequal pairs apart at once.
+    stack = [(first, second)]
+    while stack:
+        a, b = stack.pop()
+        if a is b:
+            continue
+        if type(a) is not type(b) or a._hash != b._hash:
+            return False
+        for name in _field_names(type(a)):
+            x, y = getattr(a, name), getattr(b, name)
+            if isinstance(x, Formula):
+                stack.append((x, y))
+            elif x != y:
+                return False
+    return True
+
+
+def iter_postorder(formula: Formula, *, unique: bool = False) -> Iterator[Formula]:
+    """The subformulas of ``formula``, children before their parent, without recursion.
+
+    Children are visited left to right (``f.children()``), so a bottom-up evaluator can
+    keep the values of the children on a stack of its own, or in a table keyed by the
+    subformula.
+
+    Parameters
+    ----------
+    formula : Formula
+    unique : bool
+        When true, a subformula equal to one already yielded is skipped together with
+        everything below it (each distinct subformula once, as a memoising evaluator
+        wants); when false, every occurrence is yielded.
+
+    Yields
+    ------
+    Formula
+        ``formula`` itself comes last.
+
+    Examples
+    --------
+    >>> p, q = Atom("p"), Atom("q")
+    >>> [str(f) for f in iter_postorder((p & q) | p)]
+    ['p', 'q', 'p & q', 'p', 'p & q | p']
+    >>> [str(f) for f in iter_postorder((p & q) | p, unique=True)]
+    ['p', 'q', 'p & q', 'p & q | p']
+    """
+    seen: set[Formula] = set()
+    stack: list[tuple[Formula, bool]] = [(formula, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if expanded:
+            if unique:
+                if node in seen:
+                    continue
+                seen.add(node)
+            yield node
+        elif not (unique and node in seen):
+            stack.append((node, True))
+            stack.extend((child, False) for child in reversed(node.children()))
+
+
+_T = TypeVar("_T")
+
+
+def fold(formula: Formula, combine: Callable[[Formula, tuple[_T, ...]], _T]) -> _T:
+    """Compute a value bottom-up over ``formula`` without recursion.
+
+    ``combine(node, values)`` gets a subformula and the values already computed for its
+    children (in the order of ``node.children()``). Each distinct subformula is combined
+    once, so equal subtrees share their value.
+
+    Examples
+    --------
+    >>> f = Know("a", Atom("p") & ~Atom("q"))
+    >>> fold(f, lambda node, inner: 1 + sum(inner))  # number of nodes
+    5
+    """
+    values: dict[Formula, _T] = {}
+    for node in iter_postorder(formula, unique=True):
+        values[node] = combine(node, tuple(values[child] for child in node.children()))
+    return values[formula]
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

@@ -31,12 +31,14 @@ import difflib
 import functools
 from collections.abc import Collection
 from pathlib import Path
+from typing import Any
 
-from lark import Lark, Token, Transformer
-from lark.exceptions import UnexpectedInput, VisitError
+from lark import Lark, Token, Transformer, Tree
+from lark.exceptions import UnexpectedInput
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.formula import (
+    RESERVED_WORDS,  # re-exported for the grammar users
     After,
     And,
     Announce,
@@ -61,19 +63,76 @@ from epistemica.del_.formula import (
 from epistemica.del_.syntax_errors import syntax_error
 
 # syntax_error is re-exported for the spec grammar, which imports formula.lark.
-__all__ = ["FORMULA_GRAMMAR", "RESERVED_WORDS", "FormulaBuilder", "parse_formula", "syntax_error"]
+__all__ = [
+    "FORMULA_GRAMMAR",
+    "RESERVED_WORDS",
+    "FormulaBuilder",
+    "parse_formula",
+    "syntax_error",
+    "transform_iteratively",
+]
 
 #: Path of the grammar file, for ``import_paths`` of grammars that ``%import`` it.
 FORMULA_GRAMMAR = Path(__file__).with_name("formula.lark")
 
-#: Words that the lexer reads as keywords, so they cannot name an atom.
-RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
-)
-
 
 def _names(tokens: list[Token]) -> tuple[str, ...]:
     return tuple(str(t) for t in tokens)
+
+
+def transform_iteratively(transformer: Any, tree: Tree) -> Any:
+    """Apply a lark transformer bottom-up with an explicit stack instead of recursion.
+
+    ``lark.Transformer.transform`` recurses once per tree level, so a formula nested a
+    few hundred deep (or a chain of a few hundred ``&``) exhausts Python's stack; this
+    visits the same nodes in the same order in time linear in the size of the tree.
+
+    Parameters
+    ----------
+    transformer : object
+        Has a method per rule name, called with the list of transformed children (as
+        ``lark.Transformer`` calls them; tokens are passed through unchanged), and
+        ``__default__(data, children, meta)`` for the other rules.
+    tree : lark.Tree
+
+    Returns
+    -------
+    object
+        What the method of the root rule returns.
+
+    Notes
+    -----
+    Exceptions raised by the methods propagate unchanged (lark would wrap them in
+    ``VisitError``).
+
+    Examples
+    --------
+    >>> lark = Lark.open(str(FORMULA_GRAMMAR), parser="lalr", start="formula")
+    >>> print(transform_iteratively(FormulaBuilder(), lark.parse("~~p & K[a] q")))
+    ~~p & K[a] q
+    """
+    values: list[Any] = []
+    # A Tree on the stack is still to expand; (tree, n) waits for its n subtrees' values.
+    stack: list[Tree | tuple[Tree, int]] = [tree]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, Tree):
+            subtrees = [c for c in item.children if isinstance(c, Tree)]
+            stack.append((item, len(subtrees)))
+            stack.extend(reversed(subtrees))
+            continue
+        node, count = item
+        children = list(node.children)
+        if count:  # the subtrees' values are the last `count` values, in order
+            done = iter(values[-count:])
+            del values[-count:]
+            children = [next(done) if isinstance(c, Tree) else c for c in children]
+        method = getattr(transformer, node.data, None)
+        if method is None:
+            values.append(transformer.__default__(node.data, children, node.meta))
+        else:
+            values.append(method(children))
+    return values[0]
 
 
 class FormulaBuilder(Transformer):
@@ -92,10 +151,12 @@ class FormulaBuilder(Transformer):
 
     Notes
     -----
-    lark wraps exceptions raised inside a transformer in ``lark.exceptions.VisitError``;
-    re-raise its ``orig_exc`` to get the :class:`SpecError`. To use the builder on a
-    grammar that imports ``formula.lark``, merge it:
-    ``lark.visitors.merge_transformers(SpecBuilder(), formula=FormulaBuilder())``.
+    ``transform`` works with an explicit stack (:func:`transform_iteratively`), so deep
+    and long formulas need no recursion, and raises the :class:`SpecError` itself (not
+    wrapped in lark's ``VisitError``). To use the builder on a grammar that imports
+    ``formula.lark``, merge it:
+    ``lark.visitors.merge_transformers(SpecBuilder(), formula=FormulaBuilder())`` and
+    apply the merged transformer with :func:`transform_iteratively`.
 
     Examples
     --------
@@ -118,6 +179,10 @@ class FormulaBuilder(Transformer):
         self.actions = None if actions is None else frozenset(str(a) for a in actions)
         self.source = source
         self.filename = filename
+
+    def transform(self, tree: Tree) -> Any:
+        """The :class:`Formula` of a parse tree (see :func:`transform_iteratively`)."""
+        return transform_iteratively(self, tree)
 
     # -- names, checked against the declarations --------------------------------------
     def _unknown(self, kind: str, token: Token, text: str, declared: frozenset[str]) -> None:
@@ -152,6 +217,15 @@ class FormulaBuilder(Transformer):
 
     def atom(self, children: list) -> Atom:
         name, args = children
+        if name in RESERVED_WORDS:  # "and" where a formula starts: the lexer read a name
+            raise ParseError(
+                f"'{name}' is a reserved word and cannot name an atom",
+                line=name.line,
+                column=name.column,
+                source=self.source,
+                filename=self.filename,
+                hint=f"'{name}' joins two formulas, as in 'p {name} q'",
+            )
         return Atom(str(name), args or ())
 
     def action(self, children: list) -> str:
@@ -288,9 +362,6 @@ def parse_formula(
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:
-        raise syntax_error(exc, text, filename) from None
+        raise syntax_error(exc, text, filename, parser=_lark()) from None
     builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
-    try:
-        return builder.transform(tree)
-    except VisitError as exc:
-        raise exc.orig_exc from None
+    return builder.transform(tree)

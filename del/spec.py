@@ -91,6 +91,28 @@ class Spec:
             formula = self.formula(formula)
         return self.model.holds(formula, actions=self.actions)
 
+    def require_goal(self) -> Formula:
+        """The goal, or a :class:`SpecError` located at the end of the file if there is none.
+
+        Examples
+        --------
+        >>> parse_spec("agents a\\natoms p\\n", "demo.epi").require_goal()
+        Traceback (most recent call last):
+        ...
+        epistemica.del_.errors.SpecError: demo.epi:3:1: error: the spec has no goal
+        hint: add a line such as 'goal K[a] p' to plan for
+        """
+        if self.goal is not None:
+            return self.goal
+        line = self.source.count("\n") + 1  # where a goal line would be added
+        column = len(self.source) - (self.source.rfind("\n") + 1) + 1
+        agent = self.agents[0] if self.agents else "a"
+        atom = self.atoms[0] if self.atoms else "p"
+        raise SpecError(
+            "the spec has no goal", line=line, column=column, source=self.source,
+            filename=self.filename, hint=f"add a line such as 'goal K[{agent}] {atom}' to plan for",
+        )  # fmt: skip
+
     def formula(self, text: str, filename: str = "<formula>") -> Formula:
         """Parse ``text`` as a formula over this spec's agents, atoms and actions.
 

@@ -26,12 +26,12 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from lark import Token, Transformer, Tree
-from lark.exceptions import VisitError
 from lark.visitors import merge_transformers
 
 from epistemica.del_ import spec_actions, spec_model, spec_names
 from epistemica.del_.errors import SpecError
 from epistemica.del_.formula import (
+    RESERVED_WORDS,
     And,
     Atom,
     Bottom,
@@ -44,7 +44,7 @@ from epistemica.del_.formula import (
     conjunction,
 )
 from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.parser import FormulaBuilder
+from epistemica.del_.parser import FormulaBuilder, transform_iteratively
 from epistemica.del_.spec_names import names_hint
 from epistemica.del_.spec_syntax import parse, position
 
@@ -224,10 +224,8 @@ class Compiler:
                     key += f"({', '.join(str(a) for a in args.children)})"
                 if key not in self.names.actions:
                     raise self.unknown("action", key, stem, self.names.actions)
-        try:
-            return _builder().transform(tree)
-        except VisitError as exc:  # pragma: no cover - names were checked above
-            raise self.error(str(exc.orig_exc), fml) from None
+        # Iteratively: lark's own transform recurses once per level of nesting.
+        return transform_iteratively(_builder(), tree)
 
     def unbound_argument(self, args: list[Token]) -> None:
         """Inside a schema, an argument that no declared atom uses is an unbound parameter."""
@@ -273,6 +271,12 @@ class Compiler:
         if not agents:
             raise self.error("no agents declared", None, "start the spec with 'agents a, b'")
         for key, token in atoms.items():
+            stem = key.partition("(")[0]
+            if stem in RESERVED_WORDS:
+                raise self.error(
+                    f"'{stem}' is a reserved word and cannot name an atom", token,
+                    f"rename it, e.g. to '{stem}_'; reserved: {' '.join(sorted(RESERVED_WORDS))}",
+                )  # fmt: skip
             if key in agents:
                 raise self.error(f"'{key}' names both an agent and an atom", token, "rename one")
         headers = spec_names.headers(self, by_kind.get("action_decl", []), tuple(agents))
@@ -300,6 +304,7 @@ class Compiler:
                         f"first declared at {first.line}:{first.column}; remove one",
                     )
                 seen[name] = token
+            spec_names.check_count(self, len(seen), stmt, f"the {kind}s of the spec")
         return seen
 
     def checks(self, statements: list[Tree]) -> tuple[Check, ...]:

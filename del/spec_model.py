@@ -14,7 +14,7 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
-from epistemica.del_.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
 from epistemica.del_.kripke import MAX_ENUMERATED_ATOMS, KripkeModel
 from epistemica.del_.spec_actions import members, relations
 
@@ -99,15 +99,17 @@ def explicit_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> K
 
 def satisfies(f: Formula, true: set[str]) -> bool:
     """Truth of a propositional formula under the valuation making ``true`` true."""
+    return fold(f, lambda g, inner: _truth(g, inner, true))
+
+
+def _truth(f: Formula, inner: tuple[bool, ...], true: set[str]) -> bool:
     if isinstance(f, Atom):
         return f.key in true
-    if isinstance(f, Top):
-        return True
-    if isinstance(f, Bottom):
-        return False
+    if isinstance(f, (Top, Bottom)):
+        return isinstance(f, Top)
     if isinstance(f, Not):
-        return not satisfies(f.operand, true)
-    left, right = satisfies(f.left, true), satisfies(f.right, true)
+        return not inner[0]
+    left, right = inner
     if isinstance(f, Or):
         return left or right
     if isinstance(f, Implies):

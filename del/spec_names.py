@@ -17,16 +17,42 @@ from __future__ import annotations
 
 import difflib
 import itertools
+import math
 import re
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 from lark import Token, Tree
 
-__all__ = ["MAX_RANGE", "atom_items", "atom_ref", "bind", "expand", "headers", "names_hint"]
+from epistemica.del_.parser import transform_iteratively
 
+__all__ = [
+    "MAX_ACTIONS",
+    "MAX_DIGITS",
+    "MAX_EXPANDED",
+    "MAX_RANGE",
+    "atom_items",
+    "atom_ref",
+    "bind",
+    "check_count",
+    "expand",
+    "headers",
+    "names_hint",
+]
+
+# The limits below are checked before anything is allocated, so a typo in a bound cannot
+# hang the compiler or eat the memory (docs/language.md, "Limits").
+
+#: A range bound is a number of at most this many digits.
+MAX_DIGITS = 9
 #: A range such as m1..m1000000 is almost certainly a typo; refuse it before it eats memory.
 MAX_RANGE = 100_000
+#: At most this many names come from one list or one predicate atom, and a spec declares
+#: at most this many agents and this many atoms.
+MAX_EXPANDED = 1_000_000
+#: A spec has at most this many actions, schemas expanded (each costs about 0.2 ms and
+#: 2 kB to compile, so the limit is about 20 s and 200 MB).
+MAX_ACTIONS = 100_000
 _NUMBERED = re.compile(r"^(.*?)(\d+)$")
 
 
@@ -35,12 +61,19 @@ def expand(comp: Any, item: Tree | Token, env: Mapping[str, str]) -> list[tuple[
     if isinstance(item, Token):
         return [(env.get(str(item), str(item)), item)]
     if item.data == "names" or item.data == "arguments":
-        return [pair for child in item.children for pair in expand(comp, child, env)]
+        found: list[tuple[str, Token]] = []
+        for child in item.children:
+            found.extend(expand(comp, child, env))
+            check_count(comp, len(found), child, "the list")
+        return found
     if item.data in ("single", "number"):
         return expand(comp, item.children[0], env)
     if item.data == "indexed":
         stem, low, high = item.children
-        return _range(comp, stem, str(stem), int(low), int(high), len(str(low)), high)
+        return _range(
+            comp, stem, str(stem), _bound(comp, str(low), low), _bound(comp, str(high), high),
+            len(str(low)), high,
+        )  # fmt: skip
     first, last = item.children  # span: m1..m4
     head, tail = _NUMBERED.match(str(first)), _NUMBERED.match(str(last))
     if head is None or tail is None or head.group(1) != tail.group(1):
@@ -50,7 +83,32 @@ def expand(comp: Any, item: Tree | Token, env: Mapping[str, str]) -> list[tuple[
             "a range joins two names that differ only in a final number, as in m1..m4",
         )
     digits = head.group(2)
-    return _range(comp, first, head.group(1), int(digits), int(tail.group(2)), len(digits), last)
+    low, high = _bound(comp, digits, first), _bound(comp, tail.group(2), last)
+    return _range(comp, first, head.group(1), low, high, len(digits), last)
+
+
+def _bound(comp: Any, digits: str, token: Token) -> int:
+    # Checked before int(): Python refuses to convert 4,300 digits and more (ValueError).
+    if len(digits) > MAX_DIGITS:
+        raise comp.error(
+            f"a range bound of {len(digits)} digits; at most {MAX_DIGITS} are allowed",
+            token,
+            f"ranges run between numbers below 10^{MAX_DIGITS}, as in m1..m4 or m[1..4]",
+        )
+    return int(digits)
+
+
+def check_count(
+    comp: Any, count: int, where: Tree | Token, what: str, limit: int = MAX_EXPANDED
+) -> None:
+    """Refuse ``count`` names (or actions) from ``what`` when it exceeds ``limit``."""
+    if count > limit:
+        unit = "actions" if limit == MAX_ACTIONS else "names"
+        raise comp.error(
+            f"{what} expands to {count:,} {unit}; at most {limit:,} are allowed",
+            where,
+            "check the bounds of the ranges and the domains of the parameters",
+        )
 
 
 def _range(comp: Any, at: Token, stem: str, low: int, high: int, width: int, end: Token):
@@ -72,10 +130,14 @@ def atom_items(comp: Any, node: Tree, env: Mapping[str, str]) -> list[tuple[str,
         if isinstance(child, Tree) and child.data == "predicate":
             stem, arguments = child.children
             options = [[n for n, _ in expand(comp, a, env)] for a in arguments.children]
+            size = math.prod(len(option) for option in options)
+            check_count(comp, size, stem, f"the predicate atom '{stem}'")
+            check_count(comp, len(found) + size, stem, "the list of atoms")
             for combo in itertools.product(*options):
                 found.append((f"{stem}({', '.join(combo)})", stem))
         else:
             found.extend(expand(comp, child, env))
+            check_count(comp, len(found), child, "the list of atoms")
     return found
 
 
@@ -90,15 +152,24 @@ def atom_ref(comp: Any, node: Tree, env: Mapping[str, str]) -> tuple[str, Token]
 
 def bind(tree: Tree, env: Mapping[str, str]) -> Tree:
     """A copy of a formula tree with parameter names replaced, positions kept."""
-    children = []
-    for child in tree.children:
-        if isinstance(child, Tree):
-            children.append(bind(child, env))
-        elif isinstance(child, Token) and child.type in ("NAME", "INT") and str(child) in env:
-            children.append(child.update(value=env[str(child)]))
-        else:
-            children.append(child)
-    return Tree(tree.data, children, tree.meta)
+    return transform_iteratively(_Bind(env), tree)
+
+
+class _Bind:
+    """Rebuilds every node (no rule has a method here) with the parameters replaced."""
+
+    def __init__(self, env: Mapping[str, str]) -> None:
+        self.env = env
+
+    def __default__(self, data: str, children: list, meta: Any) -> Tree:
+        env = self.env
+        return Tree(data, [_substituted(child, env) for child in children], meta)
+
+
+def _substituted(child: Any, env: Mapping[str, str]) -> Any:
+    if isinstance(child, Token) and child.type in ("NAME", "INT") and str(child) in env:
+        return child.update(value=env[str(child)])
+    return child
 
 
 def headers(comp: Any, decls: list[Tree], agents: tuple[str, ...]) -> dict[str, tuple]:
@@ -129,6 +200,9 @@ def headers(comp: Any, decls: list[Tree], agents: tuple[str, ...]) -> dict[str, 
                     domains.append(
                         list(dict.fromkeys(n for n, _ in expand(comp, domain.children[0], {})))
                     )
+            size = math.prod(len(domain) for domain in domains)
+            check_count(comp, size, name, f"the action schema '{name}'", MAX_ACTIONS)
+            check_count(comp, len(found) + size, name, "the actions of the spec", MAX_ACTIONS)
             bindings = [
                 dict(zip(names, combo, strict=True)) for combo in itertools.product(*domains)
             ]

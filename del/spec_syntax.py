@@ -74,7 +74,7 @@ def parse(text: str, filename: str, start: str) -> Tree:
             hint=_keyword_hint(word),
         ) from None
     except UnexpectedInput as exc:
-        error = syntax_error(exc, text, filename)
+        error = syntax_error(exc, text, filename, parser=_lark(), start=start)
         if "_BECOMES" in (getattr(exc, "allowed", None) or ()):
             error.hint = _CONTEXT_HINTS["_BECOMES"]
         elif error.hint is None:

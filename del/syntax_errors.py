@@ -29,8 +29,9 @@ hint: close the parenthesis opened at 1:5 with ')'
 
 from __future__ import annotations
 
-from lark import Token
+from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+from lark.parsers.lalr_interactive_parser import InteractiveParser
 
 from epistemica.del_.errors import ParseError
 
@@ -117,16 +118,13 @@ def _plain(item: object) -> object:
     return item
 
 
-def _accepts(exc: UnexpectedToken) -> set[str]:
-    """The terminals that could have come instead of the unexpected one.
+def _accepts(parser: InteractiveParser) -> set[str]:
+    """The terminals that could come next in the state of ``parser``.
 
     lark's LALR lookahead sets are merged across states and so too broad; feeding each
     candidate to a copy of the parser is exact. (``InteractiveParser.accepts`` would do
     this but skips namespaced terminals such as ``formula__NAME``.)
     """
-    parser = exc.interactive_parser
-    if parser is None:  # pragma: no cover - LALR always provides one
-        return set(exc.expected)
     found = set()
     for name in parser.choices():
         if not _kind(name).isupper():
@@ -138,6 +136,18 @@ def _accepts(exc: UnexpectedToken) -> set[str]:
             continue
         found.add(name)
     return found
+
+
+def _before(parser: Lark, text: str, start: str | None, token: Token) -> InteractiveParser | None:
+    """A parser of ``text`` stopped just before ``token``, none of its reductions done."""
+    cursor = parser.parse_interactive(text, start=start)
+    try:
+        for seen in cursor.iter_parse():  # yields each token before feeding it
+            if seen.start_pos == token.start_pos and seen.type == token.type:
+                return cursor
+    except UnexpectedInput:  # pragma: no cover - fails at the same token, yielded first
+        return None
+    return cursor if token.type == "$END" else None
 
 
 def _found(token: Token) -> str:
@@ -175,7 +185,13 @@ def _describe(expected: set[str], context: str, terminals: dict | None = None) -
     return ", ".join(items[:-1]) + " or " + items[-1]
 
 
-def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
+def syntax_error(
+    exc: UnexpectedInput,
+    text: str,
+    filename: str,
+    parser: Lark | None = None,
+    start: str | None = None,
+) -> ParseError:
     """Translate a lark exception into a :class:`ParseError` with a hint.
 
     Public for grammars that import ``formula.lark``: their parse errors inside a formula
@@ -190,6 +206,11 @@ def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
         The whole text that was parsed.
     filename : str
         Where the text came from, for the ``FILE:LINE:COL`` prefix.
+    parser : lark.Lark, optional
+        The parser that raised ``exc`` (and ``start``, its start rule when it has several).
+        LALR reduces as far as the unexpected token allows before it fails, so after a
+        complete formula (``p)``) nothing is left to expect; given the parser, the text is
+        parsed again up to the unexpected token to say what could have come there.
 
     Returns
     -------
@@ -214,8 +235,14 @@ def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
         return ParseError(str(exc), source=text, filename=filename)
 
     token = _plain(exc.token)
-    stack = [_plain(t) for t in exc.state.value_stack] if exc.state is not None else []
-    expected = {_kind(name) for name in _accepts(exc)}
+    state = exc.state
+    accepted = _accepts(exc.interactive_parser) if exc.interactive_parser else set(exc.expected)
+    if not accepted and parser is not None:
+        before = _before(parser, text, start, exc.token)
+        if before is not None:
+            state, accepted = before.parser_state, _accepts(before)
+    stack = [_plain(t) for t in state.value_stack] if state is not None else []
+    expected = {_kind(name) for name in accepted}
     previous = next((t for t in reversed(stack) if isinstance(t, Token)), None)
     opened = _open_brackets(stack)
     inner = opened[-1] if opened else None
@@ -239,27 +266,62 @@ def syntax_error(exc: UnexpectedInput, text: str, filename: str) -> ParseError:
     terminals = {_kind(k): v for k, v in (getattr(exc, "_terminals_by_name", None) or {}).items()}
     message = f"expected {_describe(expected, context, terminals)}, found {_found(token)}"
 
-    hint = None
-    if token.type == "RSQB" and in_group and previous is not None and previous.type == "LSQB":
-        hint = "group modalities need at least one agent, as in C[a, b] p"
-    elif token.type == "COMMA" and in_modal:
-        groups = (
-            "EB[...] or CB[...]" if before_inner.type == "BELIEVE" else "E[...], C[...] or D[...]"
-        )
-        hint = f"{before_inner} takes one agent; use {groups} for a group"
-    elif previous is not None and previous.type in _MODAL | _GROUP and token.type != "LSQB":
-        hint = (
+    kind = "agent" if in_group or in_modal else "argument" if "argument" in context else "name"
+    hint = _hint(token, previous, expected, inner, before_inner, kind)
+    return ParseError(message, line=line, column=column, source=text, filename=filename, hint=hint)
+
+
+def _hint(
+    token: Token,
+    previous: Token | None,
+    expected: set[str],
+    inner: Token | None,
+    before_inner: object,
+    kind: str,
+) -> str | None:
+    """The likely fix, from the unexpected token, the token before it and the open bracket.
+
+    ``kind`` names what the innermost open bracket lists: "agent", "argument" or "name".
+    """
+    prev = previous.type if previous is not None else None
+    opener = before_inner.type if isinstance(before_inner, Token) else None
+    formula_next = _FORMULA_START <= expected
+    if token.type == "RSQB" and prev == "LSQB":
+        if opener in _GROUP:
+            return "group modalities need at least one agent, as in C[a, b] p"
+        if opener in _MODAL:
+            return f"{before_inner} needs one agent, as in {before_inner}[a] p"
+        return "write an action name, as in [go] p, or an announcement, as in [!p] q"
+    if token.type in ("RSQB", "RPAR") and prev == "COMMA":
+        return f"remove the ',' before '{token}', or write another {kind} after it"
+    if token.type == "COMMA" and opener in _MODAL:
+        groups = "EB[...] or CB[...]" if opener == "BELIEVE" else "E[...], C[...] or D[...]"
+        return f"{before_inner} takes one agent; use {groups} for a group"
+    if prev in _MODAL | _GROUP and token.type != "LSQB":
+        return (
             f"write the agents in brackets, as in {previous}[a] p; "
             f"'{previous}' is a reserved word and cannot name an atom"
         )
-    elif token.type in _CONNECTIVES and "NAME" in expected:
-        hint = f"{_READABLE[token.type]} needs a formula on each side"
-    elif previous is not None and previous.type in _CONNECTIVES and "NAME" in expected:
-        hint = f"{_READABLE[previous.type]} needs a formula on its right"
-    elif inner is not None and _OPENERS[inner.type] in expected:
+    if token.type in _CONNECTIVES and formula_next:
+        return f"'{token}' needs a formula on each side"
+    if prev in _CONNECTIVES and formula_next:
+        return f"'{previous}' needs a formula on its right"
+    if prev == "NOT" and formula_next:
+        space = " " if str(previous)[-1:].isalpha() else ""  # "not p", "~p"
+        return f"'{previous}' needs a formula on its right, as in {previous}{space}p"
+    if prev in ("RSQB", "MORETHAN") and formula_next:
+        return "a modality, announcement or action needs a formula after it, as in K[a] p"
+    if inner is not None and "COMMA" in expected and token.type in ("NAME", "INT"):
+        return f"separate the {kind}s with ','"
+    if inner is not None and _OPENERS[inner.type] in expected:
         shape = {"LPAR": "parenthesis", "DIAMOND_OPEN": "'<!'"}.get(inner.type, "bracket")
         closer = _READABLE[_OPENERS[inner.type]]
-        hint = f"close the {shape} opened at {inner.line}:{inner.column} with {closer}"
-    elif token.type in _FORMULA_START and all(c in expected for c in _CONNECTIVES):
-        hint = "join two formulas with a connective such as '&'"
-    return ParseError(message, line=line, column=column, source=text, filename=filename, hint=hint)
+        return f"close the {shape} opened at {inner.line}:{inner.column} with {closer}"
+    if token.type in _FORMULA_START and all(c in expected for c in _CONNECTIVES):
+        return "join two formulas with a connective such as '&'"
+    if token.type == "MORETHAN":
+        return "did you mean '->'? ('>' only closes an announcement <!f> g)"
+    if inner is None and token.type in ("RPAR", "RSQB") and token.type not in expected:
+        opening = "(" if token.type == "RPAR" else "["
+        return f"no '{opening}' is open here; remove this '{token}'"
+    return None
