@@ -15,12 +15,17 @@ from typing import Any
 
 import numpy as np
 from lark import Lark, Token, Transformer, Tree
-from lark.exceptions import UnexpectedInput, VisitError
+from lark.exceptions import UnexpectedInput
 from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import EpistemicaError, SpecError
 from epistemica.del_.formula import Formula
-from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, syntax_error
+from epistemica.del_.parser import (
+    FORMULA_GRAMMAR,
+    FormulaBuilder,
+    syntax_error,
+    transform_iteratively,
+)
 from epistemica.del_.spec_compiler import Check
 from epistemica.sim.scenario import EVENTS, MISSIONS, OBSERVATIONS, SEEN_BY
 
@@ -330,11 +335,11 @@ class MissionCompiler:
                     "check them in an .epi spec file, or simulate the mission",
                 )
         try:
-            return _builder().transform(tree)
-        except VisitError as exc:  # a bound the formula builder enforces
-            if isinstance(exc.orig_exc, EpistemicaError):
-                raise self.error(exc.orig_exc.message, fml, exc.orig_exc.hint) from None
+            return transform_iteratively(_builder(), tree)
+        except SpecError:
             raise
+        except EpistemicaError as exc:  # a bound the formula builder enforces
+            raise self.error(exc.message, fml, exc.hint) from None
 
     def atom(self, node: Tree) -> None:
         stem, args = node.children

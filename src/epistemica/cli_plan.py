@@ -24,12 +24,7 @@ __all__ = ["run_plan"]
 def run_plan(args: argparse.Namespace) -> int:
     """Run ``epistemica plan`` with parsed arguments; return the exit status."""
     spec = load_spec(args.file)
-    if spec.goal is None:
-        raise SpecError(
-            "the spec has no goal",
-            filename=args.file,
-            hint="add a line such as 'goal K[a] p' to plan for",
-        )
+    spec.require_goal()
     if not spec.actions:
         raise SpecError(
             "the spec has no actions",
