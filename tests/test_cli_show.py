@@ -62,7 +62,8 @@ def test_text_output_lists_worlds_and_partitions(capsys):
     assert out.splitlines()[0].endswith("after father, nobody_knows")
     # After one round of "nobody knows" the worlds with one muddy child are gone: 4 remain.
     assert "4 worlds, 1 designated; agents c1, c2, c3" in out
-    assert "* w3  {m1, m2, m3}" in out
+    # Worlds keep their initial names (w7: all muddy), extended by the events applied.
+    assert "* w7.announce.announce  {m1, m2, m3}" in out
 
 
 def test_the_spec_s_world_names_are_kept_after_an_update(capsys, tmp_path):
