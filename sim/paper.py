@@ -4,29 +4,40 @@ Levels ``"paper-first"``, ``"paper-higher"`` and ``"paper-higher-fixed"`` follow
 authors' released code did (``paper-results.md``, "Where the published code differs"),
 not the paper's text:
 
-- evidence ``exp(-d / 50 m)`` of a robot's distance to a goal for range perspectives, and
-  ``exp(-angle)`` of the angle at the viewpoint between robot and goal for bearing ones;
-  a robot's own row is its own (exact) distance;
-- per robot ``softmax`` over goals, product over robots, normalised over the valid
+- a perspective is a viewpoint ``v`` and one evidence type per robot row: range
+  ``exp(-d / 50 m)`` of the robot's distance to each goal, or bearing ``cos`` of the angle
+  at ``v`` between the robot and the goal (the released code's alignment; not
+  ``exp(-angle)``, which made bearing robots chase angle changes instead of goals);
+  per row ``softmax`` over goals, product over rows, normalised over the valid
   configurations: one likelihood ``L_p`` per perspective;
-- higher order sums the configuration likelihoods of the perspectives, ``L = Σ_p L_p``
-  (item 3). Robot ``i`` models robot ``j`` only when they carry the same sensor (item 5: a
-  range robot does not emulate a bearing robot's angles). ``"paper-higher"`` keeps the
-  book-keeping slip of item 5: a bearing robot models every higher-indexed robot, and
-  with range information; ``"paper-higher-fixed"`` does not;
-- belief ``q_t = softmax(w · L / ΣL + (1 - w) · q_{t-1})`` with ``w = 0.2`` (0.1 in
-  multitask), the previous belief kept between steps (item 1);
+- first order: one perspective, the robot's own (its own row range, every other row its
+  own sensor type);
+- higher order: one perspective per robot ``p``, every row typed with the observer's
+  sensor (its own row range when ``p`` is itself), none when a bearing observer would
+  need a range robot's view (item 5). The released book-keeping overwrites the observer's
+  type with each perspective's, so ``"paper-higher"`` keeps the slip: after its own
+  perspective a bearing observer types every later one as range, and a range robot
+  before it blanks every perspective up to its own; ``"paper-higher-fixed"`` does not.
+  Bearing viewpoint rows keep the released angle to the goal from the x axis
+  (``atan2(0, 0) = 0``). Each perspective keeps its own belief
+  ``q_p <- softmax(0.2 L_p + 0.8 q_p)``;
+- prediction, one step ahead with the robot at its predicted pose and the others where it
+  observed them: first order ``q' = softmax(w L' + (1 - w) q)``; higher order the
+  released consensus ``q' = softmax(w softmax(Σ_p L'_p) + (1 - w) softmax(n ·
+  softmax(softmax(Σ_p q_p))))`` (item 3), ``w = 0.2`` (0.1 in multitask); ``q`` is the
+  belief before this step's observations, which update it after the decision (the
+  released order);
 - every control of the published grid (speeds ``{0, 1/3, 2/3, 1}`` m/s, eight heading
   changes ``linspace(-π, π, 8)``, so no "straight ahead"; multitask ``{0.1, 0.4, 0.7, 1}``
-  and ``linspace(-π/4, π/4, 8)``) is scored by the predicted belief's ``H[q'] - ln max q'``
-  (item 2), one step ahead, with the robot at its predicted pose and the others where it
-  observed them; the least score wins, exact ties broken at random (policy stream);
+  and ``linspace(-π/4, π/4, 8)``) is scored by ``H[q'] - ln max q'`` (item 2); the least
+  score wins, exact ties broken at random (policy stream);
 - multitask: each robot reasons over allocations of the ``n`` open tasks nearest itself
   (item 7).
 
 The valid configurations replace the released enumeration of all ``m^n`` combinations:
 the likelihood is normalised over the same valid rows, so beliefs and decisions are the
-same, at a fraction of the cost.
+same, at a fraction of the cost. Perspectives with no evidence at all (every row blank)
+add the same constant to every configuration before a ``softmax`` and are skipped.
 
 Examples
 --------
@@ -39,9 +50,8 @@ Examples
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import logsumexp, softmax
 
-from epistemica.aif.evidence import DEFAULT_ETA, measurement_stack
+from epistemica.aif.evidence import DEFAULT_ETA
 from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.row_index import RowIndex
 from epistemica.sim.active import _allocations
@@ -50,7 +60,7 @@ from epistemica.sim.missions import distances
 from epistemica.sim.policy import Decisions, Policy
 from epistemica.sim.sensing import Observations
 
-__all__ = ["PAPER_LEVELS", "PaperPolicy"]
+__all__ = ["PAPER_LEVELS", "PaperPolicy", "perspectives"]
 
 #: The released-algorithm levels and whether they model others / keep the slip.
 PAPER_LEVELS = {
@@ -59,11 +69,65 @@ PAPER_LEVELS = {
     "paper-higher-fixed": (True, False),
 }
 
+#: Evidence types of a perspective's rows.
+RANGE, BEARING, BLANK = 0, 1, 2
+
 
 def _published_grid(multitask: bool) -> np.ndarray:
     if multitask:
         return control_grid((0.1, 0.4, 0.7, 1.0), np.linspace(-np.pi / 4, np.pi / 4, 8))
     return control_grid((0.0, 1 / 3, 2 / 3, 1.0), np.linspace(-np.pi, np.pi, 8))
+
+
+def perspectives(robot: int, sensors, higher: bool, slip: bool) -> list[tuple[int, np.ndarray]]:
+    """``(viewpoint, row types)`` of every perspective ``robot`` evaluates.
+
+    Row types are :data:`RANGE`, :data:`BEARING` or :data:`BLANK` (no evidence);
+    perspectives whose rows are all blank are left out.
+
+    Examples
+    --------
+    A bearing robot 1 between range robots 0 and 2: the slip blanks robot 0's view and its
+    own others, then gives it robot 2's view in range; without the slip it keeps its own
+    bearing view and cannot take either range robot's:
+
+    >>> [(v, t.tolist()) for v, t in perspectives(1, ["range", "bearing", "range"], True, True)]
+    [(1, [2, 0, 2]), (2, [0, 0, 0])]
+    >>> [(v, t.tolist()) for v, t in perspectives(1, ["range", "bearing", "range"], True, False)]
+    [(1, [1, 0, 1])]
+    """
+    n = len(sensors)
+    own = RANGE if sensors[robot] == "range" else BEARING
+    views = range(n) if higher else [robot]
+    current, out = own, []
+    for view in views:
+        kind = current if slip else own
+        blank = kind == BEARING and sensors[view] == "range"
+        types = np.full(n, BLANK if blank else kind)
+        if view == robot:
+            types[robot] = RANGE  # the observer knows where it is
+        current = types[robot]  # the slip: the released list is overwritten here
+        if not (types == BLANK).all():
+            out.append((view, types))
+    return out
+
+
+def _softmax(x: np.ndarray, axis: int = -1) -> np.ndarray:
+    """``exp(x) / sum exp(x)`` along ``axis`` (scipy's costs more than the whole step)."""
+    e = np.exp(x - x.max(axis=axis, keepdims=True))
+    return e / e.sum(axis=axis, keepdims=True)
+
+
+def _evidence(scenes, goals, to_goal, ranged, view: int, types: np.ndarray) -> np.ndarray:
+    """``(b, n, m)`` evidence of one perspective for a batch of scenes ``(b, n, 2)``."""
+    out = np.where((types == RANGE)[None, :, None], ranged, 1.0 / goals.shape[0])
+    if (types == BEARING).any():
+        to_robot = scenes - scenes[:, view : view + 1]  # (b, n, 2); zero at the viewpoint
+        a_robot = np.arctan2(to_robot[..., 1], to_robot[..., 0])
+        a_goal = np.arctan2(to_goal[:, view, :, 1], to_goal[:, view, :, 0])  # (b, m)
+        aligned = np.cos(a_goal[:, None, :] - a_robot[:, :, None])
+        out = np.where((types == BEARING)[None, :, None], aligned, out)
+    return out
 
 
 class PaperPolicy(Policy):
@@ -80,21 +144,10 @@ class PaperPolicy(Policy):
         self.grid = _published_grid(multitask)
         self._index: dict[tuple, RowIndex] = {}
         self._belief: dict[int, tuple[bytes, np.ndarray]] = {}
-
-    def _perspectives(self, robot: int) -> list[tuple[int, str]]:
-        """(agent, evidence type) of every perspective robot ``robot`` holds or models."""
-        sensors = self.scenario.sensors
-        out = [(robot, sensors[robot])]
-        if not self.higher:
-            return out
-        for j, sensor in enumerate(sensors):
-            if j == robot:
-                continue
-            if self.slip and sensors[robot] == "bearing" and j > robot:
-                out.append((j, "range"))  # the slip: range information it cannot have
-            elif sensor == sensors[robot]:
-                out.append((j, sensor))
-        return out
+        self._views = {
+            int(r): perspectives(int(r), scenario.sensors, self.higher, self.slip)
+            for r in self.robots
+        }
 
     def _goals(self, observations: Observations, robot: int) -> tuple[np.ndarray, np.ndarray]:
         """Goal indices reasoned over, and their valid configurations."""
@@ -106,24 +159,29 @@ class PaperPolicy(Policy):
         nearest = known[np.argsort(distances(view, s.goals[known])[0], kind="stable")[:n]]
         return nearest, _allocations(n, len(nearest)) if len(nearest) >= n else None
 
-    def _log_likelihood(self, robot, scenes, goals, rows) -> np.ndarray:
-        """``log L (b, k)``: the summed perspective likelihoods for each scene."""
-        n = scenes.shape[1]
+    def _likelihoods(self, robot, scenes, goals, rows) -> np.ndarray:
+        """``(b, p, k)``: each perspective's likelihood over the valid rows, per scene."""
         key = (rows.shape, goals.shape[0], rows.tobytes()[:64])
         index = self._index.get(key)
         if index is None:
             index = self._index[key] = RowIndex(rows, goals.shape[0])
-        d = np.hypot(*(scenes[:, :, None, :] - goals[None, None]).transpose(3, 0, 1, 2))
-        ranged = np.exp(-d / DEFAULT_ETA)  # (b, n, m)
-        bearing = measurement_stack(scenes, goals, ["bearing"] * n)  # (b, v, r, m)
-        total = np.full((scenes.shape[0], rows.shape[0]), -np.inf)
-        for agent, kind in self._perspectives(robot):
-            e = ranged.copy() if kind == "range" else bearing[:, agent].copy()
-            e[:, agent] = ranged[:, agent]  # the agent knows where it is
-            log_p = e - logsumexp(e, axis=2, keepdims=True)
-            ll = index.row_sums(log_p).T  # (b, k)
-            total = np.logaddexp(total, ll - logsumexp(ll, axis=1, keepdims=True))
-        return total
+        to_goal = goals[None, None] - scenes[:, :, None]  # (b, n, m, 2)
+        ranged = np.exp(-np.hypot(to_goal[..., 0], to_goal[..., 1]) / DEFAULT_ETA)
+        out = []
+        for view, types in self._views[robot]:
+            e = _evidence(scenes, goals, to_goal, ranged, view, types)  # within [-1, 1]
+            log_p = e - np.log(np.exp(e).sum(axis=2, keepdims=True))
+            out.append(_softmax(index.row_sums(log_p).T, axis=1))  # (b, k)
+        return np.stack(out, axis=1)
+
+    def _predict(self, likelihood: np.ndarray, belief: np.ndarray) -> np.ndarray:
+        """The predicted belief ``q'`` for each candidate's ``(c, p, k)`` likelihoods."""
+        w = self.weight
+        if not self.higher:
+            return _softmax(w * likelihood[:, 0] + (1 - w) * belief[0], axis=1)
+        n = self.scenario.n_robots
+        prior = _softmax(n * _softmax(_softmax(belief.sum(axis=0))))
+        return _softmax(w * _softmax(likelihood.sum(axis=1), axis=1) + (1 - w) * prior, axis=1)
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         s, n = self.scenario, self.scenario.n_robots
@@ -137,17 +195,20 @@ class PaperPolicy(Policy):
             first = predict_poses(view[robot], self.grid, s.dt)  # (c, 3)
             scenes = np.repeat(view[None, :, :2], len(first) + 1, axis=0)
             scenes[1:, robot] = first[:, :2]
-            likelihood = np.exp(self._log_likelihood(robot, scenes, s.goals[goals], rows))
-            likelihood /= likelihood.sum(axis=1, keepdims=True)
-            q_now = self._update(robot, goals, likelihood[0])
-            w = self.weight
-            q_next = softmax(w * likelihood[1:] + (1 - w) * q_now, axis=1)
+            likelihood = self._likelihoods(robot, scenes, s.goals[goals], rows)
+            belief = self._prior(robot, goals, likelihood.shape[1:])
+            q_next = self._predict(likelihood[1:], belief)
             with np.errstate(divide="ignore"):
                 plogp = np.where(q_next > 0, q_next * np.log(q_next), 0.0)
             score = -plogp.sum(axis=1) - np.log(q_next.max(axis=1))
             best = np.flatnonzero(score == score.min())
             choice = best[0] if best.size == 1 else self.generators[robot].choice(best)
             out.controls[row] = self.grid[choice]
+            # This step's observations update the belief after the decision (released order).
+            w = self.weight
+            belief = _softmax(w * likelihood[0] + (1 - w) * belief, axis=1)
+            self._belief[robot] = (goals.tobytes(), belief)
+            q_now = belief.mean(axis=0)
             out.focal[row] = goals[rows[int(np.argmax(q_now))]]
             out.entropy[row] = float(-np.sum(q_now * np.log(np.maximum(q_now, 1e-300))))
             out.considered[row] = rows.shape[0]
@@ -156,13 +217,9 @@ class PaperPolicy(Policy):
             )
         return out
 
-    def _update(self, robot: int, goals: np.ndarray, likelihood: np.ndarray) -> np.ndarray:
-        key = goals.tobytes()
+    def _prior(self, robot: int, goals: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+        """The robot's ``(p, k)`` perspective beliefs; uniform at the start or on new tasks."""
         previous = self._belief.get(robot)
-        if previous is None or previous[0] != key:  # new task set: start uniform
-            prior = np.full(likelihood.size, 1.0 / likelihood.size)
-        else:
-            prior = previous[1]
-        q = softmax(self.weight * likelihood + (1 - self.weight) * prior)
-        self._belief[robot] = (key, q)
-        return q
+        if previous is None or previous[0] != goals.tobytes():
+            return np.full(shape, 1.0 / shape[1])
+        return previous[1]
