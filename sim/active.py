@@ -80,9 +80,9 @@ class ActiveInference(Policy):
         Heading changes in the control grid.
     pruning : bool
         Reason only over the configurations the robot still considers possible after the
-        observation events it saw (settled teammates, facts it was told:
-        :class:`~epistemica.sim.knowledge.TeamKnowledge`). Goals it does not know of
-        and tasks it knows are done are left out either way.
+        observation events it saw (settled teammates, tasks done, facts it was told:
+        :class:`~epistemica.sim.knowledge.TeamKnowledge`). ``False`` is the ablation: the
+        robot ignores those events (goals it does not know of stay out).
     **options
         Passed to :class:`epistemica.aif.Controller` (weights, horizon, ...).
     """
@@ -172,6 +172,8 @@ class ActiveInference(Policy):
         """Goal indices the robot reasons over, and a builder of their configurations."""
         s, n = self.scenario, self.scenario.n_robots
         known = open_goals(s, observations, robot)
+        if not self.pruning:  # the ablation: tasks seen done are not pruned either
+            known = np.flatnonzero(observations.known_goals[robot])
         if s.mission == "multitask":
             slots = task_slots(select_tasks(observations.poses[robot], s.goals, known), n)
             # Fewer open tasks than robots: each task takes as many robots as it has slots.
