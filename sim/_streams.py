@@ -1,7 +1,8 @@
 """Random streams of one trial, all derived from its seed.
 
-Each consumer has a stream of its own (geometry, sensor types, and per robot its
-observation noise, its process noise and its policy), so what one consumer draws never
+Each consumer has a stream of its own (geometry, sensor types, per robot its observation
+noise, its process noise and its policy, and the mission file's draws: who knows which
+goal, which teammate is ad hoc), so what one consumer draws never
 shifts another's draws: every reasoning level sees the same geometry and the same noise.
 """
 
@@ -24,6 +25,7 @@ class Streams(NamedTuple):
     observation: tuple[np.random.Generator, ...]
     process: tuple[np.random.Generator, ...]
     policy: tuple[np.random.Generator, ...]
+    mission: np.random.Generator
 
 
 def trial_streams(seed: int, n_robots: int) -> Streams:
@@ -43,7 +45,8 @@ def trial_streams(seed: int, n_robots: int) -> Streams:
             f"seed must be an integer >= 0, got {seed!r}", hint="e.g. seed=0"
         )
     root = np.random.SeedSequence(int(seed))
-    geometry, sensors, observation, process, policy = root.spawn(5)
+    # Children are keyed by index: a sixth stream leaves the first five unchanged.
+    geometry, sensors, observation, process, policy, mission = root.spawn(6)
 
     def per_robot(sequence: np.random.SeedSequence) -> tuple[np.random.Generator, ...]:
         return tuple(
@@ -59,4 +62,5 @@ def trial_streams(seed: int, n_robots: int) -> Streams:
         per_robot(observation),
         per_robot(process),
         per_robot(policy),
+        np.random.default_rng(mission),
     )

@@ -43,6 +43,7 @@ REASONING = (
     "first-unpruned",
     "second-unpruned",
     "third-unpruned",
+    "convention-reverse",
     "paper-first",
     "paper-higher",
     "paper-higher-fixed",
@@ -67,6 +68,8 @@ def make_policy(name: str) -> Policy:
         return Greedy()
     if name == "convention":
         return Convention()
+    if name == "convention-reverse":
+        return Convention(tie_break="reverse")
     if name in LEVELS:
         return ActiveInference(LEVELS[name])
     if name.endswith("-unpruned") and name.removesuffix("-unpruned") in LEVELS:

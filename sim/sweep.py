@@ -128,7 +128,8 @@ def run_trial(spec: TrialSpec) -> dict:
     (a mission file's trials: :class:`epistemica.run.MissionTrial`).
     """
     started = time.perf_counter()
-    trial = simulate(spec.scenario(), spec.reasoning, seed=spec.seed)
+    policies = spec.policies() if hasattr(spec, "policies") else None
+    trial = simulate(spec.scenario(), spec.reasoning, seed=spec.seed, policies=policies)
     return {
         "id": spec.id,
         "mission": spec.mission,

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from epistemica.cli_run import is_mission_file
 from epistemica.del_.errors import EpistemicaError, SourceError
 from epistemica.mission import load_mission, parse_mission
-from epistemica.sim import simulate
+from epistemica.sim import Scenario, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if is_mission_file(str(p)))
@@ -85,6 +85,34 @@ def test_random_places_come_from_the_trial_seed():
     assert np.all((one.goals >= 1) & (one.goals <= 29))
 
 
+@pytest.mark.parametrize("seed", [0, 1, 7])
+def test_the_shipped_rendezvous_is_the_published_protocol(seed):
+    mission = load_mission(ROOT / "specs" / "rendezvous.epi")
+    ours, paper = mission.scenario(seed), Scenario.paper("rendezvous", 3, 3, seed=seed)
+    assert ours.sensors == paper.sensors
+    assert np.array_equal(ours.starts, paper.starts)
+    assert np.array_equal(ours.goals, paper.goals)
+
+
+def test_ranges_declare_several_robots_and_goals():
+    mission = parse_mission("mission allocation\nrobot a1..a3: range at random\n"
+                            "goal g2..g4 at random\n")  # fmt: skip
+    assert mission.robots == ("a1", "a2", "a3") and mission.goals == ("g2", "g3", "g4")
+
+
+def test_random_knowledge_and_an_ad_hoc_teammate_are_drawn_per_trial():
+    text = TWO + "knows random\nteammate random follows zero\n"
+    mission = parse_mission(text)
+    drawn = [mission.scenario(s).known_goals for s in range(20)]
+    assert all(k.any(axis=0).all() for k in drawn)  # every goal known to someone
+    assert len({k.tobytes() for k in drawn}) > 1
+    assert np.array_equal(
+        mission.scenario(3).known_goals, parse_mission(text).scenario(3).known_goals
+    )
+    robots = {next(iter(mission.policies(s))) for s in range(20)}
+    assert robots == {0, 1} and mission.policies(4) == mission.policies(4)
+
+
 def test_the_study_line():
     mission = parse_mission(TWO + "simulate trials 7 seed 3 levels convention, third_unpruned\n")
     assert (mission.study.trials, mission.study.seed) == (7, 3)
@@ -108,6 +136,9 @@ BAD = [
     (TWO + "workspace 1" + "0" * 50 + "\n", "number of 51 characters", 6, 11),
     (TWO + "robot and: range at (1, 1)\n", "reserved word", 6, 7),
     (TWO + "mision rendezvous\n", "did you mean 'mission'", 6, 1),
+    (TWO + "robot r3..r1: range at (1, 1)\n", "bad robot range", 6, 7),
+    (TWO + "teammate a follows fifth\n", "unknown reasoning level 'fifth'", 6, 20),
+    (TWO + "knows random\nknows a: x\n", "exclude each other", 8, 1),
 ]
 
 

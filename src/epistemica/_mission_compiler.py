@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import functools
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -34,9 +35,9 @@ MISSION_GRAMMAR = Path(__file__).with_name("mission.lark")
 #: The keywords that start a statement.
 KEYWORDS = (
     "mission", "valid", "workspace", "robot", "goal", "task", "sensing", "knows", "learns",
-    "initially", "event", "check", "simulate",
+    "initially", "event", "teammate", "check", "simulate",
 )  # fmt: skip
-SENSOR_TYPES = ("range", "bearing")
+SENSOR_TYPES = ("range", "bearing", "random")
 #: Largest accepted magnitude of any number in a mission file.
 MAX_NUMBER = 1e6
 #: Most robots, goals (tasks), steps and trials a mission file may declare.
@@ -93,6 +94,8 @@ class MissionCompiler:
         self.initially: list[Formula] = []
         self.learns: list[tuple[tuple[str, ...], Formula]] = []
         self.knows: dict[str, set[str]] = {}
+        self.random_knowledge = False
+        self.teammates: list[tuple[str, str, Token]] = []
         self.events: dict[str, str] = {}
         self.checks: list[Check] = []
         self.formula_nodes: list[tuple[Tree, str]] = []
@@ -149,8 +152,7 @@ class MissionCompiler:
             raise self.error(f"{what} must be a whole number, got {item}", item, "e.g. 5")
         return int(value)
 
-    def new_name(self, token: Token, what: str) -> str:
-        name = str(token)
+    def new_name(self, name: str, token: Token, what: str) -> str:
         if name in self.robots or name in self.goals:
             raise self.error(f"{what} '{name}' is declared twice", token, "use distinct names")
         if name in KEYWORDS or name in ("and", "or", "not", "true", "false"):
@@ -179,16 +181,35 @@ class MissionCompiler:
             point.append(self.number(heading, -4 * math.pi, 4 * math.pi))
         return (point, node)
 
+    def expand(self, node: Tree, what: str) -> list[tuple[str, Token]]:
+        """The names of a ``declared`` node: one, or a range ``r1..r5``."""
+        if node.data != "declared_range":
+            return [(str(node.children[0]), node.children[0])]
+        first, last = node.children
+        a, b = re.fullmatch(r"(.*?)(\d+)", str(first)), re.fullmatch(r"(.*?)(\d+)", str(last))
+        if not a or not b or a.group(1) != b.group(1) or int(a.group(2)) > int(b.group(2)):
+            raise self.error(
+                f"bad {what} range '{first}..{last}'", first, "write e.g. r1..r5 (same stem)"
+            )
+        low, high = int(a.group(2)), int(b.group(2))
+        if high - low >= LIMITS["goals"] or len(a.group(2)) > 6:
+            raise self.error(f"the range '{first}..{last}' is too long", first, "fewer names")
+        return [(f"{a.group(1)}{i}", first) for i in range(low, high + 1)]
+
     def robot_decl(self, node: Tree) -> None:
-        name_token, sensor, place, *options = node.children
-        name = self.new_name(name_token, "robot")
+        declared, sensor, place, *options = node.children
         if str(sensor) not in SENSOR_TYPES:
             raise self.unknown("sensor", sensor, SENSOR_TYPES)
+        for name, token in self.expand(declared, "robot"):
+            self._robot(name, token, str(sensor), place, options)
+
+    def _robot(self, name, name_token, sensor: str, place, options) -> None:
+        name = self.new_name(name, name_token, "robot")
         if len(self.robots) >= LIMITS["robots"]:
             raise self.error(
                 f"more than {LIMITS['robots']} robots", name_token, "the simulator's limit"
             )
-        robot = {"token": name_token, "sensor": str(sensor), "place": self.place(place)}
+        robot = {"token": name_token, "sensor": sensor, "place": self.place(place)}
         for option in options:
             value = option.children[0]
             if option.data == "speed":
@@ -198,15 +219,17 @@ class MissionCompiler:
         self.robots[name] = robot
 
     def goal_decl(self, node: Tree) -> None:
-        name_token, place, needs = node.children
-        self._goal(name_token, place, needs, tasks=False)
+        declared, place, needs = node.children
+        for name, token in self.expand(declared, "goal"):
+            self._goal(name, token, place, needs, tasks=False)
 
     def task_decl(self, node: Tree) -> None:
-        name_token, place = node.children
-        self._goal(name_token, place, None, tasks=True)
+        declared, place = node.children
+        for name, token in self.expand(declared, "task"):
+            self._goal(name, token, place, None, tasks=True)
 
-    def _goal(self, name_token, place, needs, tasks: bool) -> None:
-        name = self.new_name(name_token, "task" if tasks else "goal")
+    def _goal(self, name, name_token, place, needs, tasks: bool) -> None:
+        name = self.new_name(name, name_token, "task" if tasks else "goal")
         if self.goals and tasks != self.is_tasks:
             raise self.error(
                 "a mission has goals or tasks, not both", name_token, "use one kind throughout"
@@ -241,6 +264,17 @@ class MissionCompiler:
         for robot in robots.children:
             known = self.knows.setdefault(self.robot_name(robot), set())
             known.update(str(g) for g in goals.children)
+
+    def knows_random(self, node: Tree) -> None:
+        self.random_knowledge = True
+
+    def teammate_decl(self, node: Tree) -> None:
+        robot, level = node.children
+        if str(robot) != "random":
+            self.robot_name(robot)
+        if self.teammates:
+            raise self.error("one 'teammate' line per mission", robot, "keep one")
+        self.teammates.append((str(robot), str(level).replace("_", "-"), level))
 
     def learns_decl(self, node: Tree) -> None:
         robots, fml = node.children
@@ -387,7 +421,13 @@ class MissionCompiler:
         elif any(n is not None for n in needs):
             token = next(g["needs_token"] for g in self.goals.values() if g["needs"] is not None)
             raise self.error(f"'needs' in a {kind} mission", token, "use 'mission capacity'")
-        known = None
+        if self.random_knowledge and self.knows:
+            raise self.error(
+                "'knows random' and 'knows ROBOTS: GOALS' exclude each other",
+                end,
+                "keep one way of saying who knows which goal",
+            )
+        known = "random" if self.random_knowledge else None
         if self.knows:
             known = np.array(
                 [[g in self.knows.get(r, set()) for g in self.goals] for r in self.robots]
@@ -405,6 +445,7 @@ class MissionCompiler:
             "learns": tuple(self.learns),
             "known_goals": known,
             "events": tuple(self.events.items()),
+            "teammates": tuple(self.teammates),
             "checks": tuple(self.checks),
             "study": self.study,
         }

@@ -125,7 +125,8 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     from epistemica.sim.simulate import simulate
 
     scenario = mission.scenario(seed)
-    animate_trial(scenario, simulate(scenario, level, seed=seed), path)
+    trial = simulate(scenario, level, seed=seed, policies=mission.policies(seed))
+    animate_trial(scenario, trial, path)
 
 
 def add_check_options(check) -> None:
@@ -190,7 +191,8 @@ def _after(mission, args: argparse.Namespace):
     level = args.reasoning or mission.study.levels[-1]
     scenario = mission.scenario(seed)
     steps = min(args.after, scenario.max_steps)
-    trial = simulate(scenario.replace(max_steps=max(steps, 1)), level, seed=seed)
+    short = scenario.replace(max_steps=max(steps, 1))
+    trial = simulate(short, level, seed=seed, policies=mission.policies(seed))
     model = mission.model
     count = ignored = 0
     for step, kind, robot, goal, observers in trial.events:

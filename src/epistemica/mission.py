@@ -125,16 +125,24 @@ class Mission:
             place = spec["place"]
             pose = list(place[0]) if place else start_xy[i].tolist()
             starts.append(pose + [0.0] * (3 - len(pose)))
+        known = p["known_goals"]
+        if isinstance(known, str):  # "random": per goal, a non-empty subset of the robots
+            known = _random_knowledge(_mission_streams(int(seed), n)[0], n, m)
         speeds = [spec.get("speed", 1.0) for spec in p["robot_specs"].values()]
         turns = [spec.get("turn", np.pi) for spec in p["robot_specs"].values()]
+        drawn = trial_streams(int(seed), n).sensors.integers(0, 2, size=n)  # as Scenario.paper
+        sensors = [
+            ("range", "bearing")[drawn[i]] if spec["sensor"] == "random" else spec["sensor"]
+            for i, spec in enumerate(p["robot_specs"].values())
+        ]
         try:
             return Scenario(
                 self.kind,
                 starts,
                 goals,
-                [spec["sensor"] for spec in p["robot_specs"].values()],
+                sensors,
                 capacities=p["capacities"],
-                known_goals=p["known_goals"],
+                known_goals=known,
                 max_speed=speeds,
                 max_turn=turns,
                 valid=self._valid_rows(),
@@ -148,6 +156,19 @@ class Mission:
             )
         except InvalidArgumentError as exc:
             raise self._located(exc) from None
+
+    def policies(self, seed: int | None = None) -> dict[int, str]:
+        """The ad hoc teammate of trial ``seed`` (its ``teammate`` line): robot index to
+        level; ``teammate random`` draws the robot from the seed's mission stream."""
+        seed = self.study.seed if seed is None else seed
+        out = {}
+        for robot, level, _ in self.parts["teammates"]:
+            if robot == "random":
+                stream = _mission_streams(int(seed), len(self.robots))[1]
+                out[int(stream.integers(len(self.robots)))] = level
+            else:
+                out[self.robots.index(robot)] = level
+        return out
 
     def _located(self, exc: InvalidArgumentError) -> SpecError:
         """A scenario error, located at the robot or setting it names when possible."""
@@ -298,9 +319,24 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     return mission
 
 
+def _mission_streams(seed: int, n: int) -> list[np.random.Generator]:
+    """Two independent generators of trial ``seed``: who knows which goal, who is ad hoc."""
+    sequence = trial_streams(seed, n).mission.bit_generator.seed_seq
+    return [np.random.default_rng(child) for child in sequence.spawn(2)]
+
+
+def _random_knowledge(stream, n: int, m: int) -> np.ndarray:
+    """Per goal, each robot knows it with probability 1/2; nobody: one robot at random."""
+    known = stream.random((m, n)) < 0.5
+    nobody = ~known.any(axis=1)
+    known[np.flatnonzero(nobody), stream.integers(n, size=int(nobody.sum()))] = True
+    return known.T.copy()
+
+
 def _check_levels(mission: Mission, study: dict) -> None:
-    tokens = study.get("levels_token")
-    for token in tokens.children if tokens is not None else ():
+    tokens = list(study["levels_token"].children) if "levels_token" in study else []
+    tokens += [token for _, _, token in mission.parts["teammates"]]
+    for token in tokens:
         if str(token).replace("_", "-") not in REASONING:
             raise SpecError(
                 f"unknown reasoning level '{token}'",

@@ -79,6 +79,10 @@ class MissionTrial:
     def scenario(self) -> Scenario:
         return self._mission.scenario(self.seed)
 
+    def policies(self) -> dict[int, str]:
+        """The ad hoc teammate of this trial, if the mission has one."""
+        return self._mission.policies(self.seed)
+
 
 def mission_trials(
     mission: Mission, levels: Sequence[str] | None = None, trials: int | None = None
