@@ -61,6 +61,7 @@ def add_command(commands) -> None:
         "--paper-scale", action="store_true", help="50 trials per level, as the published study"
     )
     cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
+    cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
     cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
     cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
@@ -78,7 +79,7 @@ def _run(args: argparse.Namespace) -> int:
     mission = load_mission(args.file)
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
     trials = 50 if args.paper_scale else args.trials
-    specs = mission_trials(mission, levels, trials)
+    specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
@@ -112,8 +113,8 @@ def _run(args: argparse.Namespace) -> int:
         print(f"figure: {png}")
         if not args.no_gif:
             gif = out.with_suffix(".gif")
-            _animate(mission, specs[-1].reasoning, mission.study.seed, gif)
-            print(f"animation ({specs[-1].reasoning}, seed {mission.study.seed}): {gif}")
+            _animate(mission, specs[-1].reasoning, specs[0].seed, gif)
+            print(f"animation ({specs[-1].reasoning}, seed {specs[0].seed}): {gif}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")

@@ -37,7 +37,11 @@ import numpy as np
 from epistemica._mission_compiler import compile_text
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.del_.action import ActionModel
-from epistemica.del_.configuration_model import configuration_model, observed
+from epistemica.del_.configuration_model import (
+    MAX_CONFIGURATIONS,
+    configuration_model,
+    observed,
+)
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.formula import Formula
 from epistemica.del_.kripke import KripkeModel
@@ -253,6 +257,13 @@ class Mission:
             raise InvalidArgumentError(
                 "a multitask mission has no explicit model over configurations",
                 hint="its configurations are chosen every step from the open tasks",
+            )
+        p, n, m = self.parts, len(self.robots), len(self.goals)
+        total = count_configurations(self.kind, n, m, p["capacities"])
+        if self._table is None and total > MAX_CONFIGURATIONS:  # refuse before enumerating
+            raise InvalidArgumentError(
+                f"{total} configurations exceed the explicit limit of {MAX_CONFIGURATIONS}",
+                hint="the simulator needs no model; check claims on a smaller mission",
             )
         model = configuration_model(self.robots, self.goals, self.configurations())
         for names, fact in self.parts["learns"]:

@@ -85,7 +85,10 @@ class MissionTrial:
 
 
 def mission_trials(
-    mission: Mission, levels: Sequence[str] | None = None, trials: int | None = None
+    mission: Mission,
+    levels: Sequence[str] | None = None,
+    trials: int | None = None,
+    seed: int | None = None,
 ) -> list[MissionTrial]:
     """The trials of ``mission``'s study (its ``simulate`` line, or the arguments)."""
     levels = list(mission.study.levels if levels is None else levels)
@@ -94,7 +97,9 @@ def mission_trials(
         raise InvalidArgumentError(f"trials must be an integer >= 1, got {trials!r}", hint="20")
     for level in levels:
         make_policy(level)  # unknown names fail here, not in a worker
-    first = mission.study.seed
+    first = mission.study.seed if seed is None else seed
+    if isinstance(first, bool) or not isinstance(first, int) or first < 0:
+        raise InvalidArgumentError(f"seed must be an integer >= 0, got {first!r}", hint="0")
     return [
         MissionTrial(mission.source, mission.filename, level, first + t)
         for level in levels
