@@ -197,19 +197,30 @@ class ActiveInference(Policy):
         n, m = self.scenario.n_robots, self.scenario.n_goals
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
         out = out._replace(goal_belief=np.zeros((len(robots), m)))
+        # Robots that share a controller (same goals, set and limits) decide in one team
+        # call, which returns what their separate decide calls would, bit for bit.
+        groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
                 continue  # stays put: nothing known to go to
             ctrl = self._controller(robot, goals, configurations)
-            view = observations.poses[robot]
-            d = ctrl.decide(robot, view, prior=self._prior(ctrl, view, robot))
-            if self.memory > 0:
-                self._beliefs[robot] = (ctrl, d.belief)
-            out.controls[row] = d.control
-            out.focal[row] = goals[ctrl.configurations[d.focal]]
-            out.entropy[row] = entropy(d.belief)
-            out.considered[row] = ctrl.configurations.shape[0]
-            own = goals[ctrl.configurations[:, robot]]
-            out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)
+            prior = self._prior(ctrl, observations.poses[robot], robot)
+            groups.setdefault(id(ctrl), (ctrl, goals, []))[2].append((row, robot, prior))
+        for ctrl, goals, members in groups.values():
+            rows, team, priors = zip(*members, strict=True)
+            decisions = ctrl.decide_team(observations.poses, team, priors)
+            for row, robot, d in zip(rows, team, decisions, strict=True):
+                self._record(out, row, robot, ctrl, goals, d)
         return out
+
+    def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
+        if self.memory > 0:
+            self._beliefs[robot] = (ctrl, d.belief)
+        out.controls[row] = d.control
+        out.focal[row] = goals[ctrl.configurations[d.focal]]
+        out.entropy[row] = entropy(d.belief)
+        out.considered[row] = ctrl.configurations.shape[0]
+        own = goals[ctrl.configurations[:, robot]]
+        m = out.goal_belief.shape[1]
+        out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)

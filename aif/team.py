@@ -1,0 +1,206 @@
+"""One decision per robot of a team in one pass: :meth:`Controller.decide_team`.
+
+``n`` separate :meth:`~epistemica.aif.Controller.decide` calls repeat per call what does
+not depend on the robot (argument checks, the motion model, the measurement stack, the
+normalisation of evidence) as many small numpy operations. Here the robots' candidate
+scenes are stacked along a leading robot axis and measured in one pass; the perspectives
+of all robots are concatenated along one axis (robot ``r`` owns a contiguous block), so
+evidence, attenuation and log goal probabilities are one pass each, and the expected free
+energy terms of all robots are computed together (:mod:`~epistemica.aif.team_terms`).
+
+Nothing of size ``m^n`` is built: the arrays are those of the ``n`` calls side by side.
+Every operation is elementwise, or reduces along an axis that has the same length and
+layout as in the single-robot call, so the results are those of ``n`` :meth:`decide`
+calls bit for bit (tests/aif/test_aif_team.py checks it on random scenes).
+
+Examples
+--------
+>>> from epistemica.aif import Controller, valid_configurations
+>>> ctrl = Controller([[10, 0], [-10, 0]], ["range", "range"],
+...                   valid_configurations("allocation", 2, 2), order=2)
+>>> seen = [[[8.0, 0.0, 0.0], [-8.0, 0.0, np.pi]]] * 2   # both robots see the same scene
+>>> [d.control for d in ctrl.decide_team(seen)]
+[(1.0, 0.0), (1.0, 0.0)]
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from epistemica.aif._logspace import log_softmax
+from epistemica.aif._validate import as_finite
+from epistemica.aif.evidence import _check_robot, _stack
+from epistemica.aif.motion import _turn_then_move
+from epistemica.aif.one_step import Terms
+from epistemica.aif.perspective import row_weights
+from epistemica.aif.search import receding_horizon
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__: list[str] = []
+
+
+class _Views(NamedTuple):
+    """One robot's perspectives as arrays (built once per robot and controller)."""
+
+    counts: np.ndarray  # (P, n) chain ends per viewpoint
+    agents: np.ndarray  # (P,) holder of each belief
+    weights: np.ndarray  # (P,) perspective weights
+    rows: np.ndarray  # (P, n) evidence terms per row (row_weights)
+
+
+def _views(ctrl, robot: int) -> _Views:
+    cache = ctrl._views_cache
+    if robot not in cache:
+        views = ctrl.perspectives(robot)
+        cache[robot] = _Views(
+            np.array([p.counts for p in views]),
+            np.array([p.agent for p in views]),
+            np.array([p.weight for p in views]),
+            row_weights(views, len(ctrl.sensors)),
+        )
+    return cache[robot]
+
+
+def _observations(ctrl, observations) -> np.ndarray:
+    n = len(ctrl.sensors)
+    obs = as_finite(observations, "observations", ndim=3, shape=(n, n, None))
+    if obs.shape[2] == 2:
+        obs = np.concatenate([obs, np.zeros((n, n, 1))], axis=2)
+    if obs.shape[2] != 3:
+        raise InvalidArgumentError(
+            f"observations must be (n, n, 2) or (n, n, 3), got {obs.shape}",
+            hint="row i: the poses robot i observes, its own exact",
+        )
+    return obs
+
+
+def _per_robot(values, count: int, name: str) -> list:
+    if values is None:
+        return [None] * count
+    if isinstance(values, np.random.Generator):
+        return [values] * count  # one stream, consumed in the order of the robots
+    values = list(values)
+    if len(values) != count:
+        raise InvalidArgumentError(
+            f"{name} must have one entry per deciding robot ({count}), got {len(values)}",
+            hint=f"pass None or a sequence of {count}",
+        )
+    return values
+
+
+def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
+    """Unchecked-controller core of :meth:`Controller.decide_team` (see there)."""
+    n = len(ctrl.sensors)
+    obs = _observations(ctrl, observations)
+    robots = np.arange(n) if robots is None else np.asarray(robots)
+    if robots.ndim != 1 or len(set(robots.tolist())) != robots.size:
+        raise InvalidArgumentError(
+            "robots must be a sequence of distinct robot indices", hint="e.g. [0, 2, 3]"
+        )
+    robots = np.array([_check_robot(r, n) for r in robots.tolist()], dtype=np.intp)
+    priors = [ctrl._prior(p) for p in _per_robot(priors, robots.size, "priors")]
+    rngs = _per_robot(rng, robots.size, "rng")
+    if robots.size == 0:
+        return []
+    own = obs[robots, robots]  # (R, 3) each robot's own pose
+    first = _turn_then_move(own[:, None, :], ctrl.controls, ctrl.dt)  # (R, c, 3)
+    stay = np.all(first[..., :2] == own[:, None, :2], axis=2)
+    moving = np.count_nonzero(~stay, axis=1)
+    G = np.empty((robots.size, ctrl.controls.shape[0]))
+    beliefs, focals = [None] * robots.size, np.empty(robots.size, dtype=np.intp)
+    # Robots with as many distinct candidate positions share one pass (normally all).
+    for b in np.unique(moving):
+        group = np.flatnonzero(moving == b)
+        g, q, f = _pass(ctrl, obs, robots[group], first[group], stay[group], priors, group)
+        G[group], focals[group] = g, f
+        for row, belief in zip(group.tolist(), q, strict=True):
+            beliefs[row] = belief
+    out = []
+    for row, robot in enumerate(robots.tolist()):
+        g = G[row]
+        if ctrl.horizon > 1:
+            pos, prior = obs[robot, :, :2], priors[row]
+            g = receding_horizon(
+                lambda xs, robot=robot, pos=pos, prior=prior: (
+                    ctrl._evaluate(robot, pos, xs, prior)[0].G
+                ),
+                first[row],
+                g,
+                ctrl.controls,
+                ctrl.dt,
+                ctrl.horizon,
+                ctrl.beam,
+            )
+        out.append(ctrl._choose(g, beliefs[row], int(focals[row]), rngs[row]))
+    return out
+
+
+def _pass(ctrl, obs, robots, first, stay, priors, rows):
+    """``G (R, c)``, beliefs and focal rows of robots with equally many moving candidates."""
+    R, c = first.shape[:2]
+    n, m = len(ctrl.sensors), ctrl.goals.shape[0]
+    pos = obs[robots, :, :2]  # (R, n, 2)
+    b = 1 + int(np.count_nonzero(~stay[0]))
+    # Column 0 is the current position; candidates that stop share it.
+    batch = np.empty((R, b, 2))
+    batch[:, 0] = pos[np.arange(R), robots]
+    batch[:, 1:] = first[..., :2][~stay].reshape(R, b - 1, 2)
+    back = np.zeros((R, c), dtype=np.intp)
+    back[~stay] = np.tile(np.arange(1, b), R)
+    scenes = np.repeat(pos[:, None], b, axis=1)  # (R, b, n, 2)
+    scenes[np.arange(R), :, robots] = batch
+    # Each robot's own coincidence scale, as its single call would use.
+    scale = np.maximum(np.abs(scenes).max(axis=(1, 2, 3)), np.abs(ctrl.goals).max())
+    scale = np.repeat(np.maximum(scale, 1.0), b)[:, None, None]
+    stack, ranged = _stack(
+        scenes.reshape(R * b, n, 2), ctrl.goals, ctrl._bearing, ctrl.eta, ctrl.eta_bearing, scale
+    )
+    stack = stack.reshape(R, b, n, n, m)
+    ranged = ranged.reshape(R, b, n, m)
+    views = [_views(ctrl, r) for r in robots.tolist()]
+    sizes = [len(v.agents) for v in views]
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    owner = np.repeat(np.arange(R), sizes)
+    agents = np.concatenate([v.agents for v in views])
+    # A BLAS product per robot: the same call, hence the same rounding, as decide's.
+    e = np.concatenate(
+        [np.tensordot(v.counts, stack[r], axes=([1], [1])) for r, v in enumerate(views)]
+    )  # (Q, b, n, m)
+    # Order 0: each perspective's agent knows its own position exactly.
+    e[np.arange(len(agents)), :, agents] += ranged[owner, :, agents]
+    e /= np.concatenate([v.rows for v in views])[:, None, :, None]
+    roots = start[:-1]
+    e[roots, :, robots] = e[roots, 0, robots][:, None]  # own motion: no own-goal evidence
+    others = np.arange(n)[None, :] != robots[owner][:, None]  # (Q, n)
+    others[roots] = False
+    e = np.where(others[:, None, :, None], e[:, :1], e)
+    if ctrl.position_noise > 0:
+        e *= _attenuation(ctrl, pos, robots)[owner][:, None, :, None]
+    log_p = log_softmax(e, -1)
+    G = np.empty((R, c))
+    beliefs, focals = [], []
+    for r, robot in enumerate(robots.tolist()):
+        terms, q, focal = ctrl._model._terms(
+            log_p[start[r] : start[r + 1]], views[r].weights, robot, batch[r], priors[rows[r]]
+        )
+        G[r] = Terms(*(t[back[r]] for t in terms)).G
+        beliefs.append(q)
+        focals.append(focal)
+    return G, beliefs, focals
+
+
+def _attenuation(ctrl, pos: np.ndarray, robots: np.ndarray) -> np.ndarray:
+    """:meth:`Controller._attenuation` of each robot in its own view: ``(R, n)``."""
+    R = robots.size
+    rel = pos - pos[np.arange(R), robots][:, None]
+    rho = np.maximum(np.hypot(rel[..., 0], rel[..., 1]), 1.0)
+    s2 = np.where(
+        ctrl._bearing[robots][:, None],
+        2.0 * ctrl.position_noise / (ctrl.eta_bearing * rho) ** 2,
+        2.0 * ctrl.position_noise / ctrl.eta**2,
+    )
+    factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
+    factor[np.arange(R), robots] = 1.0
+    return factor
