@@ -212,6 +212,7 @@ class Controller:
         self.preference_floor = self._model.preference_floor
         self._perspective_cache: dict[int, list[Perspective]] = {}
         self._views_cache: dict = {}  # robot -> its perspectives as arrays (team call)
+        self._chunk = _CHUNK_CELLS  # the team call's passes stay within one chunk
         self.position_noise = float(as_finite(position_noise, "position_noise"))
         if self.position_noise < 0:
             raise InvalidArgumentError(

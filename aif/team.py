@@ -31,11 +31,12 @@ import numpy as np
 
 from epistemica.aif._logspace import log_softmax
 from epistemica.aif._validate import as_finite
-from epistemica.aif.evidence import _check_robot, _stack
+from epistemica.aif.evidence import _angle_batch, _check_robot, _stack
 from epistemica.aif.motion import _turn_then_move
 from epistemica.aif.one_step import Terms
 from epistemica.aif.perspective import row_weights
 from epistemica.aif.search import receding_horizon
+from epistemica.aif.team_terms import team_terms
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__: list[str] = []
@@ -140,55 +141,101 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
 def _pass(ctrl, obs, robots, first, stay, priors, rows):
     """``G (R, c)``, beliefs and focal rows of robots with equally many moving candidates."""
     R, c = first.shape[:2]
-    n, m = len(ctrl.sensors), ctrl.goals.shape[0]
+    at = np.arange(R)
     pos = obs[robots, :, :2]  # (R, n, 2)
     b = 1 + int(np.count_nonzero(~stay[0]))
     # Column 0 is the current position; candidates that stop share it.
     batch = np.empty((R, b, 2))
-    batch[:, 0] = pos[np.arange(R), robots]
+    batch[:, 0] = pos[at, robots]
     batch[:, 1:] = first[..., :2][~stay].reshape(R, b - 1, 2)
     back = np.zeros((R, c), dtype=np.intp)
     back[~stay] = np.tile(np.arange(1, b), R)
-    scenes = np.repeat(pos[:, None], b, axis=1)  # (R, b, n, 2)
-    scenes[np.arange(R), :, robots] = batch
-    # Each robot's own coincidence scale, as its single call would use.
-    scale = np.maximum(np.abs(scenes).max(axis=(1, 2, 3)), np.abs(ctrl.goals).max())
-    scale = np.repeat(np.maximum(scale, 1.0), b)[:, None, None]
-    stack, ranged = _stack(
-        scenes.reshape(R * b, n, 2), ctrl.goals, ctrl._bearing, ctrl.eta, ctrl.eta_bearing, scale
-    )
-    stack = stack.reshape(R, b, n, n, m)
-    ranged = ranged.reshape(R, b, n, m)
+    stack, ranged = _scene_stack(ctrl, pos, robots, batch)
     views = [_views(ctrl, r) for r in robots.tolist()]
     sizes = [len(v.agents) for v in views]
     start = np.concatenate([[0], np.cumsum(sizes)])
-    owner = np.repeat(np.arange(R), sizes)
+    owner = np.repeat(at, sizes)
     agents = np.concatenate([v.agents for v in views])
     # A BLAS product per robot: the same call, hence the same rounding, as decide's.
     e = np.concatenate(
         [np.tensordot(v.counts, stack[r], axes=([1], [1])) for r, v in enumerate(views)]
     )  # (Q, b, n, m)
+    q_all = np.arange(len(agents))
     # Order 0: each perspective's agent knows its own position exactly.
-    e[np.arange(len(agents)), :, agents] += ranged[owner, :, agents]
+    e[q_all, :, agents] += ranged[owner, :, agents]
     e /= np.concatenate([v.rows for v in views])[:, None, :, None]
-    roots = start[:-1]
-    e[roots, :, robots] = e[roots, 0, robots][:, None]  # own motion: no own-goal evidence
-    others = np.arange(n)[None, :] != robots[owner][:, None]  # (Q, n)
-    others[roots] = False
-    e = np.where(others[:, None, :, None], e[:, :1], e)
+    # Only what a move can change is normalised per candidate: the whole root (the
+    # robot's viewpoint moves, its own row does not) and, in the modelled beliefs, the
+    # mover's row; every other row is the one at column 0.
+    roots, mover = start[:-1], robots[owner]
+    base, moved, root = e[:, 0], e[q_all, :, mover], e[roots]
+    root[at, :, robots] = root[at, 0, robots][:, None]  # own motion: no own-goal evidence
     if ctrl.position_noise > 0:
-        e *= _attenuation(ctrl, pos, robots)[owner][:, None, :, None]
-    log_p = log_softmax(e, -1)
+        factor = _attenuation(ctrl, pos, robots)
+        base *= factor[owner][:, :, None]
+        moved *= factor[owner, mover][:, None, None]
+        root *= factor[:, None, :, None]
+    log_base, log_moved, log_root = (log_softmax(x, -1) for x in (base, moved, root))
+    weights = np.concatenate([v.weights for v in views])
+    model, k = ctrl._model, ctrl.configurations.shape[0]
+    # numpy reduces in buffers of getbufsize() elements: beyond, a lone column's sums
+    # would not run as in the single call.
+    small = k <= np.getbufsize() and k * R * b <= ctrl._chunk
+    if model.update == "bayes" and model.index.dtype == np.float64 and small:
+        prior = np.stack([priors[j] for j in rows])
+        G, beliefs, focals = team_terms(
+            model, log_base, log_moved, log_root, start, weights, robots, batch, prior
+        )
+        return G[at[:, None], back], list(beliefs), focals
+    # Otherwise one robot at a time, on the full (perspectives, columns, n, m) array.
+    log_p = np.repeat(log_base[:, None], b, axis=1)
+    log_p[q_all, :, mover] = log_moved
+    log_p[roots] = log_root
     G = np.empty((R, c))
     beliefs, focals = [], []
     for r, robot in enumerate(robots.tolist()):
-        terms, q, focal = ctrl._model._terms(
+        terms, q, focal = model._terms(
             log_p[start[r] : start[r + 1]], views[r].weights, robot, batch[r], priors[rows[r]]
         )
         G[r] = Terms(*(t[back[r]] for t in terms)).G
         beliefs.append(q)
         focals.append(focal)
     return G, beliefs, focals
+
+
+def _scene_stack(ctrl, pos: np.ndarray, robots: np.ndarray, batch: np.ndarray):
+    """Measurement stack ``(R, b, n, n, m)`` and range evidence ``(R, b, n, m)`` of the
+    scenes where robot ``robots[r]`` stands at ``batch[r, j]`` in ``pos[r]``.
+
+    Only the measurements a move changes are computed per candidate (of the mover from
+    every viewpoint; by the mover, if it senses bearings); the rest is the scene at
+    column 0. Each entry is computed by the same elementwise formula as
+    :func:`~epistemica.aif.evidence._stack` on the whole scene, with the robot's own
+    coincidence scale, so it equals that entry bit for bit.
+    """
+    R, b = batch.shape[:2]
+    at, gl, bearing = np.arange(R), ctrl.goals, ctrl._bearing
+    scale = np.maximum(np.abs(pos).max(axis=(1, 2)), np.abs(batch).max(axis=(1, 2)))
+    scale = np.maximum(np.maximum(scale, np.abs(gl).max()), 1.0)[:, None, None]
+    here, ranged_here = _stack(pos, gl, bearing, ctrl.eta, ctrl.eta_bearing, scale)
+    stack = np.repeat(here[:, None], b, axis=1)
+    ranged = np.repeat(ranged_here[:, None], b, axis=1)
+    d = np.hypot(batch[..., None, 0] - gl[:, 0], batch[..., None, 1] - gl[:, 1])
+    ranged[at, :, robots] = np.exp(-d / ctrl.eta)  # (R, b, m)
+    seen = np.empty(ranged.shape)  # (R, b, viewpoint, m): the mover as each one sees it
+    seen[:, :, ~bearing] = ranged[at, :, robots][:, :, None]
+    if bearing.any():
+        ang = _angle_batch(pos[:, bearing], batch[:, None], gl, scale)  # (R, nb, b, m)
+        seen[:, :, bearing] = np.exp(-ang / ctrl.eta_bearing).transpose(0, 2, 1, 3)
+    seen[at, :, robots] = 0.0  # nobody measures itself
+    stack[at, :, :, robots] = seen
+    turning = np.flatnonzero(bearing[robots])  # movers whose own bearings move with them
+    if turning.size:
+        who = robots[turning]
+        ang = _angle_batch(batch[turning], pos[turning][:, None], gl, scale[turning])
+        stack[turning, :, who] = np.exp(-ang / ctrl.eta_bearing)  # (Rb, b, n, m)
+        stack[turning, :, who, who] = 0.0
+    return stack, ranged
 
 
 def _attenuation(ctrl, pos: np.ndarray, robots: np.ndarray) -> np.ndarray:
