@@ -350,15 +350,17 @@ class OneStepEFE:
         w = np.exp(b)
         # 0 · log 0 = 0: configurations with zero prior carry no mass and no entropy.
         wb = np.multiply(w, b, out=np.zeros_like(w), where=w > 0)
-        mass = np.empty((base.shape[0], self.goals.shape[0]), dtype=w.dtype)
-        tilt = np.empty_like(mass)
-        for robot in np.unique(movers).tolist():
-            groups, cols = self.index.groups(robot), movers == robot
-            if cols.all():
-                mass[:], tilt[:] = np.asarray(groups @ w).T, np.asarray(groups @ wb).T
-            else:
-                mass[cols] = np.asarray(groups @ w[:, cols]).T
-                tilt[cols] = np.asarray(groups @ wb[:, cols]).T
+        # (P, m) in C order whatever the number of perspectives: einsum's rounding below
+        # depends on its operands' memory layout, and the team call must match.
+        if np.all(movers == movers[0]):
+            groups = self.index.groups(int(movers[0]))
+            mass = np.ascontiguousarray(np.asarray(groups @ w).T)
+            tilt = np.ascontiguousarray(np.asarray(groups @ wb).T)
+        else:  # several movers (team call): every robot's groups at once, then pick
+            pick = movers[:, None] * self.goals.shape[0] + np.arange(self.goals.shape[0])
+            stacked = self.index.stacked_groups()
+            mass = np.asarray(stacked @ w).T[per[:, None], pick]
+            tilt = np.asarray(stacked @ wb).T[per[:, None], pick]
         with np.errstate(divide="ignore", invalid="ignore"):
             ln_mass = np.log(mass)
             h_within = np.where(mass > 0, ln_mass - tilt / np.where(mass > 0, mass, 1), 0.0)
