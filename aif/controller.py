@@ -384,7 +384,7 @@ class Controller:
                 self.horizon,
                 self.beam,
             )
-        return self._choose(G, q, focal, rng)
+        return self._choose(G[None], [q], [focal], [rng])[0]
 
     def decide_team(self, observations, robots=None, priors=None, rng=None) -> list[Decision]:
         """Every robot's :meth:`decide` in one vectorised pass.
@@ -424,20 +424,26 @@ class Controller:
         """
         return decide_team(self, observations, robots, priors, rng)
 
-    def _choose(self, G, q, focal: int, rng) -> Decision:
-        """The decision from the candidates' ``G``: least, or sampled from ``q(u)``."""
+    def _choose(self, G: np.ndarray, beliefs, focals, rngs) -> list[Decision]:
+        """Decisions from the candidates' ``G (R, c)``: least (first on ties), or sampled."""
         finite = np.isfinite(G)
-        shifted = np.where(finite, G - G[finite].min(), 0.0)
+        if not finite.any(axis=1).all():
+            raise InvalidArgumentError(
+                "no candidate control has a finite expected free energy",
+                hint="check the weights and the controls",
+            )
+        least = np.where(finite, G, np.inf).min(axis=1, keepdims=True)
+        shifted = np.where(finite, G - least, 0.0)
         with np.errstate(over="ignore"):  # a huge precision: logits -inf, never NaN
             logits = np.where(finite, -self.gamma * shifted, -np.inf)
-        q_pi = softmax(logits)
-        if rng is None:
-            best = np.flatnonzero(G == G[finite].min())
-            index = int(best[0])
-        else:
-            index = select_policy(q_pi, rng)
-        control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
-        return Decision(control, index, G, q_pi, q, focal)
+        q_pi = softmax(logits, axis=1)
+        first = np.argmax(G == least, axis=1)
+        out = []
+        for r, rng in enumerate(rngs):
+            index = int(first[r]) if rng is None else select_policy(q_pi[r], rng)
+            control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
+            out.append(Decision(control, index, G[r], q_pi[r], beliefs[r], int(focals[r])))
+        return out
 
 
 def decide(

@@ -118,24 +118,21 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
         G[group], focals[group] = g, f
         for row, belief in zip(group.tolist(), q, strict=True):
             beliefs[row] = belief
-    out = []
-    for row, robot in enumerate(robots.tolist()):
-        g = G[row]
-        if ctrl.horizon > 1:
+    if ctrl.horizon > 1:
+        for row, robot in enumerate(robots.tolist()):
             pos, prior = obs[robot, :, :2], priors[row]
-            g = receding_horizon(
+            G[row] = receding_horizon(
                 lambda xs, robot=robot, pos=pos, prior=prior: (
                     ctrl._evaluate(robot, pos, xs, prior)[0].G
                 ),
                 first[row],
-                g,
+                G[row],
                 ctrl.controls,
                 ctrl.dt,
                 ctrl.horizon,
                 ctrl.beam,
             )
-        out.append(ctrl._choose(g, beliefs[row], int(focals[row]), rngs[row]))
-    return out
+    return ctrl._choose(G, beliefs, focals, rngs)
 
 
 def _pass(ctrl, obs, robots, first, stay, priors, rows):

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.aif import Controller, valid_configurations
+from epistemica.aif.prior import team_log_prior
 from epistemica.del_.errors import InvalidArgumentError
 
 FAST = settings(max_examples=40, deadline=None)
@@ -142,3 +143,17 @@ def test_bad_arguments_are_refused(call, match):
     with pytest.raises(InvalidArgumentError, match=match):
         call(ctrl, seen)
     assert ctrl.decide_team(seen, []) == []
+
+
+@FAST
+@given(st.integers(1, 5), st.integers(0, 2**32 - 1), st.sampled_from(["rendezvous", "allocation"]))
+def test_team_prior_of_several_views_is_each_views_prior(n, seed, mission):
+    rng = np.random.default_rng(seed)
+    m = n + int(rng.integers(0, 3))
+    goals = rng.uniform(0, 30, (m, 2))
+    rows = valid_configurations(mission, n, m)
+    views = rng.uniform(0, 30, (n, n, 2))
+    together = team_log_prior(views, goals, rows, scale=2.0)
+    alone = np.stack([team_log_prior(v, goals, rows, scale=2.0) for v in views])
+    assert np.array_equal(together, alone)  # bit for bit: the simulator relies on it
+    np.testing.assert_allclose(np.exp(together).sum(axis=1), 1.0, atol=1e-12)
