@@ -169,8 +169,7 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     root[at, :, robots] = root[at, 0, robots][:, None]  # own motion: no own-goal evidence
     if ctrl.position_noise > 0:
         factor = _attenuation(ctrl, pos, robots)
-        base *= factor[owner][:, :, None]
-        moved *= factor[owner, mover][:, None, None]
+        base *= factor[owner][:, :, None]  # (the mover's own row keeps factor 1: exact)
         root *= factor[:, None, :, None]
     log_base, log_moved, log_root = (log_softmax(x, -1) for x in (base, moved, root))
     weights = np.concatenate([v.weights for v in views])
