@@ -34,7 +34,7 @@ from epistemica.aif._validate import as_finite
 from epistemica.aif.evidence import _angle_batch, _check_robot, _stack
 from epistemica.aif.motion import _turn_then_move
 from epistemica.aif.one_step import Terms
-from epistemica.aif.perspective import row_weights
+from epistemica.aif.perspective import _chain_sums, row_weights
 from epistemica.aif.search import receding_horizon
 from epistemica.aif.team_terms import team_terms
 from epistemica.del_.errors import InvalidArgumentError
@@ -153,10 +153,8 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     start = np.concatenate([[0], np.cumsum(sizes)])
     owner = np.repeat(at, sizes)
     agents = np.concatenate([v.agents for v in views])
-    # A BLAS product per robot: the same call, hence the same rounding, as decide's.
-    e = np.concatenate(
-        [np.tensordot(v.counts, stack[r], axes=([1], [1])) for r, v in enumerate(views)]
-    )  # (Q, b, n, m)
+    # (Q, b, n, m): per robot the same BLAS products, hence the same rounding, as decide's.
+    e = np.concatenate([_chain_sums(v.counts, stack[r]) for r, v in enumerate(views)])
     q_all = np.arange(len(agents))
     # Order 0: each perspective's agent knows its own position exactly.
     e[q_all, :, agents] += ranged[owner, :, agents]
