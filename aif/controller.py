@@ -64,6 +64,7 @@ from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.one_step import OneStepEFE, Terms
 from epistemica.aif.perspective import Perspective, _predicted_evidence, perspectives
 from epistemica.aif.search import receding_horizon
+from epistemica.aif.team import decide_team
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = ["Controller", "Decision", "decide"]
@@ -210,6 +211,8 @@ class Controller:
         self.social_weight = self._model.social_weight
         self.preference_floor = self._model.preference_floor
         self._perspective_cache: dict[int, list[Perspective]] = {}
+        self._views_cache: dict = {}  # robot -> its perspectives as arrays (team call)
+        self._chunk = _CHUNK_CELLS  # the team call's passes stay within one chunk
         self.position_noise = float(as_finite(position_noise, "position_noise"))
         if self.position_noise < 0:
             raise InvalidArgumentError(
@@ -381,18 +384,66 @@ class Controller:
                 self.horizon,
                 self.beam,
             )
+        return self._choose(G[None], [q], [focal], [rng])[0]
+
+    def decide_team(self, observations, robots=None, priors=None, rng=None) -> list[Decision]:
+        """Every robot's :meth:`decide` in one vectorised pass.
+
+        Parameters
+        ----------
+        observations : array_like
+            ``(n, n, 3)`` (or ``(n, n, 2)``): row ``i`` holds the poses robot ``i``
+            observes, its own exact (the ``poses`` of ``decide(i, ...)``).
+        robots : sequence of int, optional
+            The deciding robots, distinct (default all, in index order).
+        priors : sequence, optional
+            One prior per deciding robot (each ``None`` or a vector), as ``decide``'s.
+        rng : numpy.random.Generator or sequence of them, optional
+            A single generator is drawn from once per robot in the order of ``robots``,
+            exactly as the loop ``for i in robots: decide(i, ..., rng=rng)``; a sequence
+            gives robot ``robots[j]`` the generator ``rng[j]``.
+
+        Returns
+        -------
+        list of Decision
+            ``[decide(i, observations[i], priors[j], ...) for j, i in enumerate(robots)]``,
+            bit for bit; evidence and terms are computed for all robots together
+            (docs/aif.md, "The team call").
+
+        Examples
+        --------
+        >>> from epistemica.aif.configurations import valid_configurations
+        >>> ctrl = Controller([[10, 0], [-10, 0]], ["range", "range"],
+        ...                   valid_configurations("allocation", 2, 2), order=2)
+        >>> seen = [[[8.0, 0.0, 0.0], [-8.0, 0.0, 3.0]], [[7.0, 1.0, 0.0], [-8.0, 0.0, np.pi]]]
+        >>> team = ctrl.decide_team(seen)
+        >>> [d.control for d in team]              # each drives on to its own goal
+        [(1.0, 0.0), (1.0, 0.0)]
+        >>> bool(np.array_equal(team[1].G, ctrl.decide(1, seen[1]).G))
+        True
+        """
+        return decide_team(self, observations, robots, priors, rng)
+
+    def _choose(self, G: np.ndarray, beliefs, focals, rngs) -> list[Decision]:
+        """Decisions from the candidates' ``G (R, c)``: least (first on ties), or sampled."""
         finite = np.isfinite(G)
-        shifted = np.where(finite, G - G[finite].min(), 0.0)
+        if not finite.any(axis=1).all():
+            raise InvalidArgumentError(
+                "no candidate control has a finite expected free energy",
+                hint="check the weights and the controls",
+            )
+        least = np.where(finite, G, np.inf).min(axis=1, keepdims=True)
+        shifted = np.where(finite, G - least, 0.0)
         with np.errstate(over="ignore"):  # a huge precision: logits -inf, never NaN
             logits = np.where(finite, -self.gamma * shifted, -np.inf)
-        q_pi = softmax(logits)
-        if rng is None:
-            best = np.flatnonzero(G == G[finite].min())
-            index = int(best[0])
-        else:
-            index = select_policy(q_pi, rng)
-        control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
-        return Decision(control, index, G, q_pi, q, focal)
+        q_pi = softmax(logits, axis=1)
+        first = np.argmax(G == least, axis=1)
+        out = []
+        for r, rng in enumerate(rngs):
+            index = int(first[r]) if rng is None else select_policy(q_pi[r], rng)
+            control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
+            out.append(Decision(control, index, G[r], q_pi[r], beliefs[r], int(focals[r])))
+        return out
 
 
 def decide(

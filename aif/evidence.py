@@ -172,15 +172,28 @@ def _angle_batch(v: np.ndarray, pos: np.ndarray, gl: np.ndarray, scale: float) -
     return angle
 
 
-def _stack(pos: np.ndarray, gl: np.ndarray, bearing: np.ndarray, eta: float, eta_bearing: float):
-    """Unchecked core of :func:`measurement_stack`; also returns the range evidence."""
+def _stack(
+    pos: np.ndarray,
+    gl: np.ndarray,
+    bearing: np.ndarray,
+    eta: float,
+    eta_bearing: float,
+    scale=None,
+):
+    """Unchecked core of :func:`measurement_stack`; also returns the range evidence.
+
+    ``scale`` (default: of the whole batch) sets the coincidence tolerance; a ``(b, 1, 1)``
+    array gives each scene its own, so that a batch of several robots' scenes is
+    measured exactly as each robot's batch alone.
+    """
     n = pos.shape[1]
     d = np.hypot(pos[..., :, None, 0] - gl[:, 0], pos[..., :, None, 1] - gl[:, 1])
     ranged = np.exp(-d / eta)
     out = np.empty((pos.shape[0], n, n, gl.shape[0]))
     out[:, ~bearing] = ranged[:, None]
     if bearing.any():
-        ang = _angle_batch(pos[:, bearing], pos[:, None], gl, _scale(pos, gl))
+        scale = _scale(pos, gl) if scale is None else scale
+        ang = _angle_batch(pos[:, bearing], pos[:, None], gl, scale)
         out[:, bearing] = np.exp(-ang / eta_bearing)
     out[:, np.arange(n), np.arange(n)] = 0.0
     return out, ranged

@@ -161,20 +161,22 @@ class OneStepEFE:
 
     def _posterior(self, ll: np.ndarray, log_prior: np.ndarray, prior) -> np.ndarray:
         """Log posteriors ``(k, b)`` from unnormalised log likelihoods ``ll (k, b)``."""
+        if log_prior.ndim == 1:  # one robot's; else one per column (the team call)
+            log_prior, prior = log_prior[:, None], prior[:, None]
         if self.update == "bayes":
-            return log_normalise(ll + log_prior[:, None], 0)
+            return log_normalise(ll + log_prior, 0)
         like = np.exp(log_normalise(ll, 0))
-        return log_normalise(self.weight * like + (1 - self.weight) * prior[:, None], 0)
+        return log_normalise(self.weight * like + (1 - self.weight) * prior, 0)
 
     def _kl_to_preference(self, neg_h: np.ndarray, q_star: np.ndarray) -> np.ndarray:
         """``KL[q || C*] = -H[q] - E_q[ln C*]`` from ``-H[q]`` and the focal mass ``q(c*)``."""
         return np.maximum(neg_h - q_star * self._ln_star - (1 - q_star) * self._ln_other, 0.0)
 
-    def _risk(self, log_q: np.ndarray, focal: int) -> np.ndarray:
-        """``KL[q || C*]`` for each column of ``log_q (k, b)``."""
+    def _risk(self, log_q: np.ndarray, focal) -> np.ndarray:
+        """``KL[q || C*]`` for each column of ``log_q (k, b)`` (``focal``: one, or per column)."""
         q = np.exp(log_q)
         neg_h = np.einsum("kb,kb->b", q, np.where(q > 0, log_q, 0.0))
-        return self._kl_to_preference(neg_h, q[focal])
+        return self._kl_to_preference(neg_h, _at(q, focal))
 
     def terms(self, log_p, weights, robot: int, positions, prior=None):
         """``(Terms, q_root, focal)`` for ``robot`` at each of ``positions (c, 2)``.
@@ -242,11 +244,19 @@ class OneStepEFE:
         risk = weights[0] * np.broadcast_to(risk_root, (c,))
         if len(weights) > 1:
             if self.update == "bayes":
-                # _grouped_risk reads the base from column 0 and candidates from the rest.
-                based = np.concatenate([log_p[1:, :1], log_p[1:]], axis=1)
+                # Each modelled belief at column 0, and the robot's row in every column.
+                modelled = log_p[1:]
+                movers = np.full(modelled.shape[0], robot)
                 r = np.concatenate(
                     [
-                        self._grouped_risk(based[a : a + step], robot, log_prior, focal, uniform)
+                        self._grouped_risk(
+                            modelled[a : a + step, 0],
+                            modelled[a : a + step, :, robot],
+                            movers[a : a + step],
+                            log_prior,
+                            focal,
+                            uniform,
+                        )
                         for a in range(0, len(weights) - 1, step)
                     ]
                 )
@@ -277,26 +287,31 @@ class OneStepEFE:
         )
         return terms, q_root, focal
 
-    def _root_terms(self, ll: np.ndarray, log_prior, prior, q0, focal: int, uniform: bool):
+    def _root_terms(self, ll: np.ndarray, log_prior, prior, q0, focal, uniform):
         """Belief risk and reading term of the robot's own perspective, per column of ``ll``.
 
         ``ll (k, b)`` are unnormalised log likelihoods of the valid rows; it is consumed
         (overwritten) to avoid fresh (k x b) buffers, whose page faults dominate here.
+        In the team call the columns belong to several robots: ``log_prior``, ``prior`` and
+        ``q0`` are then ``(k, b)``, ``focal`` and ``uniform`` ``(b,)``, one per column.
         """
-        fast = self.update == "bayes" and uniform
-        if not fast:
-            risk = self._risk(self._posterior(ll, log_prior, prior), focal)
+        fast = np.logical_and(self.update == "bayes", uniform)
+        if not np.all(fast):
+            risk = slow = self._risk(self._posterior(ll, log_prior, prior), focal)
         d = ll
         d -= ll.max(axis=0, keepdims=True)
         ell = np.exp(d)  # P(R = 1 | s) = L(s) / max L
         q0 = q0.astype(ell.dtype)  # mixed precision would leave the fast loops
-        if fast:
+        if np.any(fast):
             # q'(s) ∝ ell(s): reuse ell and d instead of a second exponential pass.
             z = ell.sum(axis=0)
             neg_h = np.einsum("kb,kb->b", ell, d) / z - np.log(z)
-            risk = self._kl_to_preference(neg_h, ell[focal] / z)
+            risk = self._kl_to_preference(neg_h, _at(ell, focal) / z)
+            if not np.all(fast):
+                risk = np.where(fast, risk, slow)
         # I(S; R) = h(E_q ell) - E_q h(ell), h the binary entropy; ln ell = d exactly.
-        mean = np.clip(np.einsum("k,kb->b", q0, ell), 0.0, 1.0)
+        weigh = "k,kb->b" if q0.ndim == 1 else "kb,kb->b"
+        mean = np.clip(np.einsum(weigh, q0, ell), 0.0, 1.0)
         d *= ell  # ell ln ell
         log1m = np.zeros_like(ell)
         if ell.dtype == np.float64:
@@ -306,35 +321,50 @@ class OneStepEFE:
             np.log(one_minus, out=log1m, where=one_minus > 0)
         log1m *= one_minus
         d += log1m
-        e_h = -np.einsum("k,kb->b", q0, d)
+        e_h = -np.einsum(weigh, q0, d)
         h_mean = -(xlogy(mean, mean) + xlogy(1 - mean, 1 - mean))
         reading = np.log(2.0) - np.maximum(h_mean - e_h, 0.0)
         return risk, reading
 
-    def _grouped_risk(
-        self, log_p: np.ndarray, robot: int, log_prior: np.ndarray, focal: int, uniform: bool
-    ) -> np.ndarray:
-        """``KL[q'_u || C*]`` of perspectives where only ``robot``'s row moves: ``(P, c)``.
+    def _grouped_risk(self, base, moved, movers, log_prior, focal, uniform) -> np.ndarray:
+        """``KL[q'_u || C*]`` of perspectives where only one robot's row moves: ``(P, c)``.
 
+        ``base (P, n, m)`` are the log goal probabilities at column 0, ``moved (P, c, m)``
+        the moving robot's row in every column, ``movers (P,)`` that robot.
         ``q'_u(s) ∝ w(s) exp(f_u[s_i])`` with ``w`` fixed, so grouping the rows by the goal
         ``s_i`` gives the normaliser, the entropy (between-group + within-group) and the
-        focal mass from per-goal sums computed once: O(m) per candidate.
+        focal mass from per-goal sums computed once: O(m) per candidate. ``log_prior``,
+        ``focal`` and ``uniform`` are one robot's, or per perspective (``(k, P)``,
+        ``(P,)``) in the team call.
         """
-        base = log_p[:, 0].copy()  # (P, n, m)
-        base[:, robot] = 0.0
+        per = np.arange(base.shape[0])
+        base = base.copy()
+        base[per, movers] = 0.0
         b = self.index.row_sums(base)  # (k, P)
-        if not uniform:
-            b = b + log_prior[:, None]
+        if np.ndim(uniform) == 0:
+            if not uniform:
+                b = b + log_prior[:, None]
+        elif not np.all(uniform):
+            b = np.where(uniform, b, b + log_prior)
         b -= b.max(axis=0, keepdims=True)
         w = np.exp(b)
-        groups = self.index.groups(robot)
-        mass = np.asarray(groups @ w).T  # (P, m)
         # 0 · log 0 = 0: configurations with zero prior carry no mass and no entropy.
-        tilt = np.asarray(groups @ np.multiply(w, b, out=np.zeros_like(w), where=w > 0)).T
+        wb = np.multiply(w, b, out=np.zeros_like(w), where=w > 0)
+        # (P, m) in C order whatever the number of perspectives: einsum's rounding below
+        # depends on its operands' memory layout, and the team call must match.
+        if np.all(movers == movers[0]):
+            groups = self.index.groups(int(movers[0]))
+            mass = np.ascontiguousarray(np.asarray(groups @ w).T)
+            tilt = np.ascontiguousarray(np.asarray(groups @ wb).T)
+        else:  # several movers (team call): every robot's groups at once, then pick
+            pick = movers[:, None] * self.goals.shape[0] + np.arange(self.goals.shape[0])
+            stacked = self.index.stacked_groups()
+            mass = np.asarray(stacked @ w).T[per[:, None], pick]
+            tilt = np.asarray(stacked @ wb).T[per[:, None], pick]
         with np.errstate(divide="ignore", invalid="ignore"):
             ln_mass = np.log(mass)
             h_within = np.where(mass > 0, ln_mass - tilt / np.where(mass > 0, mass, 1), 0.0)
-        f = log_p[:, 1:, robot, :]  # (P, c, m)
+        f = moved  # (P, c, m)
         logits = f + ln_mass[:, None, :]
         top = logits.max(axis=-1, keepdims=True)
         log_z = top + np.log(np.exp(logits - top).sum(axis=-1, keepdims=True))
@@ -343,6 +373,11 @@ class OneStepEFE:
         h = -np.sum(marg * np.where(marg > 0, log_marg, 0.0), axis=-1) + np.einsum(
             "pcm,pm->pc", marg, h_within
         )
-        g_star = self.configurations[focal, robot]
-        q_star = np.exp(b[focal][:, None] + f[:, :, g_star] - log_z[..., 0])
+        g_star = self.configurations[focal, movers]  # (P,)
+        q_star = np.exp(_at(b, focal)[:, None] + f[per, :, g_star] - log_z[..., 0])
         return self._kl_to_preference(-h, q_star)
+
+
+def _at(x: np.ndarray, rows) -> np.ndarray:
+    """``x[rows]`` for one row; ``x[rows[j], j]`` for one row per column."""
+    return x[rows] if np.ndim(rows) == 0 else x[rows, np.arange(x.shape[1])]

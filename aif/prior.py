@@ -82,7 +82,8 @@ def team_log_prior(
     Parameters
     ----------
     positions : array_like
-        ``(n, 2)`` (or ``(n, 3)``) robot positions as the deciding robot observes them.
+        ``(n, 2)`` (or ``(n, 3)``) robot positions as the deciding robot observes them, or
+        ``(R, n, 2)``: the views of ``R`` robots, one prior each (``(R, k)``).
     goals : array_like
         ``(m, 2)`` goal positions.
     configurations : array_like
@@ -101,18 +102,32 @@ def team_log_prior(
     >>> float(np.exp(lp[0] - lp[1])) == float(np.exp(16.0))  # 16 m cheaper, 1 m per nat
     True
     """
-    x = as_finite(positions, "positions", ndim=2)[:, :2]
+    x = as_finite(positions, "positions")
+    single = x.ndim == 2
+    if single:
+        x = x[None]
+    if x.ndim != 3 or x.shape[2] < 2:
+        raise InvalidArgumentError(
+            f"positions must be (n, 2) or (R, n, 2), got shape {x.shape}",
+            hint="one row of x, y per robot",
+        )
+    x = x[..., :2]
     g = as_finite(goals, "goals", ndim=2, shape=(None, 2))
-    rows = check_configurations(configurations, x.shape[0], g.shape[0]).astype(np.intp)
+    rows = check_configurations(configurations, x.shape[1], g.shape[0]).astype(np.intp)
     scale = positive(scale, "scale")
     tie_weight = nonnegative(tie_weight, "tie_weight")
-    distance = np.hypot(*(x[:, None, :] - g[None, :, :]).transpose(2, 0, 1))  # (n, m)
-    cost = distance[np.arange(x.shape[0]), rows].sum(axis=1)
+    distance = np.hypot(x[..., :, None, 0] - g[:, 0], x[..., :, None, 1] - g[:, 1])  # (R, n, m)
+    # Gathered in C order whatever R (the gather's layout changes the sum's rounding).
+    cost = np.ascontiguousarray(distance[:, np.arange(x.shape[1]), rows]).sum(axis=-1)
     if rank is None:
         rank = shared_rank(g, rows) if tie_weight > 0 else np.zeros(rows.shape[0])
-    logits = -(cost - cost.min()) / scale - tie_weight * rank
-    logits -= logits.max()
-    return logits - np.log(np.exp(logits).sum())
+    logits = -(cost - cost.min(axis=1, keepdims=True)) / scale - tie_weight * rank
+    logits -= logits.max(axis=1, keepdims=True)
+    # Row by row: a 1-D sum runs pairwise, a 2-D one need not; a view's prior is then the
+    # same whether it is computed alone or with the team's.
+    norm = np.array([np.exp(row).sum() for row in logits])
+    out = logits - np.log(norm)[:, None]
+    return out[0] if single else out
 
 
 def plausible_configurations(

@@ -57,6 +57,7 @@ class RowIndex:
         self.dtype = dtype
         self._onehot: csr_matrix | None = None
         self._groups: dict[int, csr_matrix] = {}
+        self._stacked: csr_matrix | None = None
 
     def row_sums(self, tables: np.ndarray) -> np.ndarray:
         """``out[s, b] = sum_r tables[b, r, c_s[r]]`` for every valid row: ``(b, n, m) -> (k, b)``.
@@ -93,9 +94,28 @@ class RowIndex:
         """
         if robot not in self._groups:
             robot = _check_robot(robot, self.configurations.shape[1])
-            g = self.configurations[:, robot]
-            k = g.size
-            self._groups[robot] = csr_matrix(
-                (np.ones(k, dtype=self.dtype), (g, np.arange(k))), shape=(self.n_goals, k)
-            )
+            self._groups[robot] = self._indicator(self.configurations[:, robot], self.n_goals)
         return self._groups[robot]
+
+    def stacked_groups(self) -> csr_matrix:
+        """Every robot's :meth:`groups`, stacked: ``(n m, k)``, row ``r m + g``.
+
+        Row ``r m + g`` lists the same rows in the same order as row ``g`` of
+        ``groups(r)``, so its products are computed term by term alike.
+
+        Examples
+        --------
+        >>> RowIndex([[0, 1], [1, 0], [1, 1]], 2).stacked_groups().toarray().tolist()
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
+        """
+        if self._stacked is None:
+            n = self.configurations.shape[1]
+            shifted = self.configurations + np.arange(n) * self.n_goals  # (k, n)
+            self._stacked = self._indicator(shifted.T.ravel(), n * self.n_goals)
+        return self._stacked
+
+    def _indicator(self, goal: np.ndarray, rows: int) -> csr_matrix:
+        # Entry (goal[j], j mod k): within a row, the valid rows in increasing order.
+        k = self.configurations.shape[0]
+        cols = np.arange(goal.size) % k
+        return csr_matrix((np.ones(goal.size, dtype=self.dtype), (goal, cols)), shape=(rows, k))

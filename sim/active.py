@@ -150,23 +150,25 @@ class ActiveInference(Policy):
             s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
         )
 
-    def _prior(self, ctrl: Controller, view: np.ndarray, robot: int) -> np.ndarray | None:
-        log_prior = np.zeros(ctrl.configurations.shape[0])
+    def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:
+        """Each robot's prior from its own view ``views[j]`` (``None``: uniform)."""
+        log_prior = np.zeros((len(robots), ctrl.configurations.shape[0]))
         if self.prior_scale is not None:
             rank = self._ranks.get(ctrl)
             if rank is None:
                 rank = self._ranks[ctrl] = shared_rank(ctrl.goals, ctrl.configurations)
             log_prior += team_log_prior(
-                view, ctrl.goals, ctrl.configurations, self.prior_scale, self.tie_weight, rank
+                views, ctrl.goals, ctrl.configurations, self.prior_scale, self.tie_weight, rank
             )
-        remembered = self._beliefs.get(robot)
-        if self.memory > 0 and remembered is not None and remembered[0] is ctrl:
-            with np.errstate(divide="ignore"):
-                log_prior += self.memory * np.log(remembered[1])
-        if not log_prior.any():
-            return None
-        prior = np.exp(np.maximum(log_prior - log_prior.max(), self.LOG_PRIOR_FLOOR))
-        return prior / prior.sum()
+        for j, robot in enumerate(robots):
+            remembered = self._beliefs.get(robot)
+            if self.memory > 0 and remembered is not None and remembered[0] is ctrl:
+                with np.errstate(divide="ignore"):
+                    log_prior[j] += self.memory * np.log(remembered[1])
+        top = log_prior.max(axis=1, keepdims=True)
+        prior = np.exp(np.maximum(log_prior - top, self.LOG_PRIOR_FLOOR))
+        # Each row normalised alone: a 1-D sum rounds as the single robot's call did.
+        return [p / p.sum() if lp.any() else None for p, lp in zip(prior, log_prior, strict=True)]
 
     def _configurations(self, observations: Observations, robot: int):
         """Goal indices the robot reasons over, and a builder of their configurations."""
@@ -218,6 +220,9 @@ class ActiveInference(Policy):
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
         out = out._replace(goal_belief=np.zeros((len(robots), m)))
         out = out._replace(unpruned=np.zeros(len(robots), dtype=int))
+        # Robots that share a controller (same goals, set and limits) decide in one team
+        # call, which returns what their separate decide calls would, bit for bit.
+        groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
@@ -225,16 +230,24 @@ class ActiveInference(Policy):
             configurations, before = self._pruned(observations, robot, goals, configurations)
             out.unpruned[row] = before
             ctrl = self._controller(robot, goals, configurations)
-            view = observations.poses[robot]
-            d = ctrl.decide(robot, view, prior=self._prior(ctrl, view, robot))
-            if self.memory > 0:
-                self._beliefs[robot] = (ctrl, d.belief)
-            out.controls[row] = d.control
-            out.focal[row] = goals[ctrl.configurations[d.focal]]
-            out.entropy[row] = entropy(d.belief)
-            out.considered[row] = ctrl.configurations.shape[0]
-            if out.unpruned[row] < 0:
-                out.unpruned[row] = out.considered[row]
-            own = goals[ctrl.configurations[:, robot]]
-            out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)
+            groups.setdefault(id(ctrl), (ctrl, goals, []))[2].append((row, robot))
+        for ctrl, goals, members in groups.values():
+            rows, team = zip(*members, strict=True)
+            priors = self._priors(ctrl, observations.poses[list(team)], team)
+            decisions = ctrl.decide_team(observations.poses, team, priors)
+            for row, robot, d in zip(rows, team, decisions, strict=True):
+                self._record(out, row, robot, ctrl, goals, d)
         return out
+
+    def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
+        if self.memory > 0:
+            self._beliefs[robot] = (ctrl, d.belief)
+        out.controls[row] = d.control
+        out.focal[row] = goals[ctrl.configurations[d.focal]]
+        out.entropy[row] = entropy(d.belief)
+        out.considered[row] = ctrl.configurations.shape[0]
+        if out.unpruned[row] < 0:
+            out.unpruned[row] = out.considered[row]
+        own = goals[ctrl.configurations[:, robot]]
+        m = out.goal_belief.shape[1]
+        out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)
