@@ -329,7 +329,7 @@ class Controller:
         xs = as_finite(candidates, "candidates", ndim=2, shape=(None, 2))
         return self._evaluate(robot, pos, xs, self._prior(prior))[0]
 
-    def _evaluate(self, robot, pos, xs, prior):
+    def _evaluate(self, robot, pos, xs, prior, modelled=None):
         views = self.perspectives(robot)
         weights = np.array([p.weight for p in views])
         # Column 0 is the current position; candidates that stop share it.
@@ -338,11 +338,30 @@ class Controller:
         back[~stay] = 1 + np.arange(np.count_nonzero(~stay))
         batch = np.concatenate([pos[robot][None], xs[~stay]])
         log_p = log_softmax(self._evidence(views, robot, pos, batch), -1)
-        terms, q_root, focal = self._model._terms(log_p, weights, robot, batch, prior)
+        terms, q_root, focal = self._model._terms(log_p, weights, robot, batch, prior, modelled)
         return Terms(*(t[back] for t in terms)), q_root, focal
 
+    def _modelled(self, robot: int, priors) -> np.ndarray | None:
+        """``(k, P - 1)`` priors of the modelled perspectives, validated, or None."""
+        if priors is None:
+            return None
+        views = self.perspectives(robot)
+        k = self.configurations.shape[0]
+        if len(priors) != len(views) - 1:
+            raise InvalidArgumentError(
+                f"modelled_priors has {len(priors)} entries for {len(views) - 1} modelled "
+                "perspectives",
+                hint="one prior per perspective after the first of Controller.perspectives",
+            )
+        return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)
+
     def decide(
-        self, robot: int, poses, prior=None, rng: np.random.Generator | None = None
+        self,
+        robot: int,
+        poses,
+        prior=None,
+        rng: np.random.Generator | None = None,
+        modelled_priors=None,
     ) -> Decision:
         """Choose robot ``robot``'s next control from the poses it observes.
 
@@ -358,6 +377,11 @@ class Controller:
             posterior turns the controller into a filter; see docs/aif.md on latching.
         rng : numpy.random.Generator, optional
             Sample the control from ``q(u)`` with it; otherwise take the least ``G``.
+        modelled_priors : sequence of array_like, optional
+            One prior per modelled perspective (``perspectives(robot)[1:]``): what the
+            robot thinks that teammate considers possible, e.g. zero on configurations the
+            robot knows the teammate has ruled out (docs/aif.md, "Nested configuration
+            sets"). Default: ``prior`` for every perspective.
 
         Examples
         --------
@@ -370,13 +394,14 @@ class Controller:
         robot = _check_robot(robot, len(self.sensors))
         poses = self._poses(poses)
         prior = self._prior(prior)
+        modelled = self._modelled(robot, modelled_priors)
         pos = poses[:, :2]
         first = predict_poses(poses[robot], self.controls, self.dt)
-        terms, q, focal = self._evaluate(robot, pos, first[:, :2], prior)
+        terms, q, focal = self._evaluate(robot, pos, first[:, :2], prior, modelled)
         G = terms.G
         if self.horizon > 1:
             G = receding_horizon(
-                lambda xs: self._evaluate(robot, pos, xs, prior)[0].G,
+                lambda xs: self._evaluate(robot, pos, xs, prior, modelled)[0].G,
                 first,
                 G,
                 self.controls,

@@ -215,8 +215,9 @@ class OneStepEFE:
         batch = as_finite(positions, "positions", ndim=2, shape=(lp.shape[1], 2))
         return self._terms(lp, w, robot, batch, self._check_prior(prior))
 
-    def _terms(self, log_p, weights, robot, batch, prior):
-        """Unchecked :meth:`terms`; ``prior`` is a probability vector."""
+    def _terms(self, log_p, weights, robot, batch, prior, modelled=None):
+        """Unchecked :meth:`terms`; ``prior`` is a probability vector, ``modelled`` None or
+        ``(k, P - 1)`` priors of the modelled perspectives (default ``prior``)."""
         k = self.configurations.shape[0]
         c = batch.shape[0]
         with np.errstate(divide="ignore"):
@@ -243,19 +244,24 @@ class OneStepEFE:
         reading = np.concatenate([p[1] for p in parts])
         risk = weights[0] * np.broadcast_to(risk_root, (c,))
         if len(weights) > 1:
+            m_prior, m_log, m_uniform = prior, log_prior, uniform
+            if modelled is not None:
+                with np.errstate(divide="ignore"):
+                    m_prior, m_log = modelled, np.log(modelled)
+                m_uniform = np.all(modelled == modelled[:1], axis=0)
             if self.update == "bayes":
                 # Each modelled belief at column 0, and the robot's row in every column.
-                modelled = log_p[1:]
-                movers = np.full(modelled.shape[0], robot)
+                views = log_p[1:]
+                movers = np.full(views.shape[0], robot)
                 r = np.concatenate(
                     [
                         self._grouped_risk(
-                            modelled[a : a + step, 0],
-                            modelled[a : a + step, :, robot],
+                            views[a : a + step, 0],
+                            views[a : a + step, :, robot],
                             movers[a : a + step],
-                            log_prior,
+                            m_log if modelled is None else m_log[:, a : a + step],
                             focal,
-                            uniform,
+                            m_uniform if modelled is None else m_uniform[a : a + step],
                         )
                         for a in range(0, len(weights) - 1, step)
                     ]
@@ -267,14 +273,16 @@ class OneStepEFE:
                             [
                                 self._risk(
                                     self._posterior(
-                                        self.index.row_sums(lp[a : a + step]), log_prior, prior
+                                        self.index.row_sums(lp[a : a + step]),
+                                        m_log if modelled is None else m_log[:, p],
+                                        m_prior if modelled is None else m_prior[:, p],
                                     ),
                                     focal,
                                 )
                                 for a in range(0, c, step)
                             ]
                         )
-                        for lp in log_p[1:]
+                        for p, lp in enumerate(log_p[1:])
                     ]
                 )
             risk = risk + weights[1:] @ r

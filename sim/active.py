@@ -17,11 +17,13 @@ import numpy as np
 
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.aif.controller import Controller
+from epistemica.aif.evidence import perspective_sets
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
+from epistemica.aif.perspective import perspectives as _perspectives
 from epistemica.aif.prior import plausible_configurations, shared_rank, team_log_prior
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.baselines import open_goals
+from epistemica.sim.baselines import Convention, open_goals
 from epistemica.sim.policy import Decisions, Policy
 from epistemica.sim.sensing import Observations
 from epistemica.sim.tasking import select_tasks, task_slots
@@ -128,6 +130,9 @@ class ActiveInference(Policy):
         # an id() of a collected one may be reused by the next.
         self._ranks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._beliefs: dict[int, tuple[Controller, np.ndarray]] = {}  # robot -> (ctrl, q)
+        # Too few goals known for any valid configuration: explore as the convention does.
+        self._explorer = Convention()
+        self._explorer.start(scenario, robots, generators)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
@@ -206,14 +211,63 @@ class ActiveInference(Policy):
         rows = plausible_configurations(cost, mission, capacities, within)
         return _Pruned(rows)
 
-    def _pruned(self, observations: Observations, robot: int, goals, configurations):
-        """The configurations left by what the robot knows, and how many there were."""
+    def _explore(self, out: Decisions, row: int, observations: Observations, robot: int) -> None:
+        """The convention's move on the goals the robot knows (fewer than the mission
+        needs): the least-cost partial assignment, its own goal as the target."""
+        d = self._explorer.decide(observations, np.array([robot]))
+        out.controls[row], out.focal[row] = d.controls[0], d.focal[0]
+
+    def _knows_more(self, observations: Observations, robot: int) -> bool:
+        """Whether events, told facts or private goals make the robot's own set, or those
+        of the teammates it models, differ from the unpruned one."""
         knowledge = observations.knowledge
-        if not self.pruning or knowledge is None or not knowledge.constrains((robot,)):
-            return configurations, -1
+        if not self.pruning or knowledge is None or self.scenario.mission == "multitask":
+            return False
+        return knowledge.constrains((robot,)) or (
+            self.order >= 2 and knowledge.private_goals(robot)
+        )
+
+    def _decide_nested(self, out, row, observations, robot, goals, configurations) -> None:
+        """Decide over nested configuration sets (docs/aif.md, "Nested configuration sets").
+
+        The robot's own belief ranges over what its chain ``(i,)`` keeps; its model of
+        teammate ``j`` over what ``(i, j)`` keeps, and of ``k`` as ``j`` models it over what
+        some chain ``(i, j, k)`` keeps. The controller's table is their union; each
+        perspective's prior is the team prior restricted to its set.
+        """
+        knowledge, s = observations.knowledge, self.scenario
         rows = configurations()
-        keep = knowledge.possible((robot,), goals[rows])
-        return _Pruned(rows[keep]), rows.shape[0]
+        table = goals[rows]
+        own = knowledge.possible((robot,), table)
+        chains = perspective_sets(s.sensors, robot, self.order)
+        masks = []
+        for view in _perspectives(s.sensors, robot, self.order)[1:]:
+            level = 2 if view.order == self.order - 1 else 3
+            mask = np.zeros(len(rows), dtype=bool)
+            for chain in chains[level]:
+                if chain[-1] == view.agent:
+                    mask |= knowledge.possible(chain, table)
+            masks.append(mask)
+        keep = own | np.logical_or.reduce(masks) if masks else own
+        ctrl = self._controller(robot, goals, _Pruned(rows[keep]))
+        view_poses = observations.poses[robot]
+        base = self._priors(ctrl, view_poses[None], (robot,))[0]
+        base = np.full(int(keep.sum()), 1.0) if base is None else base
+
+        def restricted(mask: np.ndarray) -> np.ndarray:
+            p = np.where(mask[keep], base, 0.0)
+            total = p.sum()
+            return p / total if total > 0 else base  # a chain with no set: no restriction
+
+        d = ctrl.decide(
+            robot,
+            view_poses,
+            prior=restricted(own),
+            modelled_priors=[restricted(m) for m in masks] or None,
+        )
+        out.unpruned[row] = rows.shape[0]
+        self._record(out, row, robot, ctrl, goals, d)
+        out.considered[row] = int(own.sum())
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         n, m = self.scenario.n_robots, self.scenario.n_goals
@@ -226,9 +280,13 @@ class ActiveInference(Policy):
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
-                continue  # stays put: nothing known to go to
-            configurations, before = self._pruned(observations, robot, goals, configurations)
-            out.unpruned[row] = before
+                if observations.known_goals[robot].any():
+                    self._explore(out, row, observations, robot)
+                continue  # nothing known: stays put
+            if self._knows_more(observations, robot):
+                self._decide_nested(out, row, observations, robot, goals, configurations)
+                continue
+            out.unpruned[row] = -1
             ctrl = self._controller(robot, goals, configurations)
             groups.setdefault(id(ctrl), (ctrl, goals, []))[2].append((row, robot))
         for ctrl, goals, members in groups.values():

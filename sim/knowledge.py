@@ -135,6 +135,11 @@ class TeamKnowledge:
         c = self._chain(chain)
         return any(b & c == c for *_, b in self._settled) or any(b & c == c for _, b in self._told)
 
+    def private_goals(self, robot: int) -> bool:
+        """Whether ``robot`` knows of a goal that it does not know every teammate knows."""
+        own = self.knows_goals((robot,))
+        return any((own & ~self.knows_goals((robot, j))).any() for j in range(self.n) if j != robot)
+
     def knows_goals(self, chain: Sequence[int]) -> np.ndarray:
         """``(m,)`` the goals the chain knows of."""
         c = self._chain(chain)

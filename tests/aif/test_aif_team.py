@@ -157,3 +157,65 @@ def test_team_prior_of_several_views_is_each_views_prior(n, seed, mission):
     alone = np.stack([team_log_prior(v, goals, rows, scale=2.0) for v in views])
     assert np.array_equal(together, alone)  # bit for bit: the simulator relies on it
     np.testing.assert_allclose(np.exp(together).sum(axis=1), 1.0, atol=1e-12)
+
+
+# -- nested configuration sets: one prior per modelled perspective ----------------------
+
+
+def _two_goal_controller(order=2):
+    from epistemica.aif.configurations import valid_configurations
+
+    return Controller(
+        [[10.0, 0.0], [-10.0, 0.0], [0.0, 10.0]],
+        ["range", "bearing", "range"],
+        valid_configurations("allocation", 3, 3),
+        order=order,
+    )
+
+
+def test_modelled_priors_equal_to_the_prior_change_nothing():
+    ctrl = _two_goal_controller()
+    poses = [[6.0, 1.0, 0.0], [-5.0, 2.0, 1.0], [1.0, 6.0, 0.0]]
+    prior = np.linspace(1.0, 2.0, 6)
+    prior /= prior.sum()
+    plain = ctrl.decide(0, poses, prior=prior)
+    same = ctrl.decide(0, poses, prior=prior, modelled_priors=[prior] * 2)
+    assert np.array_equal(plain.G, same.G) and plain.control == same.control
+
+
+def test_a_modelled_belief_certain_of_the_focal_configuration_adds_a_constant_risk():
+    # With a one-hot prior on the focal row, a modelled posterior is that row whatever the
+    # move, so its KL to the preference is the same for every candidate; with the plain
+    # prior it is not.
+    ctrl = _two_goal_controller()
+    poses = np.array([[6.0, 1.0, 0.0], [-5.0, 2.0, 1.0], [1.0, 6.0, 0.0]])
+    k = ctrl.configurations.shape[0]
+    prior = np.full(k, 1.0 / k)
+    _, focal = ctrl.beliefs(0, poses)
+    onehot = np.zeros(k)
+    onehot[focal] = 1.0
+    xs = poses[0, :2] + np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.5, 0.5]])
+    total = sum(v.weight for v in ctrl.perspectives(0))
+    root = _root_risk(ctrl, poses, xs, prior)
+    certain = ctrl._evaluate(0, poses[:, :2], xs, prior, np.stack([onehot, onehot], axis=1))
+    plain = ctrl._evaluate(0, poses[:, :2], xs, prior)
+    assert np.ptp(certain[0].belief_risk * total - root) < 1e-9
+    assert np.ptp(plain[0].belief_risk * total - root) > 1e-6
+
+
+def _root_risk(ctrl, poses, xs, prior):
+    """w0 · risk of the root perspective alone, per candidate."""
+    from epistemica.aif._logspace import log_softmax
+
+    views = ctrl.perspectives(0)
+    pos = poses[:, :2]
+    batch = np.concatenate([pos[0][None], xs])
+    log_p = log_softmax(ctrl._evidence(views[:1], 0, pos, batch), -1)
+    terms = ctrl._model._terms(log_p, np.array([views[0].weight]), 0, batch, prior)[0]
+    return terms.belief_risk[1:] * views[0].weight
+
+
+def test_modelled_priors_are_validated():
+    ctrl = _two_goal_controller()
+    with pytest.raises(InvalidArgumentError, match="modelled perspectives"):
+        ctrl.decide(0, [[6.0, 1.0], [-5.0, 2.0], [1.0, 6.0]], modelled_priors=[None])

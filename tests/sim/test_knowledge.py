@@ -161,3 +161,22 @@ def test_settle_events_of_a_trial_are_recorded_with_their_observers():
         here = trial.trajectory[step, :, :2]
         near = np.flatnonzero(np.hypot(*(here - here[robot]).T) <= 8.0)
         assert set(observers) == set(near.tolist())
+
+
+def test_nested_sets_that_prune_nothing_leave_the_trial_unchanged():
+    # A tautology told to everyone routes every robot through the nested-set decision,
+    # whose sets are then the whole table: the trial must equal the plain one.
+    base = Scenario.paper("allocation", 3, 3, seed=2)
+    told = base.replace(told=[((True,) * 3, parse_formula("assigned(r1, g1) | ~assigned(r1, g1)"))])
+    plain, nested = simulate(base, "third", seed=2), simulate(told, "third", seed=2)
+    assert np.allclose(plain.trajectory, nested.trajectory, atol=1e-9)
+    assert plain.success == nested.success
+
+
+def test_a_robot_models_a_teammate_over_the_goals_it_knows_the_teammate_knows():
+    # Robot 0 alone knows goal 2; in its model of robot 1 (chain (0, 1)) goal 2 is absent.
+    k = TeamKnowledge(2, 3, known_goals=[[True, True, True], [True, True, False]])
+    rows = valid_configurations("allocation", 2, 3)
+    assert k.possible((0,), rows).sum() == 6
+    assert k.possible((0, 1), rows).tolist() == [2 not in r for r in rows.tolist()]
+    assert k.private_goals(0) and not k.private_goals(1)
