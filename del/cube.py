@@ -48,7 +48,7 @@ from epistemica.del_.formula import (
     Top,
 )
 
-__all__ = ["Cube", "Space", "announce_node", "bits_node"]
+__all__ = ["Cube", "Space", "announce_node", "bits_node", "pack_bits"]
 
 _ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 # _LOW[p]: the bits of a 64-bit word whose in-word position has bit p clear.
@@ -71,7 +71,8 @@ def _unpack(bits: np.ndarray) -> np.ndarray:
     return np.unpackbits(little.view(np.uint8), bitorder="little").view(bool)
 
 
-def _pack(flags: np.ndarray) -> np.ndarray:
+def pack_bits(flags: np.ndarray) -> np.ndarray:
+    """Booleans (one per code, a multiple of 64) as a bitset."""
     packed = np.packbits(flags, bitorder="little")
     return packed.view("<u8").astype(np.uint64, copy=False)
 
@@ -173,6 +174,10 @@ class Cube:
         """Whether so few codes are live that compact worlds beat bitsets."""
         return self.count() * _SPARSE < self.space.words
 
+    def closed_under_flip(self, p: int) -> bool:
+        """Whether flipping code bit ``p`` of a live code always gives a live code."""
+        return bool(np.array_equal(_pair_and(self.alive, p), self.alive))
+
     def test(self, bits: np.ndarray, codes: np.ndarray) -> np.ndarray:
         """The bits at the given codes, as booleans."""
         words = bits[codes >> 6]
@@ -189,7 +194,7 @@ class Cube:
         """The bitset whose live bits are the compact boolean ``mask``."""
         flags = np.zeros(self.space.words * 64, dtype=bool)
         flags[_unpack(self.alive)] = mask
-        return _pack(flags)
+        return pack_bits(flags)
 
     # -- bit patterns and boxes ---------------------------------------------------------
 
