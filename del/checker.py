@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import gc
 from collections.abc import Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -153,12 +154,15 @@ def designated_truth(
 # -- formula analysis -------------------------------------------------------------------
 
 # Per node (by identity, so that deep formulas are never compared or hashed
-# recursively): (registers needed, mentions a named action).
-_ANALYSES: dict[int, tuple[Formula, dict[int, tuple[int, bool]]]] = {}
+# recursively): (registers needed, mentions a named action, height).
+_ANALYSES: dict[int, tuple[Formula, dict[int, tuple[int, bool, int]]]] = {}
 _ANALYSED_NODES = 1 << 20
+# Taller subformulas are memoised by identity: comparing two equal but distinct trees
+# would recurse once per level.
+_STRUCTURAL_HEIGHT = 200
 
 
-def _analyse(root: Formula) -> dict[int, tuple[int, bool]]:
+def _analyse(root: Formula) -> dict[int, tuple[int, bool, int]]:
     """Post-order pass over ``root``: Sethi-Ullman numbers and whether actions occur.
 
     Evaluating the child that needs more live results first keeps at most about
@@ -169,7 +173,7 @@ def _analyse(root: Formula) -> dict[int, tuple[int, bool]]:
     found = _ANALYSES.get(id(root))
     if found is not None and found[0] is root:
         return found[1]
-    table: dict[int, tuple[int, bool]] = {}
+    table: dict[int, tuple[int, bool, int]] = {}
     stack: list[tuple[Formula, bool]] = [(root, False)]
     while stack:
         node, expanded = stack.pop()
@@ -192,7 +196,8 @@ def _analyse(root: Formula) -> dict[int, tuple[int, bool]]:
             need = left + 1 if left == right else max(left, right)
         else:
             need = info[0][0] + isinstance(node, After)
-        table[id(node)] = (need, action)
+        height = 1 + max((i[2] for i in info), default=0)
+        table[id(node)] = (need, action, height)
     if sum(len(t) for _, t in _ANALYSES.values()) + len(table) > _ANALYSED_NODES:
         _ANALYSES.clear()
     _ANALYSES[id(root)] = (root, table)
@@ -215,9 +220,21 @@ class _Run:
     def __init__(self, actions: Mapping[str, ActionModel] | None) -> None:
         self.actions = dict(actions or {})
         self.key = frozenset((name, id(a)) for name, a in self.actions.items())
-        self.info: dict[int, tuple[int, bool]] = {}
+        self.info: dict[int, tuple[int, bool, int]] = {}
 
     def value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+        if not gc.isenabled():
+            return self._value(model, root, bits)
+        # A large formula means one suspended generator per pending node: the cyclic
+        # garbage collector would rescan them all, over and over (quadratic time).
+        # Evaluation makes no reference cycles, so it can wait until the end.
+        gc.disable()
+        try:
+            return self._value(model, root, bits)
+        finally:
+            gc.enable()
+
+    def _value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
         self.info = _analyse(root)
         need = self.info[id(root)][0]
         if model._cube is not None and not model._cube.sparse():
@@ -225,10 +242,13 @@ class _Run:
         else:
             unit = model.n_worlds
         budget.require((need + 2) * unit, f"checking {_short(root)} on {model.n_worlds:,} worlds")
-        stack: list[tuple[Node, KripkeModel, Any, bool]] = []
+        return self._drive(model, root, bits)
+
+    def _drive(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+        stack: list[tuple[Node, KripkeModel, Any, Formula | None, bool]] = []
         result = self._open(stack, model, root, bits, True)
         while stack:
-            node, where, key, keep = stack[-1]
+            node, where, key, owner, keep = stack[-1]
             try:
                 request = node.send(result)
             except StopIteration as stop:
@@ -237,7 +257,8 @@ class _Run:
                 if key is not None:
                     result.setflags(write=False)
                     if keep or result.nbytes <= _MEMO_ALL_BYTES:
-                        where._memo[key] = result
+                        # an identity key keeps its formula, so its id cannot be reused
+                        where._memo[key] = result if owner is None else (owner, result)
                 continue
             result = self._open(stack, *request)
         return result
@@ -254,14 +275,16 @@ class _Run:
             self.info = {**self.info, **_analyse(f)}
         natural = self.natural_bits(model, f)
         if natural != bits:
-            stack.append((_convert(model, f, natural, keep), model, None, False))
+            stack.append((_convert(model, f, natural, keep), model, None, None, False))
             return None
-        key = (f, self.key) if self.info[id(f)][1] else f
+        _, action, height = self.info[id(f)]
+        key = ("id", id(f)) if height > _STRUCTURAL_HEIGHT else f
+        key = (key, self.key) if action else key
         if bits:
             key = ("bits", key)
         found = model._memo.get(key)
-        if found is not None:
-            return found
+        if found is not None and (height <= _STRUCTURAL_HEIGHT or found[0] is f):
+            return found if height <= _STRUCTURAL_HEIGHT else found[1]
         first = self._first(f)
         if bits and type(f) is After:
             node = self._after_bits(model, f)
@@ -269,7 +292,7 @@ class _Run:
             node = cube.bits_node(model, f, first)
         else:
             node = self._mask_node(model, f, first)
-        stack.append((node, model, key, keep))
+        stack.append((node, model, key, f if height > _STRUCTURAL_HEIGHT else None, keep))
         return None
 
     def _first(self, f: Formula) -> Formula | None:
@@ -346,6 +369,7 @@ class _Run:
         key = ("after", id(action))
         cached = model._derived.get(key)
         if cached is None or cached[0] is not action:
+            model._require_arrays()  # the product lists worlds: refuse before anything
             pres = []
             for pre in action.pre:
                 pres.append((yield model, pre, False, True))

@@ -162,10 +162,7 @@ class KripkeModel:
     def _materialize(self) -> None:
         """Build the compact arrays of a cube model (valuation matrix, partitions)."""
         cube = self._cube
-        n_worlds = cube.count()
-        # codes, valuation matrix and one label per world and agent (+ a sort's scratch)
-        per_world = 8 + cube.n_bits + 8 * len(self._agents) + 16
-        budget.require(n_worlds * per_world, f"listing the {n_worlds:,} worlds of the model")
+        self._require_arrays()
         codes = cube.codes
         shifts = np.arange(cube.n_bits - 1, -1, -1, dtype=np.intp)
         self._val_ = np.asfortranarray(((codes[:, None] >> shifts) & 1).astype(bool))
@@ -182,6 +179,14 @@ class KripkeModel:
                 rel[agent] = Partition(labels, n_labels=1 << cube.n_bits)
         self._rel_, self._know_ = rel, dict(rel)
         self._designated_ = np.searchsorted(codes, self._designated_codes)
+
+    def _require_arrays(self) -> None:
+        """Refuse to build the compact arrays of a cube model beyond the memory budget."""
+        if self._cube is not None and self._val_ is None:
+            n_worlds = self._cube.count()
+            # codes, valuation matrix, one label per world and agent, a sort's scratch
+            per_world = 8 + self._cube.n_bits + 8 * len(self._agents) + 16
+            budget.require(n_worlds * per_world, f"listing the {n_worlds:,} worlds of the model")
 
     @property
     def _val(self) -> np.ndarray:
