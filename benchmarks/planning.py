@@ -7,7 +7,8 @@ benchmarks" is this script's output.
 With ``--irrelevant K``, every spec is planned twice, as shipped and with ``K`` more
 atoms that no action or goal mentions and no agent observes (each doubles the worlds of
 the initial state), and the table gives both times, their ratio and whether the plans are
-the same; ``--only NAME ...`` restricts the specs (for slow baselines).
+the same; ``--agents J`` also adds ``J`` agents that observe nothing and that no formula
+names; ``--only NAME ...`` restricts the specs (for slow baselines).
 
 Usage: ``python benchmarks/planning.py [--repeat 3] [--max-depth 9] [--irrelevant 10]``
 """
@@ -43,11 +44,15 @@ PUBLISHED = {
 }
 
 
-def with_irrelevant_atoms(path: Path, k: int, folder: Path) -> Path:
-    """A copy of the spec with ``k`` more atoms, declared after its first ``atoms`` line."""
+def with_irrelevant_atoms(path: Path, k: int, folder: Path, agents: int = 0) -> Path:
+    """A copy of the spec with ``k`` more atoms (after its first ``atoms`` line) and
+    ``agents`` more agents that observe nothing and that no formula names."""
     lines = path.read_text().splitlines()
     at = next(i for i, line in enumerate(lines) if line.startswith("atoms "))
     lines.insert(at + 1, "atoms " + ", ".join(f"irrelevant{j}" for j in range(k)))
+    if agents:
+        at = next(i for i, line in enumerate(lines) if line.startswith("agents "))
+        lines[at] += ", " + ", ".join(f"bystander{j}" for j in range(agents))
     out = folder / path.name
     out.write_text("\n".join(lines) + "\n")
     return out
@@ -64,15 +69,21 @@ def timed_plan(path: Path, repeat: int, max_depth: int):
     return statistics.median(times), result, spec.model.n_worlds
 
 
-def irrelevant_table(names: list[str], k: int, repeat: int, max_depth: int) -> None:
+def irrelevant_table(
+    names: list[str], k: int, repeat: int, max_depth: int, agents: int = 0
+) -> None:
     """Planning time as shipped and with ``k`` irrelevant atoms; the plans must agree."""
-    print(f"| instance | worlds | time (s) | worlds +{k} atoms | time (s) | ratio | same plan |")
+    more_agents = f" +{agents} agents" if agents else ""
+    print(
+        f"| instance | worlds | time (s) | worlds +{k} atoms{more_agents} | time (s) | ratio "
+        "| same plan |"
+    )
     print("|---|---:|---:|---:|---:|---:|---|")
     with tempfile.TemporaryDirectory() as folder:
         for name in names:
             path = SPECS / f"{name}.epi"
             base, plain, worlds = timed_plan(path, repeat, max_depth)
-            bigger = with_irrelevant_atoms(path, k, Path(folder))
+            bigger = with_irrelevant_atoms(path, k, Path(folder), agents)
             more, padded, more_worlds = timed_plan(bigger, repeat, max_depth)
             print(
                 f"| {name} | {worlds:,} | {base:.4f} | {more_worlds:,} | {more:.4f} | "
@@ -86,6 +97,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--max-depth", type=int, default=9)
     parser.add_argument("--irrelevant", type=int, default=0, metavar="K")
+    parser.add_argument("--agents", type=int, default=0, metavar="J")
     parser.add_argument("--only", nargs="*", default=None, metavar="NAME")
     args = parser.parse_args()
     names = args.only or list(PUBLISHED)
@@ -94,7 +106,7 @@ def main() -> None:
             f"Python {platform.python_version()}, {platform.machine()}; "
             f"median of {args.repeat} runs; breadth-first search\n"
         )
-        irrelevant_table(names, args.irrelevant, args.repeat, args.max_depth)
+        irrelevant_table(names, args.irrelevant, args.repeat, args.max_depth, args.agents)
         return
     print(
         f"Python {platform.python_version()}, {platform.machine()}; "

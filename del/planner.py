@@ -81,6 +81,7 @@ __all__ = [
     "plan",
     "plan_with_stats",
     "project",
+    "relevant_agents",
     "relevant_atoms",
     "uses_knowledge",
     "validate",
@@ -178,8 +179,8 @@ def plan_with_stats(
     check_problem(initial, actions)
     tree = as_formula(goal)
     table = dict(actions)
-    if not callable(heuristic):  # a user's heuristic may read any atom
-        initial = project(initial, relevant_atoms(tree, table.values()))
+    if not callable(heuristic):  # a user's heuristic may read any atom or agent
+        initial, table = _relevant_part(initial, table, tree)
     # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
     # the search then tracks belief relations only (half the relational work).
     beliefs_only = not uses_knowledge(tree, table.values())
@@ -314,6 +315,60 @@ def relevant_atoms(goal: Formula | str, actions: Iterable[ActionModel]) -> froze
     found = {g.key for f in _formulas(as_formula(goal), actions) for g in f.atoms()}
     found.update(atom for action in actions for changes in action.post for atom in changes)
     return frozenset(found)
+
+
+def relevant_agents(goal: Formula | str, actions: Iterable[ActionModel]) -> frozenset[str]:
+    """The agents that a modality of the goal or of an action names.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import public_announcement
+    >>> sorted(relevant_agents("K[a] p", [public_announcement("B[b] q", ["a", "b", "c"])]))
+    ['a', 'b']
+    """
+    return frozenset(g for f in _formulas(as_formula(goal), actions) for g in f.agents())
+
+
+def _relevant_part(
+    state: KripkeModel, actions: dict[str, ActionModel], goal: Formula
+) -> tuple[KripkeModel, dict[str, ActionModel]]:
+    """The state and actions without the atoms and agents no formula of them reads.
+
+    An agent that no modality names changes no truth value, but its relation still
+    splits states (and each action carries it); an unread atom doubles the worlds.
+    """
+    keep = relevant_agents(goal, actions.values()) & set(state.agents) or set(state.agents[:1])
+    if len(keep) < len(state.agents):
+        agents = tuple(a for a in state.agents if a in keep)
+        state = _with_agents(state, agents)
+        actions = {name: _action_with_agents(a, agents) for name, a in actions.items()}
+    return project(state, relevant_atoms(goal, actions.values())), actions
+
+
+def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
+    if state._cube is not None:
+        return KripkeModel._from_cube(state._cube, state.atoms, agents, state._designated_codes)
+    rel = {a: state._rel[a] for a in agents}
+    know = {a: state._know[a] for a in agents}
+    return KripkeModel._from_arrays(
+        state._names, state.atoms, state._val, agents, rel, know, state._designated
+    )
+
+
+def _action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+    events = action.events
+
+    def edges(table: dict, agent: str) -> list[tuple]:
+        return [(events[e], events[f]) + (() if c is None else (c,)) for e, f, c in table[agent]]
+
+    return ActionModel(
+        events,
+        dict(zip(events, action.pre, strict=True)),
+        dict(zip(events, action.post, strict=True)),
+        {a: edges(action._edges, a) for a in agents},
+        list(action.designated),
+        knowledge={a: edges(action._know_edges, a) for a in agents},
+    )
 
 
 def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:

@@ -7,15 +7,18 @@ from pathlib import Path
 import pytest
 
 from epistemica.del_ import KripkeModel, load_spec, plan
-from epistemica.del_.planner import project, relevant_atoms
+from epistemica.del_.planner import project, relevant_agents, relevant_atoms
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 
 
-def _with_irrelevant_atoms(path: Path, k: int, folder: Path) -> Path:
+def _with_irrelevant_atoms(path: Path, k: int, folder: Path, agents: int = 0) -> Path:
     lines = path.read_text().splitlines()
     at = next(i for i, line in enumerate(lines) if line.startswith("atoms "))
     lines.insert(at + 1, "atoms " + ", ".join(f"irrelevant{j}" for j in range(k)))
+    if agents:
+        at = next(i for i, line in enumerate(lines) if line.startswith("agents "))
+        lines[at] += ", " + ", ".join(f"bystander{j}" for j in range(agents))
     out = folder / path.name
     out.write_text("\n".join(lines) + "\n")
     return out
@@ -29,6 +32,17 @@ def test_same_plan_with_ten_irrelevant_atoms(name, tmp_path):
     expected = plan(spec.model, spec.actions, spec.goal)
     assert expected is not None
     assert plan(padded.model, padded.actions, padded.goal) == expected
+
+
+@pytest.mark.parametrize("name", ["sally_anne", "coin_in_the_box_a"])
+def test_same_plan_with_irrelevant_agents(name, tmp_path):
+    spec = load_spec(SPECS / f"{name}.epi")
+    padded = load_spec(_with_irrelevant_atoms(SPECS / f"{name}.epi", 2, tmp_path, agents=2))
+    assert len(padded.agents) == len(spec.agents) + 2
+    expected = plan(spec.model, spec.actions, spec.goal)
+    assert plan(padded.model, padded.actions, padded.goal) == expected
+    # the bystanders are left out of the search, not out of the problem
+    assert relevant_agents(padded.goal, padded.actions.values()) <= set(spec.agents)
 
 
 def test_relevant_atoms_are_those_read_or_assigned():
