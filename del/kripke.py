@@ -208,9 +208,16 @@ class KripkeModel:
 
     @property
     def _designated(self) -> np.ndarray:
-        if self._designated_ is None:
-            self._materialize()
+        if self._designated_ is None:  # a cube model: positions of its designated codes
+            self._designated_ = np.searchsorted(self._cube.codes, self._designated_codes)
         return self._designated_
+
+    @property
+    def designated_positions(self) -> np.ndarray:
+        """The positions in :attr:`worlds` of the designated worlds (a read-only array)."""
+        positions = self._designated.view()
+        positions.setflags(write=False)
+        return positions
 
     @classmethod
     def from_observables(
@@ -356,6 +363,21 @@ class KripkeModel:
         elif callable(self._names):
             self._names = self._names()
         return self._names
+
+    def worlds_at(self, indices: Iterable[int]) -> tuple:
+        """The names of the worlds at these positions of :attr:`worlds`, listing no other.
+
+        Examples
+        --------
+        >>> m = KripkeModel.from_observables(["p", "q"], {"a": []}).announce("p | q")
+        >>> m.worlds_at([0, 2])
+        (1, 3)
+        """
+        indices = np.asarray(list(indices), dtype=np.intp)
+        if self._names_are_codes():
+            return tuple(int(c) for c in self._cube.codes[indices])
+        names = self.worlds
+        return tuple(names[i] for i in indices)
 
     @property
     def designated(self) -> tuple:

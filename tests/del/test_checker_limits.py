@@ -183,3 +183,16 @@ def test_estimate_grows_with_the_atoms():
     small, large = estimate_explicit_bytes(10, 3), estimate_explicit_bytes(30, 3)
     assert large == small * 2**20  # bitsets of 2^n bits
     assert estimate_explicit_bytes(24, 24, materialize=True) > 2**24 * 8 * 24
+
+
+def test_a_few_worlds_of_a_large_cube_are_named_without_listing_all():
+    atoms = [f"m{i}" for i in range(20)]
+    model = KripkeModel.from_observables(atoms, {"a": atoms[1:]}, designated=["m0", "m19"])
+    after = model.announce("m0 | m1")  # codes 0 .. 2^18 - 1 are gone
+    assert after.worlds_at([0, 1]) == (1 << 18, (1 << 18) + 1)
+    assert after.designated == ((1 << 19) + 1,)
+    assert after.worlds_at(after.designated_positions) == after.designated
+    assert after.valuation_of((1 << 19) + 1) == {"m0", "m19"}
+    found = after.truth_set("m1 & ~m0 & K[a] m19")  # a sees m19; m2..m18 are free
+    assert len(found) == 2**17 and min(found) == (1 << 18) + 1
+    assert after._val_ is None  # no valuation matrix, no partitions were built
