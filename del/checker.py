@@ -79,6 +79,7 @@ _BINARY = (And, Or, Implies, Iff)
 # larger ones only for the formula asked about and for announcements, so a finished
 # subformula's truth set is freed as soon as its parent has used it.
 _MEMO_ALL_BYTES = 1 << 16
+_SMALL_BYTES = 1 << 20
 
 
 @functools.lru_cache(maxsize=4096)
@@ -127,6 +128,8 @@ def evaluate(
     >>> evaluate(m, "Kw[b] p & ~Kw[a] p").tolist()
     [True, True]
     """
+    if memory_budget is None:
+        return _Run(actions).value(model, as_formula(formula), bits=False)
     with budget.budget_scope(memory_budget):
         return _Run(actions).value(model, as_formula(formula), bits=False)
 
@@ -218,8 +221,8 @@ class _Run:
     """
 
     def __init__(self, actions: Mapping[str, ActionModel] | None) -> None:
-        self.actions = dict(actions or {})
-        self.key = frozenset((name, id(a)) for name, a in self.actions.items())
+        self.actions = dict(actions) if actions else {}
+        self._key: frozenset | None = None
         self.info: dict[int, tuple[int, bool, int]] = {}
 
     def value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
@@ -241,7 +244,9 @@ class _Run:
             unit = model._cube.space.nbytes
         else:
             unit = model.n_worlds
-        budget.require((need + 2) * unit, f"checking {_short(root)} on {model.n_worlds:,} worlds")
+        estimate = (need + 2) * unit
+        if estimate > _SMALL_BYTES:  # small models: not worth the look-up
+            budget.require(estimate, f"checking {_short(root)} on {model.n_worlds:,} worlds")
         return self._drive(model, root, bits)
 
     def _drive(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
@@ -262,6 +267,13 @@ class _Run:
                 continue
             result = self._open(stack, *request)
         return result
+
+    @property
+    def key(self) -> frozenset:
+        """The memo key of the actions in force (for formulas that name one)."""
+        if self._key is None:
+            self._key = frozenset((name, id(a)) for name, a in self.actions.items())
+        return self._key
 
     def natural_bits(self, model: KripkeModel, f: Formula) -> bool:
         """Whether ``f`` is best evaluated on ``model`` as a bitset."""
