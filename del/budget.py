@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from epistemica.del_.errors import EpistemicaError
 
@@ -80,8 +80,11 @@ def _size(n_bytes: float) -> str:
     return f"{int(n_bytes)} bytes"
 
 
-def require(n_bytes: float, what: str) -> None:
+def require(n_bytes: float, what: str | Callable[[], str]) -> None:
     """Refuse, before allocating, what would exceed the budget in force.
+
+    ``what`` names the allocation in the message; a function giving that name is called
+    only on refusal (for callers on hot paths).
 
     Raises
     ------
@@ -90,6 +93,7 @@ def require(n_bytes: float, what: str) -> None:
     """
     budget = current_budget()
     if n_bytes > budget:
+        what = what() if callable(what) else what
         raise MemoryBudgetError(
             f"{what} needs about {_size(n_bytes)}, over the memory budget of {_size(budget)}",
             hint="use the symbolic backend (`--backend symbolic`, or "

@@ -79,7 +79,6 @@ _BINARY = (And, Or, Implies, Iff)
 # larger ones only for the formula asked about and for announcements, so a finished
 # subformula's truth set is freed as soon as its parent has used it.
 _MEMO_ALL_BYTES = 1 << 16
-_SMALL_BYTES = 1 << 20
 
 
 @functools.lru_cache(maxsize=4096)
@@ -244,9 +243,9 @@ class _Run:
             unit = model._cube.space.nbytes
         else:
             unit = model.n_worlds
-        estimate = (need + 2) * unit
-        if estimate > _SMALL_BYTES:  # small models: not worth the look-up
-            budget.require(estimate, f"checking {_short(root)} on {model.n_worlds:,} worlds")
+        budget.require(
+            (need + 2) * unit, lambda: f"checking {_short(root)} on {model.n_worlds:,} worlds"
+        )
         return self._drive(model, root, bits)
 
     def _drive(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
