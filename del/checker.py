@@ -16,9 +16,14 @@ Semantics, at a world ``w`` of a model ``M``:
 - ``[ACT] g``: ``g`` holds at ``(w, e)`` in the product update with the named action, for
   every designated event ``e`` whose precondition holds at ``w``.
 
-Every truth set is memoised per model and subformula, so shared and deeply nested
-subformulas are evaluated once per model. Relations that are equivalences are evaluated
-through their partition; any other relation through its arrows.
+Evaluation runs on an explicit stack, so formulas of any depth or width are fine. Small
+truth sets are memoised per model and subformula (planning states, puzzles); large ones
+only for the formula asked about and for announcements, every other intermediate result
+being freed once its parent has used it. Models from observables are evaluated on bitsets
+(:mod:`~epistemica.del_.cube`), public-announcement actions included. Nothing larger than
+the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first raising
+:class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
+evaluated through their partition; any other relation through its arrows.
 
 Atoms that the model does not know are false everywhere (a valuation lists true atoms
 only); spec files declare their atoms, which catches misspellings.
@@ -75,6 +80,7 @@ _CONNECTIVES = {
     Iff: np.equal,
 }
 _BINARY = (And, Or, Implies, Iff)
+_LEAVES = frozenset((Atom, Top, Bottom))
 # Results this small are memoised for every subformula (planning states, small puzzles);
 # larger ones only for the formula asked about and for announcements, so a finished
 # subformula's truth set is freed as soon as its parent has used it.
@@ -288,6 +294,8 @@ class _Run:
         if natural != bits:
             stack.append((_convert(model, f, natural, keep), model, None, None, False))
             return None
+        if type(f) in _LEAVES:  # half of most formulas: no generator, no memo
+            return _leaf(model, f, bits)
         _, action, height = self.info[id(f)]
         key = ("id", id(f)) if height > _STRUCTURAL_HEIGHT else f
         key = (key, self.key) if action else key
@@ -396,6 +404,19 @@ class _Run:
             violated = ~inner & designated_event[event]
             result[parent[violated]] = False
         return result
+
+
+def _leaf(model: KripkeModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
+    """The read-only truth set of an atom, ``true`` or ``false``."""
+    column = model._atom_column(f.key) if type(f) is Atom else None
+    if column is not None:  # a bitset built once per space, or a column of the valuation
+        found = model._cube.atom(column) if bits else model._val[:, column]
+    elif bits:  # false, or an atom the model does not know (false everywhere), or true
+        found = model._cube.ones() if type(f) is Top else model._cube.zeros()
+    else:
+        found = np.full(model.n_worlds, type(f) is Top, dtype=bool)
+    found.setflags(write=False)
+    return found
 
 
 def _convert(model: KripkeModel, f: Formula, natural_bits: bool, keep: bool) -> Node:
