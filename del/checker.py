@@ -457,10 +457,11 @@ def _public_announcement(action: ActionModel, model: KripkeModel) -> Formula | N
 
 
 def _require_product(model: KripkeModel, action: ActionModel, n_worlds: int) -> None:
-    """Refuse a product update whose arrays would not fit in the budget."""
+    """Refuse a product update whose arrays (and the model's own) would not fit."""
     n_atoms = len(model.atoms) + sum(len(p) for p in action.post)
     per_world = n_atoms + 16 + 2 * 8 * len(model.agents)
-    budget.require(n_worlds * per_world, f"the product update with {n_worlds:,} worlds")
+    needed = model._arrays_bytes() + n_worlds * per_world
+    budget.require(needed, f"the product update with {n_worlds:,} worlds")
 
 
 def _short(f: Formula) -> str:

@@ -180,13 +180,19 @@ class KripkeModel:
         self._rel_, self._know_ = rel, dict(rel)
         self._designated_ = np.searchsorted(codes, self._designated_codes)
 
+    def _arrays_bytes(self) -> int:
+        """Bytes the compact arrays of a cube model would take (0 once they exist)."""
+        if self._cube is None or self._val_ is not None:
+            return 0
+        # codes, valuation matrix, one label per world and agent, a sort's scratch
+        return self._cube.count() * (8 + self._cube.n_bits + 8 * len(self._agents) + 16)
+
     def _require_arrays(self) -> None:
         """Refuse to build the compact arrays of a cube model beyond the memory budget."""
-        if self._cube is not None and self._val_ is None:
+        needed = self._arrays_bytes()
+        if needed:
             n_worlds = self._cube.count()
-            # codes, valuation matrix, one label per world and agent, a sort's scratch
-            per_world = 8 + self._cube.n_bits + 8 * len(self._agents) + 16
-            budget.require(n_worlds * per_world, f"listing the {n_worlds:,} worlds of the model")
+            budget.require(needed, f"listing the {n_worlds:,} worlds of the model")
 
     @property
     def _val(self) -> np.ndarray:

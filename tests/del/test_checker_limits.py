@@ -196,3 +196,23 @@ def test_a_few_worlds_of_a_large_cube_are_named_without_listing_all():
     found = after.truth_set("m1 & ~m0 & K[a] m19")  # a sees m19; m2..m18 are free
     assert len(found) == 2**17 and min(found) == (1 << 18) + 1
     assert after._val_ is None  # no valuation matrix, no partitions were built
+
+
+def test_budget_counts_the_model_arrays_and_the_product_together():
+    """12 atoms, 2 agents: the arrays (213 kB) and the product (369 kB) each fit 400 kB,
+    together they do not; 1 MB holds both, and the answer is that of explicit worlds."""
+    atoms = [f"m{i}" for i in range(12)]
+    model = KripkeModel.from_observables(atoms, {"a": atoms[1:], "b": atoms[:1]}, designated=[])
+    whisper = ActionModel(
+        ["e", "skip"],
+        {"e": "m0"},
+        {},
+        {"a": [("e", "e"), ("skip", "skip")], "b": [("e", "skip"), ("skip", "skip")]},
+        "e",
+    )
+    actions = {"whisper": whisper}
+    with pytest.raises(MemoryBudgetError, match="product update with 6,144 worlds"):
+        model.holds("[whisper] K[a] m0", actions, memory_budget=400_000)
+    assert model._val_ is None  # refused before the arrays were built
+    found = model.truth_set("[whisper] B[b] ~m0", actions, memory_budget=1_000_000)
+    assert found == _explicit_copy(model).truth_set("[whisper] B[b] ~m0", actions)
