@@ -16,9 +16,14 @@ Semantics, at a world ``w`` of a model ``M``:
 - ``[ACT] g``: ``g`` holds at ``(w, e)`` in the product update with the named action, for
   every designated event ``e`` whose precondition holds at ``w``.
 
-Every truth set is memoised per model and subformula, so shared and deeply nested
-subformulas are evaluated once per model. Relations that are equivalences are evaluated
-through their partition; any other relation through its arrows.
+Evaluation runs on an explicit stack, so formulas of any depth or width are fine. Small
+truth sets are memoised per model and subformula (planning states, puzzles); large ones
+only for the formula asked about and for announcements, every other intermediate result
+being freed once its parent has used it. Models from observables are evaluated on bitsets
+(:mod:`~epistemica.del_.cube`), public-announcement actions included. Nothing larger than
+the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first raising
+:class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
+evaluated through their partition; any other relation through its arrows.
 
 Atoms that the model does not know are false everywhere (a valuation lists true atoms
 only); spec files declare their atoms, which catches misspellings.
@@ -26,15 +31,17 @@ only); spec files declare their atoms, which catches misspellings.
 
 from __future__ import annotations
 
+import contextlib
 import functools
-from collections.abc import Mapping
+import gc
+from collections.abc import Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from epistemica.del_ import cube
+from epistemica.del_ import budget, cube
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import (
     After,
@@ -64,7 +71,7 @@ if TYPE_CHECKING:
     from epistemica.del_.action import ActionModel
     from epistemica.del_.kripke import KripkeModel
 
-__all__ = ["as_formula", "evaluate", "propositional_mask"]
+__all__ = ["as_formula", "designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
 
 _CONNECTIVES = {
     And: np.logical_and,
@@ -72,6 +79,12 @@ _CONNECTIVES = {
     Implies: lambda x, y: ~x | y,
     Iff: np.equal,
 }
+_BINARY = (And, Or, Implies, Iff)
+_LEAVES = frozenset((Atom, Top, Bottom))
+# Results this small are memoised for every subformula (planning states, small puzzles);
+# larger ones only for the formula asked about and for announcements, so a finished
+# subformula's truth set is freed as soon as its parent has used it.
+_MEMO_ALL_BYTES = 1 << 16
 
 
 @functools.lru_cache(maxsize=4096)
@@ -103,8 +116,15 @@ def evaluate(
     model: KripkeModel,
     formula: Formula | str,
     actions: Mapping[str, ActionModel] | None = None,
+    *,
+    memory_budget: int | None = None,
 ) -> np.ndarray:
     """The truth set of ``formula`` in ``model`` as a read-only boolean mask.
+
+    The evaluation uses an explicit stack, so formulas of any depth are fine; nothing is
+    allocated beyond ``memory_budget`` bytes (default
+    :data:`~epistemica.del_.budget.DEFAULT_MEMORY_BUDGET`) without first raising
+    :class:`~epistemica.del_.budget.MemoryBudgetError`.
 
     Examples
     --------
@@ -113,30 +133,208 @@ def evaluate(
     >>> evaluate(m, "Kw[b] p & ~Kw[a] p").tolist()
     [True, True]
     """
-    tree = as_formula(formula)
-    context = _Context(actions)
-    return context.eval(model, tree)
+    if memory_budget is None:
+        return _Run(actions).value(model, as_formula(formula), bits=False)
+    with budget.budget_scope(memory_budget):
+        return _Run(actions).value(model, as_formula(formula), bits=False)
 
 
-class _Context:
-    """One evaluation: the named actions in force and the memo key they imply."""
+def evaluate_bits(
+    model: KripkeModel,
+    formula: Formula | str,
+    actions: Mapping[str, ActionModel] | None = None,
+) -> np.ndarray:
+    """The truth set of ``formula`` in a model from observables, as a bitset over codes."""
+    return _Run(actions).value(model, as_formula(formula), bits=True)
+
+
+def designated_truth(
+    model: KripkeModel, formula: Formula, actions: Mapping[str, ActionModel] | None = None
+) -> np.ndarray:
+    """The truth of ``formula`` at each designated world (in the cheaper representation)."""
+    run = _Run(actions)
+    if run.natural_bits(model, formula):
+        bits = run.value(model, formula, bits=True)
+        return model._cube.test(bits, model._designated_codes)
+    return run.value(model, formula, bits=False)[model._designated]
+
+
+# -- formula analysis -------------------------------------------------------------------
+
+# Per node (by identity, so that deep formulas are never compared or hashed
+# recursively): (registers needed, mentions a named action, height).
+_ANALYSES: dict[int, tuple[Formula, dict[int, tuple[int, bool, int]]]] = {}
+_ANALYSED_NODES = 1 << 20
+# Taller subformulas are memoised by identity: comparing two equal but distinct trees
+# would recurse once per level.
+_STRUCTURAL_HEIGHT = 200
+
+
+def _analyse(root: Formula) -> dict[int, tuple[int, bool, int]]:
+    """Post-order pass over ``root``: Sethi-Ullman numbers and whether actions occur.
+
+    Evaluating the child that needs more live results first keeps at most about
+    ``log2(size)`` truth sets alive at once, whatever the shape of the tree. The pass
+    also hashes every node bottom-up, so that hashing the root later (as a memo key)
+    reads cached hashes instead of recursing.
+    """
+    found = _ANALYSES.get(id(root))
+    if found is not None and found[0] is root:
+        return found[1]
+    table: dict[int, tuple[int, bool, int]] = {}
+    stack: list[tuple[Formula, bool]] = [(root, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if id(node) in table:
+            continue
+        children = node.children()
+        if not expanded and children:
+            stack.append((node, True))
+            stack.extend((c, False) for c in children if id(c) not in table)
+            continue
+        hash(node)
+        info = [table[id(c)] for c in children]
+        action = isinstance(node, After) or any(i[1] for i in info)
+        if not info:
+            need = 1
+        elif isinstance(node, (Announce, AnnounceDiamond)):
+            need = max(info[0][0], info[1][0] + 1)
+        elif len(info) == 2:
+            left, right = info[0][0], info[1][0]
+            need = left + 1 if left == right else max(left, right)
+        else:
+            need = info[0][0] + isinstance(node, After)
+        height = 1 + max((i[2] for i in info), default=0)
+        table[id(node)] = (need, action, height)
+    if sum(len(t) for _, t in _ANALYSES.values()) + len(table) > _ANALYSED_NODES:
+        _ANALYSES.clear()
+    _ANALYSES[id(root)] = (root, table)
+    return table
+
+
+# -- the driver ---------------------------------------------------------------------------
+
+Node = Generator[tuple, np.ndarray, np.ndarray]
+
+
+class _Run:
+    """One evaluation: the named actions in force, and an explicit stack of nodes.
+
+    Every node is a generator that yields requests ``(model, subformula, bits, keep)``
+    and receives their truth sets (as bitsets if ``bits``, else as masks); ``keep`` asks
+    for the result to stay in the model's memo. No Python recursion is involved.
+    """
 
     def __init__(self, actions: Mapping[str, ActionModel] | None) -> None:
-        self.actions = dict(actions or {})
-        self.key = frozenset((name, id(a)) for name, a in self.actions.items())
+        self.actions = dict(actions) if actions else {}
+        self._key: frozenset | None = None
+        self.info: dict[int, tuple[int, bool, int]] = {}
 
-    def eval(self, model: KripkeModel, f: Formula) -> np.ndarray:
-        key = (f, self.key) if _mentions_action(f) else f
+    def value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+        if not gc.isenabled():
+            return self._value(model, root, bits)
+        # A large formula means one suspended generator per pending node: the cyclic
+        # garbage collector would rescan them all, over and over (quadratic time).
+        # Evaluation makes no reference cycles, so it can wait until the end.
+        gc.disable()
+        try:
+            return self._value(model, root, bits)
+        finally:
+            gc.enable()
+
+    def _value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+        self.info = _analyse(root)
+        need = self.info[id(root)][0]
+        if model._cube is not None and not model._cube.sparse():
+            unit = model._cube.space.nbytes
+        else:
+            unit = model.n_worlds
+        budget.require(
+            (need + 2) * unit, lambda: f"checking {_short(root)} on {model.n_worlds:,} worlds"
+        )
+        return self._drive(model, root, bits)
+
+    def _drive(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+        stack: list[tuple[Node, KripkeModel, Any, Formula | None, bool]] = []
+        result = self._open(stack, model, root, bits, True)
+        while stack:
+            node, where, key, owner, keep = stack[-1]
+            try:
+                request = node.send(result)
+            except StopIteration as stop:
+                stack.pop()
+                result = stop.value
+                if key is not None:
+                    result.setflags(write=False)
+                    if keep or result.nbytes <= _MEMO_ALL_BYTES:
+                        # an identity key keeps its formula, so its id cannot be reused
+                        where._memo[key] = result if owner is None else (owner, result)
+                continue
+            result = self._open(stack, *request)
+        return result
+
+    @property
+    def key(self) -> frozenset:
+        """The memo key of the actions in force (for formulas that name one)."""
+        if self._key is None:
+            self._key = frozenset((name, id(a)) for name, a in self.actions.items())
+        return self._key
+
+    def natural_bits(self, model: KripkeModel, f: Formula) -> bool:
+        """Whether ``f`` is best evaluated on ``model`` as a bitset."""
+        if model._cube is None or model._cube.sparse():
+            return False
+        return type(f) is not After or _public_announcement(self._action(f), model) is not None
+
+    def _open(self, stack: list, model: KripkeModel, f: Formula, bits: bool, keep: bool) -> Any:
+        """The memoised result, or ``None`` after pushing the node that computes it."""
+        if id(f) not in self.info:  # an action's precondition: not part of the formula
+            self.info = {**self.info, **_analyse(f)}
+        natural = self.natural_bits(model, f)
+        if natural != bits:
+            stack.append((_convert(model, f, natural, keep), model, None, None, False))
+            return None
+        if type(f) in _LEAVES:  # half of most formulas: no generator, no memo
+            return _leaf(model, f, bits)
+        _, action, height = self.info[id(f)]
+        key = ("id", id(f)) if height > _STRUCTURAL_HEIGHT else f
+        key = (key, self.key) if action else key
+        if bits:
+            key = ("bits", key)
         found = model._memo.get(key)
-        if found is None and model._cube is not None and cube.supported(f):
-            found = model._cube.to_mask(cube.evaluate_bits(model, f))
-        if found is None:
-            found = self._compute(model, f)
-            found.setflags(write=False)
-            model._memo[key] = found
-        return found
+        if found is not None and (height <= _STRUCTURAL_HEIGHT or found[0] is f):
+            return found if height <= _STRUCTURAL_HEIGHT else found[1]
+        first = self._first(f)
+        if bits and type(f) is After:
+            node = self._after_bits(model, f)
+        elif bits:
+            node = cube.bits_node(model, f, first)
+        else:
+            node = self._mask_node(model, f, first)
+        stack.append((node, model, key, f if height > _STRUCTURAL_HEIGHT else None, keep))
+        return None
 
-    def _compute(self, model: KripkeModel, f: Formula) -> np.ndarray:
+    def _first(self, f: Formula) -> Formula | None:
+        if isinstance(f, _BINARY) and self.info[id(f.right)][0] > self.info[id(f.left)][0]:
+            return f.right
+        return None
+
+    def _action(self, f: After) -> ActionModel:
+        action = self.actions.get(f.action)
+        if action is None:
+            known = ", ".join(sorted(self.actions)) or "none"
+            raise InvalidArgumentError(
+                f"unknown action {f.action!r} in {_short(f)}",
+                hint=f"pass it in `actions`; known actions: {known}",
+            )
+        return action
+
+    def _after_bits(self, model: KripkeModel, f: After) -> Node:
+        """A public announcement as an action: the same submodel as ``[!pre]``."""
+        pre = _public_announcement(self._action(f), model)
+        return cube.announce_node(model, pre, f.operand)
+
+    def _mask_node(self, model: KripkeModel, f: Formula, first: Formula | None) -> Node:
         n = model.n_worlds
         kind = type(f)
         if kind is Atom:
@@ -147,64 +345,54 @@ class _Context:
         if kind is Bottom:
             return np.zeros(n, dtype=bool)
         if kind is Not:
-            return ~self.eval(model, f.operand)
+            return ~(yield model, f.operand, False, False)
         if kind in _CONNECTIVES:
-            return _CONNECTIVES[kind](self.eval(model, f.left), self.eval(model, f.right))
-        if kind is Know:
-            return _relation(model, f.agent, "knowledge").box(self.eval(model, f.operand))
-        if kind is Believe:
-            return _relation(model, f.agent, "belief").box(self.eval(model, f.operand))
+            if first is f.right:
+                right = yield model, f.right, False, False
+                left = yield model, f.left, False, False
+            else:
+                left = yield model, f.left, False, False
+                right = yield model, f.right, False, False
+            return _CONNECTIVES[kind](left, right)
+        if kind is Know or kind is Believe:
+            relation = _relation(model, f.agent, "knowledge" if kind is Know else "belief")
+            return relation.box((yield model, f.operand, False, False))
         if kind is KnowWhether:
             relation = _relation(model, f.agent, "knowledge")
-            inner = self.eval(model, f.operand)
+            inner = yield model, f.operand, False, False
             if isinstance(relation, Partition):
                 return relation.know_whether(inner)
             return relation.box(inner) | relation.box(~inner)
         if kind is Everybody or kind is EverybodyBelieves:
-            relation_kind = "knowledge" if kind is Everybody else "belief"
-            inner = self.eval(model, f.operand)
+            relations = _group(model, f.group, "knowledge" if kind is Everybody else "belief")
+            inner = yield model, f.operand, False, False
             result = np.ones(n, dtype=bool)
-            for agent in f.group:
-                result &= _relation(model, agent, relation_kind).box(inner)
+            for relation in relations:
+                result &= relation.box(inner)
             return result
-        if kind is Common:
-            return _common_box(model, f.group, self.eval(model, f.operand))
-        if kind is CommonBelief:
-            return _common_box(model, f.group, self.eval(model, f.operand), "belief")
+        if kind is Common or kind is CommonBelief:
+            inner = yield model, f.operand, False, False
+            return _common_box(model, f.group, inner, "knowledge" if kind is Common else "belief")
         if kind is Distributed:
-            return _distributed(model, f.group).box(self.eval(model, f.operand))
+            return _distributed(model, f.group).box((yield model, f.operand, False, False))
         if kind in (Announce, AnnounceDiamond):
-            return self._announcement(model, f)
+            return (yield from _announcement(model, f))
         if kind is After:
-            return self._after(model, f)
+            return (yield from self._after(model, f))
         raise InvalidArgumentError(f"cannot evaluate {type(f).__name__}")
 
-    def _announcement(self, model: KripkeModel, f: Announce | AnnounceDiamond) -> np.ndarray:
-        announced = self.eval(model, f.announcement)
-        inside = np.zeros(model.n_worlds, dtype=bool)
-        if announced.any():
-            key = ("announce", f.announcement)
-            sub = model._derived.get(key)
-            if sub is None:
-                sub = model._derived[key] = _submodel(model, announced)
-            inside[announced] = self.eval(sub, f.operand)
-        if isinstance(f, Announce):
-            return ~announced | inside
-        return inside
-
-    def _after(self, model: KripkeModel, f: After) -> np.ndarray:
+    def _after(self, model: KripkeModel, f: After) -> Node:
         from epistemica.del_.action import product_with_provenance
 
-        action = self.actions.get(f.action)
-        if action is None:
-            known = ", ".join(sorted(self.actions)) or "none"
-            raise InvalidArgumentError(
-                f"unknown action {f.action!r} in {f}",
-                hint=f"pass it in `actions`; known actions: {known}",
-            )
+        action = self._action(f)
         key = ("after", id(action))
         cached = model._derived.get(key)
         if cached is None or cached[0] is not action:
+            model._require_arrays()  # the product lists worlds: refuse before anything
+            pres = []
+            for pre in action.pre:
+                pres.append((yield model, pre, False, True))
+            _require_product(model, action, sum(int(p.sum()) for p in pres))
             product, parent, event = product_with_provenance(model, action)
             cached = model._derived[key] = (action, product, parent, event)
         _, product, parent, event = cached
@@ -212,14 +400,76 @@ class _Context:
         if product.n_worlds:
             designated_event = np.zeros(len(action.events), dtype=bool)
             designated_event[action._designated] = True
-            violated = ~self.eval(product, f.operand) & designated_event[event]
+            inner = yield product, f.operand, False, False
+            violated = ~inner & designated_event[event]
             result[parent[violated]] = False
         return result
 
 
-@functools.lru_cache(maxsize=65536)
-def _mentions_action(f: Formula) -> bool:
-    return any(isinstance(g, After) for g in f.subformulas())
+def _leaf(model: KripkeModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
+    """The read-only truth set of an atom, ``true`` or ``false``."""
+    column = model._atom_column(f.key) if type(f) is Atom else None
+    if column is not None:  # a bitset built once per space, or a column of the valuation
+        found = model._cube.atom(column) if bits else model._val[:, column]
+    elif bits:  # false, or an atom the model does not know (false everywhere), or true
+        found = model._cube.ones() if type(f) is Top else model._cube.zeros()
+    else:
+        found = np.full(model.n_worlds, type(f) is Top, dtype=bool)
+    found.setflags(write=False)
+    return found
+
+
+def _convert(model: KripkeModel, f: Formula, natural_bits: bool, keep: bool) -> Node:
+    """The truth set of ``f`` in its natural representation, converted to the other."""
+    found = yield model, f, natural_bits, keep
+    if natural_bits:
+        return model._cube.to_mask(found)
+    return model._cube.from_mask(found)
+
+
+def _announcement(model: KripkeModel, f: Announce | AnnounceDiamond) -> Node:
+    announced = yield model, f.announcement, False, True
+    inside = np.zeros(model.n_worlds, dtype=bool)
+    if announced.any():
+        key = ("announce", f.announcement)
+        sub = model._derived.get(key)
+        if sub is None:
+            sub = model._derived[key] = _submodel(model, announced)
+        inside[announced] = yield sub, f.operand, False, False
+    if isinstance(f, Announce):
+        return ~announced | inside
+    return inside
+
+
+def _public_announcement(action: ActionModel, model: KripkeModel) -> Formula | None:
+    """The precondition of ``action`` if it is a public announcement for ``model``.
+
+    One event, no postcondition, and every agent relates it only to itself (in belief and
+    knowledge): the product update is then the submodel of the precondition.
+    """
+    if len(action.events) != 1 or action.post[0] or set(action.agents) != set(model.agents):
+        return None
+    loop = ((0, 0, None),)
+    for agent in action.agents:
+        if action._edges[agent] != loop or action._know_edges[agent] != loop:
+            return None
+    return action.pre[0]
+
+
+def _require_product(model: KripkeModel, action: ActionModel, n_worlds: int) -> None:
+    """Refuse a product update whose arrays (and the model's own) would not fit."""
+    n_atoms = len(model.atoms) + sum(len(p) for p in action.post)
+    per_world = n_atoms + 16 + 2 * 8 * len(model.agents)
+    needed = model._arrays_bytes() + n_worlds * per_world
+    budget.require(needed, f"the product update with {n_worlds:,} worlds")
+
+
+def _short(f: Formula) -> str:
+    """A formula's text for a message, cut short (deep formulas print long)."""
+    with contextlib.suppress(RecursionError):
+        text = str(f)
+        return text if len(text) <= 60 else text[:57] + "..."
+    return type(f).__name__
 
 
 def _relation(model: KripkeModel, agent: str, kind: str) -> Relation:
@@ -322,24 +572,43 @@ def propositional_mask(
     return _propositional(tree, val, column)
 
 
-def _propositional(f: Formula, val: np.ndarray, column: Mapping[str, int]) -> Any:
-    kind = type(f)
-    if kind is Atom:
-        if f.key not in column:
+def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) -> Any:
+    """Post-order over an explicit stack: laws and postconditions of any depth."""
+    done: dict[int, np.ndarray] = {}
+    uses: dict[int, int] = {}  # parents still to compute, per shared node
+    stack: list[tuple[Formula, bool]] = [(root, False)]
+    while stack:
+        f, expanded = stack.pop()
+        if id(f) in done:
+            continue
+        kind = type(f)
+        if kind in _CONNECTIVES or kind is Not:
+            if not expanded:
+                stack.append((f, True))
+                for c in f.children():
+                    uses[id(c)] = uses.get(id(c), 0) + 1
+                    stack.append((c, False))
+                continue
+            values = [done[id(c)] for c in f.children()]
+            for c in f.children():
+                uses[id(c)] -= 1
+                if not uses[id(c)]:
+                    del done[id(c)]
+            done[id(f)] = ~values[0] if kind is Not else _CONNECTIVES[kind](*values)
+        elif kind is Atom:
+            if f.key not in column:
+                raise InvalidArgumentError(
+                    f"unknown atom {f.key!r}", hint=f"declared atoms: {', '.join(column)}"
+                )
+            done[id(f)] = val[:, column[f.key]]
+        elif kind is Top:
+            done[id(f)] = np.ones(len(val), dtype=bool)
+        elif kind is Bottom:
+            done[id(f)] = np.zeros(len(val), dtype=bool)
+        else:
             raise InvalidArgumentError(
-                f"unknown atom {f.key!r}", hint=f"declared atoms: {', '.join(column)}"
+                f"expected a propositional formula, found the modality in {_short(f)}",
+                hint="laws and postconditions evaluated on valuations alone cannot mention "
+                "K, B, C, ...",
             )
-        return val[:, column[f.key]]
-    if kind is Top:
-        return np.ones(len(val), dtype=bool)
-    if kind is Bottom:
-        return np.zeros(len(val), dtype=bool)
-    if kind is Not:
-        return ~_propositional(f.operand, val, column)
-    if kind in _CONNECTIVES:
-        left = _propositional(f.left, val, column)
-        return _CONNECTIVES[kind](left, _propositional(f.right, val, column))
-    raise InvalidArgumentError(
-        f"expected a propositional formula, found the modality in {f}",
-        hint="laws and postconditions evaluated on valuations alone cannot mention K, B, C, ...",
-    )
+    return done[id(root)]

@@ -10,13 +10,18 @@ code with its neighbour ``c XOR 2^p`` and keep a bit only if both are set. A mil
 worlds fit in 16,384 machine words, so a box costs microseconds, and public
 announcements only shrink the set of live codes: nothing is renumbered.
 
+A model and every submodel announced from it share one :class:`Space` (the agents'
+hidden bits and the atoms' bitsets, built once). When few codes are still live, pairing
+over all ``2^n`` bits is wasted work: such a cube is *sparse* and the checker evaluates it
+on its compact worlds instead (see :meth:`Cube.sparse`).
+
 Bits of codes that are not live worlds carry no meaning; operations whose result
 depends on them (boxes, restriction, counting) mask them out.
 """
 
 from __future__ import annotations
 
-import functools
+from collections.abc import Generator
 
 import numpy as np
 
@@ -43,7 +48,7 @@ from epistemica.del_.formula import (
     Top,
 )
 
-__all__ = ["Cube", "supported"]
+__all__ = ["Cube", "Space", "announce_node", "bits_node", "pack_bits"]
 
 _ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 # _LOW[p]: the bits of a 64-bit word whose in-word position has bit p clear.
@@ -55,16 +60,10 @@ _LOW = [
     np.uint64(0x0000FFFF0000FFFF),
     np.uint64(0x00000000FFFFFFFF),
 ]
-_SUPPORTED = (
-    Atom, Top, Bottom, Not, And, Or, Implies, Iff, Know, Believe, KnowWhether,
-    Everybody, Common, Distributed, EverybodyBelieves, CommonBelief, Announce, AnnounceDiamond,
-)  # fmt: skip
-
-
-@functools.lru_cache(maxsize=65536)
-def supported(f: Formula) -> bool:
-    """Whether every node of ``f`` can be evaluated on bitsets (named actions cannot)."""
-    return all(isinstance(g, _SUPPORTED) for g in f.subformulas())
+# A cube with fewer live codes than words / _SPARSE is evaluated on its compact worlds:
+# a box there costs a few operations per live world, here one per word and hidden bit.
+_SPARSE = 4
+_POPCOUNT = getattr(np, "bitwise_count", None)
 
 
 def _unpack(bits: np.ndarray) -> np.ndarray:
@@ -72,37 +71,86 @@ def _unpack(bits: np.ndarray) -> np.ndarray:
     return np.unpackbits(little.view(np.uint8), bitorder="little").view(bool)
 
 
-class Cube:
-    """The live codes of an observable model and its agents' hidden bits.
+def pack_bits(flags: np.ndarray) -> np.ndarray:
+    """Booleans (one per code, a multiple of 64) as a bitset."""
+    packed = np.packbits(flags, bitorder="little")
+    return packed.view("<u8").astype(np.uint64, copy=False)
+
+
+class Space:
+    """What a cube and all its restrictions share: size, hidden bits, atom bitsets.
 
     Parameters
     ----------
     n_bits : int
         Number of atoms.
-    alive : array of uint64
-        Bitset of the codes that are worlds of the model.
     hidden : dict
         Agent -> tuple of code bit positions the agent does not observe.
     """
 
-    def __init__(self, n_bits: int, alive: np.ndarray, hidden: dict[str, tuple[int, ...]]):
+    def __init__(self, n_bits: int, hidden: dict[str, tuple[int, ...]]) -> None:
         self.n_bits = n_bits
-        self.alive = alive
         self.hidden = hidden
+        self.words = max(1, (1 << n_bits) >> 6)
+        self._atoms: dict[int, np.ndarray] = {}
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of one bitset."""
+        return 8 * self.words
+
+    def atom(self, column: int) -> np.ndarray:
+        """The codes where atom number ``column`` is true (built once, read-only)."""
+        found = self._atoms.get(column)
+        if found is None:
+            p = self.n_bits - 1 - column
+            if p < 6:
+                found = np.full(self.words, ~_LOW[p], dtype=np.uint64)
+            else:
+                word_has_bit = ((np.arange(self.words) >> (p - 6)) & 1).astype(bool)
+                found = np.where(word_has_bit, _ALL, np.uint64(0))
+            found.setflags(write=False)
+            self._atoms[column] = found
+        return found
+
+
+class Cube:
+    """The live codes of an observable model within its :class:`Space`.
+
+    Parameters
+    ----------
+    space : Space
+        The shared hypercube.
+    alive : array of uint64
+        Bitset of the codes that are worlds of the model.
+    """
+
+    def __init__(self, space: Space, alive: np.ndarray) -> None:
+        self.space = space
+        self.alive = alive
         self._codes: np.ndarray | None = None
+        self._count: int | None = None
+
+    @property
+    def n_bits(self) -> int:
+        return self.space.n_bits
+
+    @property
+    def hidden(self) -> dict[str, tuple[int, ...]]:
+        return self.space.hidden
 
     @classmethod
     def full(cls, n_bits: int, hidden: dict[str, tuple[int, ...]]) -> Cube:
         """Every valuation of ``n_bits`` atoms is live."""
-        words = max(1, (1 << n_bits) >> 6)
-        alive = np.full(words, _ALL, dtype=np.uint64)
+        space = Space(n_bits, hidden)
+        alive = np.full(space.words, _ALL, dtype=np.uint64)
         if n_bits < 6:
             alive[0] = np.uint64((1 << (1 << n_bits)) - 1)
-        return cls(n_bits, alive, hidden)
+        return cls(space, alive)
 
     def restrict(self, bits: np.ndarray) -> Cube:
         """The same space with only the live codes set in ``bits`` kept."""
-        return Cube(self.n_bits, self.alive & bits, self.hidden)
+        return Cube(self.space, self.alive & bits)
 
     @property
     def codes(self) -> np.ndarray:
@@ -112,8 +160,23 @@ class Cube:
         return self._codes
 
     def count(self) -> int:
-        """The number of live codes."""
-        return len(self.codes)
+        """The number of live codes (a popcount: no list of codes is built)."""
+        if self._count is None:
+            if self._codes is not None:
+                self._count = len(self._codes)
+            elif _POPCOUNT is not None:
+                self._count = int(_POPCOUNT(self.alive).sum())
+            else:
+                self._count = int(np.count_nonzero(_unpack(self.alive)))
+        return self._count
+
+    def sparse(self) -> bool:
+        """Whether so few codes are live that compact worlds beat bitsets."""
+        return self.count() * _SPARSE < self.space.words
+
+    def closed_under_flip(self, p: int) -> bool:
+        """Whether flipping code bit ``p`` of a live code always gives a live code."""
+        return bool(np.array_equal(_pair_and(self.alive, p), self.alive))
 
     def test(self, bits: np.ndarray, codes: np.ndarray) -> np.ndarray:
         """The bits at the given codes, as booleans."""
@@ -122,23 +185,28 @@ class Cube:
 
     def to_mask(self, bits: np.ndarray) -> np.ndarray:
         """The bitset as a boolean mask over the live codes in compact order."""
-        return _unpack(bits)[self.codes]
+        if self._codes is not None and 64 * len(self._codes) < self.space.words:
+            return self.test(bits, self._codes)
+        # One byte per code, not the eight of a list of codes.
+        return _unpack(bits)[_unpack(self.alive)]
+
+    def from_mask(self, mask: np.ndarray) -> np.ndarray:
+        """The bitset whose live bits are the compact boolean ``mask``."""
+        flags = np.zeros(self.space.words * 64, dtype=bool)
+        flags[_unpack(self.alive)] = mask
+        return pack_bits(flags)
 
     # -- bit patterns and boxes ---------------------------------------------------------
 
     def ones(self) -> np.ndarray:
-        return np.full(len(self.alive), _ALL, dtype=np.uint64)
+        return np.full(self.space.words, _ALL, dtype=np.uint64)
 
     def zeros(self) -> np.ndarray:
-        return np.zeros(len(self.alive), dtype=np.uint64)
+        return np.zeros(self.space.words, dtype=np.uint64)
 
     def atom(self, column: int) -> np.ndarray:
         """The codes where atom number ``column`` is true."""
-        p = self.n_bits - 1 - column
-        if p < 6:
-            return np.full(len(self.alive), ~_LOW[p], dtype=np.uint64)
-        word_has_bit = (np.arange(len(self.alive)) >> (p - 6)) & 1
-        return np.where(word_has_bit.astype(bool), _ALL, np.uint64(0))
+        return self.space.atom(column)
 
     def box(self, bits: np.ndarray, hidden: tuple[int, ...]) -> np.ndarray:
         """Codes whose whole class (all values of the hidden bits) lies in ``bits``."""
@@ -175,17 +243,6 @@ def _pair_and(x: np.ndarray, p: int) -> np.ndarray:
     return out.reshape(-1)
 
 
-def evaluate_bits(model, f: Formula) -> np.ndarray:
-    """The bitset of ``f`` in an observable model (memoised per model and formula)."""
-    key = ("bits", f)
-    found = model._memo.get(key)
-    if found is None:
-        found = _compute(model, f)
-        found.setflags(write=False)
-        model._memo[key] = found
-    return found
-
-
 def _hidden(model, agent: str) -> tuple[int, ...]:
     hidden = model._cube.hidden.get(agent)
     if hidden is None:
@@ -195,10 +252,20 @@ def _hidden(model, agent: str) -> tuple[int, ...]:
     return hidden
 
 
-def _compute(model, f: Formula) -> np.ndarray:
+# A request for a subresult: (model, formula, as bits?, keep in the model's memo?).
+Request = tuple
+BitsNode = Generator[Request, np.ndarray, np.ndarray]
+
+
+def bits_node(model, f: Formula, first: Formula | None = None) -> BitsNode:
+    """Evaluate one node of ``f`` on bitsets, yielding requests for its subresults.
+
+    The checker's driver answers each request ``(model, g, bits, keep)`` with the bitset
+    of ``g`` (no recursion, so any depth works). ``first`` names the child of a binary
+    node to evaluate first (the one that needs more live results: fewer stay live).
+    """
     cube: Cube = model._cube
     kind = type(f)
-    rec = functools.partial(evaluate_bits, model)
     if kind is Atom:
         column = model._atom_column(f.key)
         return cube.zeros() if column is None else cube.atom(column)
@@ -207,45 +274,61 @@ def _compute(model, f: Formula) -> np.ndarray:
     if kind is Bottom:
         return cube.zeros()
     if kind is Not:
-        return ~rec(f.operand)
-    if kind is And:
-        return rec(f.left) & rec(f.right)
-    if kind is Or:
-        return rec(f.left) | rec(f.right)
-    if kind is Implies:
-        return ~rec(f.left) | rec(f.right)
-    if kind is Iff:
-        return ~(rec(f.left) ^ rec(f.right))
+        return ~(yield model, f.operand, True, False)
+    if kind in (And, Or, Implies, Iff):
+        if first is f.right:
+            right = yield model, f.right, True, False
+            left = yield model, f.left, True, False
+        else:
+            left = yield model, f.left, True, False
+            right = yield model, f.right, True, False
+        if kind is And:
+            return left & right
+        if kind is Or:
+            return left | right
+        if kind is Implies:
+            return ~left | right
+        return ~(left ^ right)
     if kind in (Know, Believe):  # one S5 relation per agent: belief is knowledge
-        return cube.box(rec(f.operand), _hidden(model, f.agent))
+        hidden = _hidden(model, f.agent)
+        return cube.box((yield model, f.operand, True, False), hidden)
     if kind is KnowWhether:
-        inner, hidden = rec(f.operand), _hidden(model, f.agent)
+        hidden = _hidden(model, f.agent)
+        inner = yield model, f.operand, True, False
         return cube.box(inner, hidden) | cube.box(~inner, hidden)
     # One S5 relation per agent, so EB = E and CB = C here.
     if kind is Everybody or kind is EverybodyBelieves:
-        inner = rec(f.operand)
+        hiddens = [_hidden(model, agent) for agent in f.group]
+        inner = yield model, f.operand, True, False
         result = cube.ones()
-        for agent in f.group:
-            result &= cube.box(inner, _hidden(model, agent))
+        for hidden in hiddens:
+            result &= cube.box(inner, hidden)
         return result
     if kind is Common or kind is CommonBelief:
         for agent in f.group:
             _hidden(model, agent)
-        return cube.common_box(rec(f.operand), f.group)
+        return cube.common_box((yield model, f.operand, True, False), f.group)
     if kind is Distributed:
         # Pooling observations: a bit stays hidden only if it is hidden from everyone.
         hidden = set(_hidden(model, f.group[0]))
         for agent in f.group[1:]:
             hidden &= set(_hidden(model, agent))
-        return cube.box(rec(f.operand), tuple(sorted(hidden)))
+        return cube.box((yield model, f.operand, True, False), tuple(sorted(hidden)))
     if kind in (Announce, AnnounceDiamond):
-        announced = rec(f.announcement)
-        key = ("announce-bits", f.announcement)
-        sub = model._derived.get(key)
-        if sub is None:
-            sub = model._derived[key] = model._cube_submodel(announced)
-        inside = evaluate_bits(sub, f.operand)
-        if kind is Announce:
-            return ~announced | inside
-        return announced & inside
+        return (yield from announce_node(model, f.announcement, f.operand, kind is Announce))
     raise InvalidArgumentError(f"cannot evaluate {kind.__name__} on bitsets")
+
+
+def announce_node(model, announcement: Formula, operand: Formula, box: bool = True) -> BitsNode:
+    """``[!announcement] operand`` (``box``) or ``<!announcement> operand`` on bitsets.
+
+    The submodel is cached in the model (keyed by the announcement) and shares its
+    :class:`Space`, so atoms and hidden bits are not rebuilt for it.
+    """
+    announced = yield model, announcement, True, True
+    key = ("announce-bits", announcement)
+    sub = model._derived.get(key)
+    if sub is None:
+        sub = model._derived[key] = model._cube_submodel(announced)
+    inside = yield sub, operand, True, False
+    return ~announced | inside if box else announced & inside

@@ -30,8 +30,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from epistemica.del_ import checker
-from epistemica.del_.cube import Cube, evaluate_bits, supported
+from epistemica.del_ import budget, checker
+from epistemica.del_.cube import Cube
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.formula import Formula, canonical_atom
 from epistemica.del_.relations import Partition, Relation, relation_from_pairs
@@ -162,16 +162,37 @@ class KripkeModel:
     def _materialize(self) -> None:
         """Build the compact arrays of a cube model (valuation matrix, partitions)."""
         cube = self._cube
+        self._require_arrays()
         codes = cube.codes
         shifts = np.arange(cube.n_bits - 1, -1, -1, dtype=np.intp)
         self._val_ = np.asfortranarray(((codes[:, None] >> shifts) & 1).astype(bool))
         everything = (1 << cube.n_bits) - 1
+        # Labels are codes with the hidden bits cleared; renumbered when few codes are live,
+        # so that a box scatters into an array of the live classes, not of all 2^n codes.
+        compact = 4 * len(codes) < (1 << cube.n_bits)
         rel: dict[str, Relation] = {}
         for agent in self._agents:
-            hidden = sum(1 << p for p in cube.hidden[agent])
-            rel[agent] = Partition(codes & (everything ^ hidden), n_labels=1 << cube.n_bits)
+            labels = codes & (everything ^ sum(1 << p for p in cube.hidden[agent]))
+            if compact:
+                rel[agent] = Partition(np.unique(labels, return_inverse=True)[1].reshape(-1))
+            else:
+                rel[agent] = Partition(labels, n_labels=1 << cube.n_bits)
         self._rel_, self._know_ = rel, dict(rel)
         self._designated_ = np.searchsorted(codes, self._designated_codes)
+
+    def _arrays_bytes(self) -> int:
+        """Bytes the compact arrays of a cube model would take (0 once they exist)."""
+        if self._cube is None or self._val_ is not None:
+            return 0
+        # codes, valuation matrix, one label per world and agent, a sort's scratch
+        return self._cube.count() * (8 + self._cube.n_bits + 8 * len(self._agents) + 16)
+
+    def _require_arrays(self) -> None:
+        """Refuse to build the compact arrays of a cube model beyond the memory budget."""
+        needed = self._arrays_bytes()
+        if needed:
+            n_worlds = self._cube.count()
+            budget.require(needed, f"listing the {n_worlds:,} worlds of the model")
 
     @property
     def _val(self) -> np.ndarray:
@@ -193,9 +214,16 @@ class KripkeModel:
 
     @property
     def _designated(self) -> np.ndarray:
-        if self._designated_ is None:
-            self._materialize()
+        if self._designated_ is None:  # a cube model: positions of its designated codes
+            self._designated_ = np.searchsorted(self._cube.codes, self._designated_codes)
         return self._designated_
+
+    @property
+    def designated_positions(self) -> np.ndarray:
+        """The positions in :attr:`worlds` of the designated worlds (a read-only array)."""
+        positions = self._designated.view()
+        positions.setflags(write=False)
+        return positions
 
     @classmethod
     def from_observables(
@@ -204,6 +232,8 @@ class KripkeModel:
         observes: Mapping[str, Iterable[str]],
         law: Formula | str | None = None,
         designated: Iterable[str] | None = None,
+        *,
+        memory_budget: int | None = None,
     ) -> KripkeModel:
         """Build the S5 model in which each agent sees the truth of some atoms.
 
@@ -224,6 +254,10 @@ class KripkeModel:
             A propositional formula every world satisfies (default ``true``).
         designated : iterable of str, optional
             The atoms true in the actual world; ``None`` designates every world.
+        memory_budget : int, optional
+            Bytes the valuation bitsets may take (default
+            :data:`~epistemica.del_.budget.DEFAULT_MEMORY_BUDGET`); beyond it a
+            :class:`~epistemica.del_.budget.MemoryBudgetError` is raised before allocating.
 
         Examples
         --------
@@ -254,13 +288,16 @@ class KripkeModel:
         for agent, seen in observes.items():
             visible = {_column_of(column, a, f"observes[{agent!r}]") for a in seen}
             hidden[str(agent)] = tuple(n_atoms - 1 - j for j in range(n_atoms) if j not in visible)
-        cube = Cube.full(n_atoms, hidden)
+        with budget.budget_scope(memory_budget):
+            # the live set, the law's truth set and a few atoms' bitsets
+            budget.require(4 * max(8, (1 << n_atoms) // 8), f"the {2**n_atoms:,} valuations")
+            cube = Cube.full(n_atoms, hidden)
         agents = tuple(hidden)
         if law is not None:
             tree = checker.as_formula(law)
             checker.propositional_mask(tree, np.zeros((0, n_atoms), dtype=bool), column)
             everything = cls._from_cube(cube, atom_list, agents, np.zeros(0, dtype=np.intp))
-            cube = cube.restrict(evaluate_bits(everything, tree))
+            cube = cube.restrict(checker.evaluate_bits(everything, tree))
             if not cube.count():
                 raise InvalidArgumentError(
                     "no valuation satisfies the law", hint="the law is a contradiction"
@@ -333,14 +370,35 @@ class KripkeModel:
             self._names = self._names()
         return self._names
 
+    def worlds_at(self, indices: Iterable[int]) -> tuple:
+        """The names of the worlds at these positions of :attr:`worlds`, listing no other.
+
+        Examples
+        --------
+        >>> m = KripkeModel.from_observables(["p", "q"], {"a": []}).announce("p | q")
+        >>> m.worlds_at([0, 2])
+        (1, 3)
+        """
+        indices = np.asarray(list(indices), dtype=np.intp)
+        if self._names_are_codes():
+            return tuple(int(c) for c in self._cube.codes[indices])
+        names = self.worlds
+        return tuple(names[i] for i in indices)
+
     @property
     def designated(self) -> tuple:
         """The designated worlds' names."""
+        if self._names_are_codes():  # no need to list every world
+            return tuple(int(c) for c in self._designated_codes)
         names = self.worlds
         return tuple(names[i] for i in self._designated)
 
     def valuation_of(self, world: World) -> frozenset[str]:
         """The atoms true at ``world``."""
+        if self._names_are_codes():  # a world's name is its valuation's code
+            code = self._names.code_of(world)
+            n = len(self._atoms)
+            return frozenset(a for j, a in enumerate(self._atoms) if code >> (n - 1 - j) & 1)
         i = self._index_of(world)
         return frozenset(a for a, t in zip(self._atoms, self._val[i], strict=True) if t)
 
@@ -367,34 +425,48 @@ class KripkeModel:
     # -- model checking -----------------------------------------------------------------
 
     def truth_mask(
-        self, formula: Formula | str, actions: Mapping[str, ActionModel] | None = None
+        self,
+        formula: Formula | str,
+        actions: Mapping[str, ActionModel] | None = None,
+        *,
+        memory_budget: int | None = None,
     ) -> np.ndarray:
         """Boolean mask over :attr:`worlds` of where ``formula`` holds.
 
-        ``actions`` maps names to action models and resolves ``[ACT] g``.
+        ``actions`` maps names to action models and resolves ``[ACT] g``;
+        ``memory_budget`` bounds the bytes allocated (see :mod:`epistemica.del_.budget`).
         """
-        return checker.evaluate(self, formula, actions).copy()
+        return checker.evaluate(self, formula, actions, memory_budget=memory_budget).copy()
 
     def truth_set(
-        self, formula: Formula | str, actions: Mapping[str, ActionModel] | None = None
+        self,
+        formula: Formula | str,
+        actions: Mapping[str, ActionModel] | None = None,
+        *,
+        memory_budget: int | None = None,
     ) -> frozenset:
         """The names of the worlds where ``formula`` holds."""
+        mask = checker.evaluate(self, formula, actions, memory_budget=memory_budget)
+        if self._names_are_codes():  # names are codes: list no other world
+            return frozenset(int(c) for c in self._names.cube.codes[mask])
         names = self.worlds
-        return frozenset(names[i] for i in np.flatnonzero(checker.evaluate(self, formula, actions)))
+        return frozenset(names[i] for i in np.flatnonzero(mask))
 
     def holds(
-        self, formula: Formula | str, actions: Mapping[str, ActionModel] | None = None
+        self,
+        formula: Formula | str,
+        actions: Mapping[str, ActionModel] | None = None,
+        *,
+        memory_budget: int | None = None,
     ) -> bool:
         """Whether ``formula`` holds at every designated world."""
         tree = checker.as_formula(formula)
-        if self._cube is not None and supported(tree):
-            bits = evaluate_bits(self, tree)
-            return bool(self._cube.test(bits, self._designated_codes).all())
-        return bool(checker.evaluate(self, tree, actions)[self._designated].all())
+        with budget.budget_scope(memory_budget):
+            return bool(checker.designated_truth(self, tree, actions).all())
 
     # -- updates ------------------------------------------------------------------------
 
-    def announce(self, formula: Formula | str) -> KripkeModel:
+    def announce(self, formula: Formula | str, *, memory_budget: int | None = None) -> KripkeModel:
         """The model after the truthful public announcement of ``formula``.
 
         Raises
@@ -404,17 +476,18 @@ class KripkeModel:
             truthfully).
         """
         tree = checker.as_formula(formula)
-        if self._cube is not None and supported(tree):
-            bits = evaluate_bits(self, tree)
-            kept = self._designated_codes[self._cube.test(bits, self._designated_codes)]
-            if len(kept):
-                return KripkeModel._from_cube(
-                    self._cube.restrict(bits), self._atoms, self._agents, kept
-                )
-        else:
-            mask = checker.evaluate(self, tree, None)
-            if mask[self._designated].any():
-                return self.restrict(mask)
+        with budget.budget_scope(memory_budget):
+            if self._cube is not None and not self._cube.sparse():
+                bits = checker.evaluate_bits(self, tree)
+                kept = self._designated_codes[self._cube.test(bits, self._designated_codes)]
+                if len(kept):
+                    return KripkeModel._from_cube(
+                        self._cube.restrict(bits), self._atoms, self._agents, kept
+                    )
+            else:
+                mask = checker.evaluate(self, tree, None)
+                if mask[self._designated].any():
+                    return self.restrict(mask)
         raise InvalidArgumentError(
             f"cannot announce {tree}: it is false at every designated world",
             hint="only true formulas can be announced; check it with holds() first",
@@ -547,6 +620,15 @@ class KripkeModel:
     def _index_of(self, world: World) -> int:
         return _lookup(self._world_index(), world, "argument")
 
+    def _names_are_codes(self) -> bool:
+        """Whether world names are the live codes of this model's cube (in order)."""
+        names = self._names
+        return (
+            isinstance(names, _CodeNames)
+            and names.cube is self._cube
+            and self._designated_codes is not None
+        )
+
     def _atom_column(self, atom: str) -> int | None:
         return self._column.get(atom)
 
@@ -587,8 +669,27 @@ def _as_world_list(designated: Any, index: Mapping[World, int]) -> list[int]:
     return [_lookup(index, w, "designated") for w in designated]
 
 
+class _CodeNames:
+    """The names of a cube model's worlds (their codes), listed only when asked for."""
+
+    def __init__(self, cube: Cube) -> None:
+        self.cube = cube
+
+    def __call__(self) -> tuple:
+        return tuple(self.cube.codes.tolist())
+
+    def code_of(self, world: World) -> int:
+        """The code of a live world, checked without listing the others."""
+        if isinstance(world, (int, np.integer)) and 0 <= world < 1 << self.cube.n_bits:
+            if self.cube.test(self.cube.alive, np.array([world]))[0]:
+                return int(world)
+        raise ModelError(
+            f"unknown world {world!r} in argument", hint="every world must be listed in `worlds`"
+        )
+
+
 def _code_names(cube: Cube) -> Callable[[], tuple]:
-    return lambda: tuple(int(c) for c in cube.codes)
+    return _CodeNames(cube)
 
 
 def _pick_names(source: tuple | Callable[[], tuple] | None, mask: np.ndarray) -> Callable:

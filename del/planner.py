@@ -50,6 +50,7 @@ import numpy as np
 from epistemica.del_.action import ActionModel, product_update
 from epistemica.del_.canonical import canonical_key
 from epistemica.del_.checker import as_formula, evaluate
+from epistemica.del_.cube import Cube, pack_bits
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formula import (
     And,
@@ -79,6 +80,9 @@ __all__ = [
     "goal_count",
     "plan",
     "plan_with_stats",
+    "project",
+    "relevant_agents",
+    "relevant_atoms",
     "uses_knowledge",
     "validate",
 ]
@@ -175,6 +179,8 @@ def plan_with_stats(
     check_problem(initial, actions)
     tree = as_formula(goal)
     table = dict(actions)
+    if not callable(heuristic):  # a user's heuristic may read any atom or agent
+        initial, table = _relevant_part(initial, table, tree)
     # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
     # the search then tracks belief relations only (half the relational work).
     beliefs_only = not uses_knowledge(tree, table.values())
@@ -280,13 +286,157 @@ def uses_knowledge(goal: Formula, actions: Iterable[ActionModel]) -> bool:
     >>> uses_knowledge(parse_formula("B[a] p"), [public_announcement("p", ["a"])])
     False
     """
+    return any(
+        isinstance(g, _KNOWLEDGE_NODES) for f in _formulas(goal, actions) for g in f.subformulas()
+    )
+
+
+def _formulas(goal: Formula, actions: Iterable[ActionModel]) -> list[Formula]:
+    """The goal and every formula of the actions: preconditions, effects, edge conditions."""
     formulas = [goal]
     for action in actions:
         formulas.extend(action.pre)
         formulas.extend(v for changes in action.post for v in changes.values())
         for edges in (*action._edges.values(), *action._know_edges.values()):
             formulas.extend(c for _, _, c in edges if c is not None)
-    return any(isinstance(g, _KNOWLEDGE_NODES) for f in formulas for g in f.subformulas())
+    return formulas
+
+
+def relevant_atoms(goal: Formula | str, actions: Iterable[ActionModel]) -> frozenset[str]:
+    """The atoms that the goal or an action reads or assigns: all that planning can see.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import public_assignment
+    >>> sorted(relevant_atoms("K[a] p", [public_assignment({"q": "r"}, ["a"])]))
+    ['p', 'q', 'r']
+    """
+    actions = list(actions)
+    found = {g.key for f in _formulas(as_formula(goal), actions) for g in f.atoms()}
+    found.update(atom for action in actions for changes in action.post for atom in changes)
+    return frozenset(found)
+
+
+def relevant_agents(goal: Formula | str, actions: Iterable[ActionModel]) -> frozenset[str]:
+    """The agents that a modality of the goal or of an action names.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import public_announcement
+    >>> sorted(relevant_agents("K[a] p", [public_announcement("B[b] q", ["a", "b", "c"])]))
+    ['a', 'b']
+    """
+    return frozenset(g for f in _formulas(as_formula(goal), actions) for g in f.agents())
+
+
+def _relevant_part(
+    state: KripkeModel, actions: dict[str, ActionModel], goal: Formula
+) -> tuple[KripkeModel, dict[str, ActionModel]]:
+    """The state and actions without the atoms and agents no formula of them reads.
+
+    An agent that no modality names changes no truth value, but its relation still
+    splits states (and each action carries it); an unread atom doubles the worlds.
+    """
+    keep = relevant_agents(goal, actions.values()) & set(state.agents) or set(state.agents[:1])
+    if len(keep) < len(state.agents):
+        agents = tuple(a for a in state.agents if a in keep)
+        state = _with_agents(state, agents)
+        actions = {name: _action_with_agents(a, agents) for name, a in actions.items()}
+    return project(state, relevant_atoms(goal, actions.values())), actions
+
+
+def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
+    if state._cube is not None:
+        return KripkeModel._from_cube(state._cube, state.atoms, agents, state._designated_codes)
+    rel = {a: state._rel[a] for a in agents}
+    know = {a: state._know[a] for a in agents}
+    return KripkeModel._from_arrays(
+        state._names, state.atoms, state._val, agents, rel, know, state._designated
+    )
+
+
+def _action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+    events = action.events
+
+    def edges(table: dict, agent: str) -> list[tuple]:
+        return [(events[e], events[f]) + (() if c is None else (c,)) for e, f, c in table[agent]]
+
+    return ActionModel(
+        events,
+        dict(zip(events, action.pre, strict=True)),
+        dict(zip(events, action.post, strict=True)),
+        {a: edges(action._edges, a) for a in agents},
+        list(action.designated),
+        knowledge={a: edges(action._know_edges, a) for a in agents},
+    )
+
+
+def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
+    """The state on ``atoms`` only, contracted: formulas over them keep their truth.
+
+    Planning never reads an atom that no action or goal mentions, but such an atom may
+    multiply the worlds (each unknown one doubles them); projecting it away first keeps
+    the search the size of the relevant part.
+
+    Examples
+    --------
+    >>> m = KripkeModel.from_observables(["p", "junk"], {"a": ["p"]}, designated=["p"])
+    >>> small = project(m, ["p"])
+    >>> small.n_worlds, small.atoms, small.holds("K[a] p")
+    (2, ('p',), True)
+    """
+    keep = set(atoms)
+    columns = [j for j, a in enumerate(state.atoms) if a in keep]
+    if len(columns) == len(state.atoms):
+        return state
+    if state._cube is not None:
+        found = _project_cube(state, columns)
+        if found is not None:
+            return found
+    return KripkeModel._from_arrays(
+        state._names,
+        tuple(state.atoms[j] for j in columns),
+        state._val[:, columns],
+        state.agents,
+        state._rel,
+        state._know,
+        state._designated,
+    ).minimize()
+
+
+def _project_cube(state: KripkeModel, columns: list[int]) -> KripkeModel | None:
+    """Projection of a model from observables whose worlds are a product over the
+    dropped atoms (every value of them goes with every live valuation of the others):
+    the model from observables of the kept atoms, then, is bisimilar to the state.
+    ``None`` when the worlds are not such a product (a law ties the dropped atoms)."""
+    cube = state._cube
+    n = cube.n_bits
+    dropped = [n - 1 - j for j in range(n) if j not in set(columns)]
+    any_dropped = cube.zeros()
+    for p in dropped:
+        if not cube.closed_under_flip(p):
+            return None
+        any_dropped |= cube.atom(n - 1 - p)
+    kept = [n - 1 - j for j in columns]  # code bit positions, most significant first
+    codes = cube.restrict(~any_dropped).codes
+    new_codes = _compress(codes, kept)
+    points = np.unique(_compress(np.asarray(state._designated_codes), kept))
+    position = {p: len(kept) - 1 - i for i, p in enumerate(kept)}
+    hidden = {a: tuple(position[p] for p in cube.hidden[a] if p in position) for a in state.agents}
+    small = Cube.full(len(kept), hidden)
+    flags = np.zeros(small.space.words * 64, dtype=bool)
+    flags[new_codes] = True
+    small = Cube(small.space, pack_bits(flags))
+    atoms = tuple(state.atoms[j] for j in columns)
+    return KripkeModel._from_cube(small, atoms, state.agents, points.astype(np.intp))
+
+
+def _compress(codes: np.ndarray, kept: list[int]) -> np.ndarray:
+    """Codes with only the bits at positions ``kept`` (most significant first), packed."""
+    out = np.zeros(len(codes), dtype=np.intp)
+    for i, p in enumerate(kept):
+        out |= ((codes >> p) & 1) << (len(kept) - 1 - i)
+    return out
 
 
 def _forget_knowledge(state: KripkeModel) -> KripkeModel:

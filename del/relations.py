@@ -267,6 +267,8 @@ class Arrows(Relation):
         return self.matrix.toarray()
 
     def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        if not len(sources):  # scipy cannot index a matrix by empty arrays
+            return np.zeros(0, dtype=bool)
         return np.asarray(self.matrix[sources, targets]).reshape(-1).astype(bool)
 
     def to_csr(self) -> sp.csr_matrix:
