@@ -21,7 +21,7 @@ from collections.abc import Hashable
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.kripke import KripkeModel
 
-__all__ = ["describe_model", "world_labels"]
+__all__ = ["describe_model", "world_label", "world_labels"]
 
 
 def world_labels(model: KripkeModel) -> dict[Hashable, str]:
@@ -47,6 +47,17 @@ def world_labels(model: KripkeModel) -> dict[Hashable, str]:
     if len(set(labels.values())) < len(labels):
         return {w: f"w{i}" for i, w in enumerate(model.worlds)}
     return labels
+
+
+def world_label(world: Hashable) -> str:
+    """The label :func:`world_labels` gives ``world`` when labels do not clash.
+
+    Examples
+    --------
+    >>> world_label(("u", "tell")), world_label(5)
+    ('u.tell', 'w5')
+    """
+    return _label(world)
 
 
 def _label(world: Hashable) -> str:

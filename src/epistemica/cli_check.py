@@ -10,8 +10,10 @@ import argparse
 import json
 from typing import Any
 
+import numpy as np
+
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.del_.describe import world_labels
+from epistemica.del_.describe import world_label, world_labels
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.symbolic.backend import formula_summary, load_spec
 
@@ -19,11 +21,13 @@ __all__ = ["run_check"]
 
 # Worlds listed by `check --formula` before "... and N more" (text) / truncation (JSON).
 _LIST_TEXT, _LIST_JSON = 12, 1000
+# Up to this many worlds every label is made, so that clashes fall back to w<index>.
+_LABEL_ALL = 100_000
 
 
-def _world(model: Any, world: Any, labels: dict) -> dict[str, Any]:
+def _world(model: Any, world: Any, label) -> dict[str, Any]:
     true = model.valuation_of(world)
-    return {"world": labels[world], "atoms": [a for a in model.atoms if a in true]}
+    return {"world": label(world), "atoms": [a for a in model.atoms if a in true]}
 
 
 def _show(entry: dict[str, Any]) -> str:
@@ -83,11 +87,23 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     model = spec.model
     if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
         return _check_formula_symbolic(spec, formula, args)
-    labels = world_labels(model)
-    where = model.truth_set(formula, actions=spec.actions)
-    designated = [{**_world(model, w, labels), "holds": w in where} for w in model.designated]
-    holds = all(d["holds"] for d in designated)
-    true_worlds = [w for w in model.worlds if w in where]
+    # Name only the worlds printed: a model of 2^24 worlds has 16 million names.
+    mask = model.truth_mask(formula, actions=spec.actions)
+    true_positions = np.flatnonzero(mask)
+    points = model.designated_positions
+    if model.n_worlds <= _LABEL_ALL:
+        every = world_labels(model)
+        labels = every.__getitem__
+    else:
+        labels = world_label
+    listed_points = points[:_LIST_JSON]
+    designated = [
+        {**_world(model, w, labels), "holds": bool(mask[p])}
+        for p, w in zip(listed_points, model.worlds_at(listed_points), strict=True)
+    ]
+    holds = bool(mask[points].all())
+    n_true = len(true_positions)
+    true_worlds = model.worlds_at(true_positions[:_LIST_JSON])
     if args.json:
         listed = [_world(model, w, labels) for w in true_worlds[:_LIST_JSON]]
         print(
@@ -98,9 +114,9 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
                     "holds": holds,
                     "designated": designated,
                     "n_worlds": model.n_worlds,
-                    "n_true": len(true_worlds),
+                    "n_true": n_true,
                     "worlds": listed,
-                    "truncated": len(true_worlds) > len(listed),
+                    "truncated": n_true > len(listed),
                 },
                 indent=2,
             )
@@ -108,17 +124,17 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
         return EXIT_OK if holds else EXIT_FALSE
     print(f"{formula}")
     print(f"  {'true' if holds else 'false'} at the designated world", end="")
-    if len(designated) == 1:
+    if len(points) == 1:
         print(f" {_show(designated[0])}")
     else:
-        n_ok = sum(d["holds"] for d in designated)
-        print(f"s: holds at {n_ok} of {len(designated)}")
+        n_ok = int(mask[points].sum())
+        print(f"s: holds at {n_ok} of {len(points)}")
         for d in designated[:_LIST_TEXT]:
             print(f"    {'true ' if d['holds'] else 'false'}  {_show(d)}")
     shown = ", ".join(_show(_world(model, w, labels)) for w in true_worlds[:_LIST_TEXT])
-    more = len(true_worlds) - _LIST_TEXT
+    more = n_true - _LIST_TEXT
     tail = f", ... and {more} more" if more > 0 else ""
-    print(f"  holds at {len(true_worlds)} of {model.n_worlds} worlds" + (":" if shown else ""))
+    print(f"  holds at {n_true} of {model.n_worlds} worlds" + (":" if shown else ""))
     if shown:
         print(f"    {shown}{tail}")
     return EXIT_OK if holds else EXIT_FALSE
