@@ -24,7 +24,8 @@ from epistemica.aif.perspective import perspectives as _perspectives
 from epistemica.aif.prior import plausible_configurations, shared_rank, team_log_prior
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.baselines import Convention, open_goals
-from epistemica.sim.policy import Decisions, Policy
+from epistemica.sim.explore import Explorer
+from epistemica.sim.policy import Decisions, Policy, steer
 from epistemica.sim.sensing import Observations
 from epistemica.sim.tasking import select_tasks, task_slots
 
@@ -85,6 +86,13 @@ class ActiveInference(Policy):
         observation events it saw (settled teammates, tasks done, facts it was told:
         :class:`~epistemica.sim.knowledge.TeamKnowledge`). ``False`` is the ablation: the
         robot ignores those events (goals it does not know of stay out).
+    common_view : bool
+        At order 2 and above, compute the team prior from what is common knowledge: a
+        robot that does not see every teammate knows that those it cannot see cannot see
+        it either, so no position is common knowledge and the prior puts every robot at
+        the workspace centre (the shared default estimate); the shared tie-break then
+        picks the same configuration for everyone. With everyone in sight it is the
+        robot's own view. First order always uses its own view.
     **options
         Passed to :class:`epistemica.aif.Controller` (weights, horizon, ...).
     """
@@ -106,6 +114,7 @@ class ActiveInference(Policy):
         memory: float = 0.0,
         headings: int = 16,
         pruning: bool = True,
+        common_view: bool = True,
         **options,
     ) -> None:
         if not 0.0 <= float(memory) <= 1.0:
@@ -119,6 +128,7 @@ class ActiveInference(Policy):
         self.tie_weight = tie_weight
         self.options = options
         self.pruning = bool(pruning)
+        self.common_view = bool(common_view)
         self.name = {v: k for k, v in LEVELS.items()}.get(self.order, f"order-{order}")
         if not self.pruning:
             self.name += "-unpruned"
@@ -130,9 +140,12 @@ class ActiveInference(Policy):
         # an id() of a collected one may be reused by the next.
         self._ranks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._beliefs: dict[int, tuple[Controller, np.ndarray]] = {}  # robot -> (ctrl, q)
-        # Too few goals known for any valid configuration: explore as the convention does.
-        self._explorer = Convention()
-        self._explorer.start(scenario, robots, generators)
+        # Too few goals known for any valid configuration: sweep the workspace for more,
+        # then fall back to the convention on what is known.
+        self._convention = Convention()
+        self._convention.start(scenario, robots, generators)
+        spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
+        self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
@@ -154,6 +167,17 @@ class ActiveInference(Policy):
         return Controller(
             s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
         )
+
+    def _views(self, observations: Observations, robots) -> np.ndarray:
+        """``(R, n, 3)`` the poses each robot's team prior is computed from."""
+        views = observations.poses[list(robots)]
+        if self.order < 2 or not self.common_view:
+            return views
+        blind = ~observations.seen[list(robots)].all(axis=1)
+        if blind.any():
+            views = views.copy()
+            views[blind, :, :2] = self.scenario.workspace / 2
+        return views
 
     def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:
         """Each robot's prior from its own view ``views[j]`` (``None``: uniform)."""
@@ -212,10 +236,19 @@ class ActiveInference(Policy):
         return _Pruned(rows)
 
     def _explore(self, out: Decisions, row: int, observations: Observations, robot: int) -> None:
-        """The convention's move on the goals the robot knows (fewer than the mission
-        needs): the least-cost partial assignment, its own goal as the target."""
-        d = self._explorer.decide(observations, np.array([robot]))
-        out.controls[row], out.focal[row] = d.controls[0], d.focal[0]
+        """Too few goals known for any valid configuration: head for the nearest part of
+        the workspace not swept yet (sim/explore.py); when all is swept, the
+        convention's move on the goals it knows."""
+        s, pose = self.scenario, observations.poses[robot, robot]
+        target = self._explorer.target(robot, pose)
+        if target is None and observations.known_goals[robot].any():
+            d = self._convention.decide(observations, np.array([robot]))
+            out.controls[row], out.focal[row] = d.controls[0], d.focal[0]
+            return
+        if target is not None:
+            out.controls[row] = steer(
+                pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt
+            )[0]
 
     def _knows_more(self, observations: Observations, robot: int) -> bool:
         """Whether events, told facts or private goals make the robot's own set, or those
@@ -251,7 +284,7 @@ class ActiveInference(Policy):
         keep = own | np.logical_or.reduce(masks) if masks else own
         ctrl = self._controller(robot, goals, _Pruned(rows[keep]))
         view_poses = observations.poses[robot]
-        base = self._priors(ctrl, view_poses[None], (robot,))[0]
+        base = self._priors(ctrl, self._views(observations, (robot,)), (robot,))[0]
         base = np.full(int(keep.sum()), 1.0) if base is None else base
 
         def restricted(mask: np.ndarray) -> np.ndarray:
@@ -277,12 +310,12 @@ class ActiveInference(Policy):
         # Robots that share a controller (same goals, set and limits) decide in one team
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
+        self._explorer.visit(observations.poses[robots, robots], robots)
         for row, robot in enumerate(robots):
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
-                if observations.known_goals[robot].any():
-                    self._explore(out, row, observations, robot)
-                continue  # nothing known: stays put
+                self._explore(out, row, observations, robot)
+                continue
             if self._knows_more(observations, robot):
                 self._decide_nested(out, row, observations, robot, goals, configurations)
                 continue
@@ -291,7 +324,7 @@ class ActiveInference(Policy):
             groups.setdefault(id(ctrl), (ctrl, goals, []))[2].append((row, robot))
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
-            priors = self._priors(ctrl, observations.poses[list(team)], team)
+            priors = self._priors(ctrl, self._views(observations, team), team)
             decisions = ctrl.decide_team(observations.poses, team, priors)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)

@@ -1,0 +1,87 @@
+"""The stress-suite study (issue 11): every variant, mission and team size, every level.
+
+Runs the mission files of specs/stress/ (written by benchmarks/stress_suite.py) through the
+sweep machinery into one resumable SQLite file, then prints, per mission and variant, the
+success rate with its 95 % Wilson interval and the mean steps of the successes. The
+reported seeds are 0..S-1; the controller's parameters were chosen on seeds 1000-1029
+(docs/aif.md), and nothing here was tuned on the reported seeds.
+
+    python benchmarks/stress_study.py --sizes 2,3,5 --trials 50 --out runs/stress.sqlite
+    python benchmarks/stress_study.py --sizes 2,3,5 --trials 50 --out runs/stress.sqlite --table
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from epistemica.mission import load_mission
+from epistemica.run import mission_trials, run_study
+from epistemica.sim.report import summarise, wilson_interval
+from epistemica.sim.store import ResultStore
+
+ROOT = Path(__file__).resolve().parents[1]
+LEVELS = ("convention", "first", "third", "third-unpruned")
+
+
+def files(sizes):
+    out = []
+    for mission in ("rendezvous", "allocation"):
+        for path in sorted((ROOT / "specs" / "stress").glob(f"{mission}_*.epi")):
+            if int(path.stem.rsplit("_", 1)[1]) in sizes:
+                out.append(path)
+    return out
+
+
+def table(rows, sizes) -> str:
+    cells = summarise(rows)
+    by = {}
+    for c in cells:
+        spec = c.options.split('"spec": "')[1].split('"')[0]
+        mission, rest = spec.split("_", 1)
+        variant = rest.rsplit("_", 1)[0]
+        by[(mission, variant, c.robots, c.reasoning)] = c
+    lines = []
+    for mission in ("rendezvous", "allocation"):
+        variants = sorted({k[1] for k in by if k[0] == mission})
+        head = "| variant | robots | " + " | ".join(LEVELS) + " |"
+        lines += [f"\n**{mission}**\n", head, "|---|---|" + "---|" * len(LEVELS)]
+        for variant in variants:
+            for n in sizes:
+                row = [variant, str(n)]
+                for level in LEVELS:
+                    c = by.get((mission, variant, n, level))
+                    if c is None:
+                        row.append("–")
+                        continue
+                    lo, hi = wilson_interval(c.successes, c.trials)
+                    row.append(f"{100 * c.rate:.0f} [{100 * lo:.0f}, {100 * hi:.0f}]")
+                lines.append("| " + " | ".join(row) + " |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="2,3,5")
+    parser.add_argument("--trials", type=int, default=50)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--out", default="runs/stress.sqlite")
+    parser.add_argument("--table", action="store_true", help="only print the table")
+    parser.add_argument("--workers", type=int, default=None)
+    args = parser.parse_args()
+    sizes = [int(x) for x in args.sizes.split(",")]
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    with ResultStore(args.out, resume=True) as store:
+        specs = []
+        for path in files(sizes):
+            specs += mission_trials(load_mission(path), LEVELS, args.trials, args.seed)
+        if not args.table:
+            ran, skipped = run_study(specs, store, workers=args.workers)
+            print(f"{ran} trials run, {skipped} already stored")
+        ids = {s.id for s in specs}
+        rows = [r for r in store.rows() if r["id"] in ids]
+    print(table(rows, sizes))
+
+
+if __name__ == "__main__":
+    main()
