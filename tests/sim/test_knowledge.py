@@ -18,6 +18,7 @@ from epistemica.aif.configurations import valid_configurations
 from epistemica.del_.configuration_model import configuration_model, observed
 from epistemica.del_.parser import parse_formula
 from epistemica.sim import Scenario, simulate
+from epistemica.sim.active import ActiveInference
 from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying
 
 
@@ -180,3 +181,38 @@ def test_a_robot_models_a_teammate_over_the_goals_it_knows_the_teammate_knows():
     assert k.possible((0,), rows).sum() == 6
     assert k.possible((0, 1), rows).tolist() == [2 not in r for r in rows.tolist()]
     assert k.private_goals(0) and not k.private_goals(1)
+
+
+def test_a_robot_that_knows_no_goal_sweeps_until_it_finds_one():
+    # Robot 1 knows no goal and the goal is 20 m away: standing still it would never
+    # learn of it; sweeping the workspace it discovers it and the rendezvous succeeds.
+    s = Scenario(
+        "rendezvous",
+        [[25.0, 25.0], [5.0, 5.0]],
+        [[25.0, 24.0]],
+        ["range", "range"],
+        known_goals=np.array([[True], [False]]),
+        max_steps=150,
+    )
+    trial = simulate(s, "third", seed=0)
+    assert trial.success
+    assert np.hypot(*(trial.trajectory[-1, 1, :2] - s.goals[0])) <= s.success_radius
+
+
+def test_unseen_teammates_meet_at_the_goal_of_the_common_view():
+    # Two robots 28 m apart with a 5 m sensing range never see each other. Each is
+    # nearest a different corner goal; the third goal is at the centre. From its own view
+    # each would pick its own corner; from the common view (nobody's position is common
+    # knowledge) both pick the centre goal, and meet.
+    s = Scenario(
+        "rendezvous",
+        [[3.0, 3.0], [27.0, 27.0]],
+        [[5.0, 5.0], [25.0, 25.0], [15.0, 15.5]],
+        ["range", "range"],
+        sensing_range=5.0,
+    )
+    common = simulate(s, "third", seed=0)
+    assert common.success
+    end = common.trajectory[-1, :, :2]
+    assert np.all(np.hypot(*(end - s.goals[2]).T) <= s.success_radius)
+    assert not simulate(s, ActiveInference(3, common_view=False), seed=0).success
