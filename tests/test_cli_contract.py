@@ -189,3 +189,23 @@ def test_version_goes_to_standard_output(capsys):
     out, err = capsys.readouterr()
     assert info.value.code == 0 and err == ""
     assert out == f"epistemica {epistemica.__version__}\n" and epistemica.__version__[0].isdigit()
+
+
+def test_a_memory_budget_below_the_estimate_is_refused_with_the_symbolic_hint(capsys, tmp_path):
+    from epistemica.cli import main
+
+    n = 24  # 2^24 valuations: 2 MiB per truth set
+    lines = [f"agents c1..c{n}", f"atoms m1..m{n}"]
+    lines += [
+        f"observes c{i}: " + ", ".join(f"m{j}" for j in range(1, n + 1) if j != i)
+        for i in range(1, n + 1)
+    ]
+    lines.append("actual {m1, m2, m3}")
+    spec = tmp_path / "muddy24.epi"
+    spec.write_text("\n".join(lines) + "\n")
+    args = ["check", str(spec), "--backend", "explicit", "--formula", "K[c1] m1 | ~K[c1] m1"]
+    assert main(args) == 0
+    capsys.readouterr()
+    assert main([*args, "--memory-budget", "0.001"]) == 2
+    err = capsys.readouterr().err
+    assert "symbolic" in err and "Traceback" not in err

@@ -112,6 +112,15 @@ def build_parser() -> argparse.ArgumentParser:
     add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
+    for name in ("check", "plan", "show"):
+        commands.choices[name].add_argument(
+            "--memory-budget",
+            type=_gibibytes,
+            default=None,
+            metavar="GIB",
+            help="refuse explicit-model work estimated above GIB gibibytes (default 4); "
+            "the error names the symbolic backend",
+        )
     for command in commands.choices.values():
         # Also after the command (`epistemica check F --debug`); SUPPRESS keeps the
         # top-level value when the flag is not repeated there.
@@ -119,6 +128,16 @@ def build_parser() -> argparse.ArgumentParser:
             "--debug", action="store_true", default=argparse.SUPPRESS, help=_DEBUG_HELP
         )
     return parser
+
+
+def _gibibytes(text: str) -> int:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not 0 < value <= 1024:
+        raise argparse.ArgumentTypeError(f"expected a size in GiB in (0, 1024], got {text!r}")
+    return int(value * 2**30)
 
 
 _DEBUG_HELP = "print the traceback of any error (for reporting a bug)"
@@ -239,6 +258,13 @@ def _resolve(handler):
 
     def run(args: argparse.Namespace) -> int:
         module, _, name = handler.partition(":")
-        return getattr(importlib.import_module(module), name)(args)
+        function = getattr(importlib.import_module(module), name)
+        budget = getattr(args, "memory_budget", None)
+        if budget is None:
+            return function(args)
+        from epistemica.del_.budget import budget_scope
+
+        with budget_scope(budget):
+            return function(args)
 
     return run
