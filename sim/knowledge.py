@@ -155,14 +155,16 @@ class TeamKnowledge:
 
         A settled robot's goal, or a told fact, that would leave the chain no
         configuration at all is ignored: the chain saw contradictory events (two robots
-        settled at different goals of a rendezvous), and keeps what it had (belief
-        revision by the earlier events, documented in docs/simulation.md).
+        settled at different goals of a rendezvous, or at one goal of an allocation).
+        Settle events are applied newest first, so the most recent one wins: a robot that
+        settled where a stubborn teammate then settled too gives way (belief revision by
+        recency, documented in docs/language.md).
         """
         rows = np.asarray(rows)
         c = self._chain(chain)
         usable = self.knows_goals(chain) & ~self.knows_done(chain)
         keep = usable[rows].all(axis=1) if rows.size else np.ones(rows.shape[0], dtype=bool)
-        for robot, goal, bits in self._settled:
+        for robot, goal, bits in reversed(self._settled):  # the newest first
             if bits & c == c:
                 narrowed = keep & (rows[:, robot] == goal)
                 if narrowed.any():

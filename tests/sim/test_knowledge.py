@@ -138,8 +138,8 @@ def test_a_contradictory_settle_is_ignored_not_an_empty_set():
     rows = valid_configurations("rendezvous", 2, 2)
     k = TeamKnowledge(2, 2)
     k.settle(0, 0, [True, True])
-    k.settle(1, 1, [True, True])  # cannot both hold in a rendezvous
-    assert k.possible((0,), rows).tolist() == [True, False]
+    k.settle(1, 1, [True, True])  # cannot both hold in a rendezvous: the newest wins
+    assert k.possible((0,), rows).tolist() == [False, True]
 
 
 def test_settle_events_of_a_trial_are_recorded_with_their_observers():
