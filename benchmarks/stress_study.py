@@ -33,7 +33,7 @@ def files(sizes):
     return out
 
 
-def table(rows, sizes) -> str:
+def table(rows, sizes, trials: int) -> str:
     cells = summarise(rows)
     by = {}
     for c in cells:
@@ -55,7 +55,8 @@ def table(rows, sizes) -> str:
                         row.append("–")
                         continue
                     lo, hi = wilson_interval(c.successes, c.trials)
-                    row.append(f"{100 * c.rate:.0f} [{100 * lo:.0f}, {100 * hi:.0f}]")
+                    part = "" if c.trials >= trials else f" ({c.trials} trials)"
+                    row.append(f"{100 * c.rate:.0f} [{100 * lo:.0f}, {100 * hi:.0f}]{part}")
                 lines.append("| " + " | ".join(row) + " |")
     return "\n".join(lines)
 
@@ -80,7 +81,7 @@ def main() -> None:
             print(f"{ran} trials run, {skipped} already stored")
         ids = {s.id for s in specs}
         rows = [r for r in store.rows() if r["id"] in ids]
-    print(table(rows, sizes))
+    print(table(rows, sizes, args.trials))
 
 
 if __name__ == "__main__":

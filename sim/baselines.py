@@ -102,10 +102,17 @@ class Convention(_Straight):
         s = self.scenario
         knowledge = getattr(self, "_knowledge", None)
         constrained = knowledge is not None and knowledge.constrains((robot,))
+        pins: dict[int, int] = {}
+        if s.mission in ("allocation", "rendezvous") and s.valid is None and constrained:
+            if not knowledge.told((robot,)):  # settles only: pin, no table to enumerate
+                pins = _pins(s.mission, knowledge.settled((robot,)), goals)
+                constrained = False
         if s.mission != "multitask" and (s.valid is not None or constrained):
             row = self._tabled(view, goals, robot, knowledge)
             if row is not None:
                 return row
+        if pins:
+            return self._pinned(view, goals, robot, pins)
         if self.tie_break == "reverse":
             goals = goals[::-1]
         cost = distances(view[:, :2], s.goals[goals])  # (n, m')
@@ -123,6 +130,30 @@ class Convention(_Straight):
             row[robot] = goals[np.argmin(cost[robot])]
         return row
 
+    def _pinned(self, view, goals, robot, pins: dict[int, int]) -> np.ndarray:
+        """Least total distance with the settled robots at their goals: the others take
+        the least-cost assignment to the goals left (rendezvous: the pinned goal)."""
+        s = self.scenario
+        row = np.full(view.shape[0], -1)
+        if s.mission == "rendezvous":
+            row[:] = next(iter(pins.values()))
+            return row
+        for r, g in pins.items():
+            row[r] = g
+        free_robots = np.array([r for r in range(view.shape[0]) if r not in pins])
+        free_goals = np.array([g for g in goals if g not in pins.values()])
+        if free_robots.size and free_goals.size:
+            if self.tie_break == "reverse":
+                free_goals = free_goals[::-1]
+            cost = distances(view[free_robots, :2], s.goals[free_goals])
+            rs, cs = linear_sum_assignment(cost)
+            row[free_robots[rs]] = free_goals[cs]
+            if row[robot] < 0:
+                row[robot] = free_goals[np.argmin(cost[np.flatnonzero(free_robots == robot)[0]])]
+        elif row[robot] < 0 and free_goals.size == 0:
+            row[robot] = goals[np.argmin(distances(view[robot : robot + 1, :2], s.goals[goals])[0])]
+        return row
+
     def _tabled(self, view, goals, robot, knowledge) -> np.ndarray | None:
         """Least total distance over an explicit table of valid configurations, pruned by
         what the robot knows; None when nothing in it uses only goals it knows of."""
@@ -138,3 +169,19 @@ class Convention(_Straight):
         total = cost[np.arange(rows.shape[1]), rows].sum(axis=1)
         best = np.flatnonzero(total <= total.min() + 1e-9)
         return rows[best[-1] if self.tie_break == "reverse" else best[0]].copy()
+
+
+def _pins(mission: str, settled: list[tuple[int, int]], goals: np.ndarray) -> dict[int, int]:
+    """Settled robots and their goals, newest first, keeping what is consistent with the
+    mission (as TeamKnowledge.possible revises: the newest wins)."""
+    known = set(goals.tolist())
+    pins: dict[int, int] = {}
+    for robot, goal in settled:
+        if goal not in known or robot in pins:
+            continue
+        if mission == "rendezvous" and pins and goal not in pins.values():
+            continue
+        if mission == "allocation" and goal in pins.values():
+            continue
+        pins[robot] = goal
+    return pins

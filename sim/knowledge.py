@@ -140,6 +140,16 @@ class TeamKnowledge:
         own = self.knows_goals((robot,))
         return any((own & ~self.knows_goals((robot, j))).any() for j in range(self.n) if j != robot)
 
+    def settled(self, chain: Sequence[int]) -> list[tuple[int, int]]:
+        """``(robot, goal)`` of the settle events the whole chain saw, newest first."""
+        c = self._chain(chain)
+        return [(r, g) for r, g, b in reversed(self._settled) if b & c == c]
+
+    def told(self, chain: Sequence[int]) -> bool:
+        """Whether a told fact reaches the chain."""
+        c = self._chain(chain)
+        return any(b & c == c for _, b in self._told)
+
     def knows_goals(self, chain: Sequence[int]) -> np.ndarray:
         """``(m,)`` the goals the chain knows of."""
         c = self._chain(chain)

@@ -216,3 +216,31 @@ def test_unseen_teammates_meet_at_the_goal_of_the_common_view():
     end = common.trajectory[-1, :, :2]
     assert np.all(np.hypot(*(end - s.goals[2]).T) <= s.success_radius)
     assert not simulate(s, ActiveInference(3, common_view=False), seed=0).success
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.data())
+def test_the_convention_pins_settled_robots_as_the_table_would(data):
+    # The convention solves a reduced assignment with the settled robots pinned instead of
+    # enumerating every configuration; both must pick the same configuration.
+    from epistemica.sim.baselines import Convention
+
+    n = data.draw(st.integers(2, 4))
+    kind = data.draw(st.sampled_from(["allocation", "rendezvous"]))
+    rng = np.random.default_rng(data.draw(st.integers(0, 10**6)))
+    s = Scenario(kind, rng.uniform(0, 30, (n, 2)), rng.uniform(1, 29, (n, 2)), ["range"] * n)
+    k = TeamKnowledge(n, n)
+    for _ in range(data.draw(st.integers(1, 3))):
+        k.settle(data.draw(st.integers(0, n - 1)), data.draw(st.integers(0, n - 1)), [True] * n)
+    view = np.column_stack([rng.uniform(0, 30, (n, 2)), np.zeros(n)])
+    goals = np.arange(n)
+    pinned = Convention()
+    pinned.start(s, np.arange(n), [None] * n)
+    pinned._knowledge = k
+    tabled = Convention()
+    tabled.start(s.replace(valid=s.configurations()), np.arange(n), [None] * n)
+    tabled._knowledge = k
+    for robot in range(n):
+        a = pinned.configuration(view, goals, robot)
+        b = tabled.configuration(view, goals, robot)
+        assert a[robot] == b[robot], (a, b)
