@@ -24,11 +24,11 @@ ROOT = Path(__file__).resolve().parents[1]
 LEVELS = ("convention", "first", "third", "third-unpruned")
 
 
-def files(sizes):
+def files(sizes, match: str = ""):
     out = []
     for mission in ("rendezvous", "allocation"):
         for path in sorted((ROOT / "specs" / "stress").glob(f"{mission}_*.epi")):
-            if int(path.stem.rsplit("_", 1)[1]) in sizes:
+            if int(path.stem.rsplit("_", 1)[1]) in sizes and match in path.stem:
                 out.append(path)
     return out
 
@@ -69,12 +69,13 @@ def main() -> None:
     parser.add_argument("--out", default="runs/stress.sqlite")
     parser.add_argument("--table", action="store_true", help="only print the table")
     parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--match", default="", help="run only files whose name contains it")
     args = parser.parse_args()
     sizes = [int(x) for x in args.sizes.split(",")]
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     with ResultStore(args.out, resume=True) as store:
         specs = []
-        for path in files(sizes):
+        for path in files(sizes, args.match if not args.table else ""):
             specs += mission_trials(load_mission(path), LEVELS, args.trials, args.seed)
         if not args.table:
             ran, skipped = run_study(specs, store, workers=args.workers)

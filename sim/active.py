@@ -105,6 +105,9 @@ class ActiveInference(Policy):
     #: distance (:func:`epistemica.aif.prior.plausible_configurations`).
     PRUNE_FROM = 2_000
     PLAUSIBLE_MARGIN = 10.0
+    #: Rendezvous with a sensing range: steps a robot stands alone at a goal, seeing no
+    #: teammate, before it searches for the team (chosen on tuning seeds 1000-1019).
+    LONE_WAIT = 15
 
     def __init__(
         self,
@@ -146,6 +149,9 @@ class ActiveInference(Policy):
         self._convention.start(scenario, robots, generators)
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
+        # Rendezvous: a robot alone at a goal for LONE_WAIT steps searches for the team.
+        self._search = Explorer(scenario.workspace, spacing, scenario.n_robots)
+        self._alone = np.zeros(scenario.n_robots, dtype=int)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
@@ -250,6 +256,36 @@ class ActiveInference(Policy):
                 pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt
             )[0]
 
+    def _lone(self, observations: Observations, robots: np.ndarray) -> np.ndarray:
+        """Rendezvous: which robots have stood at a goal for ``LONE_WAIT`` steps seeing no
+        teammate. Such a robot knows the mission does not hold (it would see the others
+        there), and that no one it can see is coming: it goes to look for the team."""
+        s = self.scenario
+        if s.mission != "rendezvous" or s.sensing_range is None:
+            return np.zeros(len(robots), dtype=bool)
+        pose = observations.poses[robots, robots, :2]
+        at_goal = (np.hypot(*(pose[:, None] - s.goals[None]).transpose(2, 0, 1))
+                   <= s.success_radius).any(axis=1)  # fmt: skip
+        seen = observations.seen[robots].copy()
+        seen[np.arange(len(robots)), robots] = False
+        alone = at_goal & ~seen.any(axis=1)
+        searching = self._alone[robots] >= self.LONE_WAIT
+        self._alone[robots] = np.where(alone | (searching & ~seen.any(axis=1)),
+                                       self._alone[robots] + 1, 0)  # fmt: skip
+        return self._alone[robots] >= self.LONE_WAIT
+
+    def _seek(self, out: Decisions, row: int, observations: Observations, robot: int) -> bool:
+        """Head for the nearest cell not yet searched; False when all are."""
+        s, pose = self.scenario, observations.poses[robot, robot]
+        self._search.visit(pose[None, :2], [robot])
+        target = self._search.target(robot, pose)
+        if target is None:
+            return False
+        out.controls[row] = steer(
+            pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt
+        )[0]
+        return True
+
     def _knows_more(self, observations: Observations, robot: int) -> bool:
         """Whether events, told facts or private goals make the robot's own set, or those
         of the teammates it models, differ from the unpruned one."""
@@ -311,7 +347,10 @@ class ActiveInference(Policy):
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
         self._explorer.visit(observations.poses[robots, robots], robots)
+        searching = self._lone(observations, robots)
         for row, robot in enumerate(robots):
+            if searching[row] and self._seek(out, row, observations, robot):
+                continue
             goals, configurations = self._configurations(observations, robot)
             if goals.size == 0:
                 self._explore(out, row, observations, robot)

@@ -244,3 +244,24 @@ def test_the_convention_pins_settled_robots_as_the_table_would(data):
         a = pinned.configuration(view, goals, robot)
         b = tabled.configuration(view, goals, robot)
         assert a[robot] == b[robot], (a, b)
+
+
+def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
+    # A greedy teammate sits at the corner goal; the third-order robot goes to the goal of
+    # the common view (the centre), waits alone, then searches, sees the teammate settled
+    # and joins it. Without the search it would wait at the centre forever.
+    s = Scenario(
+        "rendezvous",
+        [[20.0, 10.0], [4.0, 24.0]],
+        [[15.0, 15.0], [3.0, 27.0]],
+        ["range", "range"],
+        sensing_range=5.0,
+        events=[("settle", "nearby")],
+        max_steps=150,
+    )
+    trial = simulate(s, "third", seed=0, policies={1: "zero"})
+    assert trial.success
+    assert any(e[1] == "settle" and e[2] == 1 and 0 in e[4] for e in trial.events)
+    patient = ActiveInference(3)
+    patient.LONE_WAIT = 10**6
+    assert not simulate(s, patient, seed=0, policies={1: "zero"}).success
