@@ -117,3 +117,8 @@ def test_after_and_robot_are_for_missions_only(capsys):
     spec = ROOT / "specs" / "puzzles" / "coin_toss.epi"
     assert main(["check", str(spec), "--after", "3"]) == 2
     assert "mission files" in capsys.readouterr().err
+
+
+def test_check_a_mission_without_claims_says_so(capsys):
+    assert main(["check", str(ROOT / "specs" / "multi_task.epi")]) == 0
+    assert "no claims" in capsys.readouterr().out

@@ -151,6 +151,9 @@ def check_mission(args: argparse.Namespace) -> int:
     from epistemica.mission import load_mission
 
     mission = load_mission(args.file)
+    if args.formula is None and not mission.checks and args.after is None:
+        print(f"{args.file}: {mission.kind}, no claims; add 'check \"name\": FORMULA' lines")
+        return EXIT_OK
     model, where = mission.model, "initially"
     if args.after is not None:
         model, where = _after(mission, args)
