@@ -203,11 +203,15 @@ def plausible_configurations(
         )
     rows_r, cols_r = linear_sum_assignment(slots)
     bound = slots[rows_r, cols_r].sum() + within
+    slot_goal = np.arange(m) if mission == "allocation" else np.repeat(np.arange(m), caps)
+    best = np.empty(n, dtype=np.intp)
+    best[rows_r] = slot_goal[cols_r]
     # Expand the most decided robots first (largest gap between their two cheapest goals):
     # their costly alternatives are cut at the first levels, where prefixes are few.
     ranked = np.sort(c, axis=1)
     order = np.argsort(-(ranked[:, 1] - ranked[:, 0]) if m > 1 else np.zeros(n), kind="stable")
     c_ordered = c[order]
+    best_ordered = best[order]
     cheapest_rest = np.concatenate([np.cumsum(c_ordered.min(axis=1)[::-1])[::-1], [0.0]])
     rows = np.empty((1, 0), dtype=_index_dtype(m))
     spent = np.zeros(1)
@@ -221,7 +225,10 @@ def plausible_configurations(
         keep = promise <= bound + 1e-9
         if np.count_nonzero(keep) > limit:
             cut = np.partition(promise[keep], limit - 1)[limit - 1]
-            keep &= promise <= cut
+            # The beam keeps the least-cost configuration's prefix: the lower bound can
+            # rank it below prefixes that later find no distinct goals, leaving none.
+            on_best = (rows == best_ordered[: r + 1]).all(axis=1)
+            keep &= (promise <= cut) | on_best
         rows, spent, state = rows[keep], spent[keep], state[keep]
     out = np.empty_like(rows)
     out[:, order] = rows

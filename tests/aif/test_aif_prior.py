@@ -71,3 +71,19 @@ def test_team_prior_is_normalised_and_orders_by_cost(seed, scale, tie):
     # log odds = -(cost difference)/scale - tie * (rank difference), exactly
     i, j = 0, len(rows) - 1
     assert lp[i] - lp[j] == pytest.approx(-(cost[i] - cost[j]) / scale - tie * (rank[i] - rank[j]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10**6), st.integers(4, 8), st.sampled_from([1, 3, 10]))
+def test_a_narrow_beam_still_keeps_the_least_cost_configuration(seed, n, limit):
+    # The beam ranks prefixes by a bound that ignores distinctness; prefixes it prefers
+    # can all die later. The least-cost configuration must survive whatever the beam.
+    from scipy.optimize import linear_sum_assignment
+
+    cost = np.random.default_rng(seed).uniform(0, 30, size=(n, n))
+    rows = plausible_configurations(cost, "allocation", within=5.0, limit=limit)
+    r, c = linear_sum_assignment(cost)
+    best = np.empty(n, dtype=int)
+    best[r] = c
+    assert rows.shape[0] >= 1
+    assert (rows == best).all(axis=1).any()
