@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from epistemica.del_.errors import EpistemicaError
+from epistemica.sim.figures import _pyplot
 
 __all__ = ["Cell", "format_table", "plot_levels", "plot_results", "summarise", "wilson_interval"]
 
@@ -219,16 +219,3 @@ def plot_levels(cells: list[Cell], path, title: str) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
-
-
-def _pyplot():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise EpistemicaError(
-            "figures need matplotlib", hint="install the plot extra: pip install 'epistemica[plot]'"
-        ) from exc
-    return plt

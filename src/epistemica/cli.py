@@ -146,7 +146,7 @@ _DEBUG_HELP = "print the traceback of any error (for reporting a bug)"
 def _add_check(commands) -> None:
     check = commands.add_parser(
         "check",
-        help="evaluate the claims of a spec file, or one formula",
+        help="evaluate the claims of a spec or mission file, or one formula",
         description="Evaluate every 'check' claim of a spec file (exit 1 if one fails), or, "
         "with --formula, whether a formula holds at the designated worlds (exit 1 if not).",
         epilog="examples:\n"
@@ -154,7 +154,7 @@ def _add_check(commands) -> None:
         '  epistemica check specs/puzzles/coin_toss.epi --formula "[toss][show_b] Kw[b] heads"\n',
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    check.add_argument("file", metavar="FILE", help="a spec file (.epi)")
+    check.add_argument("file", metavar="FILE", help="a spec file or a mission file (.epi)")
     check.add_argument("--formula", "-f", metavar="F", help="check this formula instead")
     check.add_argument("--json", action="store_true", help="print a JSON object")
     check.add_argument(

@@ -149,7 +149,7 @@ class Mission:
                 known_goals=known,
                 max_speed=speeds,
                 max_turn=turns,
-                valid=self._valid_rows(),
+                valid=self._table,
                 events=p["events"],
                 told=tuple(
                     (tuple(r in names for r in self.robots), fact) for names, fact in p["learns"]
@@ -229,9 +229,6 @@ class Mission:
             filename=self.filename,
             hint="relax a constraint, or add goals",
         )
-
-    def _valid_rows(self) -> np.ndarray | None:
-        return self._table
 
     def configurations(self) -> np.ndarray:
         """The valid configurations, ``(k, n)`` goal indices (not for multitask)."""
