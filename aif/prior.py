@@ -177,7 +177,7 @@ def plausible_configurations(
     """
     from scipy.optimize import linear_sum_assignment
 
-    from epistemica.aif.configurations import _check_capacities, _extend, _index_dtype
+    from epistemica.aif.configurations import _check_capacities, _index_dtype
 
     c = as_finite(cost, "cost", ndim=2)
     n, m = c.shape
@@ -213,23 +213,33 @@ def plausible_configurations(
     c_ordered = c[order]
     best_ordered = best[order]
     cheapest_rest = np.concatenate([np.cumsum(c_ordered.min(axis=1)[::-1])[::-1], [0.0]])
-    rows = np.empty((1, 0), dtype=_index_dtype(m))
+    # Rows are kept as one (parent, goal) pair per level and assembled at the end:
+    # copying every prefix at every level cost more than scoring them.
+    levels: list[tuple[np.ndarray, np.ndarray]] = []
     spent = np.zeros(1)
+    on_best = np.ones(1, dtype=bool)  # which prefixes are the least-cost configuration's
     for r in range(n):
-        rows, parent = _extend(rows, state > 0)
-        goal = rows[:, -1].astype(np.intp)
-        spent = spent[parent] + c_ordered[r, goal]
-        state = state[parent]
-        state[np.arange(rows.shape[0]), goal] -= 1
-        promise = spent + cheapest_rest[r + 1]
-        keep = promise <= bound + 1e-9
+        # Every (prefix, goal) pair is scored before any row is built: at ten robots most
+        # of them are cut, and building them first cost most of the time.
+        step = spent[:, None] + c_ordered[r]
+        promise = step + cheapest_rest[r + 1]
+        keep = (state > 0) & (promise <= bound + 1e-9)
         if np.count_nonzero(keep) > limit:
             cut = np.partition(promise[keep], limit - 1)[limit - 1]
             # The beam keeps the least-cost configuration's prefix: the lower bound can
             # rank it below prefixes that later find no distinct goals, leaving none.
-            on_best = (rows == best_ordered[: r + 1]).all(axis=1)
-            keep &= (promise <= cut) | on_best
-        rows, spent, state = rows[keep], spent[keep], state[keep]
-    out = np.empty_like(rows)
-    out[:, order] = rows
+            best_pair = on_best[:, None] & (np.arange(m) == best_ordered[r])
+            keep &= (promise <= cut) | best_pair
+        parent, goal = np.nonzero(keep)  # row-major: lexicographic order is kept
+        levels.append((parent, goal))
+        spent = step[parent, goal]
+        state = state[parent]
+        state[np.arange(goal.size), goal] -= 1
+        on_best = on_best[parent] & (goal == best_ordered[r])
+    out = np.empty((spent.size, n), dtype=_index_dtype(m))
+    at = np.arange(spent.size)
+    for r in range(n - 1, -1, -1):
+        parent, goal = levels[r]
+        out[:, order[r]] = goal[at]
+        at = parent[at]
     return out[np.lexsort(out.T[::-1])]

@@ -160,6 +160,36 @@ class TeamKnowledge:
         c = self._chain(chain)
         return np.array([any(b & c == c for b in masks) for masks in self._done], dtype=bool)
 
+    def signature(self, chain: Sequence[int]) -> tuple:
+        """What the chain keeps, as a hashable key: chains with equal signatures keep the
+        same configurations (:meth:`possible` depends on nothing else)."""
+        c = self._chain(chain)
+        return (
+            self.knows_goals(chain).tobytes(),
+            self.knows_done(chain).tobytes(),
+            tuple(i for i, (*_, b) in enumerate(self._settled) if b & c == c),
+            tuple(i for i, (_, b) in enumerate(self._told) if b & c == c),
+        )
+
+    def possible_many(self, chains: Sequence[Sequence[int]], rows: np.ndarray) -> list:
+        """:meth:`possible` for each chain, computed once per distinct signature.
+
+        Examples
+        --------
+        >>> k = TeamKnowledge(3, 2)
+        >>> a, b = k.possible_many([(0, 1), (1, 2)], np.array([[0, 0, 1]]))
+        >>> a is b  # nothing was observed: one computation serves both chains
+        True
+        """
+        memo: dict[tuple, np.ndarray] = {}
+        out = []
+        for chain in chains:
+            key = self.signature(chain)
+            if key not in memo:
+                memo[key] = self.possible(chain, rows)
+            out.append(memo[key])
+        return out
+
     def possible(self, chain: Sequence[int], rows: np.ndarray) -> np.ndarray:
         """Which configurations ``rows`` (``(k, n)`` global goal indices) the chain keeps.
 

@@ -123,6 +123,21 @@ def test_nested_sets_agree_with_the_model_checker(history, data):
             assert model.holds(prefix + fact) == expected, (prefix + fact, events)
 
 
+@settings(max_examples=60, deadline=None)
+@given(histories())
+def test_chains_with_one_signature_keep_one_set(history):
+    # possible_many shares one computation among chains of equal signature: that is
+    # sound only if the signature determines the set, which this checks chain by chain.
+    _, rows, truth, robots, goals, events = history
+    knowledge, _ = _replay(rows, robots, goals, events, truth)
+    chains = [c for k in (1, 2, 3) for c in itertools.product(range(len(robots)), repeat=k)]
+    by_signature = {}
+    for chain, kept in zip(chains, knowledge.possible_many(chains, rows), strict=True):
+        assert np.array_equal(kept, knowledge.possible(chain, rows))
+        first = by_signature.setdefault(knowledge.signature(chain), kept)
+        assert np.array_equal(first, kept)
+
+
 def test_an_oblivious_teammate_keeps_the_larger_set():
     # Hand-worked: robot 0 sees robot 2 settle at goal 1; robot 1 is out of range.
     rows = valid_configurations("allocation", 3, 3)
