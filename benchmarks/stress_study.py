@@ -21,7 +21,7 @@ from epistemica.sim.report import summarise, wilson_interval
 from epistemica.sim.store import ResultStore
 
 ROOT = Path(__file__).resolve().parents[1]
-LEVELS = ("convention", "first", "third", "third-unpruned")
+LEVELS = ("convention", "first", "third", "third-shared", "third-unpruned")
 
 
 def files(sizes, match: str = ""):

@@ -82,7 +82,8 @@ def mission_text(mission: str, variant: str, n: int) -> str:
         f"robot r1..r{n}: random at random",
         f"goal g1..g{n} at random",
         *lines,
-        "simulate trials 100 seed 0 steps 100 levels convention, first, third, third_unpruned",
+        "simulate trials 100 seed 0 steps 100 "
+        "levels convention, first, third, third_shared, third_unpruned",
     ]
     # Wrap the comment at 90 columns.
     words, wrapped, line = " ".join(head[2:]).split(), [], "#"

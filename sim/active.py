@@ -86,6 +86,10 @@ class ActiveInference(Policy):
         observation events it saw (settled teammates, tasks done, facts it was told:
         :class:`~epistemica.sim.knowledge.TeamKnowledge`). ``False`` is the ablation: the
         robot ignores those events (goals it does not know of stay out).
+    nested : bool
+        Model each teammate over the configurations the robot knows that teammate keeps
+        (who saw which event). ``False`` is the ablation (level ``third-shared``): the
+        robot prunes by what it saw and takes every teammate to have seen the same.
     common_view : bool
         At order 2 and above, compute the team prior from what is common knowledge: a
         robot that does not see every teammate knows that those it cannot see cannot see
@@ -118,6 +122,7 @@ class ActiveInference(Policy):
         headings: int = 16,
         pruning: bool = True,
         common_view: bool = True,
+        nested: bool = True,
         **options,
     ) -> None:
         if not 0.0 <= float(memory) <= 1.0:
@@ -132,9 +137,12 @@ class ActiveInference(Policy):
         self.options = options
         self.pruning = bool(pruning)
         self.common_view = bool(common_view)
+        self.nested = bool(nested)
         self.name = {v: k for k, v in LEVELS.items()}.get(self.order, f"order-{order}")
         if not self.pruning:
             self.name += "-unpruned"
+        elif not self.nested:
+            self.name += "-shared"
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
@@ -320,13 +328,15 @@ class ActiveInference(Policy):
         # Chains that saw the same events keep the same set: computed once per signature
         # (at ten robots, third order, 72 chains share a handful of signatures).
         every = [(robot,)] + [c for level in chains[2:] for c in level]
+        if not self.nested:  # the ablation: every teammate is taken to have seen it all
+            every = [(robot,)]
         kept = dict(zip(every, knowledge.possible_many(every, table), strict=True))
         own = kept[(robot,)]
         masks = []
         for view in _perspectives(s.sensors, robot, self.order)[1:]:
             level = 2 if view.order == self.order - 1 else 3
-            mask = np.zeros(len(rows), dtype=bool)
-            for chain in chains[level]:
+            mask = np.zeros(len(rows), dtype=bool) if self.nested else own
+            for chain in chains[level] if self.nested else ():
                 if chain[-1] == view.agent:
                     mask |= kept[chain]
             masks.append(mask)

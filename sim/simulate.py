@@ -43,6 +43,8 @@ REASONING = (
     "first-unpruned",
     "second-unpruned",
     "third-unpruned",
+    "second-shared",
+    "third-shared",
     "convention-reverse",
     "paper-first",
     "paper-higher",
@@ -74,6 +76,8 @@ def make_policy(name: str) -> Policy:
         return ActiveInference(LEVELS[name])
     if name.endswith("-unpruned") and name.removesuffix("-unpruned") in LEVELS:
         return ActiveInference(LEVELS[name.removesuffix("-unpruned")], pruning=False)
+    if name.endswith("-shared") and name.removesuffix("-shared") in LEVELS:
+        return ActiveInference(LEVELS[name.removesuffix("-shared")], nested=False)
     if name in PAPER_LEVELS:
         return PaperPolicy(name)
     raise InvalidArgumentError(

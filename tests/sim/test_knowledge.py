@@ -280,3 +280,33 @@ def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
     patient = ActiveInference(3)
     patient.LONE_WAIT = 10**6
     assert not simulate(s, patient, seed=0, policies={1: "zero"}).success
+
+
+def test_the_shared_ablation_models_teammates_over_the_robots_own_set(monkeypatch):
+    # Robot 0 alone sees robot 2 settle: with nested sets it models robot 1 over the
+    # larger set (robot 1 did not see it); "third-shared" models it over its own set.
+    from epistemica.aif.controller import Controller
+
+    seen = []
+    decide = Controller.decide
+
+    def spy(self, robot, poses, prior=None, modelled_priors=None, **kw):
+        seen.append((prior, modelled_priors))
+        return decide(self, robot, poses, prior=prior, modelled_priors=modelled_priors, **kw)
+
+    monkeypatch.setattr(Controller, "decide", spy)
+    s = Scenario.paper("allocation", 3, 3, seed=2)
+    s = s.replace(told=[((True, False, False), parse_formula("assigned(r3, g2)"))])
+    for level, same in (("third", False), ("third-shared", True)):
+        seen.clear()
+        simulate(s.replace(max_steps=1), level, seed=2)
+        prior, modelled = seen[0]
+        assert modelled is not None
+        assert all(np.array_equal(prior, m) for m in modelled) == same, level
+
+
+def test_the_shared_ablation_changes_nothing_when_everyone_saw_everything():
+    base = Scenario.paper("allocation", 3, 3, seed=4)
+    told = base.replace(told=[((True,) * 3, parse_formula("~assigned(r1, g1)"))])
+    nested, shared = simulate(told, "third", seed=4), simulate(told, "third-shared", seed=4)
+    assert np.array_equal(nested.trajectory, shared.trajectory)
