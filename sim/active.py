@@ -109,8 +109,9 @@ class ActiveInference(Policy):
     #: distance (:func:`epistemica.aif.prior.plausible_configurations`).
     PRUNE_FROM = 2_000
     PLAUSIBLE_MARGIN = 10.0
-    #: Rendezvous with a sensing range: steps a robot stands alone at a goal, seeing no
-    #: teammate, before it searches for the team (chosen on tuning seeds 1000-1019).
+    #: Rendezvous with a sensing range: steps a robot stands at a goal, seeing only
+    #: teammates at that goal and not the whole team, before it searches for the rest
+    #: (chosen on tuning seeds 1000-1019).
     LONE_WAIT = 15
 
     def __init__(
@@ -157,9 +158,14 @@ class ActiveInference(Policy):
         self._convention.start(scenario, robots, generators)
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
-        # Rendezvous: a robot alone at a goal for LONE_WAIT steps searches for the team.
+        # Rendezvous: a group at a goal that has waited LONE_WAIT steps for the rest of
+        # the team searches for it; _left is the goal a searcher left (-1: not searching).
         self._search = Explorer(scenario.workspace, spacing, scenario.n_robots)
-        self._alone = np.zeros(scenario.n_robots, dtype=int)
+        self._waiting = np.zeros(scenario.n_robots, dtype=int)
+        self._left = np.full(scenario.n_robots, -1)
+        self._group = np.zeros((scenario.n_robots,) * 2, dtype=bool)  # who stayed there
+        self._searches = np.zeros(scenario.n_robots, dtype=int)
+        self._checked = np.zeros((scenario.n_robots, scenario.n_goals), dtype=bool)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
         s = self.scenario
@@ -273,29 +279,71 @@ class ActiveInference(Policy):
                 pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt
             )[0]
 
-    def _lone(self, observations: Observations, robots: np.ndarray) -> np.ndarray:
-        """Rendezvous: which robots have stood at a goal for ``LONE_WAIT`` steps seeing no
-        teammate. Such a robot knows the mission does not hold (it would see the others
-        there), and that no one it can see is coming: it goes to look for the team."""
+    def _searchers(self, observations: Observations, robots: np.ndarray) -> np.ndarray:
+        """Rendezvous with a sensing range: which robots search for the rest of the team.
+
+        A robot that has stood at a goal for ``LONE_WAIT`` steps, seeing some teammates
+        there and the others nowhere, knows the mission does not hold (it would see the
+        whole team), and that no one it can see is coming: it leaves to look for the rest.
+        Everyone in such a group knows the same, so the group leaves together (a teammate
+        that never moves stays). A searcher stops when it sees a teammate settled where it
+        was not when the searcher left: the settle it then observes is its newest, and
+        wins.
+        """
         s = self.scenario
         if s.mission != "rendezvous" or s.sensing_range is None:
             return np.zeros(len(robots), dtype=bool)
+        rows = np.arange(len(robots))
         pose = observations.poses[robots, robots, :2]
-        at_goal = (np.hypot(*(pose[:, None] - s.goals[None]).transpose(2, 0, 1))
-                   <= s.success_radius).any(axis=1)  # fmt: skip
+        d = np.hypot(*(pose[:, None] - s.goals[None]).transpose(2, 0, 1))
+        own = np.where(d.min(axis=1) <= s.success_radius, d.argmin(axis=1), -1)
+        # Where each robot last saw each teammate settle (a noisy view of a position
+        # cannot tell "at my goal" from "near it"; a settle event can).
+        at = np.full((len(robots), s.n_robots), -1)
+        if observations.knowledge is not None:
+            for row, robot in enumerate(robots):
+                for teammate, goal in reversed(observations.knowledge.settled((robot,))):
+                    at[row, teammate] = goal  # oldest first: the newest wins
         seen = observations.seen[robots].copy()
-        seen[np.arange(len(robots)), robots] = False
-        alone = at_goal & ~seen.any(axis=1)
-        searching = self._alone[robots] >= self.LONE_WAIT
-        self._alone[robots] = np.where(alone | (searching & ~seen.any(axis=1)),
-                                       self._alone[robots] + 1, 0)  # fmt: skip
-        return self._alone[robots] >= self.LONE_WAIT
+        seen[rows, robots] = False
+        everyone = seen.sum(axis=1) == s.n_robots - 1
+        together = (~seen | (at == own[:, None])).all(axis=1)  # all in sight stand here
+        left, group = self._left[robots], self._group[robots]
+        new = (at != left[:, None]) | ~group  # not where it was when the searcher left
+        found = (seen & (at >= 0) & new).any(axis=1)
+        searching = (left >= 0) & ~found
+        waiting = (own >= 0) & ~everyone & together & ~searching
+        self._waiting[robots] = np.where(waiting, self._waiting[robots] + 1, 0)
+        # Each search doubles the robot's next wait: two groups that left at once and
+        # crossed unseen would otherwise keep missing each other (one must stay put).
+        start = self._waiting[robots] >= self.LONE_WAIT * 2 ** self._searches[robots]
+        self._searches[robots] += start
+        if start.any():
+            self._search.visited[robots[start]] = False  # a new search sweeps anew
+            self._checked[robots[start]] = False
+            self._group[robots[start]] = seen[start] & (at[start] == own[start, None])
+        self._left[robots] = np.where(start, own, np.where(searching, left, -1))
+        return self._left[robots] >= 0
 
     def _seek(self, out: Decisions, row: int, observations: Observations, robot: int) -> bool:
-        """Head for the nearest cell not yet searched; False when all are."""
+        """Head first for the goals where the robot last saw a missing teammate settle,
+        then for the nearest cell not yet searched; False when all are."""
         s, pose = self.scenario, observations.poses[robot, robot]
         self._search.visit(pose[None, :2], [robot])
-        target = self._search.target(robot, pose)
+        near = np.hypot(*(s.goals - pose[:2]).T) <= 0.5 * s.sensing_range
+        self._checked[robot] |= near
+        clues = np.zeros(s.n_goals, dtype=bool)
+        if observations.knowledge is not None:
+            for teammate, goal in observations.knowledge.settled((robot,)):
+                if teammate != robot and not self._group[robot, teammate]:
+                    clues[goal] = True
+        clues &= ~self._checked[robot]
+        clues[self._left[robot]] = False
+        if clues.any():
+            goals = np.flatnonzero(clues)
+            target = s.goals[goals[np.argmin(np.hypot(*(s.goals[goals] - pose[:2]).T))]]
+        else:
+            target = self._search.target(robot, pose)
         if target is None:
             return False
         out.controls[row] = steer(
@@ -370,7 +418,7 @@ class ActiveInference(Policy):
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
         self._explorer.visit(observations.poses[robots, robots], robots)
-        searching = self._lone(observations, robots)
+        searching = self._searchers(observations, robots)
         for row, robot in enumerate(robots):
             if searching[row] and self._seek(out, row, observations, robot):
                 continue

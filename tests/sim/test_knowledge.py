@@ -310,3 +310,25 @@ def test_the_shared_ablation_changes_nothing_when_everyone_saw_everything():
     told = base.replace(told=[((True,) * 3, parse_formula("~assigned(r1, g1)"))])
     nested, shared = simulate(told, "third", seed=4), simulate(told, "third-shared", seed=4)
     assert np.array_equal(nested.trajectory, shared.trajectory)
+
+
+def test_a_group_waiting_for_the_rest_of_the_team_searches_for_it():
+    # Robots 0 and 1 meet at the near goal and see each other; the greedy robot 2 sits at
+    # the far goal, out of range. Neither robot is alone, yet each knows the team is not
+    # together and nobody in sight is coming: they search, see robot 2 settled at a goal
+    # where no one stood when they left, and join it. Without the search they wait forever.
+    s = Scenario(
+        "rendezvous",
+        [[4.0, 4.0], [6.0, 5.0], [25.0, 24.0]],
+        [[5.0, 5.0], [25.0, 25.0]],
+        ["range", "range", "range"],
+        sensing_range=8.0,
+        events=[("settle", "nearby")],
+        max_steps=150,
+    )
+    trial = simulate(s, "third", seed=0, policies={2: "zero"})
+    assert trial.success
+    assert any(e[1] == "settle" and e[2] == 2 and {0, 1} & set(e[4]) for e in trial.events)
+    patient = ActiveInference(3)
+    patient.LONE_WAIT = 10**6
+    assert not simulate(s, patient, seed=0, policies={2: "zero"}).success
