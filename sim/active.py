@@ -113,6 +113,8 @@ class ActiveInference(Policy):
     #: teammates at that goal and not the whole team, before it searches for the rest
     #: (chosen on tuning seeds 1000-1019).
     LONE_WAIT = 15
+    #: A searcher counts a goal as looked at from this fraction of its sensing range.
+    LOOK = 0.8
 
     def __init__(
         self,
@@ -165,6 +167,7 @@ class ActiveInference(Policy):
         self._left = np.full(scenario.n_robots, -1)
         self._group = np.zeros((scenario.n_robots,) * 2, dtype=bool)  # who stayed there
         self._searches = np.zeros(scenario.n_robots, dtype=int)
+        self._mark = np.zeros(scenario.n_robots, dtype=int)  # settles seen when it left
         self._checked = np.zeros((scenario.n_robots, scenario.n_goals), dtype=bool)
 
     def _controller(self, robot: int, goals: np.ndarray, configurations) -> Controller:
@@ -300,17 +303,26 @@ class ActiveInference(Policy):
         # Where each robot last saw each teammate settle (a noisy view of a position
         # cannot tell "at my goal" from "near it"; a settle event can).
         at = np.full((len(robots), s.n_robots), -1)
+        fresh = np.zeros((len(robots), s.n_robots), dtype=bool)  # settled since it left
+        count = np.zeros(len(robots), dtype=int)
         if observations.knowledge is not None:
             for row, robot in enumerate(robots):
-                for teammate, goal in reversed(observations.knowledge.settled((robot,))):
+                events = observations.knowledge.settled((robot,))  # newest first
+                count[row] = len(events)
+                for teammate, goal in reversed(events):
                     at[row, teammate] = goal  # oldest first: the newest wins
+                for teammate, _ in events[: max(len(events) - self._mark[robot], 0)]:
+                    fresh[row, teammate] = True
         seen = observations.seen[robots].copy()
         seen[rows, robots] = False
         everyone = seen.sum(axis=1) == s.n_robots - 1
         together = (~seen | (at == own[:, None])).all(axis=1)  # all in sight stand here
         left, group = self._left[robots], self._group[robots]
-        new = (at != left[:, None]) | ~group  # not where it was when the searcher left
-        found = (seen & (at >= 0) & new).any(axis=1)
+        # Found: a teammate settled at another goal, or one that settled at the goal the
+        # searcher left after it left (a newcomer there).
+        elsewhere = seen & (at >= 0) & (at != left[:, None])
+        newcomer = fresh & ~group & (at == left[:, None])
+        found = (elsewhere | newcomer).any(axis=1)
         searching = (left >= 0) & ~found
         waiting = (own >= 0) & ~everyone & together & ~searching
         self._waiting[robots] = np.where(waiting, self._waiting[robots] + 1, 0)
@@ -322,6 +334,7 @@ class ActiveInference(Policy):
             self._search.visited[robots[start]] = False  # a new search sweeps anew
             self._checked[robots[start]] = False
             self._group[robots[start]] = seen[start] & (at[start] == own[start, None])
+            self._mark[robots[start]] = count[start]
         self._left[robots] = np.where(start, own, np.where(searching, left, -1))
         return self._left[robots] >= 0
 
@@ -330,18 +343,21 @@ class ActiveInference(Policy):
         then for the nearest cell not yet searched; False when all are."""
         s, pose = self.scenario, observations.poses[robot, robot]
         self._search.visit(pose[None, :2], [robot])
-        near = np.hypot(*(s.goals - pose[:2]).T) <= 0.5 * s.sensing_range
-        self._checked[robot] |= near
+        distance = np.hypot(*(s.goals - pose[:2]).T)
+        self._checked[robot] |= distance <= self.LOOK * s.sensing_range
         clues = np.zeros(s.n_goals, dtype=bool)
         if observations.knowledge is not None:
             for teammate, goal in observations.knowledge.settled((robot,)):
                 if teammate != robot and not self._group[robot, teammate]:
                     clues[goal] = True
-        clues &= ~self._checked[robot]
-        clues[self._left[robot]] = False
-        if clues.any():
-            goals = np.flatnonzero(clues)
-            target = s.goals[goals[np.argmin(np.hypot(*(s.goals[goals] - pose[:2]).T))]]
+        # The team can only be waiting at a goal: first where missing teammates were
+        # seen to settle, then the other goals the robot knows, then the whole workspace.
+        unchecked = ~self._checked[robot]
+        for candidates in (clues & unchecked, observations.known_goals[robot] & unchecked):
+            if candidates.any():
+                goals = np.flatnonzero(candidates)
+                target = s.goals[goals[np.argmin(distance[goals])]]
+                break
         else:
             target = self._search.target(robot, pose)
         if target is None:
