@@ -10,7 +10,7 @@ import importlib
 # so that importing the package, and with it the command line's --help, does not pay
 # for numpy, scipy, networkx, lark and oxidd before they are needed.
 _SOURCES = {
-    "action": (
+    "explicit.action": (
         "ActionModel",
         "private_announcement",
         "product_update",
@@ -18,14 +18,14 @@ _SOURCES = {
         "public_assignment",
         "semi_private_sensing",
     ),
-    "bisimulation": ("bisimilar", "bisimulation_classes", "minimize"),
-    "checker": ("evaluate",),
-    "coordination": (
+    "explicit.bisimulation": ("bisimilar", "bisimulation_classes", "minimize"),
+    "explicit.checker": ("evaluate",),
+    "planning.coordination": (
         "CoordinationReport",
         "check_implicit_coordination",
         "plan_implicitly_coordinated",
     ),
-    "describe": ("describe_model",),
+    "explicit.describe": ("describe_model",),
     "errors": (
         "EpistemicaError",
         "InvalidArgumentError",
@@ -34,8 +34,8 @@ _SOURCES = {
         "SourceError",
         "SpecError",
     ),
-    "export": ("to_dot", "to_networkx"),
-    "formula": (
+    "explicit.export": ("to_dot", "to_networkx"),
+    "language.formula": (
         "After",
         "And",
         "Announce",
@@ -60,11 +60,11 @@ _SOURCES = {
         "conjunction",
         "disjunction",
     ),
-    "kripke": ("KripkeModel",),
-    "observability": ("observability_action",),
-    "parser": ("FORMULA_GRAMMAR", "FormulaBuilder", "parse_formula"),
-    "planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
-    "spec": ("Check", "Spec", "load_spec", "parse_spec"),
+    "explicit.kripke": ("KripkeModel",),
+    "explicit.observability": ("observability_action",),
+    "language.parser": ("FORMULA_GRAMMAR", "FormulaBuilder", "parse_formula"),
+    "planning.planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
+    "spec._document": ("Check", "Spec", "load_spec", "parse_spec"),
     "symbolic": ("KnowledgeStructure",),
 }
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
@@ -74,7 +74,7 @@ def __getattr__(name: str):
     module = _WHERE.get(name)
     if module is not None:
         value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    elif not name.startswith("__"):  # a submodule, e.g. epistemica.del_.checker
+    elif not name.startswith("__"):  # a submodule, e.g. epistemica.del_.explicit.checker
         try:
             value = importlib.import_module(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:

@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import canonical_atom
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.explicit.relations import Partition
+from epistemica.del_.language.formula import canonical_atom
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation
@@ -37,7 +37,7 @@ def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tupl
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.kripke import KripkeModel
     >>> m = KripkeModel.from_partitions(
     ...     ["h", "t"], {"h": {"heads"}}, {"a": [["h", "t"]], "b": [["h"], ["t"]]}, "h")
     >>> from epistemica.del_.symbolic import KnowledgeStructure

@@ -2,7 +2,7 @@
 fixed points for common knowledge and belief, structure transformers for ``[!f]`` and
 ``[ACT]``.
 
-The semantics is :mod:`epistemica.del_.checker`'s, state by state; only the law-states
+The semantics is :mod:`epistemica.del_.explicit.checker`'s, state by state; only the law-states
 matter, so a BDD may say anything outside the law. Truth sets are memoised per structure
 and subformula.
 """
@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.language.formula import (
     After,
     And,
     Announce,
@@ -41,7 +41,7 @@ from epistemica.del_.symbolic.relations import box, intersection
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
+    from epistemica.del_.explicit.action import ActionModel
 
 __all__ = ["evaluate", "propositional"]
 

@@ -31,9 +31,10 @@ import difflib
 from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from epistemica.del_.checker import as_formula
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.explicit.checker import as_formula
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.language.formula import (
     And,
     Atom,
     Bottom,
@@ -45,7 +46,6 @@ from epistemica.del_.formula import (
     Top,
     canonical_atom,
 )
-from epistemica.del_.kripke import KripkeModel
 from epistemica.del_.symbolic import _bdd, convert
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import evaluate, propositional
@@ -53,7 +53,7 @@ from epistemica.del_.symbolic.relations import Observes, Relation
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
+    from epistemica.del_.explicit.action import ActionModel
 
 __all__ = ["KnowledgeStructure"]
 
@@ -265,7 +265,7 @@ class KnowledgeStructure:
 
         Examples
         --------
-        >>> from epistemica.del_.action import semi_private_sensing
+        >>> from epistemica.del_.explicit.action import semi_private_sensing
         >>> s = KnowledgeStructure.from_observables(
         ...     ["heads"], {"a": [], "b": []}, designated=["heads"])
         >>> after = s.update(semi_private_sensing("heads", ["b"], ["a", "b"]))

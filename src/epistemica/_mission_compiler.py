@@ -20,14 +20,14 @@ from lark.exceptions import UnexpectedInput
 from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import EpistemicaError, SpecError
-from epistemica.del_.formula import Formula
-from epistemica.del_.parser import (
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.language.parser import (
     FORMULA_GRAMMAR,
     FormulaBuilder,
     syntax_error,
     transform_iteratively,
 )
-from epistemica.del_.spec_compiler import Check
+from epistemica.del_.spec._compiler import Check
 from epistemica.sim.scenario import EVENTS, MISSIONS, OBSERVATIONS, SEEN_BY
 
 MISSION_GRAMMAR = Path(__file__).with_name("mission.lark")

@@ -26,7 +26,7 @@ from epistemica.del_.budget import (
     current_budget,
     estimate_explicit_bytes,
 )
-from epistemica.del_.checker import propositional_mask
+from epistemica.del_.explicit.checker import propositional_mask
 
 from epistemic_strategies import formulas
 

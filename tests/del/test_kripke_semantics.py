@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.del_ import KripkeModel
-from epistemica.del_.relations import Arrows, DenseArrows, Partition
+from epistemica.del_.explicit.relations import Arrows, DenseArrows, Partition
 
 from epistemic_strategies import formulas, models, reference_truth
 

@@ -15,7 +15,7 @@ Examples
 --------
 A coin lands heads; ``b`` is shown the coin, ``a`` only sees that ``b`` looked:
 
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_.explicit.kripke import KripkeModel
 >>> m = KripkeModel.from_observables(["heads"], {"a": [], "b": []}, designated=["heads"])
 >>> after = m.update(semi_private_sensing("heads", ["b"], ["a", "b"]))
 >>> after.holds("Kw[b] heads & ~Kw[a] heads & K[a] Kw[b] heads")
@@ -29,11 +29,10 @@ from collections.abc import Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from epistemica.del_ import checker
 from epistemica.del_.errors import InvalidArgumentError, ModelError
-from epistemica.del_.formula import Formula, Top, canonical_atom
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import (
+from epistemica.del_.explicit import checker
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.explicit.relations import (
     DENSE_LIMIT,
     DenseArrows,
     Partition,
@@ -41,6 +40,7 @@ from epistemica.del_.relations import (
     arrows_from_edges,
     as_compact,
 )
+from epistemica.del_.language.formula import Formula, Top, canonical_atom
 
 __all__ = [
     "ActionModel",
@@ -318,7 +318,7 @@ def is_applicable(model: KripkeModel, action: ActionModel) -> bool:
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.kripke import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=[])
     >>> is_applicable(m, public_announcement("p", ["a"]))
     False
@@ -344,7 +344,7 @@ def product_update(
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.kripke import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
     >>> m.update(public_announcement("p", ["a"])).holds("K[a] p")
     True

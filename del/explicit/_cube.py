@@ -26,7 +26,7 @@ from collections.abc import Generator
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.language.formula import (
     And,
     Announce,
     AnnounceDiamond,

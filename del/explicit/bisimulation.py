@@ -16,8 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from epistemica.del_.errors import ModelError
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
 
 __all__ = ["bisimilar", "bisimulation_classes", "generated_submodel", "minimize", "quotient"]
 

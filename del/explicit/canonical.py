@@ -2,7 +2,7 @@
 
 :func:`canonical_key` names the bisimulation class of a pointed Kripke model by a
 hashable value, so that a planner can detect a state it has seen before with one dict
-lookup instead of pairwise :func:`~epistemica.del_.bisimulation.bisimilar` tests.
+lookup instead of pairwise :func:`~epistemica.del_.explicit.bisimulation.bisimilar` tests.
 
 The key comes from a partition refinement in which every class is named by its rank in
 the sorted order of its description (valuation first, then per agent and relation the
@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition, Relation
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.explicit.relations import Partition, Relation
 
 __all__ = ["canonical_classes", "canonical_key"]
 
@@ -43,7 +43,7 @@ def canonical_key(state: KripkeModel) -> tuple:
     fixed point the classes are the bisimulation classes and the key spells out the
     quotient model (each class's valuation and successors, and the designated classes).
     Two models get the same key exactly when they are bisimilar, provided both are
-    contracted (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`); for other models
+    contracted (:meth:`~epistemica.del_.explicit.kripke.KripkeModel.minimize`); for other models
     equal keys still imply bisimilarity.
 
     Examples

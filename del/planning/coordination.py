@@ -48,14 +48,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel
-from epistemica.del_.bisimulation import generated_submodel
-from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.planner import applicable, inapplicable_worlds
-from epistemica.del_.state_space import PlanResult, check_problem, search_states
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.bisimulation import generated_submodel
+from epistemica.del_.explicit.checker import as_formula, evaluate
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.planning.planner import applicable, inapplicable_worlds
+from epistemica.del_.planning.state_space import PlanResult, check_problem, search_states
 
 __all__ = [
     "CoordinationReport",
@@ -231,7 +231,7 @@ def plan_implicitly_coordinated(
     """The shortest implicitly coordinated sequential plan, or ``None``.
 
     Breadth-first search over the states ``Yk`` of the definition (contracted and
-    deduplicated up to bisimulation, as in :func:`~epistemica.del_.planner.plan`).
+    deduplicated up to bisimulation, as in :func:`~epistemica.del_.planning.planner.plan`).
     """
     return plan_implicitly_coordinated_with_stats(initial, actions, owners, goal, max_depth).plan
 

@@ -1,7 +1,7 @@
 """Epistemic planning: search for action sequences that reach an epistemic goal.
 
 A planning problem is the paper's ``Plan(s0, Gamma, B)``: an initial epistemic state
-``s0`` (a possibly multi-pointed :class:`~epistemica.del_.kripke.KripkeModel`), named
+``s0`` (a possibly multi-pointed :class:`~epistemica.del_.explicit.kripke.KripkeModel`), named
 action models, and a goal formula; a plan is a sequence of action names that is
 applicable step by step and ends in a state where the goal holds at every designated
 world.
@@ -12,14 +12,14 @@ Semantics (Bolander and Andersen's sequential plans):
   designated event's precondition holds (so a plan from a multi-pointed state works
   whichever designated world is actual);
 - the successor state is the product update, contracted to its bisimulation minimum
-  (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`), which preserves every formula.
+  (:meth:`~epistemica.del_.explicit.kripke.KripkeModel.minimize`), which preserves every formula.
 
 Search: ``"bfs"`` (breadth-first, shortest plans), ``"greedy"`` (greedy best-first) and
 ``"astar"`` (A*), the last two guided by a heuristic (default: the number of top-level
 conjuncts of the goal that do not hold yet, which is not admissible, so A* with it may
 return a longer plan than breadth-first search; ``heuristic="blind"`` is admissible).
-The engine is :func:`~epistemica.del_.state_space.search_states`, which stores each state
-once up to bisimulation (keyed by :func:`~epistemica.del_.canonical.canonical_key`), so
+The engine is :func:`~epistemica.del_.planning.state_space.search_states`, which stores each state
+once up to bisimulation (keyed by :func:`~epistemica.del_.explicit.canonical.canonical_key`), so
 the per-model memo of truth sets is reused by every precondition and goal test on it.
 
 The search terminates whenever finitely many states are reachable up to bisimulation
@@ -47,12 +47,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel, product_update
-from epistemica.del_.canonical import canonical_key
-from epistemica.del_.checker import as_formula, evaluate
-from epistemica.del_.cube import Cube, pack_bits
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.explicit._cube import Cube, pack_bits
+from epistemica.del_.explicit.action import ActionModel, product_update
+from epistemica.del_.explicit.canonical import canonical_key
+from epistemica.del_.explicit.checker import as_formula, evaluate
+from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.language.formula import (
     And,
     Common,
     Distributed,
@@ -61,8 +62,7 @@ from epistemica.del_.formula import (
     Know,
     KnowWhether,
 )
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.state_space import (
+from epistemica.del_.planning.state_space import (
     SEARCHES,
     Heuristic,
     PlanResult,
@@ -130,7 +130,7 @@ def plan(
     initial : KripkeModel
         The initial epistemic state (its designated worlds are the actual candidates).
     actions : mapping
-        Action name -> :class:`~epistemica.del_.action.ActionModel`; tried in this order.
+        Action name -> :class:`~epistemica.del_.explicit.action.ActionModel`; tried in this order.
     goal : formula or str
         Must hold at every designated world of the final state. ``[ACT] g`` in the goal
         refers to ``actions``.

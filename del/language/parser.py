@@ -1,9 +1,9 @@
 """Parse formulas written in the concrete syntax of ``formula.lark``.
 
-``parse_formula`` turns text into a :class:`~epistemica.del_.formula.Formula` tree and
+``parse_formula`` turns text into a :class:`~epistemica.del_.language.formula.Formula` tree and
 reports malformed text as a :class:`~epistemica.del_.errors.ParseError` that points at the
 offending character, says what was expected and suggests a fix (the wording comes from
-:mod:`~epistemica.del_.syntax_errors`). ``FormulaBuilder`` is the lark transformer behind
+:mod:`~epistemica.del_.language._syntax_errors`). ``FormulaBuilder`` is the lark transformer behind
 it, public so that grammars importing ``formula.lark`` (the spec files) build the same
 trees.
 
@@ -37,7 +37,8 @@ from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import UnexpectedInput
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
-from epistemica.del_.formula import (
+from epistemica.del_.language._syntax_errors import syntax_error
+from epistemica.del_.language.formula import (
     RESERVED_WORDS,  # re-exported for the grammar users
     After,
     And,
@@ -60,7 +61,6 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from epistemica.del_.syntax_errors import syntax_error
 
 # syntax_error is re-exported for the spec grammar, which imports formula.lark.
 __all__ = [

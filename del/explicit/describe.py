@@ -2,7 +2,7 @@
 
 Examples
 --------
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_.explicit.kripke import KripkeModel
 >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": ["q"]}, designated=["p"])
 >>> print(describe_model(m))
 4 worlds, 1 designated; agents a, b
@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Hashable
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit.kripke import KripkeModel
 
 __all__ = ["describe_model", "world_label", "world_labels"]
 
@@ -35,8 +35,8 @@ def world_labels(model: KripkeModel) -> dict[Hashable, str]:
 
     Examples
     --------
-    >>> from epistemica.del_.action import public_announcement
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.action import public_announcement
+    >>> from epistemica.del_.explicit.kripke import KripkeModel
     >>> world_labels(KripkeModel.from_observables(["p"], {"a": []}))
     {0: 'w0', 1: 'w1'}
     >>> m = KripkeModel(["u", "v"], {"u": {"p"}}, {"a": []}, ["u"])

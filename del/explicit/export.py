@@ -5,8 +5,8 @@ from __future__ import annotations
 import networkx as nx
 import numpy as np
 
-from epistemica.del_.describe import world_labels
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit.describe import world_labels
+from epistemica.del_.explicit.kripke import KripkeModel
 
 __all__ = ["to_dot", "to_networkx"]
 
@@ -58,7 +58,7 @@ def to_dot(model: KripkeModel) -> str:
     """The model in Graphviz DOT: designated worlds double-circled, edges labelled by agent.
 
     Knowledge edges (when separate from belief) are dashed. Worlds are labelled with the
-    names the user wrote (:func:`~epistemica.del_.describe.world_labels`: ``u``, ``u.tell``
+    names the user wrote (:func:`~epistemica.del_.explicit.describe.world_labels`: ``u``, ``u.tell``
     after an update) and their true atoms.
 
     Examples

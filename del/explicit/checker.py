@@ -20,7 +20,7 @@ Evaluation runs on an explicit stack, so formulas of any depth or width are fine
 truth sets are memoised per model and subformula (planning states, puzzles); large ones
 only for the formula asked about and for announcements, every other intermediate result
 being freed once its parent has used it. Models from observables are evaluated on bitsets
-(:mod:`~epistemica.del_.cube`), public-announcement actions included. Nothing larger than
+(:mod:`~epistemica.del_.explicit._cube`), public-announcement actions included. Nothing larger than
 the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first raising
 :class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
 evaluated through their partition; any other relation through its arrows.
@@ -41,9 +41,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from epistemica.del_ import budget, cube
+from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.explicit import _cube as cube
+from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.language.formula import (
     After,
     And,
     Announce,
@@ -65,11 +67,10 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from epistemica.del_.relations import Partition, Relation, arrows_from_edges
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
-    from epistemica.del_.kripke import KripkeModel
+    from epistemica.del_.explicit.action import ActionModel
+    from epistemica.del_.explicit.kripke import KripkeModel
 
 __all__ = ["as_formula", "designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
 
@@ -89,7 +90,7 @@ _MEMO_ALL_BYTES = 1 << 16
 
 @functools.lru_cache(maxsize=4096)
 def _parse(text: str) -> Formula:
-    from epistemica.del_.parser import parse_formula
+    from epistemica.del_.language.parser import parse_formula
 
     return parse_formula(text)
 
@@ -128,7 +129,7 @@ def evaluate(
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.kripke import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": [], "b": ["p"]}, designated=["p"])
     >>> evaluate(m, "Kw[b] p & ~Kw[a] p").tolist()
     [True, True]
@@ -382,7 +383,7 @@ class _Run:
         raise InvalidArgumentError(f"cannot evaluate {type(f).__name__}")
 
     def _after(self, model: KripkeModel, f: After) -> Node:
-        from epistemica.del_.action import product_with_provenance
+        from epistemica.del_.explicit.action import product_with_provenance
 
         action = self._action(f)
         key = ("after", id(action))
