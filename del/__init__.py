@@ -60,12 +60,11 @@ _SOURCES = {
         "conjunction",
         "disjunction",
     ),
-    "explicit.kripke": ("KripkeModel",),
     "explicit.observability": ("observability_action",),
     "language.parser": ("FORMULA_GRAMMAR", "FormulaBuilder", "parse_formula"),
     "planning.planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
     "spec._document": ("Check", "Spec", "load_spec", "parse_spec"),
-    "symbolic": ("KnowledgeStructure",),
+    "models": ("KnowledgeStructure", "KripkeModel"),
 }
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 

@@ -244,7 +244,7 @@ def _pair_and(x: np.ndarray, p: int) -> np.ndarray:
 
 
 def _hidden(model, agent: str) -> tuple[int, ...]:
-    hidden = model._cube.hidden.get(agent)
+    hidden = model.cube.hidden.get(agent)
     if hidden is None:
         raise InvalidArgumentError(
             f"unknown agent {agent!r}", hint=f"the model's agents: {', '.join(model.agents)}"
@@ -264,10 +264,10 @@ def bits_node(model, f: Formula, first: Formula | None = None) -> BitsNode:
     of ``g`` (no recursion, so any depth works). ``first`` names the child of a binary
     node to evaluate first (the one that needs more live results: fewer stay live).
     """
-    cube: Cube = model._cube
+    cube: Cube = model.cube
     kind = type(f)
     if kind is Atom:
-        column = model._atom_column(f.key)
+        column = model.atom_column(f.key)
         return cube.zeros() if column is None else cube.atom(column)
     if kind is Top:
         return cube.ones()
@@ -327,8 +327,8 @@ def announce_node(model, announcement: Formula, operand: Formula, box: bool = Tr
     """
     announced = yield model, announcement, True, True
     key = ("announce-bits", announcement)
-    sub = model._derived.get(key)
+    sub = model.derived.get(key)
     if sub is None:
-        sub = model._derived[key] = model._cube_submodel(announced)
+        sub = model.derived[key] = model.cube_submodel(announced)
     inside = yield sub, operand, True, False
     return ~announced | inside if box else announced & inside

@@ -67,6 +67,7 @@ __all__ = [
     "FORMULA_GRAMMAR",
     "RESERVED_WORDS",
     "FormulaBuilder",
+    "as_formula",
     "parse_formula",
     "syntax_error",
     "transform_iteratively",
@@ -365,3 +366,26 @@ def parse_formula(
         raise syntax_error(exc, text, filename, parser=_lark()) from None
     builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
     return builder.transform(tree)
+
+
+@functools.lru_cache(maxsize=4096)
+def _parse(text: str) -> Formula:
+    return parse_formula(text)
+
+
+def as_formula(formula: Formula | str) -> Formula:
+    """Return ``formula`` as a tree, parsing it if it is text (parses are cached).
+
+    Examples
+    --------
+    >>> print(as_formula("K[a] (p & q)"))
+    K[a] (p & q)
+    """
+    if isinstance(formula, Formula):
+        return formula
+    if isinstance(formula, str):
+        return _parse(formula)
+    raise InvalidArgumentError(
+        f"expected a formula or its text, got {type(formula).__name__}",
+        hint="pass a Formula tree or a string such as 'K[a] p'",
+    )

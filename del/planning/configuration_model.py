@@ -28,9 +28,9 @@ import numpy as np
 
 from epistemica.del_.errors import ModelError
 from epistemica.del_.explicit.action import ActionModel, private_announcement
-from epistemica.del_.explicit.kripke import KripkeModel
 from epistemica.del_.explicit.relations import Partition
 from epistemica.del_.language.formula import Formula
+from epistemica.del_.models import KripkeModel
 
 __all__ = ["assignment_atom", "configuration_model", "observed"]
 
@@ -77,7 +77,7 @@ def configuration_model(
     one_block = Partition(np.zeros(k, dtype=np.int64), 1)
     relations = dict.fromkeys(robots, one_block)
     designated = np.arange(k, dtype=np.int64)
-    return KripkeModel._from_arrays(
+    return KripkeModel.from_arrays(
         names, atoms, val, tuple(robots), relations, dict(relations), designated
     )
 

@@ -39,7 +39,7 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.explicit.bisimulation import generated_submodel, quotient
 from epistemica.del_.explicit.canonical import canonical_classes, canonical_key
-from epistemica.del_.explicit.kripke import KripkeModel
+from epistemica.del_.models import KripkeModel
 
 __all__ = ["SEARCHES", "Heuristic", "PlanResult", "check_problem", "search_states"]
 

@@ -23,6 +23,9 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
+from epistemica.del_.explicit import action as helpers
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.observability import observability_action
 from epistemica.del_.language.formula import Formula, Top
 from epistemica.del_.spec._names import names_hint
 
@@ -67,8 +70,6 @@ def owners(comp: Any, found: Mapping[str, tuple]) -> dict[str, str]:
 
 
 def _compile(comp: Any, key: str, body: Tree, env: dict[str, str], decl: Tree) -> Any:
-    from epistemica.del_.explicit import action as helpers
-
     agents = comp.names.agents
     kind = body.data
     try:
@@ -127,7 +128,6 @@ def _tokens(tree: Tree) -> list[Token]:
 
 
 def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) -> Any:
-    from epistemica.del_.explicit.observability import observability_action
 
     once: dict[str, Tree] = {}
     effects: list[Tree] = []
@@ -185,7 +185,6 @@ def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) 
 
 
 def _event_model(comp: Any, items: list[Tree], env: dict[str, str], decl: Tree) -> Any:
-    from epistemica.del_.explicit.action import ActionModel
 
     events: dict[str, Token] = {}
     pre: dict[str, Formula] = {}

@@ -29,7 +29,6 @@ from lark import Token, Transformer, Tree
 from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import SpecError
-from epistemica.del_.explicit.kripke import KripkeModel
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,
     And,
@@ -44,6 +43,7 @@ from epistemica.del_.language.formula import (
     conjunction,
 )
 from epistemica.del_.language.parser import FormulaBuilder, transform_iteratively
+from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec import _actions as spec_actions
 from epistemica.del_.spec import _model as spec_model
 from epistemica.del_.spec import _names as spec_names

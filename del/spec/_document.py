@@ -37,8 +37,8 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import ParseError, SpecError
-from epistemica.del_.explicit.kripke import KripkeModel
 from epistemica.del_.language.formula import Formula
+from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
 from epistemica.del_.spec._syntax import parse
 

@@ -14,8 +14,9 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
-from epistemica.del_.explicit.kripke import MAX_ENUMERATED_ATOMS, KripkeModel
+from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS
 from epistemica.del_.language.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
+from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._actions import members, relations
 
 __all__ = ["explicit_model", "observables_model", "satisfies"]

@@ -204,7 +204,7 @@ def _after(mission, args: argparse.Namespace):
             continue
         names = [mission.robots[i] for i in observers]
         event = mission.event(kind, mission.robots[robot], mission.goals[goal], names)
-        if not model.is_applicable(event):  # contradicts what happened before: revised away
+        if not model.applicable_in_some(event):  # contradicts what happened before: revised away
             ignored += 1
             continue
         model = model.update(event)

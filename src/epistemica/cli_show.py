@@ -12,10 +12,10 @@ import json
 
 from epistemica.cli_coordination import split_plan
 from epistemica.cli_exit import EXIT_OK
+from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import describe_model
 from epistemica.del_.explicit.export import to_dot
-from epistemica.del_.explicit.kripke import KripkeModel
 from epistemica.del_.spec._document import Spec, load_spec
 from epistemica.del_.spec._names import names_hint
 from epistemica.model_json import model_from_json, model_to_json
@@ -39,7 +39,7 @@ def model_after(spec: Spec, steps: list[str]) -> KripkeModel:
                 hint=names_hint(name, spec.actions, "action"),
             )
         action = spec.actions[name]
-        if not model.is_applicable(action):
+        if not model.applicable_in_some(action):
             done = f"after {', '.join(steps[: i - 1])}" if i > 1 else "in the initial model"
             raise InvalidArgumentError(
                 f"action {i} ({name}) cannot happen {done}: no designated event's "

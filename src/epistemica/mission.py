@@ -36,9 +36,9 @@ import numpy as np
 
 from epistemica._mission_compiler import compile_text
 from epistemica.aif.configurations import count_configurations, valid_configurations
+from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.explicit.action import ActionModel
-from epistemica.del_.explicit.kripke import KripkeModel
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import parse_formula
 from epistemica.del_.planning.configuration_model import (

@@ -14,7 +14,7 @@ from their belief relation::
 
 Examples
 --------
->>> from epistemica.del_.explicit.kripke import KripkeModel
+>>> from epistemica.del_ import KripkeModel
 >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
 >>> data = model_to_json(m)
 >>> data["worlds"], data["designated"]
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
+from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_labels
-from epistemica.del_.explicit.kripke import KripkeModel
 
 __all__ = ["FORMAT", "model_from_json", "model_to_json", "world_names"]
 

@@ -77,7 +77,7 @@ def test_announcement_of_a_false_formula_is_refused():
 
 def test_inapplicable_update_is_refused():
     m = two_worlds()
-    assert not m.is_applicable(public_announcement("~p", m.agents))
+    assert not m.applicable_in_some(public_announcement("~p", m.agents))
     with pytest.raises(InvalidArgumentError, match="not executable"):
         m.update(public_announcement("~p", m.agents))
 
