@@ -38,15 +38,12 @@ from collections.abc import Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.explicit import _cube as cube
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit._product import product_with_provenance
-from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
 from epistemica.del_.language.formula import (
     After,
     And,
@@ -76,12 +73,7 @@ if TYPE_CHECKING:
 
 __all__ = ["designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
 
-_CONNECTIVES = {
-    And: np.logical_and,
-    Or: np.logical_or,
-    Implies: lambda x, y: ~x | y,
-    Iff: np.equal,
-}
+_CONNECTIVES = CONNECTIVES
 _BINARY = (And, Or, Implies, Iff)
 _LEAVES = frozenset((Atom, Top, Bottom))
 # Results this small are memoised for every subformula (planning states, small puzzles);
@@ -282,13 +274,7 @@ class _Run:
         found = model.memo.get(key)
         if found is not None and (height <= _STRUCTURAL_HEIGHT or found[0] is f):
             return found if height <= _STRUCTURAL_HEIGHT else found[1]
-        first = self._first(f)
-        if bits and type(f) is After:
-            node = self._after_bits(model, f)
-        elif bits:
-            node = cube.bits_node(model, f, first)
-        else:
-            node = self._mask_node(model, f, first)
+        node = self._node(model, f, self._first(f), bits)
         stack.append((node, model, key, f if height > _STRUCTURAL_HEIGHT else None, keep))
         return None
 
@@ -307,57 +293,64 @@ class _Run:
             )
         return action
 
-    def _after_bits(self, model: ExplicitModel, f: After) -> Node:
-        """A public announcement as an action: the same submodel as ``[!pre]``."""
-        pre = _public_announcement(self._action(f), model)
-        return cube.announce_node(model, pre, f.operand)
+    def _node(self, model: ExplicitModel, f: Formula, first: Formula | None, bits: bool) -> Node:
+        """Evaluate one node (not a leaf) of ``f``, yielding requests for its subresults.
 
-    def _mask_node(self, model: ExplicitModel, f: Formula, first: Formula | None) -> Node:
-        n = model.n_worlds
+        Each formula type is interpreted here once; the operations on truth sets come
+        from the representation, bitsets or masks (:mod:`._sets`). ``first`` names the
+        child of a binary node to evaluate first (the one that needs more live results).
+        """
         kind = type(f)
-        if kind is Atom:
-            column = model.atom_column(f.key)
-            return np.zeros(n, dtype=bool) if column is None else model.valuation[:, column]
-        if kind is Top:
-            return np.ones(n, dtype=bool)
-        if kind is Bottom:
-            return np.zeros(n, dtype=bool)
+        rep = BITS if bits else MASKS
         if kind is Not:
-            return ~(yield model, f.operand, False, False)
+            return ~(yield model, f.operand, bits, False)
         if kind in _CONNECTIVES:
             if first is f.right:
-                right = yield model, f.right, False, False
-                left = yield model, f.left, False, False
+                right = yield model, f.right, bits, False
+                left = yield model, f.left, bits, False
             else:
-                left = yield model, f.left, False, False
-                right = yield model, f.right, False, False
+                left = yield model, f.left, bits, False
+                right = yield model, f.right, bits, False
             return _CONNECTIVES[kind](left, right)
-        if kind is Know or kind is Believe:
-            relation = _relation(model, f.agent, "knowledge" if kind is Know else "belief")
-            return relation.box((yield model, f.operand, False, False))
-        if kind is KnowWhether:
-            relation = _relation(model, f.agent, "knowledge")
-            inner = yield model, f.operand, False, False
-            if isinstance(relation, Partition):
-                return relation.know_whether(inner)
-            return relation.box(inner) | relation.box(~inner)
+        if kind is Know or kind is Believe or kind is KnowWhether:
+            which = "belief" if kind is Believe else "knowledge"
+            (relation,) = rep.relations(model, (f.agent,), which)
+            inner = yield model, f.operand, bits, False
+            if kind is KnowWhether:
+                return rep.know_whether(model, relation, inner)
+            return rep.box(model, relation, inner)
         if kind is Everybody or kind is EverybodyBelieves:
-            relations = _group(model, f.group, "knowledge" if kind is Everybody else "belief")
-            inner = yield model, f.operand, False, False
-            result = np.ones(n, dtype=bool)
-            for relation in relations:
-                result &= relation.box(inner)
-            return result
+            which = "knowledge" if kind is Everybody else "belief"
+            relations = rep.relations(model, f.group, which)
+            return rep.everybody(model, relations, (yield model, f.operand, bits, False))
         if kind is Common or kind is CommonBelief:
-            inner = yield model, f.operand, False, False
-            return _common_box(model, f.group, inner, "knowledge" if kind is Common else "belief")
+            which = "knowledge" if kind is Common else "belief"
+            relations = rep.relations(model, f.group, which)
+            inner = yield model, f.operand, bits, False
+            return rep.common(model, f.group, which, relations, inner)
         if kind is Distributed:
-            return _distributed(model, f.group).box((yield model, f.operand, False, False))
-        if kind in (Announce, AnnounceDiamond):
-            return (yield from _announcement(model, f))
+            relations = rep.relations(model, f.group, "knowledge")
+            inner = yield model, f.operand, bits, False
+            return rep.distributed(model, f.group, relations, inner)
+        if kind is Announce or kind is AnnounceDiamond:
+            box = kind is Announce
+            return (yield from self._announce(model, f.announcement, f.operand, box, bits))
+        if kind is After and bits:  # a public announcement (see natural_bits): [!pre] g
+            pre = _public_announcement(self._action(f), model)
+            return (yield from self._announce(model, pre, f.operand, True, bits))
         if kind is After:
             return (yield from self._after(model, f))
-        raise InvalidArgumentError(f"cannot evaluate {type(f).__name__}")
+        raise InvalidArgumentError(f"cannot evaluate {kind.__name__}")
+
+    def _announce(
+        self, model: ExplicitModel, announcement: Formula, operand: Formula, box: bool, bits: bool
+    ) -> Node:
+        """``[!announcement] operand`` (``box``) or ``<!announcement> operand``."""
+        rep = BITS if bits else MASKS
+        announced = yield model, announcement, bits, True
+        sub = rep.submodel(model, announcement, announced)
+        inside = None if sub is None else (yield sub, operand, bits, False)
+        return rep.after(model, announced, inside, box)
 
     def _after(self, model: ExplicitModel, f: After) -> Node:
         action = self._action(f)
@@ -404,20 +397,6 @@ def _convert(model: ExplicitModel, f: Formula, natural_bits: bool, keep: bool) -
     return model.cube.from_mask(found)
 
 
-def _announcement(model: ExplicitModel, f: Announce | AnnounceDiamond) -> Node:
-    announced = yield model, f.announcement, False, True
-    inside = np.zeros(model.n_worlds, dtype=bool)
-    if announced.any():
-        key = ("announce", f.announcement)
-        sub = model.derived.get(key)
-        if sub is None:
-            sub = model.derived[key] = _submodel(model, announced)
-        inside[announced] = yield sub, f.operand, False, False
-    if isinstance(f, Announce):
-        return ~announced | inside
-    return inside
-
-
 def _public_announcement(action: ActionModel, model: ExplicitModel) -> Formula | None:
     """The precondition of ``action`` if it is a public announcement for ``model``.
 
@@ -447,85 +426,6 @@ def _short(f: Formula) -> str:
         text = str(f)
         return text if len(text) <= 60 else text[:57] + "..."
     return type(f).__name__
-
-
-def _relation(model: ExplicitModel, agent: str, kind: str) -> Relation:
-    table = model.knowledge_relations if kind == "knowledge" else model.belief_relations
-    relation = table.get(agent)
-    if relation is None:
-        raise InvalidArgumentError(
-            f"unknown agent {agent!r}", hint=f"the model's agents: {', '.join(model.agents)}"
-        )
-    return relation
-
-
-def _submodel(model: ExplicitModel, mask: np.ndarray) -> ExplicitModel:
-    """The restriction to ``mask`` for evaluation only (designated worlds may vanish)."""
-    return model.restricted(mask, np.zeros(0, dtype=np.intp))
-
-
-def _group(model: ExplicitModel, group: tuple[str, ...], kind: str = "knowledge") -> list[Relation]:
-    return [_relation(model, agent, kind) for agent in group]
-
-
-def _common_box(
-    model: ExplicitModel, group: tuple[str, ...], inner: np.ndarray, kind: str = "knowledge"
-) -> np.ndarray:
-    """``C[group]`` over the agents' ``kind`` relations ("knowledge" or "belief")."""
-    relations = _group(model, group, kind)
-    if all(isinstance(r, Partition) for r in relations):
-        # Reflexive relations: reachable in >= 1 step is the connected component. (A
-        # relation is a Partition only if it is an equivalence, belief relations included.)
-        key = ("common-partition", kind, group)
-        component = model.derived.get(key)
-        if component is None:
-            component = model.derived[key] = _component_partition(relations, model.n_worlds)
-        return component.box(inner)
-    # General relations: a world fails iff it reaches a ~inner world in >= 1 step.
-    reached = np.zeros(model.n_worlds, dtype=bool)
-    frontier = ~inner
-    while frontier.any():
-        predecessors = np.zeros(model.n_worlds, dtype=bool)
-        for r in relations:
-            predecessors |= r.predecessors_of(frontier)
-        frontier = predecessors & ~reached
-        reached |= frontier
-    return ~reached
-
-
-def _component_partition(relations: list[Partition], n: int) -> Partition:
-    """Connected components of the union of equivalence relations, as a partition."""
-    rows, cols, offset = [], [], n
-    for r in relations:
-        rows.append(np.arange(n))
-        cols.append(offset + r.labels)
-        offset += r.n_labels
-    graph = sp.csr_matrix(
-        (np.ones(len(relations) * n, dtype=bool), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(offset, offset),
-    )
-    _, labels = connected_components(graph, directed=False)
-    return Partition(labels[:n].astype(np.int64))
-
-
-def _distributed(model: ExplicitModel, group: tuple[str, ...]) -> Relation:
-    key = ("distributed", group)
-    found = model.derived.get(key)
-    if found is not None:
-        return found
-    relations = _group(model, group)
-    if all(isinstance(r, Partition) for r in relations):
-        stacked = np.stack([r.labels for r in relations], axis=1)
-        labels = np.unique(stacked, axis=0, return_inverse=True)[1].reshape(-1)
-        found = Partition(labels.astype(np.int64))
-    else:
-        rows, cols = relations[0].edges()
-        keep = np.ones(len(rows), dtype=bool)
-        for r in relations[1:]:
-            keep &= r.contains(rows, cols)
-        found = arrows_from_edges(model.n_worlds, rows[keep], cols[keep])
-    model.derived[key] = found
-    return found
 
 
 def propositional_mask(
