@@ -195,7 +195,7 @@ def rows_satisfying(formula, rows: np.ndarray, robot_names, goal_names) -> np.nd
 
     Examples
     --------
-    >>> from epistemica.del_.language.parser import parse_formula
+    >>> from epistemica.del_ import parse_formula
     >>> f = parse_formula("assigned(a, x) | ~assigned(b, y)")
     >>> rows_satisfying(f, np.array([[0, 1], [1, 1], [1, 0]]), ["a", "b"], ["x", "y"]).tolist()
     [True, False, True]
@@ -270,7 +270,7 @@ def initial_knowledge(scenario) -> TeamKnowledge:
     Examples
     --------
     >>> from epistemica.sim import Scenario
-    >>> from epistemica.del_.language.parser import parse_formula
+    >>> from epistemica.del_ import parse_formula
     >>> s = Scenario("allocation", [[0, 0], [9, 9]], [[1, 1], [8, 8]], ["range"] * 2,
     ...              told=[((True, False), parse_formula("assigned(r1, g2)"))])
     >>> initial_knowledge(s).possible((0,), s.configurations()).tolist()

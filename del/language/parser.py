@@ -35,6 +35,7 @@ from typing import Any
 
 from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import UnexpectedInput
+from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.language._syntax_errors import syntax_error
@@ -68,6 +69,7 @@ __all__ = [
     "RESERVED_WORDS",
     "FormulaBuilder",
     "as_formula",
+    "build_imported_formula",
     "parse_formula",
     "syntax_error",
     "transform_iteratively",
@@ -389,3 +391,31 @@ def as_formula(formula: Formula | str) -> Formula:
         f"expected a formula or its text, got {type(formula).__name__}",
         hint="pass a Formula tree or a string such as 'K[a] p'",
     )
+
+
+class _Root(Transformer):
+    """Placeholder root of the merged transformer: only the ``formula__`` rules are used."""
+
+
+@functools.cache
+def _imported_builder() -> Transformer:
+    return merge_transformers(_Root(), formula=FormulaBuilder())
+
+
+def build_imported_formula(tree: Tree) -> Formula:
+    """The :class:`Formula` of a subtree parsed by a grammar that imports ``formula.lark``.
+
+    A grammar that ``%import``s the formula rules (the ``.epi`` spec grammar, the mission
+    grammar) names them ``formula__<rule>``; this applies :class:`FormulaBuilder`, merged
+    under that namespace, with :func:`transform_iteratively` (no recursion limit). Names
+    are not checked against declarations: the caller has done so, with its own locations.
+
+    Examples
+    --------
+    >>> from lark import Lark
+    >>> grammar = "start: formula\\n%import formula (formula)\\n%ignore /\\\\s+/"
+    >>> lark = Lark(grammar, parser="lalr", import_paths=[str(FORMULA_GRAMMAR.parent)])
+    >>> print(build_imported_formula(lark.parse("K[a] p & q").children[0]))
+    K[a] p & q
+    """
+    return transform_iteratively(_imported_builder(), tree)

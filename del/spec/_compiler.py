@@ -20,13 +20,11 @@ Examples
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
-from lark import Token, Transformer, Tree
-from lark.visitors import merge_transformers
+from lark import Token, Tree
 
 from epistemica.del_.errors import SpecError
 from epistemica.del_.language.formula import (
@@ -42,7 +40,7 @@ from epistemica.del_.language.formula import (
     Top,
     conjunction,
 )
-from epistemica.del_.language.parser import FormulaBuilder, transform_iteratively
+from epistemica.del_.language.parser import build_imported_formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec import _actions as spec_actions
 from epistemica.del_.spec import _model as spec_model
@@ -113,15 +111,6 @@ def compile_formula(text: str, filename: str, names: Names) -> Formula:
     """Parse ``text`` as one formula over ``names``; errors are located in ``text``."""
     tree = parse(text, filename, start="fml")
     return Compiler(text, filename, names).formula(tree, {})
-
-
-class _Base(Transformer):
-    """Placeholder root transformer: only the merged formula methods are used."""
-
-
-@functools.cache
-def _builder() -> Transformer:
-    return merge_transformers(_Base(), formula=FormulaBuilder())
 
 
 class Compiler:
@@ -227,7 +216,7 @@ class Compiler:
                 if key not in self.names.actions:
                     raise self.unknown("action", key, stem, self.names.actions)
         # Iteratively: lark's own transform recurses once per level of nesting.
-        return transform_iteratively(_builder(), tree)
+        return build_imported_formula(tree)
 
     def unbound_argument(self, args: list[Token]) -> None:
         """Inside a schema, an argument that no declared atom uses is an unbound parameter."""

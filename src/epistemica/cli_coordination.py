@@ -96,7 +96,7 @@ def _owners(spec: Any, file: str) -> dict[str, str]:
 
 
 def _check_steps(spec: Any, steps: list[str]) -> None:
-    from epistemica.del_.spec._names import names_hint
+    from epistemica.del_.spec import names_hint
 
     for name in steps:
         if name not in spec.actions:
@@ -107,8 +107,7 @@ def _check_steps(spec: Any, steps: list[str]) -> None:
 
 
 def _states(spec: Any, steps: list[str]) -> list[str]:
-    from epistemica.del_.explicit.describe import describe_model
-    from epistemica.del_.planning.planner import validate
+    from epistemica.del_ import describe_model, validate
 
     run = validate(spec.model, spec.actions, steps, spec.goal)
     return [describe_model(s) for s in run.states]
@@ -198,8 +197,7 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
 
 def verify_plan(args: argparse.Namespace, spec: Any) -> int:
     """Check the plan given with ``--verify``: implicitly coordinated, or just valid."""
-    from epistemica.del_.planning.coordination import check_implicit_coordination
-    from epistemica.del_.planning.planner import validate
+    from epistemica.del_ import check_implicit_coordination, validate
 
     steps = split_plan(args.verify)
     _check_steps(spec, steps)

@@ -146,8 +146,8 @@ def add_check_options(check) -> None:
 
 def check_mission(args: argparse.Namespace) -> int:
     """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps."""
+    from epistemica.del_ import parse_formula
     from epistemica.del_.errors import InvalidArgumentError
-    from epistemica.del_.language.parser import parse_formula
     from epistemica.mission import load_mission
 
     mission = load_mission(args.file)

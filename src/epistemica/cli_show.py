@@ -12,12 +12,9 @@ import json
 
 from epistemica.cli_coordination import split_plan
 from epistemica.cli_exit import EXIT_OK
-from epistemica.del_ import KripkeModel
+from epistemica.del_ import KripkeModel, Spec, describe_model, load_spec, to_dot
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.explicit.describe import describe_model
-from epistemica.del_.explicit.export import to_dot
-from epistemica.del_.spec._document import Spec, load_spec
-from epistemica.del_.spec._names import names_hint
+from epistemica.del_.spec import names_hint
 from epistemica.model_json import model_from_json, model_to_json
 
 __all__ = ["model_after", "run_show"]

@@ -52,7 +52,7 @@ def world_names(model: KripkeModel) -> dict[Hashable, str]:
 
     Examples
     --------
-    >>> from epistemica.del_.explicit.action import public_announcement
+    >>> from epistemica.del_ import public_announcement
     >>> m = KripkeModel(["w1", "w2"], {"w1": {"p"}}, {"a": [("w1", "w1"), ("w2", "w2")]}, "w1")
     >>> world_names(m.update(public_announcement("p", ["a"])))
     {('w1', 'announce'): 'w1.announce'}

@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.aif.configurations import valid_configurations
-from epistemica.del_.language.parser import parse_formula
+from epistemica.del_ import parse_formula
 from epistemica.del_.planning.configuration_model import configuration_model, observed
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.active import ActiveInference
