@@ -133,11 +133,11 @@ class ExplicitModel:
         # Models from observables keep a bitset cube and build the arrays below on demand.
         self._cube = cube
         self._designated_codes = designated_codes
-        self._val_ = None if val is None else np.asfortranarray(val, dtype=bool)
+        self._val_ = None if val is None else _read_only(np.asfortranarray(val, dtype=bool))
         self._agents = agents
         self._rel_ = rel
         self._know_ = know
-        self._designated_ = None if designated is None else np.unique(designated)
+        self._designated_ = None if designated is None else _read_only(np.unique(designated))
         self._memo: dict[Any, np.ndarray] = {} if memo is None else memo
         self._derived: dict[Any, Any] = {} if derived is None else derived
 
@@ -188,7 +188,7 @@ class ExplicitModel:
         self.require_arrays()
         codes = cube.codes
         shifts = np.arange(cube.n_bits - 1, -1, -1, dtype=np.intp)
-        self._val_ = np.asfortranarray(((codes[:, None] >> shifts) & 1).astype(bool))
+        self._val_ = _read_only(np.asfortranarray(((codes[:, None] >> shifts) & 1).astype(bool)))
         everything = (1 << cube.n_bits) - 1
         # Labels are codes with the hidden bits cleared; renumbered when few codes are live,
         # so that a box scatters into an array of the live classes, not of all 2^n codes.
@@ -201,7 +201,7 @@ class ExplicitModel:
             else:
                 rel[agent] = Partition(labels, n_labels=1 << cube.n_bits)
         self._rel_, self._know_ = rel, dict(rel)
-        self._designated_ = np.searchsorted(codes, self._designated_codes)
+        self._designated_ = _read_only(np.searchsorted(codes, self._designated_codes))
 
     def arrays_bytes(self) -> int:
         """Bytes the compact arrays of a cube model would take (0 once they exist)."""
@@ -238,15 +238,14 @@ class ExplicitModel:
     @property
     def _designated(self) -> np.ndarray:
         if self._designated_ is None:  # a cube model: positions of its designated codes
-            self._designated_ = np.searchsorted(self._cube.codes, self._designated_codes)
+            found = np.searchsorted(self._cube.codes, self._designated_codes)
+            self._designated_ = _read_only(found)
         return self._designated_
 
     @property
     def valuation(self) -> np.ndarray:
         """The valuation matrix, worlds x :attr:`atoms` (read-only)."""
-        view = self._val.view()
-        view.setflags(write=False)
-        return view
+        return self._val
 
     @property
     def belief_relations(self) -> Mapping[str, Relation]:
@@ -290,9 +289,7 @@ class ExplicitModel:
     @property
     def designated_positions(self) -> np.ndarray:
         """The positions in :attr:`worlds` of the designated worlds (a read-only array)."""
-        positions = self._designated.view()
-        positions.setflags(write=False)
-        return positions
+        return self._designated
 
     @classmethod
     def from_partitions(
@@ -505,6 +502,12 @@ class ExplicitModel:
 
     def atom_column(self, atom: str) -> int | None:
         return self._column.get(atom)
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """``array``, made read-only: models are immutable, and their arrays are shared."""
+    array.setflags(write=False)
+    return array
 
 
 def _lookup(index: Mapping[World, int], world: World, where: str) -> int:

@@ -127,6 +127,7 @@ class ActionModel:
         if not points:
             raise ModelError("an action model needs at least one designated event")
         self._designated = np.unique(np.array(points, dtype=np.int64))
+        self._designated.setflags(write=False)  # shared through designated_positions
 
     @property
     def designated(self) -> tuple:
@@ -136,9 +137,7 @@ class ActionModel:
     @property
     def designated_positions(self) -> np.ndarray:
         """The positions in :attr:`events` of the designated events (a read-only array)."""
-        positions = self._designated.view()
-        positions.setflags(write=False)
-        return positions
+        return self._designated
 
     @property
     def edges(self) -> Mapping[str, tuple[tuple[int, int, Formula | None], ...]]:

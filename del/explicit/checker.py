@@ -215,8 +215,9 @@ class _Run:
     def _value(self, model: ExplicitModel, root: Formula, bits: bool) -> np.ndarray:
         self.info = _analyse(root)
         need = self.info[id(root)][0]
-        if model.cube is not None and not model.cube.sparse():
-            unit = model.cube.space.nbytes
+        cube = model.cube
+        if cube is not None and not cube.sparse():
+            unit = cube.space.nbytes
         else:
             unit = model.n_worlds
         budget.require(
@@ -252,7 +253,8 @@ class _Run:
 
     def natural_bits(self, model: ExplicitModel, f: Formula) -> bool:
         """Whether ``f`` is best evaluated on ``model`` as a bitset."""
-        if model.cube is None or model.cube.sparse():
+        cube = model.cube
+        if cube is None or cube.sparse():
             return False
         return type(f) is not After or _public_announcement(self._action(f), model) is not None
 

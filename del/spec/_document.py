@@ -52,7 +52,7 @@ class Spec:
     Attributes
     ----------
     model : KripkeModel
-        The initial model (a :class:`~epistemica.del_.symbolic.KnowledgeStructure` when
+        The initial model (a :class:`~epistemica.del_.KnowledgeStructure` when
         loaded for the symbolic backend).
     actions : dict
         Action name -> :class:`~epistemica.del_.explicit.action.ActionModel`; a parametrised schema
