@@ -1,7 +1,11 @@
 """Dynamic epistemic logic: formulas, Kripke models, announcements, action models,
 bisimulation contraction and epistemic planning. Pure logic, no robots.
 
-Imported as ``epistemica.del_`` (``del`` is a Python keyword).
+Imported as ``epistemica.del_`` (``del`` is a Python keyword). The modules are grouped in
+families: ``language/`` (formulas and their grammar), ``explicit/`` (Kripke models as
+arrays and their algorithms), ``symbolic/`` (knowledge structures on BDDs), ``models.py``
+(the public model classes of both backends), ``spec/`` (the ``.epi`` language) and
+``planning/``; see docs/architecture.md. Import public names from here.
 """
 
 import importlib

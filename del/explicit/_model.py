@@ -49,25 +49,9 @@ World = Hashable
 class ExplicitModel:
     """The data of a multi-agent Kripke model, possibly multi-pointed.
 
-    Parameters
-    ----------
-    worlds : sequence of hashable
-        Distinct world names.
-    valuation : mapping
-        World -> iterable of the atoms true there (text such as ``"p"`` or
-        ``"at(r1, g1)"``); unlisted atoms are false.
-    relations : mapping
-        Agent -> iterable of ``(w, v)`` pairs: the agent's accessibility relation.
-        ``B[a]`` quantifies over it, and so does ``K[a]`` unless ``knowledge`` is given.
-    designated : world or iterable of worlds
-        The actual world(s).
-    knowledge : mapping, optional
-        Agent -> pairs: a separate knowledge relation for ``K[a]``.
-
-    Raises
-    ------
-    ModelError
-        If a pair, valuation entry or designated world names an unknown world.
+    The constructor's parameters are documented on the public subclass,
+    :class:`~epistemica.del_.KripkeModel`; algorithms use the interface in the module
+    docstring.
     """
 
     def __init__(
