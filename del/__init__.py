@@ -1,7 +1,11 @@
 """Dynamic epistemic logic: formulas, Kripke models, announcements, action models,
 bisimulation contraction and epistemic planning. Pure logic, no robots.
 
-Imported as ``epistemica.del_`` (``del`` is a Python keyword).
+Imported as ``epistemica.del_`` (``del`` is a Python keyword). The modules are grouped in
+families: ``language/`` (formulas and their grammar), ``explicit/`` (Kripke models as
+arrays and their algorithms), ``symbolic/`` (knowledge structures on BDDs), ``models.py``
+(the public model classes of both backends), ``spec/`` (the ``.epi`` language) and
+``planning/``; see docs/architecture.md. Import public names from here.
 """
 
 import importlib
@@ -10,7 +14,7 @@ import importlib
 # so that importing the package, and with it the command line's --help, does not pay
 # for numpy, scipy, networkx, lark and oxidd before they are needed.
 _SOURCES = {
-    "action": (
+    "explicit.action": (
         "ActionModel",
         "private_announcement",
         "product_update",
@@ -18,14 +22,14 @@ _SOURCES = {
         "public_assignment",
         "semi_private_sensing",
     ),
-    "bisimulation": ("bisimilar", "bisimulation_classes", "minimize"),
-    "checker": ("evaluate",),
-    "coordination": (
+    "explicit.bisimulation": ("bisimilar", "bisimulation_classes", "minimize"),
+    "explicit.checker": ("evaluate",),
+    "planning.coordination": (
         "CoordinationReport",
         "check_implicit_coordination",
         "plan_implicitly_coordinated",
     ),
-    "describe": ("describe_model",),
+    "explicit.describe": ("describe_model",),
     "errors": (
         "EpistemicaError",
         "InvalidArgumentError",
@@ -34,8 +38,8 @@ _SOURCES = {
         "SourceError",
         "SpecError",
     ),
-    "export": ("to_dot", "to_networkx"),
-    "formula": (
+    "explicit.export": ("to_dot", "to_networkx"),
+    "language.formula": (
         "After",
         "And",
         "Announce",
@@ -60,12 +64,17 @@ _SOURCES = {
         "conjunction",
         "disjunction",
     ),
-    "kripke": ("KripkeModel",),
-    "observability": ("observability_action",),
-    "parser": ("FORMULA_GRAMMAR", "FormulaBuilder", "parse_formula"),
-    "planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
-    "spec": ("Check", "Spec", "load_spec", "parse_spec"),
-    "symbolic": ("KnowledgeStructure",),
+    "explicit.observability": ("observability_action",),
+    "language.parser": (
+        "FORMULA_GRAMMAR",
+        "FormulaBuilder",
+        "as_formula",
+        "build_imported_formula",
+        "parse_formula",
+    ),
+    "planning.planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
+    "spec._document": ("Check", "Spec", "load_spec", "parse_spec"),
+    "models": ("KnowledgeStructure", "KripkeModel"),
 }
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
@@ -74,7 +83,7 @@ def __getattr__(name: str):
     module = _WHERE.get(name)
     if module is not None:
         value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    elif not name.startswith("__"):  # a submodule, e.g. epistemica.del_.checker
+    elif not name.startswith("__"):  # a submodule, e.g. epistemica.del_.explicit.checker
         try:
             value = importlib.import_module(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:
@@ -128,8 +137,10 @@ __all__ = [
     "SpecError",
     "Top",
     "Validation",
+    "as_formula",
     "bisimilar",
     "bisimulation_classes",
+    "build_imported_formula",
     "canonical_atom",
     "check_implicit_coordination",
     "conjunction",

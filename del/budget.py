@@ -9,7 +9,7 @@ with a :class:`MemoryBudgetError` naming the size and the symbolic backend.
 The budget in force is :data:`DEFAULT_MEMORY_BUDGET` (a module-level default, read at
 every check, so assigning it changes later checks) unless a caller narrows or widens it
 for a block with :func:`budget_scope` (what the ``memory_budget=`` keywords of
-:func:`~epistemica.del_.checker.evaluate` and :class:`~epistemica.del_.kripke.KripkeModel`
+:func:`~epistemica.del_.evaluate` and :class:`~epistemica.del_.KripkeModel`
 do).
 
 Examples

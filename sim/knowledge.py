@@ -4,7 +4,7 @@ Every fact a robot learns during a trial (a goal exists, a task is done, a teamm
 settled at a goal, a fact it was told at the start) comes from an *observation event*
 with a set of observers. The observers learn the fact, and who else observed it; the
 others are oblivious. In dynamic epistemic logic this is a private announcement to a group
-(:func:`epistemica.del_.action.private_announcement`): after it, for a chain of robots
+(:func:`epistemica.del_.explicit.action.private_announcement`): after it, for a chain of robots
 ``(i1, ..., ik)`` ("``i1``'s model of ``i2``'s model ... of ``ik``") the fact holds in
 every world the chain reaches iff *every robot of the chain* observed one event teaching
 it. :class:`TeamKnowledge` keeps, per fact, the observer sets of the events that taught it
@@ -225,7 +225,7 @@ def rows_satisfying(formula, rows: np.ndarray, robot_names, goal_names) -> np.nd
 
     Examples
     --------
-    >>> from epistemica.del_.parser import parse_formula
+    >>> from epistemica.del_ import parse_formula
     >>> f = parse_formula("assigned(a, x) | ~assigned(b, y)")
     >>> rows_satisfying(f, np.array([[0, 1], [1, 1], [1, 0]]), ["a", "b"], ["x", "y"]).tolist()
     [True, False, True]
@@ -300,7 +300,7 @@ def initial_knowledge(scenario) -> TeamKnowledge:
     Examples
     --------
     >>> from epistemica.sim import Scenario
-    >>> from epistemica.del_.parser import parse_formula
+    >>> from epistemica.del_ import parse_formula
     >>> s = Scenario("allocation", [[0, 0], [9, 9]], [[1, 1], [8, 8]], ["range"] * 2,
     ...              told=[((True, False), parse_formula("assigned(r1, g2)"))])
     >>> initial_knowledge(s).possible((0,), s.configurations()).tolist()

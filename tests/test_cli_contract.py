@@ -157,7 +157,7 @@ def test_the_package_root_still_exports_the_logic_layer():
 
     assert epistemica.KripkeModel is KripkeModel
     assert "KripkeModel" in epistemica.__all__ and "KripkeModel" in dir(epistemica)
-    assert epistemica.__version__ and epistemica.del_.checker.evaluate is epistemica.evaluate
+    assert epistemica.__version__ and epistemica.del_.evaluate is epistemica.evaluate
     with pytest.raises(AttributeError):
         epistemica.no_such_name  # noqa: B018
 

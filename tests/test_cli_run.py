@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from epistemica.cli import main
-from epistemica.del_.parser import parse_formula
+from epistemica.del_ import parse_formula
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
 from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying

@@ -91,7 +91,7 @@ def test_dot_is_written_with_names(capsys, tmp_path):
 
 def test_round_trip_of_a_shown_model_gives_the_same_model(capsys):
     from epistemica.cli_show import model_after
-    from epistemica.del_.spec import load_spec
+    from epistemica.del_ import load_spec
 
     original = model_after(load_spec(MUDDY), ["father", "nobody_knows"])
     code, out, _ = run(capsys, "show", MUDDY, "--after", "father,nobody_knows", "--json")

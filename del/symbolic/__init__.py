@@ -1,9 +1,7 @@
 """The symbolic backend: knowledge and belief structures on binary decision diagrams.
 
-See :mod:`epistemica.del_.symbolic.structure`. Imported as ``epistemica.del_.symbolic``;
-``KnowledgeStructure`` is also exported by ``epistemica.del_``.
+:mod:`~epistemica.del_.symbolic.structure` holds the data and algorithms
+(:class:`~epistemica.del_.symbolic.structure.SymbolicModel`); the public class is
+:class:`epistemica.del_.KnowledgeStructure`, which adds the conversions to and from Kripke
+models (see :mod:`epistemica.del_.models`).
 """
-
-from epistemica.del_.symbolic.structure import KnowledgeStructure
-
-__all__ = ["KnowledgeStructure"]

@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import canonical_atom
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition
+from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit.relations import Partition
+from epistemica.del_.language.formula import canonical_atom
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation
@@ -29,7 +29,7 @@ __all__ = ["MAX_KRIPKE_WORLDS", "kripke_parts", "states", "to_kripke"]
 MAX_KRIPKE_WORLDS = 2048
 
 
-def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tuple:
+def kripke_parts(model: ExplicitModel, atoms: Iterable[str] | None = None) -> tuple:
     """The constructor arguments of the knowledge structure of ``model``, state for world.
 
     ``atoms`` declares atoms besides the model's own (false everywhere), such as a spec's
@@ -37,10 +37,10 @@ def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tupl
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_partitions(
     ...     ["h", "t"], {"h": {"heads"}}, {"a": [["h", "t"]], "b": [["h"], ["t"]]}, "h")
-    >>> from epistemica.del_.symbolic import KnowledgeStructure
+    >>> from epistemica.del_ import KnowledgeStructure
     >>> s = KnowledgeStructure(*kripke_parts(m))
     >>> s.n_worlds, s.holds("Kw[b] heads & ~Kw[a] heads")
     (2, True)
@@ -54,12 +54,12 @@ def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tupl
     world_slots = list(range(len(names), len(names) + _bits(n)))
     next_slot = len(names) + len(world_slots)
     val = np.zeros((n, len(names)), dtype=bool)
-    val[:, : len(model.atoms)] = model._val
+    val[:, : len(model.atoms)] = model.valuation
 
     made: dict[int, Relation] = {}
     labels: list[tuple[list[int], np.ndarray]] = []
     codes = [_bdd.minterm(world_slots, i) for i in range(n)]
-    for relation in [*model._rel.values(), *model._know.values()]:
+    for relation in [*model.belief_relations.values(), *model.knowledge_relations.values()]:
         if id(relation) in made:
             continue
         if isinstance(relation, Partition):
@@ -84,7 +84,7 @@ def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tupl
             world &= _bdd.minterm(slots, int(label[i]))
         law |= world
     designated = _bdd.false()
-    for i in model._designated.tolist():
+    for i in model.designated_positions.tolist():
         designated |= codes[i]
     agents = model.agents
     return (
@@ -92,14 +92,21 @@ def kripke_parts(model: KripkeModel, atoms: Iterable[str] | None = None) -> tupl
         range(next_slot),
         law,
         agents,
-        {a: made[id(model._rel[a])] for a in agents},
-        {a: made[id(model._know[a])] for a in agents},
+        {a: made[id(model.belief_relations[a])] for a in agents},
+        {a: made[id(model.knowledge_relations[a])] for a in agents},
         designated,
     )
 
 
-def to_kripke(structure: Any, max_worlds: int = MAX_KRIPKE_WORLDS) -> KripkeModel:
+def to_kripke(
+    structure: Any,
+    max_worlds: int = MAX_KRIPKE_WORLDS,
+    model_class: type[ExplicitModel] = ExplicitModel,
+) -> ExplicitModel:
     """The Kripke model of ``structure``: one world per state, named ``0, 1, ...``.
+
+    ``model_class`` is the class built (``KnowledgeStructure.to_kripke`` passes the public
+    :class:`~epistemica.del_.KripkeModel`).
 
     Raises
     ------
@@ -108,7 +115,7 @@ def to_kripke(structure: Any, max_worlds: int = MAX_KRIPKE_WORLDS) -> KripkeMode
 
     Examples
     --------
-    >>> from epistemica.del_.symbolic import KnowledgeStructure
+    >>> from epistemica.del_ import KnowledgeStructure
     >>> s = KnowledgeStructure.from_observables(["p", "q"], {"a": ["p"]}, designated=["p"])
     >>> m = s.to_kripke()
     >>> m.n_worlds, m.holds("K[a] p & ~Kw[a] q")
@@ -120,29 +127,29 @@ def to_kripke(structure: Any, max_worlds: int = MAX_KRIPKE_WORLDS) -> KripkeMode
             f"the structure has {count} states, more than {max_worlds} worlds to list",
             hint="evaluate formulas on the KnowledgeStructure itself, or raise max_worlds",
         )
-    slots = list(structure._slots)
-    found = states(structure._law, slots)
+    slots = list(structure.slots)
+    found = states(structure.law, slots)
     index = {state: i for i, state in enumerate(found)}
     position = {s: k for k, s in enumerate(slots)}
     valuation = {
-        i: [a for a, s in structure._atoms.items() if state[position[s]]]
+        i: [a for a, s in structure.atom_slots.items() if state[position[s]]]
         for state, i in index.items()
     }
-    points = [index[state] for state in states(structure._designated, slots)]
+    points = [index[state] for state in states(structure.designated_states, slots)]
     made: dict[int, list[tuple[int, int]]] = {}
 
     def pairs(relation: Relation) -> list[tuple[int, int]]:
         if id(relation) not in made:
-            made[id(relation)] = _pairs(relation, structure._law, slots, found, index)
+            made[id(relation)] = _pairs(relation, structure.law, slots, found, index)
         return made[id(relation)]
 
     agents = structure.agents
-    return KripkeModel(
+    return model_class(
         list(range(len(found))),
         valuation,
-        {a: pairs(structure._belief[a]) for a in agents},
+        {a: pairs(structure.belief_relations[a]) for a in agents},
         points,
-        knowledge={a: pairs(structure._knowledge[a]) for a in agents},
+        knowledge={a: pairs(structure.knowledge_relations[a]) for a in agents},
     )
 
 

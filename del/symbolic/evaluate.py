@@ -2,7 +2,7 @@
 fixed points for common knowledge and belief, structure transformers for ``[!f]`` and
 ``[ACT]``.
 
-The semantics is :mod:`epistemica.del_.checker`'s, state by state; only the law-states
+The semantics is :mod:`epistemica.del_.explicit.checker`'s, state by state; only the law-states
 matter, so a BDD may say anything outside the law. Truth sets are memoised per structure
 and subformula.
 """
@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.language.formula import (
     After,
     And,
     Announce,
@@ -41,7 +41,7 @@ from epistemica.del_.symbolic.relations import box, intersection
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
+    from epistemica.del_.explicit.action import ActionModel
 
 __all__ = ["evaluate", "propositional"]
 
@@ -53,7 +53,7 @@ def evaluate(
 
     Examples
     --------
-    >>> from epistemica.del_.symbolic import KnowledgeStructure
+    >>> from epistemica.del_ import KnowledgeStructure
     >>> s = KnowledgeStructure.from_observables(["p"], {"a": [], "b": ["p"]})
     >>> evaluate(s, Know("b", Atom("p"))) == s.truth("p")
     True
@@ -96,15 +96,15 @@ class _Context:
 
     def eval(self, s: Any, f: Formula) -> BDDFunction:
         key = (f, self.key)
-        found = s._memo.get(key)
+        found = s.memo.get(key)
         if found is None:
-            found = s._memo[key] = self._compute(s, f)
+            found = s.memo[key] = self._compute(s, f)
         return found
 
     def _compute(self, s: Any, f: Formula) -> BDDFunction:
         kind = type(f)
         if kind is Atom:
-            return _bdd.var(s._atom_slot(f))
+            return _bdd.var(s.atom_slot(f))
         if kind is Top:
             return _bdd.true()
         if kind is Bottom:
@@ -114,12 +114,12 @@ class _Context:
         if kind in (And, Or, Implies, Iff):
             return _connective(kind, self.eval(s, f.left), self.eval(s, f.right))
         if kind is Know or kind is Believe:
-            relation = s._relation(f.agent, "knowledge" if kind is Know else "belief")
-            return box(relation, s._law, self.eval(s, f.operand), s._slots)
+            relation = s.relation(f.agent, "knowledge" if kind is Know else "belief")
+            return box(relation, s.law, self.eval(s, f.operand), s.slots)
         if kind is KnowWhether:
-            relation = s._relation(f.agent, "knowledge")
+            relation = s.relation(f.agent, "knowledge")
             inner = self.eval(s, f.operand)
-            return box(relation, s._law, inner, s._slots) | box(relation, s._law, ~inner, s._slots)
+            return box(relation, s.law, inner, s.slots) | box(relation, s.law, ~inner, s.slots)
         if kind is Everybody or kind is EverybodyBelieves:
             which = "knowledge" if kind is Everybody else "belief"
             return _everybody(s, f.group, which, self.eval(s, f.operand))
@@ -127,8 +127,8 @@ class _Context:
             which = "knowledge" if kind is Common else "belief"
             return _common(s, f.group, which, self.eval(s, f.operand))
         if kind is Distributed:
-            relation = intersection([s._relation(a, "knowledge") for a in f.group])
-            return box(relation, s._law, self.eval(s, f.operand), s._slots)
+            relation = intersection([s.relation(a, "knowledge") for a in f.group])
+            return box(relation, s.law, self.eval(s, f.operand), s.slots)
         if kind is Announce or kind is AnnounceDiamond:
             return self._announcement(s, f)
         if kind is After:
@@ -138,9 +138,9 @@ class _Context:
     def _announcement(self, s: Any, f: Announce | AnnounceDiamond) -> BDDFunction:
         announced = self.eval(s, f.announcement)
         key = ("announce", f.announcement, self.key)
-        sub = s._derived.get(key)
+        sub = s.derived.get(key)
         if sub is None:
-            sub = s._derived[key] = s._restricted(announced, _bdd.false())
+            sub = s.derived[key] = s.restricted(announced, _bdd.false())
         inside = announced & self.eval(sub, f.operand)
         if isinstance(f, Announce):
             return ~announced | inside
@@ -157,9 +157,9 @@ class _Context:
         result = product(s, action, lambda g: self.eval(s, g))
         after = result.structure
         inner = self.eval(after, f.operand)
-        fresh = [slot for slot in after._slots if slot not in set(s._slots)]
+        fresh = [slot for slot in after.slots if slot not in set(s.slots)]
         # g at every (s, e) of the product with e designated: quantify the new variables.
-        return after._law.apply_forall(
+        return after.law.apply_forall(
             _bdd.IMP, result.designated_events.imp(inner), _bdd.cube(fresh)
         )
 
@@ -167,7 +167,7 @@ class _Context:
 def _everybody(s: Any, group: tuple[str, ...], which: str, inner: BDDFunction) -> BDDFunction:
     result = _bdd.true()
     for agent in group:
-        result &= box(s._relation(agent, which), s._law, inner, s._slots)
+        result &= box(s.relation(agent, which), s.law, inner, s.slots)
     return result
 
 
@@ -175,7 +175,7 @@ def _common(s: Any, group: tuple[str, ...], which: str, inner: BDDFunction) -> B
     """Greatest fixed point of ``X = E(inner & X)``: ``inner`` on every path of >= 1 step."""
     current = _bdd.true()
     while True:
-        following = _everybody(s, group, which, inner & current) & s._law
+        following = _everybody(s, group, which, inner & current) & s.law
         if following == current:
             return following
         current = following

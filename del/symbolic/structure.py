@@ -1,5 +1,9 @@
 """Knowledge structures: the symbolic counterpart of :class:`~epistemica.del_.KripkeModel`.
 
+:class:`SymbolicModel` is the data and the algorithms of the symbolic backend; the public
+class :class:`~epistemica.del_.KnowledgeStructure` (in :mod:`epistemica.del_.models`) adds
+the conversions to and from Kripke models.
+
 A knowledge structure (van Benthem, van Eijck, Gattinger and Su, "Symbolic model checking
 for dynamic epistemic logic: S5 and beyond", J. Logic Comput. 2018) is a vocabulary of
 Boolean variables, a *state law* (a BDD: the states are the assignments satisfying it), and
@@ -13,6 +17,7 @@ unless an action model made them differ, exactly as in a Kripke model.
 
 Examples
 --------
+>>> from epistemica.del_ import KnowledgeStructure
 >>> s = KnowledgeStructure.from_observables(
 ...     ["m1", "m2", "m3"],
 ...     {"c1": ["m2", "m3"], "c2": ["m1", "m3"], "c3": ["m1", "m2"]},
@@ -29,11 +34,11 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Iterable, Mapping, Sequence
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
-from epistemica.del_.checker import as_formula
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.language.formula import (
     And,
     Atom,
     Bottom,
@@ -45,22 +50,22 @@ from epistemica.del_.formula import (
     Top,
     canonical_atom,
 )
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.symbolic import _bdd, convert
+from epistemica.del_.language.parser import as_formula
+from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import evaluate, propositional
 from epistemica.del_.symbolic.relations import Observes, Relation
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
+    from epistemica.del_.explicit.action import ActionModel
 
-__all__ = ["KnowledgeStructure"]
+__all__ = ["SymbolicModel"]
 
 _PROPOSITIONAL = (Atom, Top, Bottom, Not, And, Or, Implies, Iff)
 
 
-class KnowledgeStructure:
+class SymbolicModel:
     """A multi-agent knowledge (or belief) structure with designated states.
 
     Build one with :meth:`from_observables` or :meth:`KripkeModel.to_symbolic
@@ -112,7 +117,7 @@ class KnowledgeStructure:
         observes: Mapping[str, Iterable[str]],
         law: Formula | str | None = None,
         designated: Iterable[str] | None = None,
-    ) -> KnowledgeStructure:
+    ) -> SymbolicModel:
         """The S5 structure in which each agent sees the truth of some atoms.
 
         The same arguments as :meth:`KripkeModel.from_observables
@@ -124,6 +129,7 @@ class KnowledgeStructure:
         Examples
         --------
         >>> atoms = [f"m{i}" for i in range(1, 61)]
+        >>> from epistemica.del_ import KnowledgeStructure
         >>> s = KnowledgeStructure.from_observables(
         ...     atoms, {f"c{i}": atoms[:i - 1] + atoms[i:] for i in range(1, 61)},
         ...     designated=atoms)
@@ -184,13 +190,53 @@ class KnowledgeStructure:
         """The number of Boolean state variables (atoms, event and bookkeeping bits)."""
         return len(self._slots)
 
+    @property
+    def atom_slots(self) -> Mapping[str, int]:
+        """Atom -> the slot of the state variable holding its current value."""
+        return MappingProxyType(self._atoms)
+
+    @property
+    def slots(self) -> tuple[int, ...]:
+        """Every state variable's slot."""
+        return self._slots
+
+    @property
+    def law(self) -> BDDFunction:
+        """The state law: its satisfying assignments are the states."""
+        return self._law
+
+    @property
+    def designated_states(self) -> BDDFunction:
+        """The designated states (within the law)."""
+        return self._designated
+
+    @property
+    def belief_relations(self) -> Mapping[str, Relation]:
+        """Agent -> belief relation (read-only mapping)."""
+        return MappingProxyType(self._belief)
+
+    @property
+    def knowledge_relations(self) -> Mapping[str, Relation]:
+        """Agent -> knowledge relation (read-only mapping)."""
+        return MappingProxyType(self._knowledge)
+
+    @property
+    def memo(self) -> dict[Any, BDDFunction]:
+        """Truth sets memoised by the evaluator, by formula."""
+        return self._memo
+
+    @property
+    def derived(self) -> dict[Any, Any]:
+        """Structures derived and cached with this one (submodels, products)."""
+        return self._derived
+
     def has_separate_knowledge(self) -> bool:
         """Whether some agent's knowledge relation differs from its belief relation."""
         return any(self._knowledge[a] is not self._belief[a] for a in self._agents)
 
     def __repr__(self) -> str:
         return (
-            f"<KnowledgeStructure: {len(self._atoms)} atoms, {len(self._slots)} variables, "
+            f"<{type(self).__name__}: {len(self._atoms)} atoms, {len(self._slots)} variables, "
             f"agents {list(self._agents)}, law of {self._law.node_count()} BDD nodes>"
         )
 
@@ -234,7 +280,7 @@ class KnowledgeStructure:
 
     # -- updates ------------------------------------------------------------------------
 
-    def announce(self, formula: Formula | str) -> KnowledgeStructure:
+    def announce(self, formula: Formula | str) -> SymbolicModel:
         """The structure after the truthful public announcement of ``formula``.
 
         Raises
@@ -249,13 +295,14 @@ class KnowledgeStructure:
                 f"cannot announce {tree}: it is false at every designated world",
                 hint="only true formulas can be announced; check it with holds() first",
             )
-        return self._restricted(announced, self._designated & announced)
+        return self.restricted(announced, self._designated & announced)
 
-    def is_applicable(self, action: ActionModel) -> bool:
-        """Whether some designated event's precondition holds at some designated state."""
-        return product(self, action).structure._designated.satisfiable()
+    def applicable_in_some(self, action: ActionModel) -> bool:
+        """Whether some designated event's precondition holds at some designated state
+        (whether :meth:`update` succeeds)."""
+        return product(self, action).structure.designated_states.satisfiable()
 
-    def update(self, action: ActionModel) -> KnowledgeStructure:
+    def update(self, action: ActionModel) -> SymbolicModel:
         """The product update with ``action`` (a knowledge/belief transformer).
 
         Raises
@@ -265,7 +312,8 @@ class KnowledgeStructure:
 
         Examples
         --------
-        >>> from epistemica.del_.action import semi_private_sensing
+        >>> from epistemica.del_.explicit.action import semi_private_sensing
+        >>> from epistemica.del_ import KnowledgeStructure
         >>> s = KnowledgeStructure.from_observables(
         ...     ["heads"], {"a": [], "b": []}, designated=["heads"])
         >>> after = s.update(semi_private_sensing("heads", ["b"], ["a", "b"]))
@@ -273,31 +321,13 @@ class KnowledgeStructure:
         True
         """
         result = product(self, action).structure
-        if not result._designated.satisfiable():
+        if not result.designated_states.satisfiable():
             raise InvalidArgumentError(
                 "the action is not executable: no designated event's precondition holds at a "
                 "designated world",
-                hint="check is_applicable(action) before updating",
+                hint="check applicable_in_some(action) before updating",
             )
         return result
-
-    # -- translations -------------------------------------------------------------------
-
-    @classmethod
-    def from_kripke(
-        cls, model: KripkeModel, atoms: Iterable[str] | None = None
-    ) -> KnowledgeStructure:
-        """The structure of a Kripke model, one state per world.
-
-        ``atoms`` declares atoms besides the model's own (false everywhere), such as a
-        spec's atoms that no world makes true. See :func:`~.convert.kripke_parts`.
-        """
-        return cls(*convert.kripke_parts(model, atoms))
-
-    def to_kripke(self, max_worlds: int | None = None) -> KripkeModel:
-        """The Kripke model of this structure (see :func:`~.convert.to_kripke`)."""
-        limit = convert.MAX_KRIPKE_WORLDS if max_worlds is None else max_worlds
-        return convert.to_kripke(self, limit)
 
     # -- internals ----------------------------------------------------------------------
 
@@ -305,8 +335,9 @@ class KnowledgeStructure:
         n_vars = _bdd.manager().num_vars()
         return f.sat_count(n_vars) >> (n_vars - len(self._slots))
 
-    def _restricted(self, keep: BDDFunction, designated: BDDFunction) -> KnowledgeStructure:
-        return KnowledgeStructure(
+    def restricted(self, keep: BDDFunction, designated: BDDFunction) -> SymbolicModel:
+        """The structure with the law narrowed to ``keep`` and these designated states."""
+        return type(self)(
             self._atoms,
             self._slots,
             self._law & keep,
@@ -316,10 +347,12 @@ class KnowledgeStructure:
             designated,
         )
 
-    def _atom_slot(self, atom: Atom) -> int:
+    def atom_slot(self, atom: Atom) -> int:
+        """The slot holding ``atom``'s current value."""
         return _slot_of(self._atoms, atom.key, "the formula")
 
-    def _relation(self, agent: str, kind: str) -> Relation:
+    def relation(self, agent: str, kind: str = "belief") -> Relation:
+        """The agent's ``"belief"`` or ``"knowledge"`` relation."""
         table = self._knowledge if kind == "knowledge" else self._belief
         found = table.get(agent)
         if found is None:

@@ -23,13 +23,13 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 from epistemica.del_.errors import ModelError
-from epistemica.del_.formula import Formula
+from epistemica.del_.language.formula import Formula
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation, as_arrows
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
+    from epistemica.del_.explicit.action import ActionModel
 
 __all__ = ["Product", "product"]
 
@@ -50,10 +50,10 @@ def product(
     ``truth`` evaluates a formula in ``s`` (default: ``s.truth``).
     """
     key = ("after", id(action))
-    cached = s._derived.get(key)
+    cached = s.derived.get(key)
     if cached is None or cached[0] is not action:
         with _bdd.node_limit():
-            cached = s._derived[key] = (action, _product(s, action, truth or s.truth))
+            cached = s.derived[key] = (action, _product(s, action, truth or s.truth))
     return cached[1]
 
 
@@ -69,14 +69,14 @@ def _product(s: Any, action: ActionModel, truth: Callable) -> Product:
             "the action model and the Kripke model must have the same agents",
             hint=f"missing in the action: {sorted(missing)}; unknown to the model: {sorted(extra)}",
         )
-    start = max(s._slots, default=-1) + 1
+    start = max(s.slots, default=-1) + 1
     fresh = _Allocator(start)
     n_events = len(action.events)
     event_slots = fresh.take(_bits(n_events))
     code = [_bdd.minterm(event_slots, e) for e in range(n_events)]
-    law = s._law & _any(code[e] & truth(action.pre[e]) for e in range(n_events))
+    law = s.law & _any(code[e] & truth(action.pre[e]) for e in range(n_events))
 
-    atoms = dict(s._atoms)
+    atoms = dict(s.atom_slots)
     changed = list(dict.fromkeys(a for post in action.post for a in post))
     for atom in changed:
         old = _bdd.var(atoms[atom]) if atom in atoms else _bdd.false()
@@ -93,8 +93,8 @@ def _product(s: Any, action: ActionModel, truth: Callable) -> Product:
     made: dict[tuple, tuple[Relation, BDDFunction]] = {}
     for agent in s.agents:
         for table, old, edges in (
-            (belief, s._belief[agent], action._edges[agent]),
-            (knowledge, s._knowledge[agent], action._know_edges[agent]),
+            (belief, s.belief_relations[agent], action.edges[agent]),
+            (knowledge, s.knowledge_relations[agent], action.knowledge_edges[agent]),
         ):
             # Same old relation and same edges: the same new relation (one object).
             pair = (id(old), id(edges))
@@ -103,15 +103,15 @@ def _product(s: Any, action: ActionModel, truth: Callable) -> Product:
             table[agent], constraint = made[pair]
             law &= constraint
 
-    designated_events = _any(code[e] for e in action._designated)
+    designated_events = _any(code[e] for e in action.designated_positions)
     structure = type(s)(
         atoms,
-        s._slots + tuple(range(start, fresh.next)),
+        s.slots + tuple(range(start, fresh.next)),
         law,
         s.agents,
         belief,
         knowledge,
-        s._designated & designated_events,
+        s.designated_states & designated_events,
     )
     return Product(structure, designated_events)
 

@@ -15,19 +15,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from lark import Lark, Token, Transformer, Tree
+from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
-from lark.visitors import merge_transformers
 
+from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula, build_imported_formula
 from epistemica.del_.errors import EpistemicaError, SpecError
-from epistemica.del_.formula import Formula
-from epistemica.del_.parser import (
-    FORMULA_GRAMMAR,
-    FormulaBuilder,
-    syntax_error,
-    transform_iteratively,
-)
-from epistemica.del_.spec_compiler import Check
+from epistemica.del_.language.parser import syntax_error
 from epistemica.sim.scenario import EVENTS, MISSIONS, OBSERVATIONS, SEEN_BY
 
 MISSION_GRAMMAR = Path(__file__).with_name("mission.lark")
@@ -53,15 +46,6 @@ def _lark() -> Lark:
         maybe_placeholders=True,
         import_paths=[str(FORMULA_GRAMMAR.parent)],
     )
-
-
-class _Base(Transformer):
-    """Placeholder root transformer: only the merged formula methods are used."""
-
-
-@functools.cache
-def _builder() -> Transformer:
-    return merge_transformers(_Base(), formula=FormulaBuilder())
 
 
 def parse_tree(text: str, filename: str) -> Tree:
@@ -369,7 +353,7 @@ class MissionCompiler:
                     "check them in an .epi spec file, or simulate the mission",
                 )
         try:
-            return transform_iteratively(_builder(), tree)
+            return build_imported_formula(tree)
         except SpecError:
             raise
         except EpistemicaError as exc:  # a bound the formula builder enforces

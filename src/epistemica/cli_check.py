@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.del_.describe import world_label, world_labels
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.symbolic.backend import formula_summary, load_spec
+from epistemica.del_.explicit.describe import world_label, world_labels
+from epistemica.del_.spec.backend import formula_summary, load_spec
 
 __all__ = ["run_check"]
 

@@ -3,7 +3,7 @@
 Helper of :mod:`epistemica.cli`. With ``--implicit`` the planner searches for a plan in
 which the owner of every step (``action NAME by AGENT`` in the spec) knows, from its
 own perspective, that the rest of the plan reaches the goal
-(:func:`epistemica.del_.coordination.plan_implicitly_coordinated`). ``--verify A,B,C``
+(:func:`epistemica.del_.planning.coordination.plan_implicitly_coordinated`). ``--verify A,B,C``
 checks a given plan instead: with ``--implicit`` whether it is implicitly coordinated
 (and if not, which step fails, for which owner and why), without it whether it is
 valid. Exit status as for the rest of the command line: 0 yes, 1 no, 2 bad input.
@@ -96,7 +96,7 @@ def _owners(spec: Any, file: str) -> dict[str, str]:
 
 
 def _check_steps(spec: Any, steps: list[str]) -> None:
-    from epistemica.del_.spec_names import names_hint
+    from epistemica.del_.spec import names_hint
 
     for name in steps:
         if name not in spec.actions:
@@ -107,8 +107,7 @@ def _check_steps(spec: Any, steps: list[str]) -> None:
 
 
 def _states(spec: Any, steps: list[str]) -> list[str]:
-    from epistemica.del_.describe import describe_model
-    from epistemica.del_.planner import validate
+    from epistemica.del_ import describe_model, validate
 
     run = validate(spec.model, spec.actions, steps, spec.goal)
     return [describe_model(s) for s in run.states]
@@ -142,7 +141,7 @@ def _report_json(report: Any) -> dict[str, Any]:
 
 def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
     """Search for the shortest implicitly coordinated plan (breadth-first)."""
-    from epistemica.del_.coordination import (
+    from epistemica.del_.planning.coordination import (
         check_implicit_coordination,
         plan_implicitly_coordinated_with_stats,
     )
@@ -198,8 +197,7 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
 
 def verify_plan(args: argparse.Namespace, spec: Any) -> int:
     """Check the plan given with ``--verify``: implicitly coordinated, or just valid."""
-    from epistemica.del_.coordination import check_implicit_coordination
-    from epistemica.del_.planner import validate
+    from epistemica.del_ import check_implicit_coordination, validate
 
     steps = split_plan(args.verify)
     _check_steps(spec, steps)

@@ -13,10 +13,8 @@ import json
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.del_.describe import describe_model
+from epistemica.del_ import describe_model, load_spec, plan_with_stats, validate
 from epistemica.del_.errors import SpecError
-from epistemica.del_.planner import plan_with_stats, validate
-from epistemica.del_.spec import load_spec
 
 __all__ = ["run_plan"]
 

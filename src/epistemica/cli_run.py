@@ -146,8 +146,8 @@ def add_check_options(check) -> None:
 
 def check_mission(args: argparse.Namespace) -> int:
     """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps."""
+    from epistemica.del_ import parse_formula
     from epistemica.del_.errors import InvalidArgumentError
-    from epistemica.del_.parser import parse_formula
     from epistemica.mission import load_mission
 
     mission = load_mission(args.file)
@@ -204,7 +204,7 @@ def _after(mission, args: argparse.Namespace):
             continue
         names = [mission.robots[i] for i in observers]
         event = mission.event(kind, mission.robots[robot], mission.goals[goal], names)
-        if not model.is_applicable(event):  # contradicts what happened before: revised away
+        if not model.applicable_in_some(event):  # contradicts what happened before: revised away
             ignored += 1
             continue
         model = model.update(event)

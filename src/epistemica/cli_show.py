@@ -12,12 +12,9 @@ import json
 
 from epistemica.cli_coordination import split_plan
 from epistemica.cli_exit import EXIT_OK
-from epistemica.del_.describe import describe_model
+from epistemica.del_ import KripkeModel, Spec, describe_model, load_spec, to_dot
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.export import to_dot
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.spec import Spec, load_spec
-from epistemica.del_.spec_names import names_hint
+from epistemica.del_.spec import names_hint
 from epistemica.model_json import model_from_json, model_to_json
 
 __all__ = ["model_after", "run_show"]
@@ -39,7 +36,7 @@ def model_after(spec: Spec, steps: list[str]) -> KripkeModel:
                 hint=names_hint(name, spec.actions, "action"),
             )
         action = spec.actions[name]
-        if not model.is_applicable(action):
+        if not model.applicable_in_some(action):
             done = f"after {', '.join(steps[: i - 1])}" if i > 1 else "in the initial model"
             raise InvalidArgumentError(
                 f"action {i} ({name}) cannot happen {done}: no designated event's "

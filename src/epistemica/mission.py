@@ -36,17 +36,13 @@ import numpy as np
 
 from epistemica._mission_compiler import compile_text
 from epistemica.aif.configurations import count_configurations, valid_configurations
-from epistemica.del_.action import ActionModel
-from epistemica.del_.configuration_model import (
+from epistemica.del_ import ActionModel, Check, Formula, KripkeModel, parse_formula
+from epistemica.del_.errors import InvalidArgumentError, SpecError
+from epistemica.del_.planning.configuration_model import (
     MAX_CONFIGURATIONS,
     configuration_model,
     observed,
 )
-from epistemica.del_.errors import InvalidArgumentError, SpecError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.parser import parse_formula
-from epistemica.del_.spec_compiler import Check
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.knowledge import rows_satisfying
 from epistemica.sim.scenario import Scenario

@@ -14,7 +14,7 @@ from their belief relation::
 
 Examples
 --------
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_ import KripkeModel
 >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
 >>> data = model_to_json(m)
 >>> data["worlds"], data["designated"]
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from epistemica.del_.describe import world_labels
+from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit.describe import world_labels
 
 __all__ = ["FORMAT", "model_from_json", "model_to_json", "world_names"]
 
@@ -48,11 +48,11 @@ def world_names(model: KripkeModel) -> dict[Hashable, str]:
     A world named in the spec keeps its name; after product updates a world ``(w, e)``
     is ``w.e`` (world ``w``, event ``e``) when every part has a name. Otherwise (models
     from observables, whose worlds are valuations) the names of
-    :func:`~epistemica.del_.describe.world_labels`.
+    :func:`~epistemica.del_.explicit.describe.world_labels`.
 
     Examples
     --------
-    >>> from epistemica.del_.action import public_announcement
+    >>> from epistemica.del_ import public_announcement
     >>> m = KripkeModel(["w1", "w2"], {"w1": {"p"}}, {"a": [("w1", "w1"), ("w2", "w2")]}, "w1")
     >>> world_names(m.update(public_announcement("p", ["a"])))
     {('w1', 'announce'): 'w1.announce'}

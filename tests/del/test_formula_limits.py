@@ -25,9 +25,9 @@ from epistemica.del_ import (
     SpecError,
     parse_spec,
 )
-from epistemica.del_.formula import fold, iter_postorder
-from epistemica.del_.parser import parse_formula
-from epistemica.del_.spec_names import MAX_ACTIONS, MAX_DIGITS, MAX_EXPANDED, MAX_RANGE
+from epistemica.del_.language.formula import fold, iter_postorder
+from epistemica.del_.language.parser import parse_formula
+from epistemica.del_.spec._names import MAX_ACTIONS, MAX_DIGITS, MAX_EXPANDED, MAX_RANGE
 
 P, Q = Atom("p"), Atom("q")
 DEEP = 10_000

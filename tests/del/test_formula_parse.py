@@ -37,7 +37,7 @@ from epistemica.del_ import (
     Top,
     parse_formula,
 )
-from epistemica.del_.parser import FORMULA_GRAMMAR, FormulaBuilder, syntax_error
+from epistemica.del_.language.parser import FORMULA_GRAMMAR, FormulaBuilder, syntax_error
 
 p, q, r, s = Atom("p"), Atom("q"), Atom("r"), Atom("s")
 

@@ -11,7 +11,7 @@ from hypothesis.extra.lark import from_lark
 from lark import Lark
 
 from epistemica.del_ import Atom, ParseError, parse_formula
-from epistemica.del_.parser import FORMULA_GRAMMAR, RESERVED_WORDS
+from epistemica.del_.language.parser import FORMULA_GRAMMAR, RESERVED_WORDS
 
 from epistemic_strategies import formulas
 

@@ -9,11 +9,14 @@ import pytest
 from epistemica.del_ import (
     ActionModel,
     InvalidArgumentError,
+    KnowledgeStructure,
     KripkeModel,
     ModelError,
     private_announcement,
+    product_update,
     public_announcement,
 )
+from epistemica.del_.planning.planner import applicable_in_all
 
 PAIRS = [("u", "u"), ("u", "v"), ("v", "u"), ("v", "v")]
 
@@ -77,7 +80,7 @@ def test_announcement_of_a_false_formula_is_refused():
 
 def test_inapplicable_update_is_refused():
     m = two_worlds()
-    assert not m.is_applicable(public_announcement("~p", m.agents))
+    assert not m.applicable_in_some(public_announcement("~p", m.agents))
     with pytest.raises(InvalidArgumentError, match="not executable"):
         m.update(public_announcement("~p", m.agents))
 
@@ -162,3 +165,34 @@ def test_repoint_shares_truth_sets():
     assert other.designated == ("v",) and not other.holds("p") and m.holds("p")
     with pytest.raises(ModelError, match="unknown world"):
         m.repoint("w")
+
+
+def test_every_derived_model_keeps_the_public_class():
+    """Algorithms build ``type(model)``: what they return still has the convenience methods."""
+    m = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": []}, designated=["p"])
+    act = private_announcement("p", ["b"], ["a", "b"])
+    derived = {
+        "announce": m.announce("p"),
+        "update": m.update(act),
+        "product_update": product_update(m, act),
+        "minimize": m.minimize(),
+        "restrict": m.restrict(np.ones(m.n_worlds, dtype=bool)),
+        "repoint": m.repoint(m.worlds),
+        "to_kripke": m.to_symbolic().to_kripke(),
+        "explicit announce": two_worlds().announce("p"),
+    }
+    for name, model in derived.items():
+        assert type(model) is KripkeModel, name
+    s = m.to_symbolic()
+    assert type(s) is KnowledgeStructure
+    assert type(s.announce("p")) is KnowledgeStructure
+    assert type(s.update(act)) is KnowledgeStructure
+
+
+def test_applicable_in_some_is_not_applicable_in_all():
+    """Two designated worlds, p and ~p: announcing p works at one of them, not at both."""
+    both = KripkeModel.from_observables(["p"], {"a": []})
+    announce_p = public_announcement("p", ["a"])
+    assert both.applicable_in_some(announce_p)
+    assert not applicable_in_all(both, announce_p)
+    assert [world for world, _ in both.update(announce_p).designated] == [1]  # p = code 1

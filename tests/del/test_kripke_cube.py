@@ -46,7 +46,7 @@ def observable_models(draw):
 @settings(max_examples=150)
 @given(observable_models(), formulas(max_leaves=10))
 def test_bitset_evaluation_matches_explicit_model(model, f):
-    assert model._cube is not None
+    assert model.cube is not None
     reference = explicit_copy(model)
     assert model.truth_set(f) == reference.truth_set(f)
     assert model.holds(f) == reference.holds(f)
@@ -77,7 +77,7 @@ def test_codes_name_the_valuations(n_atoms):
         assert model.valuation_of(code) == expected
     # a sees only x0: knows x0's value, nothing else.
     assert model.holds("Kw[a] x0 & ~Kw[a] x1")
-    assert np.array_equal(model.truth_mask("x0"), model._val[:, 0])
+    assert np.array_equal(model.truth_mask("x0"), model.valuation[:, 0])
 
 
 def test_law_restricts_worlds():

@@ -159,6 +159,6 @@ def test_trivial_action_leaves_the_model_bisimilar(model):
 @given(models("s5"), small)
 def test_announcement_action_equals_restriction(model, f):
     mask = model.truth_mask(f)
-    assume(mask[model._designated].any())
+    assume(mask[model.designated_positions].any())
     assert bisimilar(model.announce(f), model.update(public_announcement(f, model.agents)))
-    assert np.array_equal(model.announce(f)._val, model._val[mask])
+    assert np.array_equal(model.announce(f).valuation, model.valuation[mask])

@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.del_ import KripkeModel
-from epistemica.del_.relations import Arrows, DenseArrows, Partition
+from epistemica.del_.explicit.relations import Arrows, DenseArrows, Partition
 
 from epistemic_strategies import formulas, models, reference_truth
 
@@ -26,16 +26,22 @@ REPRESENTATIONS = {
 
 def _forced(model: KripkeModel, representation: str) -> KripkeModel:
     """The same model with every relation forced into one general representation."""
-    rel = {a: REPRESENTATIONS[representation](r) for a, r in model._rel.items()}
-    return KripkeModel._from_arrays(
-        model._names, model.atoms, model._val, model.agents, rel, dict(rel), model._designated
+    rel = {a: REPRESENTATIONS[representation](r) for a, r in model.belief_relations.items()}
+    return KripkeModel.from_arrays(
+        model.lazy_names,
+        model.atoms,
+        model.valuation,
+        model.agents,
+        rel,
+        dict(rel),
+        model.designated_positions,
     )
 
 
 @settings(max_examples=100)
 @given(models("s5"), formulas(), st.sampled_from(sorted(REPRESENTATIONS)))
 def test_partition_and_arrows_agree(model, formula, representation):
-    assert all(isinstance(r, Partition) for r in model._rel.values())
+    assert all(isinstance(r, Partition) for r in model.belief_relations.values())
     forced = _forced(model, representation)
     assert np.array_equal(model.truth_mask(formula), forced.truth_mask(formula))
 

@@ -14,7 +14,7 @@ from epistemica.del_ import (
     plan_implicitly_coordinated,
     validate,
 )
-from epistemica.del_.coordination import perspective
+from epistemica.del_.planning.coordination import perspective
 
 SPEC = Path(__file__).resolve().parents[2] / "specs" / "planning" / "two_robots_implicit.epi"
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from epistemica.del_ import KripkeModel, load_spec, plan
-from epistemica.del_.planner import project, relevant_agents, relevant_atoms
+from epistemica.del_.planning.planner import project, relevant_agents, relevant_atoms
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 

@@ -60,7 +60,7 @@ def test_executable_is_not_learnt_by_observers():
     m = coin().update(sense)
     assert m.update(inside).holds("B[c] false")
     assert m.update(outside).holds("B[c] heads & ~B[c] false & B[b] heads")
-    assert not coin().is_applicable(outside)  # a does not believe heads before sensing
+    assert not coin().applicable_in_some(outside)  # a does not believe heads before sensing
 
 
 @pytest.mark.parametrize(
@@ -108,7 +108,7 @@ def test_knowledge_stays_an_equivalence_containing_belief(steps, heads):
         designated=["heads"] if heads else [],
     )  # fmt: skip
     for act in steps:
-        if not m.is_applicable(act):
+        if not m.applicable_in_some(act):
             return
         m = m.update(act)
         for agent in AGENTS:

@@ -183,7 +183,7 @@ def test_public_assignment_with_a_precondition():
     # Values are those before the assignment, and only p-worlds survive the precondition:
     # {p} becomes {q} and {p, q} stays. So q is common knowledge, p's new value is not.
     assert spec.holds("[swap] (~p & q & C[a, b] q & ~Kw[a] p)")
-    assert not spec.model.is_applicable(parse_spec(BASE + "action x: assign p := q when q")
+    assert not spec.model.applicable_in_some(parse_spec(BASE + "action x: assign p := q when q")
                                         .actions["x"])  # fmt: skip
 
 
@@ -243,9 +243,9 @@ def test_executable_is_checked_at_the_actual_world_only():
     spec = parse_spec(text)
     assert spec.holds("B[b] ~K[a] p & [tell] (B[b] p & B[b] K[a] p & ~B[b] false)")
     # The condition is not observed, but it is required where the action happens.
-    assert spec.model.is_applicable(spec.actions["tell"])
+    assert spec.model.applicable_in_some(spec.actions["tell"])
     not_here = parse_spec(text.replace("designated w1", "designated w2"))
-    assert not not_here.model.is_applicable(not_here.actions["tell"])
+    assert not not_here.model.applicable_in_some(not_here.actions["tell"])
 
 
 def test_precondition_inside_the_events_collapses_the_observers_beliefs():
@@ -264,7 +264,7 @@ def test_executable_line_compiles_to_observability_action():
                                 name="say", executable="K[a] p")  # fmt: skip
     assert got.events == want.events and got.pre == want.pre and got.post == want.post
     assert got.designated == want.designated == ("say!",)
-    assert got._edges == want._edges and got._know_edges == want._know_edges
+    assert got.edges == want.edges and got.knowledge_edges == want.knowledge_edges
 
 
 def test_action_owners_by_name_and_by_parameter():

@@ -113,7 +113,7 @@ def test_unexecutable_action_and_false_announcement_are_refused():
     s = KnowledgeStructure.from_observables(["p"], {"a": []}, designated=[])
     with pytest.raises(InvalidArgumentError, match="cannot announce p"):
         s.announce("p")
-    assert not s.is_applicable(public_announcement("p", ["a"]))
+    assert not s.applicable_in_some(public_announcement("p", ["a"]))
     with pytest.raises(InvalidArgumentError, match="not executable"):
         s.update(public_announcement("p", ["a"]))
     with pytest.raises(ModelError, match="same agents"):
@@ -229,8 +229,8 @@ def test_same_truth_after_random_action_models(model, action, f):
     s = model.to_symbolic(ATOMS)
     assert s.holds(After("act", f), actions) == model.holds(After("act", f), actions)
     assert s.holds(f, actions) == model.holds(f, actions)
-    assert s.is_applicable(action) == model.is_applicable(action)
-    if model.is_applicable(action):
+    assert s.applicable_in_some(action) == model.applicable_in_some(action)
+    if model.applicable_in_some(action):
         after, symbolic_after = model.update(action), s.update(action)
         assert symbolic_after.n_worlds == after.n_worlds
         assert symbolic_after.holds(f, actions) == after.holds(f, actions)
@@ -258,7 +258,7 @@ def test_observable_structures_stay_observational_under_s5_actions(model, steps)
             "private": private_announcement("q | r", ["b"], AGENTS),
             "public": public_announcement("~K[a] r", AGENTS),
         }[step]
-        if not model.is_applicable(act):
+        if not model.applicable_in_some(act):
             return
         model, s = model.update(act), s.update(act)
         for f in ["K[a] p", "B[b] (q | r)", "C[a, b] ~r", "CB[a, b] q", "D[a, b] r"]:
@@ -279,8 +279,8 @@ def test_shipped_specs_give_the_same_answers(path):
     assert s.holds(spec.goal, spec.actions) == spec.holds(spec.goal)
     # Every action once from the initial state: the same applicability, size and goal.
     for name, action in spec.actions.items():
-        assert s.is_applicable(action) == spec.model.is_applicable(action), name
-        if spec.model.is_applicable(action):
+        assert s.applicable_in_some(action) == spec.model.applicable_in_some(action), name
+        if spec.model.applicable_in_some(action):
             after, symbolic_after = spec.model.update(action), s.update(action)
             assert symbolic_after.n_worlds == after.n_worlds, name
             assert symbolic_after.holds(spec.goal) == after.holds(spec.goal), name

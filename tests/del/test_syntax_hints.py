@@ -10,11 +10,11 @@ from __future__ import annotations
 import pytest
 
 from epistemica.del_ import InvalidArgumentError, KripkeModel, ParseError, SpecError, parse_spec
-from epistemica.del_.action import public_announcement
-from epistemica.del_.describe import describe_model, world_labels
-from epistemica.del_.export import to_dot
-from epistemica.del_.formula import RESERVED_WORDS, Atom
-from epistemica.del_.parser import parse_formula
+from epistemica.del_.explicit.action import public_announcement
+from epistemica.del_.explicit.describe import describe_model, world_labels
+from epistemica.del_.explicit.export import to_dot
+from epistemica.del_.language.formula import RESERVED_WORDS, Atom
+from epistemica.del_.language.parser import parse_formula
 
 HINTS = [
     # unexpected characters

@@ -2,7 +2,7 @@
 
 The chain sets of :class:`TeamKnowledge` are checked against the Kripke model over the
 valid configurations after the same events applied by product update
-(:func:`epistemica.del_.configuration_model.observed`): ``K[i] K[j] f`` holds at the true
+(:func:`epistemica.del_.planning.configuration_model.observed`): ``K[i] K[j] f`` holds at the true
 world exactly when ``f`` holds on every configuration of the chain ``(i, j)``.
 """
 
@@ -15,8 +15,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.aif.configurations import valid_configurations
-from epistemica.del_.configuration_model import configuration_model, observed
-from epistemica.del_.parser import parse_formula
+from epistemica.del_ import parse_formula
+from epistemica.del_.planning.configuration_model import configuration_model, observed
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.active import ActiveInference
 from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying

@@ -1,6 +1,6 @@
 """Names in spec files: ranges, predicate atoms, parameters and action schemas.
 
-Helper of :mod:`epistemica.del_.spec_compiler`. A list of names may use ranges
+Helper of :mod:`epistemica.del_.spec._compiler`. A list of names may use ranges
 (``m1..m4``, ``m[1..4]``); a predicate atom expands over the ranges of its arguments
 (``at(r1..r2, g1)``); a parametrised action header ``action open(i in agents)`` expands
 into one action per binding of its parameters, and the parameters are substituted in the
@@ -24,7 +24,7 @@ from typing import Any
 
 from lark import Token, Tree
 
-from epistemica.del_.parser import transform_iteratively
+from epistemica.del_.language.parser import transform_iteratively
 
 __all__ = [
     "MAX_ACTIONS",

@@ -4,7 +4,7 @@
 :class:`~epistemica.del_.errors.ParseError` that points at the offending character, says
 in words what could have come there (``a formula``, ``an agent name``, ``')'``, ...) and
 adds a hint for the common slips (a missing operand, an unclosed bracket, a group
-modality without agents, ``=`` for ``->``). :func:`~epistemica.del_.parser.parse_formula`
+modality without agents, ``=`` for ``->``). :func:`~epistemica.del_.language.parser.parse_formula`
 uses it, and so does the spec grammar, which imports ``formula.lark``: its terminals
 arrive namespaced (``formula__AND``) and are read back as the formula's own.
 
@@ -15,7 +15,7 @@ Examples
 --------
 >>> from lark import Lark
 >>> from lark.exceptions import UnexpectedInput
->>> from epistemica.del_.parser import FORMULA_GRAMMAR
+>>> from epistemica.del_.language.parser import FORMULA_GRAMMAR
 >>> lark = Lark.open(str(FORMULA_GRAMMAR), parser="lalr", start="formula")
 >>> try:
 ...     lark.parse("p & (q | r")

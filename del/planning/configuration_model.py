@@ -5,7 +5,7 @@ A configuration assigns each robot a goal; the world of a configuration makes th
 configuration the team will realise, so each robot's knowledge (and belief) relates every
 world to every world, and every world is designated. What robots learn later (a teammate
 settled at a goal, a fact told to some of them) is applied by product update with
-:func:`~epistemica.del_.action.private_announcement` (:func:`observed`).
+:func:`~epistemica.del_.explicit.action.private_announcement` (:func:`observed`).
 
 Examples
 --------
@@ -26,11 +26,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel, private_announcement
 from epistemica.del_.errors import ModelError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition
+from epistemica.del_.explicit.action import ActionModel, private_announcement
+from epistemica.del_.explicit.relations import Partition
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.models import KripkeModel
 
 __all__ = ["assignment_atom", "configuration_model", "observed"]
 
@@ -77,7 +77,7 @@ def configuration_model(
     one_block = Partition(np.zeros(k, dtype=np.int64), 1)
     relations = dict.fromkeys(robots, one_block)
     designated = np.arange(k, dtype=np.int64)
-    return KripkeModel._from_arrays(
+    return KripkeModel.from_arrays(
         names, atoms, val, tuple(robots), relations, dict(relations), designated
     )
 

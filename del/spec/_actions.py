@@ -1,15 +1,15 @@
 """Compiling the actions of a spec file (and the relations shared with explicit models).
 
-Helper of :mod:`epistemica.del_.spec_compiler`: for each action (schemas are expanded by
-:func:`epistemica.del_.spec_names.headers`) it compiles one of the three action forms:
+Helper of :mod:`epistemica.del_.spec._compiler`: for each action (schemas are expanded by
+:func:`epistemica.del_.spec._names.headers`) it compiles one of the three action forms:
 
 - a one-liner (``public F``, ``private F to G``, ``sense F by G``, ``assign p := F``) into
-  the helpers of :mod:`epistemica.del_.action`;
+  the helpers of :mod:`epistemica.del_.explicit.action`;
 - an observability block (``pre``, ``executable``, ``effect``, ``senses``/``announces``,
   ``full``, ``partial``, ``oblivious``) into
-  :func:`epistemica.del_.observability.observability_action`;
+  :func:`epistemica.del_.explicit.observability.observability_action`;
 - an explicit event model (``event``, ``relation``/``knowledge``/``partition``,
-  ``designated``) into :class:`~epistemica.del_.action.ActionModel`.
+  ``designated``) into :class:`~epistemica.del_.explicit.action.ActionModel`.
 
 The functions take the spec compiler as their first argument and raise its located
 :class:`~epistemica.del_.errors.SpecError`.
@@ -23,8 +23,11 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
-from epistemica.del_.formula import Formula, Top
-from epistemica.del_.spec_names import names_hint
+from epistemica.del_.explicit import action as helpers
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.observability import observability_action
+from epistemica.del_.language.formula import Formula, Top
+from epistemica.del_.spec._names import names_hint
 
 __all__ = ["compile_actions", "members", "owners", "relations"]
 
@@ -67,8 +70,6 @@ def owners(comp: Any, found: Mapping[str, tuple]) -> dict[str, str]:
 
 
 def _compile(comp: Any, key: str, body: Tree, env: dict[str, str], decl: Tree) -> Any:
-    from epistemica.del_ import action as helpers
-
     agents = comp.names.agents
     kind = body.data
     try:
@@ -127,7 +128,6 @@ def _tokens(tree: Tree) -> list[Token]:
 
 
 def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) -> Any:
-    from epistemica.del_.observability import observability_action
 
     once: dict[str, Tree] = {}
     effects: list[Tree] = []
@@ -185,7 +185,6 @@ def _observability(comp: Any, key: str, items: list[Tree], env: dict[str, str]) 
 
 
 def _event_model(comp: Any, items: list[Tree], env: dict[str, str], decl: Tree) -> Any:
-    from epistemica.del_.action import ActionModel
 
     events: dict[str, Token] = {}
     pre: dict[str, Formula] = {}

@@ -1,14 +1,14 @@
 """Search over epistemic states with duplicate detection up to bisimulation.
 
 :func:`search_states` is the search engine behind
-:func:`~epistemica.del_.planner.plan_with_stats` and
-:func:`~epistemica.del_.coordination.plan_implicitly_coordinated`: given a start state, a
+:func:`~epistemica.del_.planning.planner.plan_with_stats` and
+:func:`~epistemica.del_.planning.coordination.plan_implicitly_coordinated`: given a start state, a
 successor function and a goal test, it runs ``"bfs"`` (breadth-first, shortest plans),
 ``"greedy"`` (greedy best-first) or ``"astar"`` (A*) and returns a :class:`PlanResult`.
 
 Every state is contracted to its bisimulation minimum and stored once, keyed by
-:func:`~epistemica.del_.canonical.canonical_key`, so a hash lookup replaces pairwise
-:func:`~epistemica.del_.bisimulation.bisimilar` tests. One object is kept per distinct
+:func:`~epistemica.del_.explicit.canonical.canonical_key`, so a hash lookup replaces pairwise
+:func:`~epistemica.del_.explicit.bisimulation.bisimilar` tests. One object is kept per distinct
 state, so the engine's per-model memo of truth sets is reused by every test on that state.
 
 Examples
@@ -35,11 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel
-from epistemica.del_.bisimulation import generated_submodel, quotient
-from epistemica.del_.canonical import canonical_classes, canonical_key
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.bisimulation import generated_submodel, quotient
+from epistemica.del_.explicit.canonical import canonical_classes, canonical_key
+from epistemica.del_.models import KripkeModel
 
 __all__ = ["SEARCHES", "Heuristic", "PlanResult", "check_problem", "search_states"]
 

@@ -15,11 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.spec import Spec
-from epistemica.del_.spec import load_spec as _load_spec
-from epistemica.del_.symbolic.structure import KnowledgeStructure
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.models import KnowledgeStructure, KripkeModel
+from epistemica.del_.spec._document import Spec
+from epistemica.del_.spec._document import load_spec as _load_spec
 
 __all__ = ["AUTO_ATOMS", "AUTO_WORLDS", "BACKENDS", "formula_summary", "load_spec"]
 

@@ -15,40 +15,18 @@ hidden bits and the atoms' bitsets, built once). When few codes are still live, 
 over all ``2^n`` bits is wasted work: such a cube is *sparse* and the checker evaluates it
 on its compact worlds instead (see :meth:`Cube.sparse`).
 
+This module holds the data structure and its bit operations only; formulas are
+interpreted by the one evaluator, :mod:`.checker`, through :data:`._sets.BITS`.
+
 Bits of codes that are not live worlds carry no meaning; operations whose result
 depends on them (boxes, restriction, counting) mask them out.
 """
 
 from __future__ import annotations
 
-from collections.abc import Generator
-
 import numpy as np
 
-from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
-    And,
-    Announce,
-    AnnounceDiamond,
-    Atom,
-    Believe,
-    Bottom,
-    Common,
-    CommonBelief,
-    Distributed,
-    Everybody,
-    EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
-    Know,
-    KnowWhether,
-    Not,
-    Or,
-    Top,
-)
-
-__all__ = ["Cube", "Space", "announce_node", "bits_node", "pack_bits"]
+__all__ = ["Cube", "Space", "pack_bits"]
 
 _ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 # _LOW[p]: the bits of a 64-bit word whose in-word position has bit p clear.
@@ -241,94 +219,3 @@ def _pair_and(x: np.ndarray, p: int) -> np.ndarray:
     out[:, 0, :] = both
     out[:, 1, :] = both
     return out.reshape(-1)
-
-
-def _hidden(model, agent: str) -> tuple[int, ...]:
-    hidden = model._cube.hidden.get(agent)
-    if hidden is None:
-        raise InvalidArgumentError(
-            f"unknown agent {agent!r}", hint=f"the model's agents: {', '.join(model.agents)}"
-        )
-    return hidden
-
-
-# A request for a subresult: (model, formula, as bits?, keep in the model's memo?).
-Request = tuple
-BitsNode = Generator[Request, np.ndarray, np.ndarray]
-
-
-def bits_node(model, f: Formula, first: Formula | None = None) -> BitsNode:
-    """Evaluate one node of ``f`` on bitsets, yielding requests for its subresults.
-
-    The checker's driver answers each request ``(model, g, bits, keep)`` with the bitset
-    of ``g`` (no recursion, so any depth works). ``first`` names the child of a binary
-    node to evaluate first (the one that needs more live results: fewer stay live).
-    """
-    cube: Cube = model._cube
-    kind = type(f)
-    if kind is Atom:
-        column = model._atom_column(f.key)
-        return cube.zeros() if column is None else cube.atom(column)
-    if kind is Top:
-        return cube.ones()
-    if kind is Bottom:
-        return cube.zeros()
-    if kind is Not:
-        return ~(yield model, f.operand, True, False)
-    if kind in (And, Or, Implies, Iff):
-        if first is f.right:
-            right = yield model, f.right, True, False
-            left = yield model, f.left, True, False
-        else:
-            left = yield model, f.left, True, False
-            right = yield model, f.right, True, False
-        if kind is And:
-            return left & right
-        if kind is Or:
-            return left | right
-        if kind is Implies:
-            return ~left | right
-        return ~(left ^ right)
-    if kind in (Know, Believe):  # one S5 relation per agent: belief is knowledge
-        hidden = _hidden(model, f.agent)
-        return cube.box((yield model, f.operand, True, False), hidden)
-    if kind is KnowWhether:
-        hidden = _hidden(model, f.agent)
-        inner = yield model, f.operand, True, False
-        return cube.box(inner, hidden) | cube.box(~inner, hidden)
-    # One S5 relation per agent, so EB = E and CB = C here.
-    if kind is Everybody or kind is EverybodyBelieves:
-        hiddens = [_hidden(model, agent) for agent in f.group]
-        inner = yield model, f.operand, True, False
-        result = cube.ones()
-        for hidden in hiddens:
-            result &= cube.box(inner, hidden)
-        return result
-    if kind is Common or kind is CommonBelief:
-        for agent in f.group:
-            _hidden(model, agent)
-        return cube.common_box((yield model, f.operand, True, False), f.group)
-    if kind is Distributed:
-        # Pooling observations: a bit stays hidden only if it is hidden from everyone.
-        hidden = set(_hidden(model, f.group[0]))
-        for agent in f.group[1:]:
-            hidden &= set(_hidden(model, agent))
-        return cube.box((yield model, f.operand, True, False), tuple(sorted(hidden)))
-    if kind in (Announce, AnnounceDiamond):
-        return (yield from announce_node(model, f.announcement, f.operand, kind is Announce))
-    raise InvalidArgumentError(f"cannot evaluate {kind.__name__} on bitsets")
-
-
-def announce_node(model, announcement: Formula, operand: Formula, box: bool = True) -> BitsNode:
-    """``[!announcement] operand`` (``box``) or ``<!announcement> operand`` on bitsets.
-
-    The submodel is cached in the model (keyed by the announcement) and shares its
-    :class:`Space`, so atoms and hidden bits are not rebuilt for it.
-    """
-    announced = yield model, announcement, True, True
-    key = ("announce-bits", announcement)
-    sub = model._derived.get(key)
-    if sub is None:
-        sub = model._derived[key] = model._cube_submodel(announced)
-    inside = yield sub, operand, True, False
-    return ~announced | inside if box else announced & inside

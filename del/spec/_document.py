@@ -2,11 +2,11 @@
 
 The grammar is ``spec.lark``, which imports the formula rules of ``formula.lark``; this
 module is the public entry point and compiles a text in three stages:
-:mod:`~epistemica.del_.spec_syntax` parses it (located syntax errors),
-:mod:`~epistemica.del_.spec_compiler` compiles the declarations, goal and claims, with
-:mod:`~epistemica.del_.spec_names` (ranges, parameters, action schemas),
-:mod:`~epistemica.del_.spec_model` (the initial model) and
-:mod:`~epistemica.del_.spec_actions` (the actions and their owners).
+:mod:`~epistemica.del_.spec._syntax` parses it (located syntax errors),
+:mod:`~epistemica.del_.spec._compiler` compiles the declarations, goal and claims, with
+:mod:`~epistemica.del_.spec._names` (ranges, parameters, action schemas),
+:mod:`~epistemica.del_.spec._model` (the initial model) and
+:mod:`~epistemica.del_.spec._actions` (the actions and their owners).
 
 Every meaningful mistake (an unknown agent or atom, a name declared twice, a law nothing
 satisfies, an unbound parameter, ...) raises :class:`~epistemica.del_.errors.SpecError`
@@ -37,10 +37,10 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import ParseError, SpecError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.spec_compiler import Check, Compiler, Names, compile_formula
-from epistemica.del_.spec_syntax import parse
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.models import KripkeModel
+from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
+from epistemica.del_.spec._syntax import parse
 
 __all__ = ["Check", "Spec", "load_spec", "parse_spec"]
 
@@ -52,10 +52,10 @@ class Spec:
     Attributes
     ----------
     model : KripkeModel
-        The initial model (a :class:`~epistemica.del_.symbolic.KnowledgeStructure` when
+        The initial model (a :class:`~epistemica.del_.KnowledgeStructure` when
         loaded for the symbolic backend).
     actions : dict
-        Action name -> :class:`~epistemica.del_.action.ActionModel`; a parametrised schema
+        Action name -> :class:`~epistemica.del_.explicit.action.ActionModel`; a parametrised schema
         contributes one entry per binding, named like ``open(a)``.
     goal : Formula or None
     checks : tuple of Check
@@ -156,7 +156,7 @@ def parse_spec(
         Shown in error messages.
     observables : callable, optional
         Builds the model of an ``observes`` spec (see
-        :func:`epistemica.del_.symbolic.backend.load_spec`); default
+        :func:`epistemica.del_.spec.backend.load_spec`); default
         :meth:`KripkeModel.from_observables`.
 
     Raises

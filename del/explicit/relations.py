@@ -19,6 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 __all__ = [
     "DENSE_LIMIT",
@@ -323,6 +324,4 @@ def as_compact(relation: Relation) -> Relation:
     if isinstance(relation, DenseArrows):
         # In an equivalence, a world's first related world names its class.
         return Partition(relation.matrix.argmax(axis=1))
-    from scipy.sparse.csgraph import connected_components
-
     return Partition(connected_components(relation.matrix, directed=False)[1])

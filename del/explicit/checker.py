@@ -20,7 +20,7 @@ Evaluation runs on an explicit stack, so formulas of any depth or width are fine
 truth sets are memoised per model and subformula (planning states, puzzles); large ones
 only for the formula asked about and for announcements, every other intermediate result
 being freed once its parent has used it. Models from observables are evaluated on bitsets
-(:mod:`~epistemica.del_.cube`), public-announcement actions included. Nothing larger than
+(:mod:`~epistemica.del_.explicit.cube`), public-announcement actions included. Nothing larger than
 the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first raising
 :class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
 evaluated through their partition; any other relation through its arrows.
@@ -38,12 +38,13 @@ from collections.abc import Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
-from epistemica.del_ import budget, cube
+from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._product import product_with_provenance
+from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
+from epistemica.del_.language.formula import (
     After,
     And,
     Announce,
@@ -65,20 +66,14 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from epistemica.del_.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.language.parser import as_formula
 
 if TYPE_CHECKING:
-    from epistemica.del_.action import ActionModel
-    from epistemica.del_.kripke import KripkeModel
+    from epistemica.del_.explicit.action import ActionModel
 
-__all__ = ["as_formula", "designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
+__all__ = ["designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
 
-_CONNECTIVES = {
-    And: np.logical_and,
-    Or: np.logical_or,
-    Implies: lambda x, y: ~x | y,
-    Iff: np.equal,
-}
+_CONNECTIVES = CONNECTIVES
 _BINARY = (And, Or, Implies, Iff)
 _LEAVES = frozenset((Atom, Top, Bottom))
 # Results this small are memoised for every subformula (planning states, small puzzles);
@@ -87,33 +82,8 @@ _LEAVES = frozenset((Atom, Top, Bottom))
 _MEMO_ALL_BYTES = 1 << 16
 
 
-@functools.lru_cache(maxsize=4096)
-def _parse(text: str) -> Formula:
-    from epistemica.del_.parser import parse_formula
-
-    return parse_formula(text)
-
-
-def as_formula(formula: Formula | str) -> Formula:
-    """Return ``formula`` as a tree, parsing it if it is text.
-
-    Examples
-    --------
-    >>> print(as_formula("K[a] (p & q)"))
-    K[a] (p & q)
-    """
-    if isinstance(formula, Formula):
-        return formula
-    if isinstance(formula, str):
-        return _parse(formula)
-    raise InvalidArgumentError(
-        f"expected a formula or its text, got {type(formula).__name__}",
-        hint="pass a Formula tree or a string such as 'K[a] p'",
-    )
-
-
 def evaluate(
-    model: KripkeModel,
+    model: ExplicitModel,
     formula: Formula | str,
     actions: Mapping[str, ActionModel] | None = None,
     *,
@@ -128,7 +98,7 @@ def evaluate(
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": [], "b": ["p"]}, designated=["p"])
     >>> evaluate(m, "Kw[b] p & ~Kw[a] p").tolist()
     [True, True]
@@ -140,7 +110,7 @@ def evaluate(
 
 
 def evaluate_bits(
-    model: KripkeModel,
+    model: ExplicitModel,
     formula: Formula | str,
     actions: Mapping[str, ActionModel] | None = None,
 ) -> np.ndarray:
@@ -149,14 +119,14 @@ def evaluate_bits(
 
 
 def designated_truth(
-    model: KripkeModel, formula: Formula, actions: Mapping[str, ActionModel] | None = None
+    model: ExplicitModel, formula: Formula, actions: Mapping[str, ActionModel] | None = None
 ) -> np.ndarray:
     """The truth of ``formula`` at each designated world (in the cheaper representation)."""
     run = _Run(actions)
     if run.natural_bits(model, formula):
         bits = run.value(model, formula, bits=True)
-        return model._cube.test(bits, model._designated_codes)
-    return run.value(model, formula, bits=False)[model._designated]
+        return model.cube.test(bits, model.designated_codes)
+    return run.value(model, formula, bits=False)[model.designated_positions]
 
 
 # -- formula analysis -------------------------------------------------------------------
@@ -230,7 +200,7 @@ class _Run:
         self._key: frozenset | None = None
         self.info: dict[int, tuple[int, bool, int]] = {}
 
-    def value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+    def value(self, model: ExplicitModel, root: Formula, bits: bool) -> np.ndarray:
         if not gc.isenabled():
             return self._value(model, root, bits)
         # A large formula means one suspended generator per pending node: the cyclic
@@ -242,11 +212,12 @@ class _Run:
         finally:
             gc.enable()
 
-    def _value(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
+    def _value(self, model: ExplicitModel, root: Formula, bits: bool) -> np.ndarray:
         self.info = _analyse(root)
         need = self.info[id(root)][0]
-        if model._cube is not None and not model._cube.sparse():
-            unit = model._cube.space.nbytes
+        cube = model.cube
+        if cube is not None and not cube.sparse():
+            unit = cube.space.nbytes
         else:
             unit = model.n_worlds
         budget.require(
@@ -254,8 +225,8 @@ class _Run:
         )
         return self._drive(model, root, bits)
 
-    def _drive(self, model: KripkeModel, root: Formula, bits: bool) -> np.ndarray:
-        stack: list[tuple[Node, KripkeModel, Any, Formula | None, bool]] = []
+    def _drive(self, model: ExplicitModel, root: Formula, bits: bool) -> np.ndarray:
+        stack: list[tuple[Node, ExplicitModel, Any, Formula | None, bool]] = []
         result = self._open(stack, model, root, bits, True)
         while stack:
             node, where, key, owner, keep = stack[-1]
@@ -268,7 +239,7 @@ class _Run:
                     result.setflags(write=False)
                     if keep or result.nbytes <= _MEMO_ALL_BYTES:
                         # an identity key keeps its formula, so its id cannot be reused
-                        where._memo[key] = result if owner is None else (owner, result)
+                        where.memo[key] = result if owner is None else (owner, result)
                 continue
             result = self._open(stack, *request)
         return result
@@ -280,13 +251,14 @@ class _Run:
             self._key = frozenset((name, id(a)) for name, a in self.actions.items())
         return self._key
 
-    def natural_bits(self, model: KripkeModel, f: Formula) -> bool:
+    def natural_bits(self, model: ExplicitModel, f: Formula) -> bool:
         """Whether ``f`` is best evaluated on ``model`` as a bitset."""
-        if model._cube is None or model._cube.sparse():
+        cube = model.cube
+        if cube is None or cube.sparse():
             return False
         return type(f) is not After or _public_announcement(self._action(f), model) is not None
 
-    def _open(self, stack: list, model: KripkeModel, f: Formula, bits: bool, keep: bool) -> Any:
+    def _open(self, stack: list, model: ExplicitModel, f: Formula, bits: bool, keep: bool) -> Any:
         """The memoised result, or ``None`` after pushing the node that computes it."""
         if id(f) not in self.info:  # an action's precondition: not part of the formula
             self.info = {**self.info, **_analyse(f)}
@@ -301,16 +273,10 @@ class _Run:
         key = (key, self.key) if action else key
         if bits:
             key = ("bits", key)
-        found = model._memo.get(key)
+        found = model.memo.get(key)
         if found is not None and (height <= _STRUCTURAL_HEIGHT or found[0] is f):
             return found if height <= _STRUCTURAL_HEIGHT else found[1]
-        first = self._first(f)
-        if bits and type(f) is After:
-            node = self._after_bits(model, f)
-        elif bits:
-            node = cube.bits_node(model, f, first)
-        else:
-            node = self._mask_node(model, f, first)
+        node = self._node(model, f, self._first(f), bits)
         stack.append((node, model, key, f if height > _STRUCTURAL_HEIGHT else None, keep))
         return None
 
@@ -329,119 +295,111 @@ class _Run:
             )
         return action
 
-    def _after_bits(self, model: KripkeModel, f: After) -> Node:
-        """A public announcement as an action: the same submodel as ``[!pre]``."""
-        pre = _public_announcement(self._action(f), model)
-        return cube.announce_node(model, pre, f.operand)
+    def _node(self, model: ExplicitModel, f: Formula, first: Formula | None, bits: bool) -> Node:
+        """Evaluate one node (not a leaf) of ``f``, yielding requests for its subresults.
 
-    def _mask_node(self, model: KripkeModel, f: Formula, first: Formula | None) -> Node:
-        n = model.n_worlds
+        Each formula type is interpreted here once; the operations on truth sets come
+        from the representation, bitsets or masks (:mod:`._sets`). ``first`` names the
+        child of a binary node to evaluate first (the one that needs more live results).
+        """
         kind = type(f)
-        if kind is Atom:
-            column = model._atom_column(f.key)
-            return np.zeros(n, dtype=bool) if column is None else model._val[:, column]
-        if kind is Top:
-            return np.ones(n, dtype=bool)
-        if kind is Bottom:
-            return np.zeros(n, dtype=bool)
+        rep = BITS if bits else MASKS
         if kind is Not:
-            return ~(yield model, f.operand, False, False)
+            return ~(yield model, f.operand, bits, False)
         if kind in _CONNECTIVES:
             if first is f.right:
-                right = yield model, f.right, False, False
-                left = yield model, f.left, False, False
+                right = yield model, f.right, bits, False
+                left = yield model, f.left, bits, False
             else:
-                left = yield model, f.left, False, False
-                right = yield model, f.right, False, False
+                left = yield model, f.left, bits, False
+                right = yield model, f.right, bits, False
             return _CONNECTIVES[kind](left, right)
-        if kind is Know or kind is Believe:
-            relation = _relation(model, f.agent, "knowledge" if kind is Know else "belief")
-            return relation.box((yield model, f.operand, False, False))
-        if kind is KnowWhether:
-            relation = _relation(model, f.agent, "knowledge")
-            inner = yield model, f.operand, False, False
-            if isinstance(relation, Partition):
-                return relation.know_whether(inner)
-            return relation.box(inner) | relation.box(~inner)
+        if kind is Know or kind is Believe or kind is KnowWhether:
+            which = "belief" if kind is Believe else "knowledge"
+            (relation,) = rep.relations(model, (f.agent,), which)
+            inner = yield model, f.operand, bits, False
+            if kind is KnowWhether:
+                return rep.know_whether(model, relation, inner)
+            return rep.box(model, relation, inner)
         if kind is Everybody or kind is EverybodyBelieves:
-            relations = _group(model, f.group, "knowledge" if kind is Everybody else "belief")
-            inner = yield model, f.operand, False, False
-            result = np.ones(n, dtype=bool)
-            for relation in relations:
-                result &= relation.box(inner)
-            return result
+            which = "knowledge" if kind is Everybody else "belief"
+            relations = rep.relations(model, f.group, which)
+            return rep.everybody(model, relations, (yield model, f.operand, bits, False))
         if kind is Common or kind is CommonBelief:
-            inner = yield model, f.operand, False, False
-            return _common_box(model, f.group, inner, "knowledge" if kind is Common else "belief")
+            which = "knowledge" if kind is Common else "belief"
+            relations = rep.relations(model, f.group, which)
+            inner = yield model, f.operand, bits, False
+            return rep.common(model, f.group, which, relations, inner)
         if kind is Distributed:
-            return _distributed(model, f.group).box((yield model, f.operand, False, False))
-        if kind in (Announce, AnnounceDiamond):
-            return (yield from _announcement(model, f))
+            relations = rep.relations(model, f.group, "knowledge")
+            inner = yield model, f.operand, bits, False
+            return rep.distributed(model, f.group, relations, inner)
+        if kind is Announce or kind is AnnounceDiamond:
+            box = kind is Announce
+            return (yield from self._announce(model, f.announcement, f.operand, box, bits))
+        if kind is After and bits:  # a public announcement (see natural_bits): [!pre] g
+            pre = _public_announcement(self._action(f), model)
+            return (yield from self._announce(model, pre, f.operand, True, bits))
         if kind is After:
             return (yield from self._after(model, f))
-        raise InvalidArgumentError(f"cannot evaluate {type(f).__name__}")
+        raise InvalidArgumentError(f"cannot evaluate {kind.__name__}")
 
-    def _after(self, model: KripkeModel, f: After) -> Node:
-        from epistemica.del_.action import product_with_provenance
+    def _announce(
+        self, model: ExplicitModel, announcement: Formula, operand: Formula, box: bool, bits: bool
+    ) -> Node:
+        """``[!announcement] operand`` (``box``) or ``<!announcement> operand``."""
+        rep = BITS if bits else MASKS
+        announced = yield model, announcement, bits, True
+        sub = rep.submodel(model, announcement, announced)
+        inside = None if sub is None else (yield sub, operand, bits, False)
+        return rep.after(model, announced, inside, box)
 
+    def _after(self, model: ExplicitModel, f: After) -> Node:
         action = self._action(f)
         key = ("after", id(action))
-        cached = model._derived.get(key)
+        cached = model.derived.get(key)
         if cached is None or cached[0] is not action:
-            model._require_arrays()  # the product lists worlds: refuse before anything
+            model.require_arrays()  # the product lists worlds: refuse before anything
             pres = []
             for pre in action.pre:
                 pres.append((yield model, pre, False, True))
             _require_product(model, action, sum(int(p.sum()) for p in pres))
-            product, parent, event = product_with_provenance(model, action)
-            cached = model._derived[key] = (action, product, parent, event)
+            truth = functools.partial(evaluate, model)
+            product, parent, event = product_with_provenance(model, action, truth)
+            cached = model.derived[key] = (action, product, parent, event)
         _, product, parent, event = cached
         result = np.ones(model.n_worlds, dtype=bool)
         if product.n_worlds:
             designated_event = np.zeros(len(action.events), dtype=bool)
-            designated_event[action._designated] = True
+            designated_event[action.designated_positions] = True
             inner = yield product, f.operand, False, False
             violated = ~inner & designated_event[event]
             result[parent[violated]] = False
         return result
 
 
-def _leaf(model: KripkeModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
+def _leaf(model: ExplicitModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
     """The read-only truth set of an atom, ``true`` or ``false``."""
-    column = model._atom_column(f.key) if type(f) is Atom else None
+    column = model.atom_column(f.key) if type(f) is Atom else None
     if column is not None:  # a bitset built once per space, or a column of the valuation
-        found = model._cube.atom(column) if bits else model._val[:, column]
+        found = model.cube.atom(column) if bits else model.valuation[:, column]
     elif bits:  # false, or an atom the model does not know (false everywhere), or true
-        found = model._cube.ones() if type(f) is Top else model._cube.zeros()
+        found = model.cube.ones() if type(f) is Top else model.cube.zeros()
     else:
         found = np.full(model.n_worlds, type(f) is Top, dtype=bool)
     found.setflags(write=False)
     return found
 
 
-def _convert(model: KripkeModel, f: Formula, natural_bits: bool, keep: bool) -> Node:
+def _convert(model: ExplicitModel, f: Formula, natural_bits: bool, keep: bool) -> Node:
     """The truth set of ``f`` in its natural representation, converted to the other."""
     found = yield model, f, natural_bits, keep
     if natural_bits:
-        return model._cube.to_mask(found)
-    return model._cube.from_mask(found)
+        return model.cube.to_mask(found)
+    return model.cube.from_mask(found)
 
 
-def _announcement(model: KripkeModel, f: Announce | AnnounceDiamond) -> Node:
-    announced = yield model, f.announcement, False, True
-    inside = np.zeros(model.n_worlds, dtype=bool)
-    if announced.any():
-        key = ("announce", f.announcement)
-        sub = model._derived.get(key)
-        if sub is None:
-            sub = model._derived[key] = _submodel(model, announced)
-        inside[announced] = yield sub, f.operand, False, False
-    if isinstance(f, Announce):
-        return ~announced | inside
-    return inside
-
-
-def _public_announcement(action: ActionModel, model: KripkeModel) -> Formula | None:
+def _public_announcement(action: ActionModel, model: ExplicitModel) -> Formula | None:
     """The precondition of ``action`` if it is a public announcement for ``model``.
 
     One event, no postcondition, and every agent relates it only to itself (in belief and
@@ -451,16 +409,16 @@ def _public_announcement(action: ActionModel, model: KripkeModel) -> Formula | N
         return None
     loop = ((0, 0, None),)
     for agent in action.agents:
-        if action._edges[agent] != loop or action._know_edges[agent] != loop:
+        if action.edges[agent] != loop or action.knowledge_edges[agent] != loop:
             return None
     return action.pre[0]
 
 
-def _require_product(model: KripkeModel, action: ActionModel, n_worlds: int) -> None:
+def _require_product(model: ExplicitModel, action: ActionModel, n_worlds: int) -> None:
     """Refuse a product update whose arrays (and the model's own) would not fit."""
     n_atoms = len(model.atoms) + sum(len(p) for p in action.post)
     per_world = n_atoms + 16 + 2 * 8 * len(model.agents)
-    needed = model._arrays_bytes() + n_worlds * per_world
+    needed = model.arrays_bytes() + n_worlds * per_world
     budget.require(needed, f"the product update with {n_worlds:,} worlds")
 
 
@@ -470,85 +428,6 @@ def _short(f: Formula) -> str:
         text = str(f)
         return text if len(text) <= 60 else text[:57] + "..."
     return type(f).__name__
-
-
-def _relation(model: KripkeModel, agent: str, kind: str) -> Relation:
-    table = model._know if kind == "knowledge" else model._rel
-    relation = table.get(agent)
-    if relation is None:
-        raise InvalidArgumentError(
-            f"unknown agent {agent!r}", hint=f"the model's agents: {', '.join(model.agents)}"
-        )
-    return relation
-
-
-def _submodel(model: KripkeModel, mask: np.ndarray) -> KripkeModel:
-    """The restriction to ``mask`` for evaluation only (designated worlds may vanish)."""
-    return model._restricted(mask, np.zeros(0, dtype=np.intp))
-
-
-def _group(model: KripkeModel, group: tuple[str, ...], kind: str = "knowledge") -> list[Relation]:
-    return [_relation(model, agent, kind) for agent in group]
-
-
-def _common_box(
-    model: KripkeModel, group: tuple[str, ...], inner: np.ndarray, kind: str = "knowledge"
-) -> np.ndarray:
-    """``C[group]`` over the agents' ``kind`` relations ("knowledge" or "belief")."""
-    relations = _group(model, group, kind)
-    if all(isinstance(r, Partition) for r in relations):
-        # Reflexive relations: reachable in >= 1 step is the connected component. (A
-        # relation is a Partition only if it is an equivalence, belief relations included.)
-        key = ("common-partition", kind, group)
-        component = model._derived.get(key)
-        if component is None:
-            component = model._derived[key] = _component_partition(relations, model.n_worlds)
-        return component.box(inner)
-    # General relations: a world fails iff it reaches a ~inner world in >= 1 step.
-    reached = np.zeros(model.n_worlds, dtype=bool)
-    frontier = ~inner
-    while frontier.any():
-        predecessors = np.zeros(model.n_worlds, dtype=bool)
-        for r in relations:
-            predecessors |= r.predecessors_of(frontier)
-        frontier = predecessors & ~reached
-        reached |= frontier
-    return ~reached
-
-
-def _component_partition(relations: list[Partition], n: int) -> Partition:
-    """Connected components of the union of equivalence relations, as a partition."""
-    rows, cols, offset = [], [], n
-    for r in relations:
-        rows.append(np.arange(n))
-        cols.append(offset + r.labels)
-        offset += r.n_labels
-    graph = sp.csr_matrix(
-        (np.ones(len(relations) * n, dtype=bool), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(offset, offset),
-    )
-    _, labels = connected_components(graph, directed=False)
-    return Partition(labels[:n].astype(np.int64))
-
-
-def _distributed(model: KripkeModel, group: tuple[str, ...]) -> Relation:
-    key = ("distributed", group)
-    found = model._derived.get(key)
-    if found is not None:
-        return found
-    relations = _group(model, group)
-    if all(isinstance(r, Partition) for r in relations):
-        stacked = np.stack([r.labels for r in relations], axis=1)
-        labels = np.unique(stacked, axis=0, return_inverse=True)[1].reshape(-1)
-        found = Partition(labels.astype(np.int64))
-    else:
-        rows, cols = relations[0].edges()
-        keep = np.ones(len(rows), dtype=bool)
-        for r in relations[1:]:
-            keep &= r.contains(rows, cols)
-        found = arrows_from_edges(model.n_worlds, rows[keep], cols[keep])
-    model._derived[key] = found
-    return found
 
 
 def propositional_mask(

@@ -1,9 +1,9 @@
 """Parse formulas written in the concrete syntax of ``formula.lark``.
 
-``parse_formula`` turns text into a :class:`~epistemica.del_.formula.Formula` tree and
+``parse_formula`` turns text into a :class:`~epistemica.del_.language.formula.Formula` tree and
 reports malformed text as a :class:`~epistemica.del_.errors.ParseError` that points at the
 offending character, says what was expected and suggests a fix (the wording comes from
-:mod:`~epistemica.del_.syntax_errors`). ``FormulaBuilder`` is the lark transformer behind
+:mod:`~epistemica.del_.language._syntax_errors`). ``FormulaBuilder`` is the lark transformer behind
 it, public so that grammars importing ``formula.lark`` (the spec files) build the same
 trees.
 
@@ -35,9 +35,11 @@ from typing import Any
 
 from lark import Lark, Token, Transformer, Tree
 from lark.exceptions import UnexpectedInput
+from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
-from epistemica.del_.formula import (
+from epistemica.del_.language._syntax_errors import syntax_error
+from epistemica.del_.language.formula import (
     RESERVED_WORDS,  # re-exported for the grammar users
     After,
     And,
@@ -60,13 +62,14 @@ from epistemica.del_.formula import (
     Or,
     Top,
 )
-from epistemica.del_.syntax_errors import syntax_error
 
 # syntax_error is re-exported for the spec grammar, which imports formula.lark.
 __all__ = [
     "FORMULA_GRAMMAR",
     "RESERVED_WORDS",
     "FormulaBuilder",
+    "as_formula",
+    "build_imported_formula",
     "parse_formula",
     "syntax_error",
     "transform_iteratively",
@@ -365,3 +368,54 @@ def parse_formula(
         raise syntax_error(exc, text, filename, parser=_lark()) from None
     builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
     return builder.transform(tree)
+
+
+@functools.lru_cache(maxsize=4096)
+def _parse(text: str) -> Formula:
+    return parse_formula(text)
+
+
+def as_formula(formula: Formula | str) -> Formula:
+    """Return ``formula`` as a tree, parsing it if it is text (parses are cached).
+
+    Examples
+    --------
+    >>> print(as_formula("K[a] (p & q)"))
+    K[a] (p & q)
+    """
+    if isinstance(formula, Formula):
+        return formula
+    if isinstance(formula, str):
+        return _parse(formula)
+    raise InvalidArgumentError(
+        f"expected a formula or its text, got {type(formula).__name__}",
+        hint="pass a Formula tree or a string such as 'K[a] p'",
+    )
+
+
+class _Root(Transformer):
+    """Placeholder root of the merged transformer: only the ``formula__`` rules are used."""
+
+
+@functools.cache
+def _imported_builder() -> Transformer:
+    return merge_transformers(_Root(), formula=FormulaBuilder())
+
+
+def build_imported_formula(tree: Tree) -> Formula:
+    """The :class:`Formula` of a subtree parsed by a grammar that imports ``formula.lark``.
+
+    A grammar that ``%import``s the formula rules (the ``.epi`` spec grammar, the mission
+    grammar) names them ``formula__<rule>``; this applies :class:`FormulaBuilder`, merged
+    under that namespace, with :func:`transform_iteratively` (no recursion limit). Names
+    are not checked against declarations: the caller has done so, with its own locations.
+
+    Examples
+    --------
+    >>> from lark import Lark
+    >>> grammar = "start: formula\\n%import formula (formula)\\n%ignore /\\\\s+/"
+    >>> lark = Lark(grammar, parser="lalr", import_paths=[str(FORMULA_GRAMMAR.parent)])
+    >>> print(build_imported_formula(lark.parse("K[a] p & q").children[0]))
+    K[a] p & q
+    """
+    return transform_iteratively(_imported_builder(), tree)

@@ -46,7 +46,7 @@ Examples
 --------
 ``a`` peeks at a coin, ``b`` sees ``a`` peek, ``c`` is oblivious:
 
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_ import KripkeModel
 >>> m = KripkeModel.from_observables(["heads"], {"a": [], "b": [], "c": []},
 ...                                  designated=["heads"])
 >>> peek = observability_action(["a", "b", "c"], senses="heads", full=["a"],
@@ -65,10 +65,10 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterable, Mapping
 
-from epistemica.del_.action import ActionModel
-from epistemica.del_.checker import as_formula
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import And, Bottom, Formula, Not, Or, Top, canonical_atom
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.language.formula import And, Bottom, Formula, Not, Or, Top, canonical_atom
+from epistemica.del_.language.parser import as_formula
 
 __all__ = ["SKIP_EVENT", "observability_action"]
 

@@ -2,7 +2,8 @@
 
 Examples
 --------
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_ import KripkeModel
+>>> from epistemica.del_.explicit._model import ExplicitModel
 >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": ["q"]}, designated=["p"])
 >>> print(describe_model(m))
 4 worlds, 1 designated; agents a, b
@@ -19,12 +20,12 @@ from __future__ import annotations
 from collections.abc import Hashable
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit._model import ExplicitModel
 
 __all__ = ["describe_model", "world_label", "world_labels"]
 
 
-def world_labels(model: KripkeModel) -> dict[Hashable, str]:
+def world_labels(model: ExplicitModel) -> dict[Hashable, str]:
     """Short printable names of the worlds, made of the names the user wrote.
 
     A world named by a string (an explicit world of a spec) keeps its name; a world of a
@@ -35,8 +36,8 @@ def world_labels(model: KripkeModel) -> dict[Hashable, str]:
 
     Examples
     --------
-    >>> from epistemica.del_.action import public_announcement
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_.explicit.action import public_announcement
+    >>> from epistemica.del_ import KripkeModel
     >>> world_labels(KripkeModel.from_observables(["p"], {"a": []}))
     {0: 'w0', 1: 'w1'}
     >>> m = KripkeModel(["u", "v"], {"u": {"p"}}, {"a": []}, ["u"])
@@ -77,12 +78,12 @@ def _label(world: Hashable) -> str:
     return ".".join(parts)
 
 
-def _atoms(model: KripkeModel, world: Hashable) -> str:
+def _atoms(model: ExplicitModel, world: Hashable) -> str:
     true = model.valuation_of(world)
     return "{" + ", ".join(a for a in model.atoms if a in true) + "}"
 
 
-def _blocks(model: KripkeModel, agent: str, kind: str, labels: dict) -> str:
+def _blocks(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
     seen: set = set()
     blocks = []
     for w in model.worlds:
@@ -94,7 +95,7 @@ def _blocks(model: KripkeModel, agent: str, kind: str, labels: dict) -> str:
     return " ".join(blocks)
 
 
-def _arrows(model: KripkeModel, agent: str, kind: str, labels: dict) -> str:
+def _arrows(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
     parts = []
     for w in model.worlds:
         targets = model.successors(agent, w, kind)
@@ -102,19 +103,19 @@ def _arrows(model: KripkeModel, agent: str, kind: str, labels: dict) -> str:
     return "; ".join(parts)
 
 
-def _relation(model: KripkeModel, agent: str, kind: str, labels: dict) -> str:
+def _relation(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
     if model.is_s5(agent, kind):
         return _blocks(model, agent, kind, labels)
     return _arrows(model, agent, kind, labels)
 
 
-def _same(model: KripkeModel, agent: str) -> bool:
+def _same(model: ExplicitModel, agent: str) -> bool:
     return all(
         model.successors(agent, w) == model.successors(agent, w, "knowledge") for w in model.worlds
     )
 
 
-def describe_model(model: KripkeModel, max_worlds: int = 16) -> str:
+def describe_model(model: ExplicitModel, max_worlds: int = 16) -> str:
     """Describe a model: its worlds with their true atoms, and what each agent considers.
 
     Designated worlds are marked ``*``. For each agent the belief relation is printed as
@@ -123,7 +124,7 @@ def describe_model(model: KripkeModel, max_worlds: int = 16) -> str:
 
     Parameters
     ----------
-    model : KripkeModel
+    model : ExplicitModel
     max_worlds : int
         Larger models are summarised: the designated worlds (at most ``max_worlds``) and,
         per agent, the kind of its relations instead of the relations themselves.

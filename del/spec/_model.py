@@ -1,6 +1,6 @@
 """Building the initial Kripke model of a spec file.
 
-Helper of :mod:`epistemica.del_.spec`: the model is given either by what each agent
+Helper of :mod:`epistemica.del_.spec._document`: the model is given either by what each agent
 observes (``observes``, ``law``, ``actual``: :meth:`KripkeModel.from_observables`) or by
 explicit worlds and relations (``world``, ``relation``/``knowledge``/``partition``,
 ``designated``). The functions take the spec compiler as their first argument and raise its
@@ -14,9 +14,10 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
-from epistemica.del_.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
-from epistemica.del_.kripke import MAX_ENUMERATED_ATOMS, KripkeModel
-from epistemica.del_.spec_actions import members, relations
+from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS
+from epistemica.del_.language.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
+from epistemica.del_.models import KripkeModel
+from epistemica.del_.spec._actions import members, relations
 
 __all__ = ["explicit_model", "observables_model", "satisfies"]
 

@@ -4,7 +4,7 @@
 parse tree, and reports malformed text as a
 :class:`~epistemica.del_.errors.ParseError` with the file, line and column of the
 offending token, the line with a caret and a hint that names the expected keyword.
-The tree is compiled by :mod:`epistemica.del_.spec_compiler`.
+The tree is compiled by :mod:`epistemica.del_.spec._compiler`.
 
 Examples
 --------
@@ -32,7 +32,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from epistemica.del_.errors import ParseError
-from epistemica.del_.parser import FORMULA_GRAMMAR, syntax_error
+from epistemica.del_.language.parser import FORMULA_GRAMMAR, syntax_error
 
 __all__ = ["KEYWORDS", "SPEC_GRAMMAR", "parse", "position"]
 

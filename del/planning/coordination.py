@@ -48,14 +48,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel
-from epistemica.del_.bisimulation import generated_submodel
-from epistemica.del_.checker import as_formula, evaluate
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import Formula
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.planner import applicable, inapplicable_worlds
-from epistemica.del_.state_space import PlanResult, check_problem, search_states
+from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.bisimulation import generated_submodel
+from epistemica.del_.explicit.checker import evaluate
+from epistemica.del_.language.formula import Formula
+from epistemica.del_.language.parser import as_formula
+from epistemica.del_.models import KripkeModel
+from epistemica.del_.planning.planner import applicable_in_all, inapplicable_worlds
+from epistemica.del_.planning.state_space import PlanResult, check_problem, search_states
 
 __all__ = [
     "CoordinationReport",
@@ -121,15 +122,15 @@ def perspective(state: KripkeModel, agent: str) -> KripkeModel:
             f"unknown agent {agent!r}", hint=f"the model's agents: {', '.join(state.agents)}"
         )
     mask = np.zeros(state.n_worlds, dtype=bool)
-    mask[state._designated] = True
-    seen = state._know[agent].successors_of(mask)
-    return KripkeModel._from_arrays(
-        state._names,
+    mask[state.designated_positions] = True
+    seen = state.knowledge_relations[agent].successors_of(mask)
+    return KripkeModel.from_arrays(
+        state.lazy_names,
         state.atoms,
-        state._val,
+        state.valuation,
         state.agents,
-        state._rel,
-        state._know,
+        state.belief_relations,
+        state.knowledge_relations,
         np.flatnonzero(seen),
     )
 
@@ -195,13 +196,13 @@ def check_implicit_coordination(
             )
         before.append(generated_submodel(view.update(table[name])))
     final = before[-1]
-    bad = np.flatnonzero(~evaluate(final, tree, table)[final._designated])
+    bad = np.flatnonzero(~evaluate(final, tree, table)[final.designated_positions])
     if len(bad):
         if not steps:
             return CoordinationReport(False, f"the goal {tree} does not hold initially")
         k = len(steps) - 1
         name, owner = steps[k], owners[steps[k]]
-        reached = final.worlds[final._designated[bad[0]]]
+        reached = final.worlds[final.designated_positions[bad[0]]]
         world = reached[0]
         chain = _trace(world, k, before, shifted, steps, owners)
         return CoordinationReport(
@@ -231,7 +232,7 @@ def plan_implicitly_coordinated(
     """The shortest implicitly coordinated sequential plan, or ``None``.
 
     Breadth-first search over the states ``Yk`` of the definition (contracted and
-    deduplicated up to bisimulation, as in :func:`~epistemica.del_.planner.plan`).
+    deduplicated up to bisimulation, as in :func:`~epistemica.del_.planning.planner.plan`).
     """
     return plan_implicitly_coordinated_with_stats(initial, actions, owners, goal, max_depth).plan
 
@@ -255,7 +256,7 @@ def plan_implicitly_coordinated_with_stats(
             owner = owners[name]
             if owner not in views:
                 views[owner] = perspective(state, owner)
-            if applicable(views[owner], action):
+            if applicable_in_all(views[owner], action):
                 yield name, views[owner].update(action)
 
     def is_goal(state: KripkeModel) -> bool:

@@ -1,7 +1,7 @@
 """Epistemic planning: search for action sequences that reach an epistemic goal.
 
 A planning problem is the paper's ``Plan(s0, Gamma, B)``: an initial epistemic state
-``s0`` (a possibly multi-pointed :class:`~epistemica.del_.kripke.KripkeModel`), named
+``s0`` (a possibly multi-pointed :class:`~epistemica.del_.KripkeModel`), named
 action models, and a goal formula; a plan is a sequence of action names that is
 applicable step by step and ends in a state where the goal holds at every designated
 world.
@@ -12,14 +12,14 @@ Semantics (Bolander and Andersen's sequential plans):
   designated event's precondition holds (so a plan from a multi-pointed state works
   whichever designated world is actual);
 - the successor state is the product update, contracted to its bisimulation minimum
-  (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`), which preserves every formula.
+  (:meth:`~epistemica.del_.KripkeModel.minimize`), which preserves every formula.
 
 Search: ``"bfs"`` (breadth-first, shortest plans), ``"greedy"`` (greedy best-first) and
 ``"astar"`` (A*), the last two guided by a heuristic (default: the number of top-level
 conjuncts of the goal that do not hold yet, which is not admissible, so A* with it may
 return a longer plan than breadth-first search; ``heuristic="blind"`` is admissible).
-The engine is :func:`~epistemica.del_.state_space.search_states`, which stores each state
-once up to bisimulation (keyed by :func:`~epistemica.del_.canonical.canonical_key`), so
+The engine is :func:`~epistemica.del_.planning.state_space.search_states`, which stores each state
+once up to bisimulation (keyed by :func:`~epistemica.del_.explicit.canonical.canonical_key`), so
 the per-model memo of truth sets is reused by every precondition and goal test on it.
 
 The search terminates whenever finitely many states are reachable up to bisimulation
@@ -47,12 +47,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from epistemica.del_.action import ActionModel, product_update
-from epistemica.del_.canonical import canonical_key
-from epistemica.del_.checker import as_formula, evaluate
-from epistemica.del_.cube import Cube, pack_bits
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formula import (
+from epistemica.del_.explicit._cube import Cube, pack_bits
+from epistemica.del_.explicit.action import ActionModel, product_update
+from epistemica.del_.explicit.canonical import canonical_key
+from epistemica.del_.explicit.checker import evaluate
+from epistemica.del_.language.formula import (
     And,
     Common,
     Distributed,
@@ -61,8 +61,9 @@ from epistemica.del_.formula import (
     Know,
     KnowWhether,
 )
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.state_space import (
+from epistemica.del_.language.parser import as_formula
+from epistemica.del_.models import KripkeModel
+from epistemica.del_.planning.state_space import (
     SEARCHES,
     Heuristic,
     PlanResult,
@@ -75,7 +76,7 @@ __all__ = [
     "SEARCHES",
     "PlanResult",
     "Validation",
-    "applicable",
+    "applicable_in_all",
     "canonical_key",
     "goal_count",
     "plan",
@@ -130,7 +131,7 @@ def plan(
     initial : KripkeModel
         The initial epistemic state (its designated worlds are the actual candidates).
     actions : mapping
-        Action name -> :class:`~epistemica.del_.action.ActionModel`; tried in this order.
+        Action name -> :class:`~epistemica.del_.explicit.action.ActionModel`; tried in this order.
     goal : formula or str
         Must hold at every designated world of the final state. ``[ACT] g`` in the goal
         refers to ``actions``.
@@ -189,7 +190,7 @@ def plan_with_stats(
 
     def successors(state: KripkeModel) -> Iterable[tuple[str, KripkeModel]]:
         for name, action in table.items():
-            if applicable(state, action):
+            if applicable_in_all(state, action):
                 yield name, product_update(state, action, beliefs_only=beliefs_only)
 
     def is_goal(state: KripkeModel) -> bool:
@@ -297,7 +298,7 @@ def _formulas(goal: Formula, actions: Iterable[ActionModel]) -> list[Formula]:
     for action in actions:
         formulas.extend(action.pre)
         formulas.extend(v for changes in action.post for v in changes.values())
-        for edges in (*action._edges.values(), *action._know_edges.values()):
+        for edges in (*action.edges.values(), *action.knowledge_edges.values()):
             formulas.extend(c for _, _, c in edges if c is not None)
     return formulas
 
@@ -346,12 +347,18 @@ def _relevant_part(
 
 
 def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
-    if state._cube is not None:
-        return KripkeModel._from_cube(state._cube, state.atoms, agents, state._designated_codes)
-    rel = {a: state._rel[a] for a in agents}
-    know = {a: state._know[a] for a in agents}
-    return KripkeModel._from_arrays(
-        state._names, state.atoms, state._val, agents, rel, know, state._designated
+    if state.cube is not None:
+        return KripkeModel.from_cube(state.cube, state.atoms, agents, state.designated_codes)
+    rel = {a: state.belief_relations[a] for a in agents}
+    know = {a: state.knowledge_relations[a] for a in agents}
+    return KripkeModel.from_arrays(
+        state.lazy_names,
+        state.atoms,
+        state.valuation,
+        agents,
+        rel,
+        know,
+        state.designated_positions,
     )
 
 
@@ -365,9 +372,9 @@ def _action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionM
         events,
         dict(zip(events, action.pre, strict=True)),
         dict(zip(events, action.post, strict=True)),
-        {a: edges(action._edges, a) for a in agents},
+        {a: edges(action.edges, a) for a in agents},
         list(action.designated),
-        knowledge={a: edges(action._know_edges, a) for a in agents},
+        knowledge={a: edges(action.knowledge_edges, a) for a in agents},
     )
 
 
@@ -380,6 +387,7 @@ def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
 
     Examples
     --------
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_observables(["p", "junk"], {"a": ["p"]}, designated=["p"])
     >>> small = project(m, ["p"])
     >>> small.n_worlds, small.atoms, small.holds("K[a] p")
@@ -389,18 +397,18 @@ def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
     columns = [j for j, a in enumerate(state.atoms) if a in keep]
     if len(columns) == len(state.atoms):
         return state
-    if state._cube is not None:
+    if state.cube is not None:
         found = _project_cube(state, columns)
         if found is not None:
             return found
-    return KripkeModel._from_arrays(
-        state._names,
+    return KripkeModel.from_arrays(
+        state.lazy_names,
         tuple(state.atoms[j] for j in columns),
-        state._val[:, columns],
+        state.valuation[:, columns],
         state.agents,
-        state._rel,
-        state._know,
-        state._designated,
+        state.belief_relations,
+        state.knowledge_relations,
+        state.designated_positions,
     ).minimize()
 
 
@@ -409,7 +417,7 @@ def _project_cube(state: KripkeModel, columns: list[int]) -> KripkeModel | None:
     dropped atoms (every value of them goes with every live valuation of the others):
     the model from observables of the kept atoms, then, is bisimilar to the state.
     ``None`` when the worlds are not such a product (a law ties the dropped atoms)."""
-    cube = state._cube
+    cube = state.cube
     n = cube.n_bits
     dropped = [n - 1 - j for j in range(n) if j not in set(columns)]
     any_dropped = cube.zeros()
@@ -420,7 +428,7 @@ def _project_cube(state: KripkeModel, columns: list[int]) -> KripkeModel | None:
     kept = [n - 1 - j for j in columns]  # code bit positions, most significant first
     codes = cube.restrict(~any_dropped).codes
     new_codes = _compress(codes, kept)
-    points = np.unique(_compress(np.asarray(state._designated_codes), kept))
+    points = np.unique(_compress(np.asarray(state.designated_codes), kept))
     position = {p: len(kept) - 1 - i for i, p in enumerate(kept)}
     hidden = {a: tuple(position[p] for p in cube.hidden[a] if p in position) for a in state.agents}
     small = Cube.full(len(kept), hidden)
@@ -428,7 +436,7 @@ def _project_cube(state: KripkeModel, columns: list[int]) -> KripkeModel | None:
     flags[new_codes] = True
     small = Cube(small.space, pack_bits(flags))
     atoms = tuple(state.atoms[j] for j in columns)
-    return KripkeModel._from_cube(small, atoms, state.agents, points.astype(np.intp))
+    return KripkeModel.from_cube(small, atoms, state.agents, points.astype(np.intp))
 
 
 def _compress(codes: np.ndarray, kept: list[int]) -> np.ndarray:
@@ -443,20 +451,26 @@ def _forget_knowledge(state: KripkeModel) -> KripkeModel:
     """The same state with each agent's knowledge relation replaced by its belief relation."""
     if not state.has_separate_knowledge():
         return state
-    rel = state._rel
-    return KripkeModel._from_arrays(
-        state._names, state.atoms, state._val, state.agents, rel, dict(rel), state._designated
+    rel = state.belief_relations
+    return KripkeModel.from_arrays(
+        state.lazy_names,
+        state.atoms,
+        state.valuation,
+        state.agents,
+        rel,
+        dict(rel),
+        state.designated_positions,
     )
 
 
-def applicable(state: KripkeModel, action: ActionModel) -> bool:
+def applicable_in_all(state: KripkeModel, action: ActionModel) -> bool:
     """Whether at every designated world some designated event is executable.
 
     Examples
     --------
     >>> from epistemica.del_ import KripkeModel, public_announcement
     >>> both = KripkeModel.from_observables(["p"], {"a": []})   # p and ~p designated
-    >>> applicable(both, public_announcement("p", ["a"]))
+    >>> applicable_in_all(both, public_announcement("p", ["a"]))
     False
     """
     return bool(_executable_at_points(state, action).all())
@@ -466,14 +480,14 @@ def inapplicable_worlds(state: KripkeModel, action: ActionModel) -> list[Hashabl
     """The designated worlds at which no designated event of ``action`` is executable."""
     ok = _executable_at_points(state, action)
     names = state.worlds
-    return [names[i] for i in state._designated[~ok]]
+    return [names[i] for i in state.designated_positions[~ok]]
 
 
 def _executable_at_points(state: KripkeModel, action: ActionModel) -> np.ndarray:
     """Per designated world, whether some designated event's precondition holds there."""
-    points = state._designated
+    points = state.designated_positions
     ok = np.zeros(len(points), dtype=bool)
-    for e in action._designated:
+    for e in action.designated_positions:
         ok |= evaluate(state, action.pre[e])[points]
         if ok.all():
             break
@@ -506,7 +520,7 @@ def _conjuncts(f: Formula) -> list[Formula]:
 
 def _goal_at_points(state: KripkeModel, goal: Formula, actions: Mapping) -> list[bool]:
     mask = evaluate(state, goal, actions)
-    return [bool(x) for x in mask[state._designated]]
+    return [bool(x) for x in mask[state.designated_positions]]
 
 
 def _heuristic(

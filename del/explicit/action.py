@@ -15,7 +15,7 @@ Examples
 --------
 A coin lands heads; ``b`` is shown the coin, ``a`` only sees that ``b`` looked:
 
->>> from epistemica.del_.kripke import KripkeModel
+>>> from epistemica.del_ import KripkeModel
 >>> m = KripkeModel.from_observables(["heads"], {"a": [], "b": []}, designated=["heads"])
 >>> after = m.update(semi_private_sensing("heads", ["b"], ["a", "b"]))
 >>> after.holds("Kw[b] heads & ~Kw[a] heads & K[a] Kw[b] heads")
@@ -26,25 +26,19 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Hashable, Iterable, Mapping, Sequence
+from types import MappingProxyType
 
 import numpy as np
 
-from epistemica.del_ import checker
 from epistemica.del_.errors import InvalidArgumentError, ModelError
-from epistemica.del_.formula import Formula, Top, canonical_atom
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import (
-    DENSE_LIMIT,
-    DenseArrows,
-    Partition,
-    Relation,
-    arrows_from_edges,
-    as_compact,
-)
+from epistemica.del_.explicit import _product, checker
+from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.language.formula import Formula, Top, canonical_atom
+from epistemica.del_.language.parser import as_formula
 
 __all__ = [
     "ActionModel",
-    "is_applicable",
+    "applicable_in_some",
     "private_announcement",
     "product_update",
     "product_with_provenance",
@@ -54,9 +48,6 @@ __all__ = [
 ]
 
 Event = Hashable
-# Above this many edges, a product relation is kept as arrows rather than tested for being
-# an equivalence (the test multiplies sparse matrices).
-_EQUIVALENCE_TEST_LIMIT = 2_000_000
 
 
 class ActionModel:
@@ -110,9 +101,9 @@ class ActionModel:
         for where, table in (("pre", pre), ("post", post)):
             for e in table:
                 _event_index(index, e, where)
-        self.pre = tuple(checker.as_formula(pre.get(e, Top())) for e in self.events)
+        self.pre = tuple(as_formula(pre.get(e, Top())) for e in self.events)
         self.post = tuple(
-            {canonical_atom(a): checker.as_formula(v) for a, v in post.get(e, {}).items()}
+            {canonical_atom(a): as_formula(v) for a, v in post.get(e, {}).items()}
             for e in self.events
         )
         self.agents = tuple(str(a) for a in relations)
@@ -136,11 +127,28 @@ class ActionModel:
         if not points:
             raise ModelError("an action model needs at least one designated event")
         self._designated = np.unique(np.array(points, dtype=np.int64))
+        self._designated.setflags(write=False)  # shared through designated_positions
 
     @property
     def designated(self) -> tuple:
         """The designated events' names."""
         return tuple(self.events[i] for i in self._designated)
+
+    @property
+    def designated_positions(self) -> np.ndarray:
+        """The positions in :attr:`events` of the designated events (a read-only array)."""
+        return self._designated
+
+    @property
+    def edges(self) -> Mapping[str, tuple[tuple[int, int, Formula | None], ...]]:
+        """Agent -> its belief edges ``(e, f, condition)`` between event positions
+        (``condition`` is ``None`` for an unconditioned edge)."""
+        return MappingProxyType(self._edges)
+
+    @property
+    def knowledge_edges(self) -> Mapping[str, tuple[tuple[int, int, Formula | None], ...]]:
+        """Agent -> its knowledge edges; the same tuple as :attr:`edges` unless separate."""
+        return MappingProxyType(self._know_edges)
 
     def __repr__(self) -> str:
         return f"<ActionModel: events {list(self.events)}, designated {list(self.designated)}>"
@@ -163,175 +171,48 @@ def _edges(index: Mapping[Event, int], edges: Iterable[tuple], agent: str) -> tu
                 f"edge {edge!r} of agent {agent!r} must be (e, f) or (e, f, condition)"
             )
         e, f = (_event_index(index, x, f"relation of {agent}") for x in edge[:2])
-        condition = checker.as_formula(edge[2]) if len(edge) == 3 else None
+        condition = as_formula(edge[2]) if len(edge) == 3 else None
         out.append((e, f, None if isinstance(condition, Top) else condition))
     return tuple(out)
 
 
-def _check_agents(model: KripkeModel, action: ActionModel) -> None:
-    missing = set(model.agents) - set(action.agents)
-    extra = set(action.agents) - set(model.agents)
-    if missing or extra:
-        raise ModelError(
-            "the action model and the Kripke model must have the same agents",
-            hint=f"missing in the action: {sorted(missing)}; unknown to the model: {sorted(extra)}",
-        )
+def applicable_in_some(model: ExplicitModel, action: ActionModel) -> bool:
+    """Whether a designated event's precondition holds at *some* designated world: the
+    product update then has a designated world.
+
+    A plan step asks more, executability at *every* designated world
+    (:func:`~epistemica.del_.planning.planner.applicable_in_all`).
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p"], {"a": []})   # p and ~p designated
+    >>> applicable_in_some(m, public_announcement("p", ["a"]))
+    True
+    """
+    points = model.designated_positions
+    for i in action.designated_positions:
+        if checker.evaluate(model, action.pre[i])[points].any():
+            return True
+    return False
 
 
 def product_with_provenance(
-    model: KripkeModel, action: ActionModel, *, beliefs_only: bool = False
-) -> tuple[KripkeModel, np.ndarray, np.ndarray]:
+    model: ExplicitModel, action: ActionModel, *, beliefs_only: bool = False
+) -> tuple[ExplicitModel, np.ndarray, np.ndarray]:
     """The full product ``model ⊗ action`` and, per product world, its world and event.
 
     Unlike :func:`product_update`, the product may have no designated world. With
     ``beliefs_only``, the separate knowledge relations are not computed (``K`` then reads
     the belief relation): for callers whose formulas never mention knowledge.
     """
-    _check_agents(model, action)
-    blocks = [np.flatnonzero(checker.evaluate(model, pre)) for pre in action.pre]
-    parent = np.concatenate(blocks) if blocks else np.zeros(0, dtype=np.int64)
-    event = np.repeat(np.arange(len(blocks)), [len(b) for b in blocks])
-    offsets = np.concatenate([[0], np.cumsum([len(b) for b in blocks])])
-
-    atoms = list(model.atoms)
-    for changes in action.post:
-        atoms.extend(a for a in changes if a not in atoms)
-    val = np.zeros((len(parent), len(atoms)), dtype=bool)
-    val[:, : len(model.atoms)] = model._val[parent]
-    column = {a: j for j, a in enumerate(atoms)}
-    for j, changes in enumerate(action.post):
-        rows = slice(offsets[j], offsets[j + 1])
-        for atom, value in changes.items():
-            val[rows, column[atom]] = checker.evaluate(model, value)[blocks[j]]
-
-    rel: dict[str, Relation] = {}
-    know: dict[str, Relation] = {}
-    for agent in model.agents:
-        rel[agent] = _product_relation(model, model._rel[agent], action._edges[agent], blocks)
-        same_model = model._know[agent] is model._rel[agent]
-        same_action = action._know_edges[agent] is action._edges[agent]
-        if beliefs_only or (same_model and same_action):
-            know[agent] = rel[agent]
-        else:
-            edges = action._know_edges[agent]
-            know[agent] = _product_relation(model, model._know[agent], edges, blocks)
-
-    is_point = np.zeros(model.n_worlds, dtype=bool)
-    is_point[model._designated] = True
-    is_designated_event = np.zeros(len(action.events), dtype=bool)
-    is_designated_event[action._designated] = True
-    designated = np.flatnonzero(is_point[parent] & is_designated_event[event])
-
-    source, events = model._names, action.events
-
-    def names() -> tuple:
-        worlds = source() if callable(source) else source
-        if worlds is None:
-            return tuple((int(w), events[e]) for w, e in zip(parent, event, strict=True))
-        return tuple((worlds[w], events[e]) for w, e in zip(parent, event, strict=True))
-
-    product = KripkeModel._from_arrays(
-        names, tuple(atoms), val, model.agents, rel, know, designated
-    )
-    return product, parent, event
-
-
-def _product_relation(
-    model: KripkeModel, relation: Relation, edges: tuple, blocks: list[np.ndarray]
-) -> Relation:
-    n = sum(len(b) for b in blocks)
-    if isinstance(relation, Partition) and all(c is None for _, _, c in edges):
-        classes = _event_classes(edges, len(blocks))
-        if classes is not None:
-            return _paired_partition(relation, classes, blocks)
-    offsets = np.concatenate([[0], np.cumsum([len(b) for b in blocks])])
-    if n <= DENSE_LIMIT:
-        return as_compact(_dense_product(model, relation, edges, blocks, offsets, n))
-    matrix = relation.to_csr()
-    rows, cols = [], []
-    for e, f, condition in edges:
-        if not len(blocks[e]) or not len(blocks[f]):
-            continue
-        sub = matrix[blocks[e]][:, blocks[f]].tocoo()
-        keep = np.ones(sub.nnz, dtype=bool)
-        if condition is not None:
-            keep = checker.evaluate(model, condition)[blocks[e]][sub.row]
-        rows.append(sub.row[keep] + offsets[e])
-        cols.append(sub.col[keep] + offsets[f])
-    row = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
-    col = np.concatenate(cols) if cols else np.zeros(0, dtype=np.intp)
-    product = arrows_from_edges(n, row, col)
-    if len(row) <= _EQUIVALENCE_TEST_LIMIT:
-        return as_compact(product)
-    return product
-
-
-def _dense_product(
-    model: KripkeModel,
-    relation: Relation,
-    edges: tuple,
-    blocks: list[np.ndarray],
-    offsets: np.ndarray,
-    n: int,
-) -> DenseArrows:
-    """The product relation as a boolean matrix, one block per edge of the action."""
-    matrix = relation.to_dense()
-    out = np.zeros((n, n), dtype=bool)
-    for e, f, condition in edges:
-        if not len(blocks[e]) or not len(blocks[f]):
-            continue
-        block = matrix[np.ix_(blocks[e], blocks[f])]
-        if condition is not None:
-            block &= checker.evaluate(model, condition)[blocks[e]][:, None]
-        out[offsets[e] : offsets[e + 1], offsets[f] : offsets[f + 1]] |= block
-    return DenseArrows(out)
-
-
-def _paired_partition(
-    relation: Partition, classes: np.ndarray, blocks: list[np.ndarray]
-) -> Partition:
-    """Equivalence times equivalence: pair each world's class with its event's class."""
-    width = int(classes.max()) + 1
-    parts = [relation.labels[b] * width + classes[j] for j, b in enumerate(blocks)]
-    labels = np.concatenate(parts).astype(np.int64)
-    if len(labels) and labels.max() >= 4 * len(labels) + 64:
-        labels = np.unique(labels, return_inverse=True)[1].reshape(-1)  # keep labels dense
-    return Partition(labels)
-
-
-@functools.lru_cache(maxsize=4096)
-def _event_classes(edges: tuple, n_events: int) -> np.ndarray | None:
-    """Class label per event if the unconditioned edges form an equivalence, else None.
-
-    Cached: action models are immutable, so their edge tuples recur across updates.
-    """
-    if not edges:
-        return None
-    matrix = np.zeros((n_events, n_events), dtype=bool)
-    matrix[[x for x, _, _ in edges], [y for _, y, _ in edges]] = True
-    relation = as_compact(DenseArrows(matrix))
-    return relation.labels if isinstance(relation, Partition) else None
-
-
-def is_applicable(model: KripkeModel, action: ActionModel) -> bool:
-    """Whether a designated event's precondition holds at a designated world.
-
-    Examples
-    --------
-    >>> from epistemica.del_.kripke import KripkeModel
-    >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=[])
-    >>> is_applicable(m, public_announcement("p", ["a"]))
-    False
-    """
-    for i in action._designated:
-        if checker.evaluate(model, action.pre[i])[model._designated].any():
-            return True
-    return False
+    truth = functools.partial(checker.evaluate, model)
+    return _product.product_with_provenance(model, action, truth, beliefs_only=beliefs_only)
 
 
 def product_update(
-    model: KripkeModel, action: ActionModel, *, beliefs_only: bool = False
-) -> KripkeModel:
+    model: ExplicitModel, action: ActionModel, *, beliefs_only: bool = False
+) -> ExplicitModel:
     """The product update ``model ⊗ action``, pointed at the executable designated pairs.
 
     ``beliefs_only`` skips the separate knowledge relations (see
@@ -344,16 +225,16 @@ def product_update(
 
     Examples
     --------
-    >>> from epistemica.del_.kripke import KripkeModel
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
     >>> m.update(public_announcement("p", ["a"])).holds("K[a] p")
     True
     """
-    if not is_applicable(model, action):
+    if not applicable_in_some(model, action):
         raise InvalidArgumentError(
             "the action is not executable: no designated event's precondition holds at a "
             "designated world",
-            hint="check model.is_applicable(action) before updating",
+            hint="check model.applicable_in_some(action) before updating",
         )
     return product_with_provenance(model, action, beliefs_only=beliefs_only)[0]
 
@@ -404,7 +285,7 @@ def semi_private_sensing(
     observers = {str(o) for o in observers}
     agents = [str(a) for a in agents]
     _check_subset(observers, agents)
-    tree = checker.as_formula(formula)
+    tree = as_formula(formula)
     events = ["yes", "no"]
     relations = {
         a: [("yes", "yes"), ("no", "no")]

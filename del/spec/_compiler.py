@@ -1,17 +1,17 @@
 """Compiling the parse tree of a spec file: declarations, formulas, goal and claims.
 
-Helper of :mod:`epistemica.del_.spec`. :class:`Compiler` walks the statements of one
+Helper of :mod:`epistemica.del_.spec._document`. :class:`Compiler` walks the statements of one
 spec by kind (declarations first, so statements may come in any order), checks every
 name of every formula against the declarations and builds the parts of a
 :class:`~epistemica.del_.spec.Spec`; the initial model is built by
-:mod:`epistemica.del_.spec_model`, the actions by :mod:`epistemica.del_.spec_actions`
-and names, ranges and schemas are expanded by :mod:`epistemica.del_.spec_names`.
+:mod:`epistemica.del_.spec._model`, the actions by :mod:`epistemica.del_.spec._actions`
+and names, ranges and schemas are expanded by :mod:`epistemica.del_.spec._names`.
 Every meaningful mistake raises a :class:`~epistemica.del_.errors.SpecError` located at
 the offending token.
 
 Examples
 --------
->>> from epistemica.del_.spec_syntax import parse
+>>> from epistemica.del_.spec._syntax import parse
 >>> text = "agents a, b\\natoms p\\ngoal K[a] p"
 >>> parts = Compiler(text, "<string>").compile(parse(text, "<string>", start="start"))
 >>> parts.agents, parts.atoms, str(parts.goal)
@@ -20,17 +20,14 @@ Examples
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
-from lark import Token, Transformer, Tree
-from lark.visitors import merge_transformers
+from lark import Token, Tree
 
-from epistemica.del_ import spec_actions, spec_model, spec_names
 from epistemica.del_.errors import SpecError
-from epistemica.del_.formula import (
+from epistemica.del_.language.formula import (
     RESERVED_WORDS,
     And,
     Atom,
@@ -43,10 +40,13 @@ from epistemica.del_.formula import (
     Top,
     conjunction,
 )
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.parser import FormulaBuilder, transform_iteratively
-from epistemica.del_.spec_names import names_hint
-from epistemica.del_.spec_syntax import parse, position
+from epistemica.del_.language.parser import build_imported_formula
+from epistemica.del_.models import KripkeModel
+from epistemica.del_.spec import _actions as spec_actions
+from epistemica.del_.spec import _model as spec_model
+from epistemica.del_.spec import _names as spec_names
+from epistemica.del_.spec._names import names_hint
+from epistemica.del_.spec._syntax import parse, position
 
 __all__ = ["Check", "Compiled", "Compiler", "Names", "compile_formula"]
 
@@ -113,15 +113,6 @@ def compile_formula(text: str, filename: str, names: Names) -> Formula:
     return Compiler(text, filename, names).formula(tree, {})
 
 
-class _Base(Transformer):
-    """Placeholder root transformer: only the merged formula methods are used."""
-
-
-@functools.cache
-def _builder() -> Transformer:
-    return merge_transformers(_Base(), formula=FormulaBuilder())
-
-
 class Compiler:
     """Turns the parse tree of one spec text into its :class:`Compiled` parts.
 
@@ -165,15 +156,15 @@ class Compiler:
     # -- names ----------------------------------------------------------------------------
 
     def expand(self, item: Tree | Token, env: Mapping[str, str]) -> list[tuple[str, Token]]:
-        """See :func:`epistemica.del_.spec_names.expand`."""
+        """See :func:`epistemica.del_.spec._names.expand`."""
         return spec_names.expand(self, item, env)
 
     def atom_items(self, node: Tree, env: Mapping[str, str]) -> list[tuple[str, Token]]:
-        """See :func:`epistemica.del_.spec_names.atom_items`."""
+        """See :func:`epistemica.del_.spec._names.atom_items`."""
         return spec_names.atom_items(self, node, env)
 
     def atom_ref(self, node: Tree, env: Mapping[str, str]) -> tuple[str, Token]:
-        """See :func:`epistemica.del_.spec_names.atom_ref`."""
+        """See :func:`epistemica.del_.spec._names.atom_ref`."""
         return spec_names.atom_ref(self, node, env)
 
     def agent(self, name: str, token: Token) -> str:
@@ -225,7 +216,7 @@ class Compiler:
                 if key not in self.names.actions:
                     raise self.unknown("action", key, stem, self.names.actions)
         # Iteratively: lark's own transform recurses once per level of nesting.
-        return transform_iteratively(_builder(), tree)
+        return build_imported_formula(tree)
 
     def unbound_argument(self, args: list[Token]) -> None:
         """Inside a schema, an argument that no declared atom uses is an unbound parameter."""

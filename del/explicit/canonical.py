@@ -2,7 +2,7 @@
 
 :func:`canonical_key` names the bisimulation class of a pointed Kripke model by a
 hashable value, so that a planner can detect a state it has seen before with one dict
-lookup instead of pairwise :func:`~epistemica.del_.bisimulation.bisimilar` tests.
+lookup instead of pairwise :func:`~epistemica.del_.explicit.bisimulation.bisimilar` tests.
 
 The key comes from a partition refinement in which every class is named by its rank in
 the sorted order of its description (valuation first, then per agent and relation the
@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from epistemica.del_.kripke import KripkeModel
-from epistemica.del_.relations import Partition, Relation
+from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit.relations import Partition, Relation
 
 __all__ = ["canonical_classes", "canonical_key"]
 
@@ -34,7 +34,7 @@ __all__ = ["canonical_classes", "canonical_key"]
 _MASK_BITS = 62
 
 
-def canonical_key(state: KripkeModel) -> tuple:
+def canonical_key(state: ExplicitModel) -> tuple:
     """A canonical form of the bisimulation class of a pointed model.
 
     Partition refinement in which every class is named by its rank in the sorted order
@@ -43,7 +43,7 @@ def canonical_key(state: KripkeModel) -> tuple:
     fixed point the classes are the bisimulation classes and the key spells out the
     quotient model (each class's valuation and successors, and the designated classes).
     Two models get the same key exactly when they are bisimilar, provided both are
-    contracted (:meth:`~epistemica.del_.kripke.KripkeModel.minimize`); for other models
+    contracted (:meth:`~epistemica.del_.KripkeModel.minimize`); for other models
     equal keys still imply bisimilarity.
 
     Examples
@@ -58,7 +58,7 @@ def canonical_key(state: KripkeModel) -> tuple:
     return canonical_classes(state)[1]
 
 
-def canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
+def canonical_classes(state: ExplicitModel) -> tuple[list[int], tuple]:
     """The canonical refinement's class of each world, and the canonical key.
 
     Returns
@@ -78,11 +78,13 @@ def canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
     >>> key == canonical_key(m)
     True
     """
-    atoms = sorted(a for a, column in zip(state.atoms, state._val.T, strict=True) if column.any())
+    atoms = sorted(
+        a for a, column in zip(state.atoms, state.valuation.T, strict=True) if column.any()
+    )
     relations = [
         relation
         for agent in sorted(state.agents)
-        for relation in (state._rel[agent], state._know[agent])
+        for relation in (state.belief_relations[agent], state.knowledge_relations[agent])
     ]
     if len(atoms) < _MASK_BITS:
         found = _canonical_bitmasks(state, atoms, relations)
@@ -92,7 +94,7 @@ def canonical_classes(state: KripkeModel) -> tuple[list[int], tuple]:
 
 
 def _canonical_bitmasks(
-    state: KripkeModel, atoms: list[str], relations: list[Relation]
+    state: ExplicitModel, atoms: list[str], relations: list[Relation]
 ) -> tuple[list[int], tuple] | None:
     """Vectorised canonical refinement; None when the classes outgrow a 64-bit mask.
 
@@ -100,7 +102,7 @@ def _canonical_bitmasks(
     states always get keys of the same kind.
     """
     columns = [state.atoms.index(a) for a in atoms]
-    codes = state._val[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
+    codes = state.valuation[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
     labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
     count = int(labels.max()) + 1
     while True:
@@ -124,7 +126,7 @@ def _canonical_bitmasks(
         count = new_count
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
     table = np.column_stack([codes, described[:, 1:]])[first]
-    points = tuple(np.unique(labels[state._designated]).tolist())
+    points = tuple(np.unique(labels[state.designated_positions]).tolist())
     return labels.tolist(), (tuple(atoms), table.tobytes(), points)
 
 
@@ -142,11 +144,11 @@ def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
 
 
 def _canonical_tuples(
-    state: KripkeModel, atoms: list[str], relations: list[Relation]
+    state: ExplicitModel, atoms: list[str], relations: list[Relation]
 ) -> tuple[list[int], tuple]:
     """Canonical refinement on Python tuples, for states of many classes."""
     columns = [state.atoms.index(a) for a in atoms]
-    rows = [tuple(np.flatnonzero(row)) for row in state._val[:, columns]]
+    rows = [tuple(np.flatnonzero(row)) for row in state.valuation[:, columns]]
     labels = _ranks(rows)
     count = len(set(labels))
     while True:
@@ -160,7 +162,7 @@ def _canonical_tuples(
     classes = {}
     for w, label in enumerate(labels):
         classes.setdefault(label, (rows[w], described[w][1:]))
-    points = tuple(sorted({labels[i] for i in state._designated}))
+    points = tuple(sorted({labels[i] for i in state.designated_positions}))
     return labels, (tuple(atoms), tuple(classes[k] for k in range(count)), points)
 
 

@@ -1,23 +1,37 @@
-"""Export of Kripke models to networkx graphs and Graphviz DOT text."""
+"""Export of Kripke models to networkx graphs and Graphviz DOT text.
+
+networkx is loaded on the first export, not with this module: every
+:class:`~epistemica.del_.KripkeModel` imports this module for its ``to_networkx`` and
+``to_dot`` methods, and ``epistemica check`` must not pay 80 ms for a library it never
+uses (``tests/test_cli_contract.py``). That is a third-party library, not an edge between
+``del/`` modules, so the one-way import graph is unaffected.
+"""
 
 from __future__ import annotations
 
-import networkx as nx
+import importlib
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from epistemica.del_.describe import world_labels
-from epistemica.del_.kripke import KripkeModel
+from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit.describe import world_labels
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 __all__ = ["to_dot", "to_networkx"]
 
 
-def _edges(model: KripkeModel, agent: str, kind: str):
-    relation = model._rel[agent] if kind == "belief" else model._know[agent]
+def _edges(model: ExplicitModel, agent: str, kind: str):
+    relation = (
+        model.belief_relations[agent] if kind == "belief" else model.knowledge_relations[agent]
+    )
     rows, cols = relation.edges()
     return zip(rows.tolist(), cols.tolist(), strict=True)
 
 
-def to_networkx(model: KripkeModel) -> nx.MultiDiGraph:
+def to_networkx(model: ExplicitModel) -> nx.MultiDiGraph:
     """The model as a multigraph: one node per world, one edge per related pair and agent.
 
     Nodes carry ``atoms`` (the true atoms, sorted) and ``designated`` (bool). Edges carry
@@ -26,6 +40,7 @@ def to_networkx(model: KripkeModel) -> nx.MultiDiGraph:
 
     Examples
     --------
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
     >>> g = to_networkx(m)
     >>> g.number_of_nodes(), g.number_of_edges()
@@ -33,16 +48,16 @@ def to_networkx(model: KripkeModel) -> nx.MultiDiGraph:
     >>> g.nodes[1]
     {'atoms': ['p'], 'designated': True}
     """
-    graph = nx.MultiDiGraph()
+    graph = importlib.import_module("networkx").MultiDiGraph()
     names = model.worlds
     designated = np.zeros(model.n_worlds, dtype=bool)
-    designated[model._designated] = True
+    designated[model.designated_positions] = True
     for i, name in enumerate(names):
-        atoms = sorted(a for a, t in zip(model.atoms, model._val[i], strict=True) if t)
+        atoms = sorted(a for a, t in zip(model.atoms, model.valuation[i], strict=True) if t)
         graph.add_node(name, atoms=atoms, designated=bool(designated[i]))
     for agent in model.agents:
         kinds = ["belief"]
-        if model._know[agent] is not model._rel[agent]:
+        if model.knowledge_relations[agent] is not model.belief_relations[agent]:
             kinds.append("knowledge")
         for kind in kinds:
             for w, v in _edges(model, agent, kind):
@@ -54,15 +69,16 @@ def _quote(text: object) -> str:
     return '"' + str(text).replace('"', '\\"') + '"'
 
 
-def to_dot(model: KripkeModel) -> str:
+def to_dot(model: ExplicitModel) -> str:
     """The model in Graphviz DOT: designated worlds double-circled, edges labelled by agent.
 
     Knowledge edges (when separate from belief) are dashed. Worlds are labelled with the
-    names the user wrote (:func:`~epistemica.del_.describe.world_labels`: ``u``, ``u.tell``
+    names the user wrote (:func:`~epistemica.del_.explicit.describe.world_labels`: ``u``, ``u.tell``
     after an update) and their true atoms.
 
     Examples
     --------
+    >>> from epistemica.del_ import KripkeModel
     >>> m = KripkeModel.from_observables(["p"], {"a": []}, designated=["p"])
     >>> print(to_dot(m).splitlines()[0])
     digraph kripke {

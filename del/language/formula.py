@@ -138,7 +138,7 @@ class Formula:
                 out.append(item)
                 continue
             node, minimum = item
-            parts = node._parts()
+            parts = node.text_parts()
             if node.precedence < minimum:
                 parts = ("(", *parts, ")")
             stack.extend(reversed(parts))
@@ -177,7 +177,7 @@ class Formula:
         """The immediate subformulas, in left-to-right order."""
         return ()
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         # The printed text of this node, its subformulas left as (child, minimum) pieces.
         raise NotImplementedError
 
@@ -211,7 +211,7 @@ class Formula:
 class Top(Formula):
     """The formula ``true``."""
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return ("true",)
 
 
@@ -219,7 +219,7 @@ class Top(Formula):
 class Bottom(Formula):
     """The formula ``false``."""
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return ("false",)
 
 
@@ -258,7 +258,7 @@ class Atom(Formula):
             return self.name
         return f"{self.name}({', '.join(self.args)})"
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return (str(self),)
 
 
@@ -271,7 +271,7 @@ class Not(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return ("~", (self.operand, _UNARY))
 
 
@@ -283,7 +283,7 @@ class _Binary(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)  # type: ignore[attr-defined]
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         p = self.precedence
         left_min, right_min = (p + 1, p) if self.right_assoc else (p, p + 1)
         left, right = self.left, self.right  # type: ignore[attr-defined]
@@ -340,7 +340,7 @@ class _Individual(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)  # type: ignore[attr-defined]
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         operand = self.operand  # type: ignore[attr-defined]
         return (f"{self.keyword}[{self.agent}] ", (operand, _UNARY))  # type: ignore[attr-defined]
 
@@ -388,7 +388,7 @@ class _Group(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)  # type: ignore[attr-defined]
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         group = ", ".join(self.group)  # type: ignore[attr-defined]
         return (f"{self.keyword}[{group}] ", (self.operand, _UNARY))  # type: ignore[attr-defined]
 
@@ -452,7 +452,7 @@ class Announce(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.announcement, self.operand)
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return ("[!", (self.announcement, 0), "] ", (self.operand, _UNARY))
 
 
@@ -466,7 +466,7 @@ class AnnounceDiamond(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.announcement, self.operand)
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return ("<!", (self.announcement, 0), "> ", (self.operand, _UNARY))
 
 
@@ -483,7 +483,7 @@ class After(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)
 
-    def _parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[_Part, ...]:
         return (f"[{self.action}] ", (self.operand, _UNARY))
 
 
@@ -506,7 +506,7 @@ def _equal(first: Formula, second: Formula) -> bool:
         a, b = stack.pop()
         if a is b:
             continue
-        if type(a) is not type(b) or a._hash != b._hash:
+        if type(a) is not type(b) or hash(a) != hash(b):
             return False
         for name in _field_names(type(a)):
             x, y = getattr(a, name), getattr(b, name)

@@ -1,0 +1,6 @@
+"""The formula language: formula trees (``formula.py``), the grammar ``formula.lark`` and
+its parser (``parser.py``) with located syntax errors (``_syntax_errors.py``).
+
+Depends only on :mod:`epistemica.del_.errors`. The public names are exported by
+:mod:`epistemica.del_`.
+"""
