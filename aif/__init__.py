@@ -38,6 +38,7 @@ from epistemica.aif.configurations import (
     MISSIONS,
     count_configurations,
     filter_configurations,
+    shared_configurations,
     valid_configurations,
 )
 from epistemica.aif.controller import Controller, Decision, decide
@@ -129,6 +130,7 @@ __all__ = [
     "range_evidence",
     "row_sums",
     "select_policy",
+    "shared_configurations",
     "total_correlation",
     "uniform_belief",
     "valid_configurations",

@@ -11,11 +11,14 @@ changes that include "straight ahead" (the full turn when allowed, else nine val
 from __future__ import annotations
 
 import weakref
-from functools import lru_cache
 
 import numpy as np
 
-from epistemica.aif.configurations import count_configurations, valid_configurations
+from epistemica.aif.configurations import (
+    count_configurations,
+    shared_configurations,
+    valid_configurations,
+)
 from epistemica.aif.controller import Controller
 from epistemica.aif.evidence import perspective_sets
 from epistemica.aif.information import entropy
@@ -44,14 +47,6 @@ def _grid(max_speed: float, max_turn: float, headings: int = 8) -> np.ndarray:
     else:
         changes = np.linspace(-max_turn, max_turn, headings + 1)
     return control_grid(speeds, changes)
-
-
-@lru_cache(maxsize=32)
-def _allocations(n: int, m: int) -> np.ndarray:
-    # Read-only: shared by every controller over an n-robot, m-slot subset.
-    rows = valid_configurations("allocation", n, m)
-    rows.setflags(write=False)
-    return rows
 
 
 class _Pruned:
@@ -236,7 +231,7 @@ class ActiveInference(Policy):
             if len(tasks) and count_configurations(mission, n, len(tasks), caps) >= self.PRUNE_FROM:
                 return tasks, self._plausible(observations, robot, tasks, mission, caps)
             if mission == "allocation":
-                return tasks, lambda: _allocations(n, n)
+                return tasks, lambda: shared_configurations("allocation", n, n)
             return tasks, lambda: valid_configurations(mission, n, len(tasks), caps)
         if known.size == s.n_goals:
             if count_configurations(s.mission, n, s.n_goals, s.capacities) >= self.PRUNE_FROM:

@@ -25,7 +25,7 @@ import numpy as np
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.aif.evidence import SENSORS
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim._streams import trial_streams
+from epistemica.sim.draws import draw_layout
 
 __all__ = ["EVENTS", "MISSIONS", "OBSERVATIONS", "SEEN_BY", "Scenario"]
 
@@ -365,17 +365,13 @@ class Scenario:
             )
         n = _count(robots, "robots")
         m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
-        streams = trial_streams(seed, n)
-        geometry, sensing = streams.geometry, streams.sensors
-        task_goals = geometry.uniform(1.0, 29.0, size=(m, 2))
+        layout = draw_layout(seed, n, m, clustered=mission == "multitask")
         if mission == "multitask":
-            xy = np.clip((n - 1) + geometry.normal(0.0, 1.0, size=(n, 2)), 0.0, 30.0)
             defaults = {"max_steps": 150, "max_turn": math.pi / 4}
         else:
-            xy = geometry.uniform(0.0, 30.0, size=(n, 2))
             defaults = {"max_steps": 100}
-        sensors = tuple(SENSORS[i] for i in sensing.integers(0, 2, size=n))
-        starts = np.column_stack([xy, np.zeros(n)])
+        starts = np.column_stack([layout.starts, np.zeros(n)])
+        task_goals, sensors = layout.goals, layout.sensors
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
 
 

@@ -43,7 +43,7 @@ from epistemica.del_.planning.configuration_model import (
     configuration_model,
     observed,
 )
-from epistemica.sim._streams import trial_streams
+from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.knowledge import rows_satisfying
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.simulate import REASONING
@@ -112,27 +112,23 @@ class Mission:
         seed = self.study.seed if seed is None else seed
         p, n, m = self.parts, len(self.robots), len(self.goals)
         options = dict(p["options"])
-        workspace = options.get("workspace", 30.0)
-        geometry = trial_streams(int(seed), n).geometry
-        goal_xy = geometry.uniform(1.0, workspace - 1.0, size=(m, 2))
-        start_xy = geometry.uniform(0.0, workspace, size=(n, 2))
+        layout = draw_layout(int(seed), n, m, workspace=options.get("workspace", 30.0))
         goals = [
-            spec["place"][0] if spec["place"] else goal_xy[g].tolist()
+            spec["place"][0] if spec["place"] else layout.goals[g].tolist()
             for g, spec in enumerate(p["goal_specs"].values())
         ]
         starts = []
         for i, spec in enumerate(p["robot_specs"].values()):
             place = spec["place"]
-            pose = list(place[0]) if place else start_xy[i].tolist()
+            pose = list(place[0]) if place else layout.starts[i].tolist()
             starts.append(pose + [0.0] * (3 - len(pose)))
         known = p["known_goals"]
         if isinstance(known, str):  # "random": per goal, a non-empty subset of the robots
-            known = _random_knowledge(_mission_streams(int(seed), n)[0], n, m)
+            known = draw_goal_knowledge(int(seed), n, m)
         speeds = [spec.get("speed", 1.0) for spec in p["robot_specs"].values()]
         turns = [spec.get("turn", np.pi) for spec in p["robot_specs"].values()]
-        drawn = trial_streams(int(seed), n).sensors.integers(0, 2, size=n)  # as Scenario.paper
         sensors = [
-            ("range", "bearing")[drawn[i]] if spec["sensor"] == "random" else spec["sensor"]
+            layout.sensors[i] if spec["sensor"] == "random" else spec["sensor"]
             for i, spec in enumerate(p["robot_specs"].values())
         ]
         try:
@@ -164,8 +160,7 @@ class Mission:
         out = {}
         for robot, level, _ in self.parts["teammates"]:
             if robot == "random":
-                stream = _mission_streams(int(seed), len(self.robots))[1]
-                out[int(stream.integers(len(self.robots)))] = level
+                out[draw_adhoc_teammate(int(seed), len(self.robots))] = level
             else:
                 out[self.robots.index(robot)] = level
         return out
@@ -321,20 +316,6 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     _check_levels(mission, study)
     mission.scenario()  # validate the world now: a robot outside it, NaN, ...
     return mission
-
-
-def _mission_streams(seed: int, n: int) -> list[np.random.Generator]:
-    """Two independent generators of trial ``seed``: who knows which goal, who is ad hoc."""
-    sequence = trial_streams(seed, n).mission.bit_generator.seed_seq
-    return [np.random.default_rng(child) for child in sequence.spawn(2)]
-
-
-def _random_knowledge(stream, n: int, m: int) -> np.ndarray:
-    """Per goal, each robot knows it with probability 1/2; nobody: one robot at random."""
-    known = stream.random((m, n)) < 0.5
-    nobody = ~known.any(axis=1)
-    known[np.flatnonzero(nobody), stream.integers(n, size=int(nobody.sum()))] = True
-    return known.T.copy()
 
 
 def _check_levels(mission: Mission, study: dict) -> None:
