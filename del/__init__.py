@@ -31,6 +31,7 @@ _SOURCES = {
     ),
     "explicit.describe": ("describe_model",),
     "errors": (
+        "EpistemicState",
         "EpistemicaError",
         "InvalidArgumentError",
         "ModelError",
@@ -74,6 +75,8 @@ _SOURCES = {
     ),
     "planning.planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
     "spec._document": ("Check", "Spec", "load_spec", "parse_spec"),
+    "state.observation": ("Observation",),
+    "state.state": ("EpistemicState",),
     "models": ("KnowledgeStructure", "KripkeModel"),
 }
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
@@ -115,6 +118,7 @@ __all__ = [
     "CommonBelief",
     "CoordinationReport",
     "Distributed",
+    "EpistemicState",
     "EpistemicaError",
     "Everybody",
     "EverybodyBelieves",
@@ -129,6 +133,7 @@ __all__ = [
     "KripkeModel",
     "ModelError",
     "Not",
+    "Observation",
     "Or",
     "ParseError",
     "PlanResult",
