@@ -17,10 +17,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.del_ import (
+    And,
+    Atom,
+    Bottom,
     EpistemicState,
+    Iff,
+    Implies,
     InvalidArgumentError,
     KripkeModel,
+    Not,
     Observation,
+    Or,
+    Top,
     as_formula,
 )
 from epistemica.del_.explicit.checker import propositional_truth
@@ -43,11 +51,9 @@ from epistemic_strategies import formulas
 
 ATOMS = ("p", "q", "r")
 AGENTS = ("a", "b", "c")
+PROPOSITIONAL = (Atom, Top, Bottom, Not, And, Or, Implies, Iff)
 facts = formulas(ATOMS, AGENTS, max_leaves=5, announcements=False).filter(
-    lambda f: all(
-        type(g).__name__ in ("Atom", "Top", "Bottom", "Not", "And", "Or", "Implies", "Iff")
-        for g in f.subformulas()
-    )  # fmt: skip
+    lambda f: all(isinstance(g, PROPOSITIONAL) for g in f.subformulas())
 )
 ALL = np.array(list(itertools.product([False, True], repeat=len(ATOMS))))
 
@@ -97,8 +103,9 @@ def _state(tracked, observations):
 
 def _reference(worlds, observations):
     """The product update of the observations' action models, every world designated."""
-    val = {f"w{i}": [a for a, t in zip(ATOMS, row, strict=True) if t]
-           for i, row in enumerate(worlds)}  # fmt: skip
+    val = {
+        f"w{i}": [a for a, t in zip(ATOMS, row, strict=True) if t] for i, row in enumerate(worlds)
+    }
     names = list(val)
     everything = [(u, v) for u in names for v in names]
     model = KripkeModel(names, val, dict.fromkeys(AGENTS, everything), names)
@@ -214,8 +221,10 @@ def test_a_redundant_observation_is_not_recorded_and_changes_nothing(history, da
     before = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
     o = state.observations[data.draw(st.integers(0, len(state) - 1))]
     fewer = data.draw(st.sets(st.sampled_from(sorted(o.full)))) if o.full else set()
-    assert not state.observe(Observation(o.name, fewer, set(), o.announces, o.senses,
-                                         o.outcome, o.suggests, o.aware))  # fmt: skip
+    repeat = Observation(
+        o.name, fewer, set(), o.announces, o.senses, o.outcome, o.suggests, o.aware
+    )
+    assert not state.observe(repeat)
     after = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
     assert all(np.array_equal(x, y) for x, y in zip(before, after, strict=True))
 
@@ -232,7 +241,8 @@ def test_symbolic_sets_equal_explicit_sets(history, chain):
         bdd = symbolic(state, chain, space)
         assert count(space, bdd) == int(mask.sum())
         for row, inside in zip(worlds, mask, strict=True):
-            point = space.truth(" & ".join(a if v else f"~{a}" for a, v in zip(ATOMS, row)))
+            literals = [a if v else f"~{a}" for a, v in zip(ATOMS, row, strict=True)]
+            point = space.truth(" & ".join(literals))
             assert (bdd & point).satisfiable() == inside
 
 
