@@ -37,9 +37,10 @@ from epistemica.del_.explicit.checker import propositional_truth
 from epistemica.del_.explicit.relations import arrows_from_edges, as_compact
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
-from epistemica.del_.state.state import Chain, EpistemicState
+from epistemica.del_.state.state import Chain, EpistemicState, group_formula
 
 __all__ = [
+    "GroupModel",
     "ValuationTable",
     "WorldTable",
     "belief_mask",
@@ -181,9 +182,23 @@ def belief_masks(state: EpistemicState, chains: Sequence[Chain], table: WorldTab
     return out
 
 
+class GroupModel(KripkeModel):
+    """A Kripke model of the group semantics: a :class:`~epistemica.del_.KripkeModel`
+    that refuses distributed knowledge (see :func:`~.state.group_formula`)."""
+
+    def truth_mask(self, formula, actions=None, **options) -> np.ndarray:
+        return super().truth_mask(group_formula(formula), actions, **options)
+
+    def truth_set(self, formula, actions=None, **options) -> frozenset:
+        return super().truth_set(group_formula(formula), actions, **options)
+
+    def holds(self, formula, actions=None, **options) -> bool:
+        return super().holds(group_formula(formula), actions, **options)
+
+
 def group_model(
     state: EpistemicState, table: WorldTable, designated: np.ndarray | None = None
-) -> KripkeModel:
+) -> GroupModel:
     """The Kripke model of the group semantics over ``table``.
 
     One copy of the worlds per history a chain reaches (the observations its group saw):
@@ -212,17 +227,11 @@ def group_model(
     keys = list(copies)
     know = {k: _knowledge(state, copies[k], facts) for k in keys}
     believe = {k: _belief(state, copies[k], facts) for k in keys}
-    if designated is not None:
-        know[keys[0]] = know[keys[0]] & np.asarray(designated, dtype=bool)
     rows = {k: np.flatnonzero(know[k]) for k in keys}
     start, total = {}, 0
     for k in keys:
         start[k] = total
         total += rows[k].size
-    if rows[keys[0]].size == 0:
-        raise InvalidArgumentError(
-            "no world satisfies what was observed", hint="check the observations' facts"
-        )
     belief_rel, knowledge_rel = {}, {}
     for i, agent in enumerate(agents):
         edges = {"belief": ([], []), "knowledge": ([], [])}
@@ -240,7 +249,16 @@ def group_model(
             out[agent] = as_compact(arrows_from_edges(total, sources, targets))
     val = np.concatenate([table.valuation()[rows[k]] for k in keys])
     names = tuple(f"{w}@{c}" for c, k in enumerate(keys) for w in rows[k].tolist())
-    designated_ids = np.arange(rows[keys[0]].size, dtype=np.int64)
-    return KripkeModel.from_arrays(
+    actual = rows[keys[0]]
+    chosen = np.ones(actual.size, dtype=bool)
+    if designated is not None:
+        chosen = np.asarray(designated, dtype=bool)[actual]
+    designated_ids = np.flatnonzero(chosen).astype(np.int64)
+    if designated_ids.size == 0:
+        raise InvalidArgumentError(
+            "no designated world satisfies what was observed",
+            hint="designate worlds where the observed facts hold",
+        )
+    return GroupModel.from_arrays(
         names, tuple(table.atoms), val, agents, belief_rel, knowledge_rel, designated_ids
     )

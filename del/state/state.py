@@ -49,10 +49,11 @@ from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.language.formula import Formula
+from epistemica.del_.language.formula import Distributed, Formula
+from epistemica.del_.language.parser import as_formula
 from epistemica.del_.state.observation import Observation
 
-__all__ = ["EpistemicState", "History"]
+__all__ = ["EpistemicState", "History", "group_formula"]
 
 Chain = Sequence[str] | Sequence[int]
 
@@ -216,3 +217,20 @@ class EpistemicState:
     def constrains(self, chain: Chain) -> bool:
         """Whether any hard or soft fact reaches the chain's group (awareness aside)."""
         return bool(self.hard(chain) or self.soft(chain))
+
+
+def group_formula(formula: Formula | str) -> Formula:
+    """``formula`` as a tree, refused if the group semantics cannot read it.
+
+    Distributed knowledge ``D[G]`` pools what the members of ``G`` observed, but a group
+    model keeps only what they all observed: it has no world for the pooled evidence.
+    """
+    tree = as_formula(formula)
+    if any(isinstance(f, Distributed) for f in tree.subformulas()):
+        raise InvalidArgumentError(
+            "distributed knowledge D[...] has no meaning in the group semantics of an "
+            "epistemic state (it keeps what a group observed together, not what its "
+            "members saw apart)",
+            hint="ask K[i] of each member instead, or model the events in a spec file",
+        )
+    return tree

@@ -27,12 +27,20 @@ from collections.abc import Sequence
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KnowledgeStructure
-from epistemica.del_.state.state import Chain, EpistemicState
+from epistemica.del_.state.state import Chain, EpistemicState, group_formula
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows
 
-__all__ = ["belief_bdd", "count", "group_structure", "holds_on", "knowledge_bdd", "world_space"]
+__all__ = [
+    "GroupStructure",
+    "belief_bdd",
+    "count",
+    "group_structure",
+    "holds_on",
+    "knowledge_bdd",
+    "world_space",
+]
 
 
 def world_space(atoms: Sequence[str], law: Formula | str | None = None) -> KnowledgeStructure:
@@ -77,7 +85,15 @@ def _within(bits: int, group_slots: Sequence[int]) -> BDDFunction:
     return out
 
 
-def group_structure(state: EpistemicState, space: KnowledgeStructure) -> KnowledgeStructure:
+class GroupStructure(KnowledgeStructure):
+    """A knowledge structure of the group semantics, refusing distributed knowledge
+    (see :func:`~.state.group_formula`)."""
+
+    def truth(self, formula, actions=None) -> BDDFunction:
+        return super().truth(group_formula(formula), actions)
+
+
+def group_structure(state: EpistemicState, space: KnowledgeStructure) -> GroupStructure:
     """The knowledge structure of the group semantics over ``space``.
 
     States are pairs (group, world): group variable ``j`` says that agent ``j`` belongs to
@@ -124,7 +140,7 @@ def group_structure(state: EpistemicState, space: KnowledgeStructure) -> Knowled
         knowledge[agent] = Arrows(step & _bdd.primed(know, slots))
         belief[agent] = Arrows(step & _bdd.primed(believe, slots))
     actual = know & _within(0, group_slots)
-    return KnowledgeStructure(atom_slots, slots, know, state.agents, belief, knowledge, actual)
+    return GroupStructure(atom_slots, slots, know, state.agents, belief, knowledge, actual)
 
 
 def holds_on(space: KnowledgeStructure, worlds: BDDFunction, fact: Formula | str) -> bool:

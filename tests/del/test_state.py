@@ -20,6 +20,7 @@ from epistemica.del_ import (
     And,
     Atom,
     Bottom,
+    Distributed,
     EpistemicState,
     Iff,
     Implies,
@@ -51,9 +52,17 @@ from epistemic_strategies import formulas
 
 ATOMS = ("p", "q", "r")
 AGENTS = ("a", "b", "c")
-PROPOSITIONAL = (Atom, Top, Bottom, Not, And, Or, Implies, Iff)
-facts = formulas(ATOMS, AGENTS, max_leaves=5, announcements=False).filter(
-    lambda f: all(isinstance(g, PROPOSITIONAL) for g in f.subformulas())
+facts = st.recursive(
+    st.sampled_from([Atom(a) for a in ATOMS] + [Top(), Bottom()]),
+    lambda inner: st.one_of(
+        inner.map(Not),
+        *(st.builds(kind, inner, inner) for kind in (And, Or, Implies, Iff)),
+    ),
+    max_leaves=5,
+)
+#: The group semantics speaks of K, B, E, C, EB, CB; distributed knowledge is refused.
+group_formulas = formulas(ATOMS, AGENTS, max_leaves=6, announcements=False).filter(
+    lambda f: not any(isinstance(g, Distributed) for g in f.subformulas())
 )
 ALL = np.array(list(itertools.product([False, True], repeat=len(ATOMS))))
 
@@ -247,7 +256,7 @@ def test_symbolic_sets_equal_explicit_sets(history, chain):
 
 
 @settings(max_examples=40, deadline=None)
-@given(histories(), formulas(ATOMS, AGENTS, max_leaves=6, announcements=False))
+@given(histories(), group_formulas)
 def test_the_group_model_and_the_group_structure_agree(history, formula):
     law, worlds, _, tracked, observations = history
     state = _state(tracked, observations)
@@ -280,3 +289,12 @@ def test_bad_observations_are_refused():
     with pytest.raises(InvalidArgumentError, match="distinct"):
         EpistemicState(["a", "a"])
     assert as_formula("p") == Observation("x", {"a"}, announces="p").announces
+
+
+def test_distributed_knowledge_is_refused_by_the_group_models():
+    state = EpistemicState(["a", "b"])
+    table = ValuationTable(["p"], np.array([[False], [True]]))
+    for model in (group_model(state, table), group_structure(state, world_space(["p"]))):
+        with pytest.raises(InvalidArgumentError, match="distributed knowledge"):
+            model.holds("D[a, b] p")
+        assert not model.holds("K[a] p")
