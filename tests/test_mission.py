@@ -43,8 +43,11 @@ def test_shipped_missions_compile_and_their_claims_hold(path):
     assert scenario.robot_names == mission.robots
     if mission.checks:
         assert mission.model.n_worlds >= mission.configurations().shape[0]
-        for check in mission.checks:
-            assert mission.holds(check.formula) == check.expected, check.name
+        for claim in mission.checks:
+            model = mission.model
+            if claim.after is not None:
+                model = mission.model_after(claim.after, claim.seed, claim.level)
+            assert mission.holds(claim.check.formula, model) == claim.check.expected
     trial = simulate(scenario.replace(max_steps=5), "convention", seed=1)
     assert trial.steps <= 5
 
@@ -109,6 +112,15 @@ def test_ranges_declare_several_robots_and_goals():
     assert mission.robots == ("a1", "a2", "a3") and mission.goals == ("g2", "g3", "g4")
 
 
+def test_ranges_keep_their_zero_padding_as_in_spec_files():
+    mission = parse_mission(
+        "mission rendezvous\nrobot r01..r03: range at random\n"
+        'goal g1 at random\ncheck "c": ~K[r01] ~assigned(r03, g1)\n'
+    )
+    assert mission.robots == ("r01", "r02", "r03")
+    assert mission.holds(mission.checks[0].check.formula)
+
+
 def test_random_knowledge_and_an_ad_hoc_teammate_are_drawn_per_trial():
     text = TWO + "knows random\nteammate random follows zero\n"
     mission = parse_mission(text)
@@ -145,7 +157,7 @@ BAD = [
     (TWO + "workspace 1" + "0" * 50 + "\n", "number of 51 characters", 6, 11),
     (TWO + "robot and: range at (1, 1)\n", "reserved word", 6, 7),
     (TWO + "mision rendezvous\n", "did you mean 'mission'", 6, 1),
-    (TWO + "robot r3..r1: range at (1, 1)\n", "bad robot range", 6, 7),
+    (TWO + "robot r3..r1: range at (1, 1)\n", "empty range from 3 to 1", 6, 11),
     (TWO + "teammate a follows fifth\n", "unknown reasoning level 'fifth'", 6, 20),
     (TWO + "knows random\nknows a: x\n", "exclude each other", 8, 1),
 ]

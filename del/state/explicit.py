@@ -70,6 +70,9 @@ class WorldTable(Protocol):
     def valuation(self) -> np.ndarray:
         """``(n_worlds, len(atoms))`` booleans."""
 
+    def world_names(self) -> tuple[str, ...]:
+        """A name per world."""
+
 
 class ValuationTable:
     """A :class:`WorldTable` given by a valuation matrix.
@@ -112,6 +115,9 @@ class ValuationTable:
 
     def valuation(self) -> np.ndarray:
         return self._val
+
+    def world_names(self) -> tuple[str, ...]:
+        return tuple(f"w{i}" for i in range(self.n_worlds))
 
 
 class _Facts:
@@ -248,7 +254,8 @@ def group_model(
             sources, targets = (np.concatenate(part) for part in edges[kind])
             out[agent] = as_compact(arrows_from_edges(total, sources, targets))
     val = np.concatenate([table.valuation()[rows[k]] for k in keys])
-    names = tuple(f"{w}@{c}" for c, k in enumerate(keys) for w in rows[k].tolist())
+    base = table.world_names()
+    names = tuple(f"{base[w]}@{c}" for c, k in enumerate(keys) for w in rows[k].tolist())
     actual = rows[keys[0]]
     chosen = np.ones(actual.size, dtype=bool)
     if designated is not None:

@@ -92,6 +92,7 @@ class EpistemicState:
         self._observed: list[int] = []  # bitmask of the full and partial observers
         self._full: list[int] = []  # bitmask of the full observers
         self._by_content: dict[tuple, list[int]] = {}
+        self._groups: dict[int, _Group] = {}  # per group bitmask, until the next observation
 
     # -- the record --------------------------------------------------------------------
 
@@ -159,6 +160,7 @@ class EpistemicState:
             if self._full[i] & full == full and self._observed[i] & seen == seen:
                 return False
         earlier.append(len(self._observations))
+        self._groups.clear()
         self._observations.append(observation)
         self._observed.append(seen)
         self._full.append(full)
@@ -166,57 +168,72 @@ class EpistemicState:
 
     # -- groups ------------------------------------------------------------------------
 
+    def _group(self, chain: Chain) -> _Group:
+        """What the chain's group observed, computed once per group until the next
+        observation."""
+        c = self.bits(chain)
+        found = self._groups.get(c)
+        if found is None:
+            seen = tuple(i for i, b in enumerate(self._observed) if b & c == c)
+            full = tuple(i for i in seen if self._full[i] & c == c)
+            found = self._groups[c] = _Group(seen, full, self._history(seen, full))
+        return found
+
+    def _history(self, seen: tuple[int, ...], full: tuple[int, ...]) -> History:
+        fully = set(full)
+        hard = []
+        for i in seen:
+            fact = self._observations[i].hard_fact(i in fully)
+            if fact is not None:
+                hard.append(fact)
+        soft = tuple(
+            self._observations[i].suggests
+            for i in reversed(full)
+            if self._observations[i].suggests is not None
+        )
+        aware: set[str] = set()
+        for i in full:
+            aware |= self._observations[i].aware
+        return History(tuple(hard), soft, frozenset(aware & self._tracked))
+
     def observed(self, chain: Chain, fully: bool = False) -> tuple[int, ...]:
         """Indices of the observations every agent of ``chain`` observed (``fully``: as a
         full observer), oldest first. The empty chain is the actual world: every one."""
-        c = self.bits(chain)
-        masks = self._full if fully else self._observed
-        return tuple(i for i, b in enumerate(masks) if b & c == c)
+        group = self._group(chain)
+        return group.full if fully else group.seen
+
+    def history(self, chain: Chain) -> History:
+        """What ``chain``'s group observed: hard facts, soft facts, awareness."""
+        return self._group(chain).history
 
     def hard(self, chain: Chain) -> tuple[Formula, ...]:
         """The hard facts ``chain``'s group learnt, oldest first."""
-        c = self.bits(chain)
-        out = []
-        for o, seen, full in zip(self._observations, self._observed, self._full, strict=True):
-            if seen & c == c:
-                fact = o.hard_fact(full & c == c)
-                if fact is not None:
-                    out.append(fact)
-        return tuple(out)
+        return self._group(chain).history.hard
 
     def soft(self, chain: Chain) -> tuple[Formula, ...]:
         """The soft facts ``chain``'s group was shown, newest first."""
-        c = self.bits(chain)
-        return tuple(
-            o.suggests
-            for o, full in zip(reversed(self._observations), reversed(self._full), strict=True)
-            if o.suggests is not None and full & c == c
-        )
+        return self._group(chain).history.soft
 
     def aware(self, chain: Chain) -> frozenset[str]:
         """The tracked atoms ``chain``'s group is aware of."""
-        c = self.bits(chain)
-        out: set[str] = set()
-        for o, full in zip(self._observations, self._full, strict=True):
-            if o.aware and full & c == c:
-                out |= o.aware
-        return frozenset(out & self._tracked)
-
-    def history(self, chain: Chain) -> History:
-        """:meth:`hard`, :meth:`soft` and :meth:`aware` of a chain together."""
-        return History(self.hard(chain), self.soft(chain), self.aware(chain))
+        return self._group(chain).history.aware
 
     def signature(self, chain: Chain) -> tuple:
         """What the chain's group observed, as a hashable key: groups with equal
         signatures have equal ``K`` and ``B`` sets on any worlds."""
-        c = self.bits(chain)
-        seen = tuple(i for i, b in enumerate(self._observed) if b & c == c)
-        full = tuple(i for i, b in enumerate(self._full) if b & c == c)
-        return seen, full, self.aware(chain) if self._tracked else frozenset()
+        group = self._group(chain)
+        return group.seen, group.full, group.history.aware
 
     def constrains(self, chain: Chain) -> bool:
         """Whether any hard or soft fact reaches the chain's group (awareness aside)."""
-        return bool(self.hard(chain) or self.soft(chain))
+        history = self._group(chain).history
+        return bool(history.hard or history.soft)
+
+
+class _Group(NamedTuple):
+    seen: tuple[int, ...]
+    full: tuple[int, ...]
+    history: History
 
 
 def group_formula(formula: Formula | str) -> Formula:
