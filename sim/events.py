@@ -179,55 +179,57 @@ def _position(world: World, name: str) -> np.ndarray:
 
 def _bindings(rule: EventRule, world: World) -> list[tuple[dict, np.ndarray | None]]:
     """The parameter bindings for which the trigger holds now, each with the robots that
-    reached the goal (for ``G is reached``; else None)."""
+    reached the goal (for ``G is reached``; else None). Vectorised over the candidates."""
     t, names = rule.trigger, dict(rule.parameters)
-
-    def candidates(slot: str | None) -> list[str]:
-        if slot is None:
-            return [""]
-        if slot in names:
-            return list(world.robots if names[slot] == "robots" else world.goal_names)
-        return [slot]
-
-    def binding(*pairs: tuple[str | None, str]) -> dict:
-        return {k: v for k, v in pairs if k in names}
-
     if t.kind == "step":
         return [({}, None)] if world.step == int(t.value) else []
+    goals = world.goal_names
     if t.kind == "reached":
+        near = distances(world.poses, world.goals) <= world.success_radius  # (n, m)
         out = []
-        for g in candidates(t.target):
-            j = world.goal_names.index(g)
-            if world.reached[j]:
-                here = distances(world.poses, world.goals[j : j + 1])[:, 0]
-                out.append((binding((t.target, g)), here <= world.success_radius))
+        for j in np.flatnonzero(world.reached):
+            if t.target in names or goals[j] == t.target:
+                binding = {t.target: goals[j]} if t.target in names else {}
+                out.append((binding, near[:, j]))
         return out
-    d_now = distances(world.poses, world.goals)
+    robots = world.robots
+    places = _places(world, t.target, names)
+    spots = np.array([_position(world, x) for x in places]).reshape(-1, 2)
+    now = distances(world.poses, spots)  # (n, targets)
+    if t.kind == "settles":
+        hits = np.zeros_like(now, dtype=bool)
+        if world.previous is not None:
+            moved = np.hypot(*(world.poses[:, :2] - world.previous[:, :2]).T)
+            d = distances(world.poses, world.goals)
+            nearest = np.argmin(d, axis=1)
+            settled = (moved < STILL) & (d[np.arange(len(robots)), nearest] <= world.success_radius)
+            column = {g: k for k, g in enumerate(places)}
+            for i in np.flatnonzero(settled):
+                k = column.get(goals[nearest[i]])
+                if k is not None:
+                    hits[i, k] = True
+    else:
+        radius = world.success_radius if t.kind == "reaches" else float(t.value)
+        before = np.inf if world.previous is None else distances(world.previous, spots)
+        hits = (now <= radius) & (before > radius)
+    if t.robot not in names:
+        keep = np.zeros(len(robots), dtype=bool)
+        keep[robots.index(t.robot)] = True
+        hits &= keep[:, None]
     out = []
-    for r in candidates(t.robot):
-        i = world.robots.index(r)
-        for x in candidates(t.target):
-            if t.kind == "settles":
-                if world.previous is None:
-                    continue
-                moved = np.hypot(*(world.poses[i, :2] - world.previous[i, :2]))
-                j = int(np.argmin(d_now[i]))
-                hit = bool(
-                    moved < STILL
-                    and d_now[i, j] <= world.success_radius
-                    and world.goal_names[j] == x
-                )
-            else:
-                radius = world.success_radius if t.kind == "reaches" else float(t.value)
-                place = _position(world, x)
-                here = np.hypot(*(world.poses[i, :2] - place))
-                before = (
-                    np.inf if world.previous is None else np.hypot(*(world.previous[i, :2] - place))
-                )
-                hit = bool(here <= radius < before)
-            if hit:
-                out.append((binding((t.robot, r), (t.target, x)), None))
+    for i, k in zip(*np.nonzero(hits), strict=True):
+        binding = {t.robot: robots[i], t.target: places[k]}
+        out.append(({key: v for key, v in binding.items() if key in names}, None))
     return out
+
+
+def _places(world: World, slot: str, names: Mapping[str, str]) -> list[str]:
+    """The goals or robots a trigger's target may stand for."""
+    if slot not in names:
+        return [slot]
+    if names[slot] == "robots":
+        return list(world.robots)
+    return list(world.goal_names)
 
 
 def _observers(

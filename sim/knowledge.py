@@ -63,6 +63,7 @@ class TeamKnowledge:
         if known_goals is not None:  # some goals unknown to some: awareness matters
             tracked = set().union(*(goal_atoms(self.robots, g) for g in self.goals))
         self.state = EpistemicState(self.robots, tracked=tracked)
+        self._goal_atoms = tuple(goal_atoms(self.robots, g) for g in self.goals)
         #: ``closed[g]``: the fact "no robot goes to goal ``g``" (a task done, a goal closed).
         self.closed = tuple(closed_fact(self.robots, g) for g in self.goals)
         self._closed_goal = {fact: g for g, fact in enumerate(self.closed)}
@@ -87,7 +88,7 @@ class TeamKnowledge:
         found = Observation(
             "discover",
             full=names,
-            aware=goal_atoms(self.robots, self.goals[goal]),
+            aware=self._goal_atoms[goal],
             args=(self.goals[goal],),
         )
         return self.observe(found)
@@ -122,7 +123,7 @@ class TeamKnowledge:
         if not self.state.tracked:
             return np.ones(self.m, dtype=bool)
         aware = self.state.aware(chain)
-        return np.array([goal_atoms(self.robots, g) <= aware for g in self.goals])
+        return np.array([atoms <= aware for atoms in self._goal_atoms])
 
     def knows_done(self, chain: Chain) -> np.ndarray:
         """``(m,)`` the goals (tasks) the chain knows closed (done)."""

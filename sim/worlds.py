@@ -108,6 +108,7 @@ class ConfigurationTable:
             for j, g in enumerate(self.goals)
         }
         self._masks: dict[str, np.ndarray] = {}
+        self._conceivable: dict[frozenset, np.ndarray] = {}
 
     @property
     def n_worlds(self) -> int:
@@ -131,14 +132,22 @@ class ConfigurationTable:
         return mask
 
     def conceivable(self, unaware: frozenset[str]) -> np.ndarray:
+        found = self._conceivable.get(unaware)
+        if found is not None:
+            return found
         allowed = np.ones((len(self.robots), len(self.goals)), dtype=bool)
         for atom in unaware:
             where = self._where.get(atom)
             if where is not None:
                 allowed[where] = False
         if allowed.all():
-            return np.ones(self.n_worlds, dtype=bool)
-        return allowed[np.arange(len(self.robots)), self.rows].all(axis=1)
+            found = np.ones(self.n_worlds, dtype=bool)
+        elif (allowed == allowed[0]).all():  # whole goals unknown: a lookup per goal
+            found = allowed[0][self.rows].all(axis=1)
+        else:
+            found = allowed[np.arange(len(self.robots)), self.rows].all(axis=1)
+        self._conceivable[unaware] = found
+        return found
 
     def world_names(self) -> tuple[str, ...]:
         return tuple(" ".join(self.goals[g] for g in row) for row in self.rows.tolist())
