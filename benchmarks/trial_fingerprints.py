@@ -25,7 +25,6 @@ import numpy as np
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials
-from epistemica.sim.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 STRESS_LEVELS = ("convention", "first", "third", "third-shared")
@@ -55,7 +54,7 @@ def fingerprint(path: Path, level: str, seed: int) -> dict:
     """The outcome of one trial and a hash of its record."""
     mission = load_mission(path)
     spec = mission_trials(mission, [level], 1, seed)[0]
-    trial = simulate(spec.scenario(), level, seed=seed, policies=spec.policies())
+    trial = spec.simulate()
     digest = hashlib.sha256()
     for array in (trial.trajectory, trial.focal, trial.considered, trial.unpruned):
         digest.update(np.ascontiguousarray(array).tobytes())

@@ -21,69 +21,22 @@ import numpy as np
 from epistemica.aif.motion import move
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
-from epistemica.sim.active import LEVELS, ActiveInference
-from epistemica.sim.baselines import Convention, Greedy
 from epistemica.sim.events import STILL, World, fire
 from epistemica.sim.knowledge import initial_knowledge
+from epistemica.sim.levels import make_policy
 from epistemica.sim.missions import distances, mission_holds, realises
-from epistemica.sim.paper import PAPER_LEVELS, PaperPolicy
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Policy
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.sensing import Sensing
 from epistemica.sim.trial import Trial
 
-__all__ = ["REASONING", "make_policy", "simulate"]
-
-#: Names accepted for ``reasoning`` (and as values of ``policies``).
-REASONING = (
-    "zero",
-    "convention",
-    "first",
-    "second",
-    "third",
-    "first-unpruned",
-    "second-unpruned",
-    "third-unpruned",
-    "second-shared",
-    "third-shared",
-    "convention-reverse",
-    "paper-first",
-    "paper-higher",
-    "paper-higher-fixed",
-)
+__all__ = ["simulate"]
 
 
-def make_policy(name: str) -> Policy:
-    """A fresh policy for a level name.
-
-    Examples
-    --------
-    >>> make_policy("third").order
-    3
-    """
-    if isinstance(name, Policy):
-        return name
-    if name == "zero":
-        return Greedy()
-    if name == "convention":
-        return Convention()
-    if name == "convention-reverse":
-        return Convention(tie_break="reverse")
-    if name in LEVELS:
-        return ActiveInference(LEVELS[name])
-    if name.endswith("-unpruned") and name.removesuffix("-unpruned") in LEVELS:
-        return ActiveInference(LEVELS[name.removesuffix("-unpruned")], pruning=False)
-    if name.endswith("-shared") and name.removesuffix("-shared") in LEVELS:
-        return ActiveInference(LEVELS[name.removesuffix("-shared")], nested=False)
-    if name in PAPER_LEVELS:
-        return PaperPolicy(name)
-    raise InvalidArgumentError(
-        f"unknown reasoning level {name!r}",
-        hint=f"use one of {', '.join(REASONING)}, or pass a Policy object",
-    )
-
-
-def _groups(n: int, reasoning, policies: Mapping | None) -> list[tuple[Policy, np.ndarray]]:
+def _groups(
+    n: int, reasoning, policies: Mapping | None, parameters: ActiveParameters | None
+) -> list[tuple[Policy, np.ndarray]]:
     chosen: dict[int, object] = dict.fromkeys(range(n), reasoning)
     for robot, value in (policies or {}).items():
         if isinstance(robot, bool) or not isinstance(robot, int | np.integer) or not 0 <= robot < n:
@@ -98,7 +51,7 @@ def _groups(n: int, reasoning, policies: Mapping | None) -> list[tuple[Policy, n
         value = chosen[robot]
         key = id(value) if isinstance(value, Policy) else value
         if key not in instances:
-            instances[key] = make_policy(value)
+            instances[key] = make_policy(value, parameters)
         members.setdefault(id(instances[key]), []).append(robot)
     by_id = {id(p): p for p in instances.values()}
     return [(by_id[k], np.array(v)) for k, v in members.items()]
@@ -110,6 +63,7 @@ def simulate(
     seed: int = 0,
     *,
     policies: Mapping | None = None,
+    parameters: ActiveParameters | None = None,
 ) -> Trial:
     """Simulate one trial of ``scenario``.
 
@@ -118,14 +72,17 @@ def simulate(
     scenario : Scenario
         The world.
     reasoning : str or Policy
-        The level of every robot: ``"zero"``, ``"convention"``, ``"first"``,
-        ``"second"``, ``"third"`` (and the ``"paper-*"`` levels of
-        :mod:`epistemica.sim.paper`), or a :class:`~epistemica.sim.policy.Policy`.
+        The level of every robot: a name of :data:`epistemica.sim.levels.REASONING`
+        (``"zero"``, ``"convention"``, ``"first"``, ``"third"``, the ablations and the
+        ``"paper-*"`` levels), or a :class:`~epistemica.sim.policy.Policy`.
     seed : int
         Trial seed: observation and process noise, and any policy randomness. The same
         seed gives the same noise for every level.
     policies : mapping, optional
         Robot index to level name or policy, overriding ``reasoning`` for that robot.
+    parameters : ActiveParameters, optional
+        Rules and constants of the active-inference levels named (default
+        :class:`~epistemica.sim.parameters.ActiveParameters`; a mission's ``policy`` line).
 
     Returns
     -------
@@ -138,7 +95,7 @@ def simulate(
         )
     s, n = scenario, scenario.n_robots
     streams = trial_streams(seed, n)
-    groups = _groups(n, reasoning, policies)
+    groups = _groups(n, reasoning, policies, parameters)
     names = [""] * n
     for policy, robots in groups:
         policy.start(s, robots, [streams.policy[r] for r in robots])

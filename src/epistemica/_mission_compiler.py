@@ -25,8 +25,8 @@ from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula, build_imported_form
 from epistemica.del_.errors import EpistemicaError, SpecError
 from epistemica.del_.language.parser import syntax_error
 from epistemica.sim.events import EventRule, ObserverRule, expand
+from epistemica.sim.levels import REASONING
 from epistemica.sim.scenario import MISSIONS, OBSERVATIONS
-from epistemica.sim.simulate import REASONING
 
 __all__ = ["GoalSpec", "MissionCheck", "MissionParts", "RobotSpec", "compile_text"]
 

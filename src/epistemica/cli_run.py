@@ -126,7 +126,9 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     from epistemica.sim.simulate import simulate
 
     scenario = mission.scenario(seed)
-    trial = simulate(scenario, level, seed=seed, policies=mission.policies(seed))
+    trial = simulate(
+        scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
+    )
     animate_trial(scenario, trial, path)
 
 

@@ -49,6 +49,7 @@ from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.events import EventRule, expand
 from epistemica.sim.knowledge import TeamKnowledge, initial_knowledge
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.simulate import simulate
 from epistemica.sim.trial import Trial
@@ -260,6 +261,26 @@ class Mission:
         p = self.parts
         return valid_configurations(self.kind, len(self.robots), len(self.goals), p.capacities)
 
+    @functools.cached_property
+    def parameters(self) -> ActiveParameters:
+        """The active-inference levels' parameters: the defaults, changed by the file's
+        ``policy`` lines."""
+        out = ActiveParameters()
+        for name, text, token in self.parts.policy:
+            try:
+                out = out.replace(**{name: _policy_value(text)})
+            except (InvalidArgumentError, TypeError, ValueError) as exc:
+                message = getattr(exc, "message", str(exc))
+                raise SpecError(
+                    message,
+                    line=token.line,
+                    column=token.column,
+                    source=self.source,
+                    filename=self.filename,
+                    hint=getattr(exc, "hint", None) or "see docs/language.md, 'policy'",
+                ) from None
+        return out
+
     # -- the logic's view ----------------------------------------------------------------
 
     def knowledge(self, seed: int | None = None) -> TeamKnowledge:
@@ -279,7 +300,9 @@ class Mission:
         short = scenario.replace(max_steps=max(min(int(steps), scenario.max_steps), 1))
         if steps == 0:
             short = short.replace(max_steps=1)
-        return simulate(short, level, seed=seed, policies=self.policies(seed))
+        return simulate(
+            short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
+        )
 
     def model_of(self, knowledge: TeamKnowledge) -> KripkeModel:
         """The Kripke model over the valid configurations after what ``knowledge`` holds
@@ -344,7 +367,17 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
         parts=parts,
     )
     mission.scenario()  # validate the world now: a robot outside it, NaN, ...
+    _ = mission.parameters  # and its policy line
     return mission
+
+
+def _policy_value(text: str):
+    """A ``policy`` value: a number (whole numbers as int), true, false or none."""
+    words = {"true": True, "false": False, "none": None}
+    if text.lower() in words:
+        return words[text.lower()]
+    value = float(text)
+    return int(value) if value == int(value) and "." not in text else value
 
 
 def load_mission(path: str | Path) -> Mission:

@@ -294,8 +294,7 @@ def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
     trial = simulate(s, "third", seed=0, policies={1: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 1 and 0 in e[4] for e in trial.events)
-    patient = ActiveInference(3)
-    patient.LONE_WAIT = 10**6
+    patient = ActiveInference(3, search=False)
     assert not simulate(s, patient, seed=0, policies={1: "zero"}).success
 
 
@@ -346,6 +345,5 @@ def test_a_group_waiting_for_the_rest_of_the_team_searches_for_it():
     trial = simulate(s, "third", seed=0, policies={2: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 2 and {0, 1} & set(e[4]) for e in trial.events)
-    patient = ActiveInference(3)
-    patient.LONE_WAIT = 10**6
+    patient = ActiveInference(3, search=False)
     assert not simulate(s, patient, seed=0, policies={2: "zero"}).success
