@@ -19,8 +19,12 @@ Triggers (``R`` a robot, ``G`` a goal, ``X`` either; names or parameters):
   ``G``; the robots there are ``reachers``.
 
 World effects: ``closes G`` (``G`` no longer counts for success and is no longer
-discovered), ``opens G``. Observer conditions are formulas over the world as each
-candidate observer ``o`` perceives it: ``sees(X)`` (``X`` within ``o``'s sensing range;
+discovered), ``opens G``. Content, as in the spec language's observability blocks:
+``pre F`` (every observer learns ``F``), ``announces F`` (full observers learn ``F``,
+partial ones that it was announced or denied), ``senses F`` (full observers learn whether
+``F``, a fact about closed goals the simulator knows), ``suggests F`` (a soft fact, a radical
+upgrade), ``reveals G`` (full observers become aware of goal ``G``). Observer conditions
+are formulas over the world as each candidate observer ``o`` perceives it: ``sees(X)`` (``X`` within ``o``'s sensing range;
 ``X`` may be ``reachers``), ``near(X, D)`` (``o`` within ``D`` m of ``X``) and
 ``sensor(range)``/``sensor(bearing)``; an observer named ``robots`` stands for every robot.
 
@@ -110,6 +114,7 @@ class EventRule:
     trigger: Trigger
     closes: tuple[str, ...] = ()
     opens: tuple[str, ...] = ()
+    pre: Formula | None = None
     announces: Formula | None = None
     senses: Formula | None = None
     suggests: Formula | None = None
@@ -295,15 +300,20 @@ def fire(rule: EventRule, world: World) -> list[Firing]:
     for env, reachers in _bindings(rule, world):
         full = _observers(rule.full, env, world, reachers)
         partial = _observers(rule.partial, env, world, reachers) & ~full
+        # An announcement is sensing whose outcome the event asserts: full observers learn
+        # the fact, partial ones that it was announced or denied.
         sensed = bind(rule.senses, env)
+        outcome = _outcome(sensed, world)
+        if rule.announces is not None:
+            sensed, outcome = bind(rule.announces, env), True
         revealed = [goal_atoms(robots, env.get(g, g)) for g in rule.reveals]
         observation = Observation(
             rule.name,
             full={robots[i] for i in np.flatnonzero(full)},
             partial={robots[i] for i in np.flatnonzero(partial)},
-            announces=expand(bind(rule.announces, env), robots),
+            pre=expand(bind(rule.pre, env), robots),
             senses=expand(sensed, robots),
-            outcome=_outcome(sensed, world),
+            outcome=outcome,
             suggests=expand(bind(rule.suggests, env), robots),
             aware=frozenset().union(*revealed),
             args=tuple(env.get(p, "") for p, _ in rule.parameters),

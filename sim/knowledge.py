@@ -17,7 +17,7 @@ Robot 0 sees task 2 completed, robot 1 does not:
 >>> import numpy as np
 >>> from epistemica.del_ import Observation
 >>> k = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"])
->>> k.observe(Observation("complete", full={"r1"}, announces=k.closed[2]))
+>>> k.observe(Observation("complete", full={"r1"}, pre=k.closed[2]))
 True
 >>> rows = np.array([[0, 1], [0, 2], [2, 1]])
 >>> k.possible((0,), rows).tolist()  # robot 0 prunes the rows that use task 2
@@ -96,7 +96,7 @@ class TeamKnowledge:
     def tell(self, fact: Formula, observers) -> bool:
         """The observers (``n`` booleans) are told ``fact`` (and who else was)."""
         names = {self.robots[i] for i in np.flatnonzero(observers)}
-        return self.observe(Observation("learns", full=names, announces=fact))
+        return self.observe(Observation("learns", full=names, pre=fact))
 
     # -- queries ---------------------------------------------------------------------
 

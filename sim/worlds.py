@@ -17,7 +17,7 @@ Examples
 >>> model.n_worlds, model.holds("assigned(r1, g1) <-> assigned(r2, g2)")
 (2, True)
 >>> state = EpistemicState(["r1", "r2"])
->>> _ = state.observe(Observation("told", full={"r1"}, announces="assigned(r1, g1)"))
+>>> _ = state.observe(Observation("told", full={"r1"}, pre="assigned(r1, g1)"))
 >>> after = configuration_model(["r1", "r2"], ["g1", "g2"], rows, state)
 >>> after.holds("K[r1] assigned(r2, g2) & ~K[r2] assigned(r2, g2)")
 True

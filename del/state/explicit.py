@@ -18,7 +18,7 @@ Examples
 >>> from epistemica.del_.state import EpistemicState, Observation
 >>> table = ValuationTable(["p", "q"], np.array([[0, 0], [0, 1], [1, 0], [1, 1]], bool))
 >>> s = EpistemicState(["a", "b"])
->>> _ = s.observe(Observation("tell", full={"a"}, announces="p"))
+>>> _ = s.observe(Observation("tell", full={"a"}, pre="p"))
 >>> knowledge_mask(s, ("a",), table).tolist(), knowledge_mask(s, ("a", "b"), table).tolist()
 ([False, False, True, True], [True, True, True, True])
 >>> group_model(s, table).holds("K[a] p & ~K[b] p & K[a] ~K[b] p")

@@ -5,10 +5,12 @@ An :class:`Observation` is an action model of the mA* family (see
 *full* observers see what happened, *partial* observers see that it happened but not its
 outcome, every other agent is *oblivious* and believes nothing happened. What it teaches:
 
-- ``announces F`` (hard): every observer learns that ``F`` holds (the precondition of the
-  event). Knowledge, never revised.
+- ``pre F`` (hard): every observer, full or partial, learns that ``F`` holds (the
+  precondition of the event). Knowledge, never revised.
 - ``senses F`` with its ``outcome`` (hard): full observers learn whether ``F`` holds;
-  partial observers only that it was sensed.
+  partial observers only that it was sensed. (An announcement of ``F`` in the spec
+  language's sense, full observers learning ``F`` and partial ones only that ``F`` was
+  announced or denied, is ``senses F`` with outcome ``True``.)
 - ``suggests F`` (soft): full observers come to believe ``F``, a private *radical upgrade*:
   later evidence may override it (the newest upgrade that is consistent wins). A robot seen
   standing at a goal suggests that the goal is its; it may still leave.
@@ -87,7 +89,7 @@ class Observation:
         What happened (``"settle"``, ``"door_closes"``): for messages and bookkeeping.
     full, partial : iterable of str
         Agents that see what happened / only that it happened. An agent in both is full.
-    announces, senses, suggests : formula or str, optional
+    pre, senses, suggests : formula or str, optional
         The hard fact every observer learns; the fact full observers learn the truth of
         (``outcome`` says which); the soft fact full observers come to believe.
     outcome : bool, optional
@@ -101,7 +103,7 @@ class Observation:
     name: str
     full: frozenset[str]
     partial: frozenset[str] = frozenset()
-    announces: Formula | None = None
+    pre: Formula | None = None
     senses: Formula | None = None
     outcome: bool | None = None
     suggests: Formula | None = None
@@ -115,7 +117,7 @@ class Observation:
         full = _agents(self.full, "full")
         set_(self, "full", full)
         set_(self, "partial", _agents(self.partial, "partial") - full)
-        set_(self, "announces", _formula(self.announces, "announces"))
+        set_(self, "pre", _formula(self.pre, "pre"))
         set_(self, "senses", _formula(self.senses, "senses"))
         set_(self, "suggests", _formula(self.suggests, "suggests"))
         set_(self, "aware", frozenset(str(a) for a in self.aware))
@@ -134,9 +136,9 @@ class Observation:
         return self.full | self.partial
 
     def hard_fact(self, full: bool) -> Formula | None:
-        """What an observer learns for certain: the announced fact, and the sensed fact's
+        """What an observer learns for certain: the precondition, and the sensed fact's
         outcome if it observed ``full``-y. ``None`` if nothing."""
-        parts = [] if self.announces is None else [self.announces]
+        parts = [] if self.pre is None else [self.pre]
         if full and self.senses is not None:
             parts.append(self.senses if self.outcome else Not(self.senses))
         if not parts:
@@ -147,8 +149,8 @@ class Observation:
         return out
 
     def action_model(self, agents: Iterable[str]) -> ActionModel:
-        """The hard part of the event as an action model over ``agents``: announced and
-        sensed facts with their observers (the reference of the product update).
+        """The hard part of the event as an action model over ``agents``: its precondition
+        and sensed fact with their observers (the reference of the product update).
 
         Examples
         --------
@@ -170,7 +172,7 @@ class Observation:
             executable = self.senses if self.outcome else Not(self.senses)
         return observability_action(
             agent_list,
-            pre=Top() if self.announces is None else self.announces,
+            pre=Top() if self.pre is None else self.pre,
             senses=self.senses,
             full=sorted(self.full),
             partial=sorted(self.partial),

@@ -149,7 +149,7 @@ class EpistemicState:
         key = (
             observation.name,
             observation.args,
-            observation.announces,
+            observation.pre,
             observation.senses,
             observation.outcome,
             observation.suggests,

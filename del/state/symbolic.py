@@ -13,7 +13,7 @@ Examples
 >>> from epistemica.del_.state import EpistemicState, Observation
 >>> space = world_space(["p", "q"], "p | q")
 >>> s = EpistemicState(["a", "b"])
->>> _ = s.observe(Observation("tell", full={"a"}, announces="p"))
+>>> _ = s.observe(Observation("tell", full={"a"}, pre="p"))
 >>> count(space, knowledge_bdd(s, ("a",), space)), count(space, knowledge_bdd(s, ("b",), space))
 (2, 3)
 >>> group_structure(s, space).holds("K[a] p & ~K[b] p & K[a] ~K[b] p")
@@ -110,8 +110,8 @@ def group_structure(state: EpistemicState, space: KnowledgeStructure) -> GroupSt
     full = [state.bits(o.full) for o in observations]
     know = space.law
     for o, seen, fully in zip(observations, observed, full, strict=True):
-        if o.announces is not None:
-            know &= _within(seen, group_slots).imp(space.truth(o.announces))
+        if o.pre is not None:
+            know &= _within(seen, group_slots).imp(space.truth(o.pre))
         if o.senses is not None:
             sensed = space.truth(o.senses)
             know &= _within(fully, group_slots).imp(sensed if o.outcome else ~sensed)

@@ -8,6 +8,7 @@ Event declarations are compiled by :mod:`epistemica._mission_events`.
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import functools
 import math
@@ -589,10 +590,7 @@ class MissionCompiler:
 
 def everyone_observes(rule: EventRule) -> EventRule:
     """``rule`` observed in full by every robot."""
-    return EventRule(
-        rule.name, rule.parameters, rule.trigger, rule.closes, rule.opens, rule.announces,
-        rule.senses, rule.suggests, rule.reveals, full=(ObserverRule("robots"),), partial=(),
-    )  # fmt: skip
+    return dataclasses.replace(rule, full=(ObserverRule("robots"),), partial=())
 
 
 def compile_text(

@@ -23,7 +23,7 @@ __all__ = ["compile_event"]
 DOMAINS = {"robots": "robots", "goals": "goals", "tasks": "goals"}
 #: Observer predicates and their arities.
 PREDICATES = {"sees": 1, "near": 2, "sensor": 1}
-_CONTENT = ("announces", "senses", "suggests")
+_CONTENT = ("pre", "announces", "senses", "suggests")
 
 
 class _Event:
@@ -96,6 +96,7 @@ def compile_event(comp: Any, node: Tree) -> EventRule:
         trigger,
         closes=tuple(event.parts["closes"]),
         opens=tuple(event.parts["opens"]),
+        pre=event.parts.get("pre"),
         announces=event.parts.get("announces"),
         senses=event.parts.get("senses"),
         suggests=event.parts.get("suggests"),
@@ -107,6 +108,12 @@ def compile_event(comp: Any, node: Tree) -> EventRule:
 
 def _check_teaches(event: _Event, node: Tree) -> None:
     parts, comp = event.parts, event.comp
+    if "announces" in parts and "senses" in parts:
+        raise comp.error(
+            f"event '{event.name}' both announces and senses",
+            event.name,
+            "split it into two events, or announce the sensed fact",
+        )
     if not (parts["full"] or parts["partial"]):
         raise comp.error(
             f"event '{event.name}' has no observer",
@@ -117,7 +124,7 @@ def _check_teaches(event: _Event, node: Tree) -> None:
         raise comp.error(
             f"event '{event.name}' neither teaches nor changes anything",
             event.name,
-            "give it 'announces F', 'senses F', 'suggests F', 'reveals GOAL' or an effect",
+            "give it 'pre F', 'announces F', 'senses F', 'suggests F', 'reveals GOAL' or an effect",
         )
     unbound = set(event.parameters) - _used(event)
     if unbound:

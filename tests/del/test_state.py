@@ -84,14 +84,14 @@ def histories(draw, soft=True, awareness=True):
     for _ in range(draw(st.integers(0, 5))):
         full = draw(st.sets(st.sampled_from(AGENTS)))
         partial = draw(st.sets(st.sampled_from(AGENTS)))
-        kinds = ["announces", "senses"] + (["suggests"] if soft else [])
+        kinds = ["pre", "senses"] + (["suggests"] if soft else [])
         kinds += ["aware"] if tracked else []
         kind = draw(st.sampled_from(kinds))
         fact = draw(facts)
-        if kind == "announces":
+        if kind == "pre":
             if not truth(fact, actual[None])[0]:
                 fact = ~fact
-            observations.append(Observation("e", full, partial, announces=fact))
+            observations.append(Observation("e", full, partial, pre=fact))
         elif kind == "senses":
             held = bool(truth(fact, actual[None])[0])
             observations.append(Observation("e", full, partial, senses=fact, outcome=held))
@@ -199,7 +199,7 @@ def test_awareness_makes_a_world_conceivable_for_the_group_that_saw_it():
     table = ValuationTable(["door_closed"], np.array([[False], [True]]))
     state = EpistemicState(["a", "b"], tracked=["door_closed"])
     assert belief_mask(state, ("a",), table).tolist() == [True, False]  # by default, open
-    state.observe(Observation("close", full={"a"}, announces="door_closed", aware={"door_closed"}))
+    state.observe(Observation("close", full={"a"}, pre="door_closed", aware={"door_closed"}))
     assert belief_mask(state, ("a",), table).tolist() == [False, True]
     assert belief_mask(state, ("b",), table).tolist() == [True, False]  # a false belief
     assert knowledge_mask(state, ("b",), table).tolist() == [True, True]
@@ -230,9 +230,7 @@ def test_a_redundant_observation_is_not_recorded_and_changes_nothing(history, da
     before = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
     o = state.observations[data.draw(st.integers(0, len(state) - 1))]
     fewer = data.draw(st.sets(st.sampled_from(sorted(o.full)))) if o.full else set()
-    repeat = Observation(
-        o.name, fewer, set(), o.announces, o.senses, o.outcome, o.suggests, o.aware
-    )
+    repeat = Observation(o.name, fewer, set(), o.pre, o.senses, o.outcome, o.suggests, o.aware)
     assert not state.observe(repeat)
     after = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
     assert all(np.array_equal(x, y) for x, y in zip(before, after, strict=True))
@@ -280,15 +278,15 @@ def test_the_group_model_reads_pure_chains_as_the_sets(history, chain, fact):
 
 def test_bad_observations_are_refused():
     with pytest.raises(InvalidArgumentError, match="fact about the world"):
-        Observation("x", {"a"}, announces="K[a] p")
+        Observation("x", {"a"}, pre="K[a] p")
     with pytest.raises(InvalidArgumentError, match="go together"):
         Observation("x", {"a"}, senses="p")
     state = EpistemicState(["a"])
     with pytest.raises(InvalidArgumentError, match="unknown agent"):
-        state.observe(Observation("x", {"z"}, announces="p"))
+        state.observe(Observation("x", {"z"}, pre="p"))
     with pytest.raises(InvalidArgumentError, match="distinct"):
         EpistemicState(["a", "a"])
-    assert as_formula("p") == Observation("x", {"a"}, announces="p").announces
+    assert as_formula("p") == Observation("x", {"a"}, pre="p").pre
 
 
 def test_distributed_knowledge_is_refused_by_the_group_models():

@@ -80,7 +80,7 @@ def _replay(rows, robots, goals, events, truth):
         else:
             knowledge.tell(parse_formula(fact), observers)
         names = {robots[i] for i, seen in enumerate(observers) if seen}
-        model = model.update(Observation(kind, full=names, announces=fact).action_model(robots))
+        model = model.update(Observation(kind, full=names, pre=fact).action_model(robots))
     return knowledge, model
 
 
