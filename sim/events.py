@@ -19,14 +19,15 @@ Triggers (``R`` a robot, ``G`` a goal, ``X`` either; names or parameters):
   ``G``; the robots there are ``reachers``.
 
 World effects: ``closes G`` (``G`` no longer counts for success and is no longer
-discovered), ``opens G``. Content, as in the spec language's observability blocks:
-``pre F`` (every observer learns ``F``), ``announces F`` (full observers learn ``F``,
-partial ones that it was announced or denied), ``senses F`` (full observers learn whether
-``F``, a fact about closed goals the simulator knows), ``suggests F`` (a soft fact, a radical
-upgrade), ``reveals G`` (full observers become aware of goal ``G``). Observer conditions
-are formulas over the world as each candidate observer ``o`` perceives it: ``sees(X)`` (``X`` within ``o``'s sensing range;
-``X`` may be ``reachers``), ``near(X, D)`` (``o`` within ``D`` m of ``X``) and
-``sensor(range)``/``sensor(bearing)``; an observer named ``robots`` stands for every robot.
+discovered), ``opens G``. Content, as in the spec language's observability blocks: ``pre F``
+(every observer learns ``F``), ``announces F`` (full observers learn ``F``, partial ones
+that it was announced or denied), ``senses F`` (full observers learn whether ``F``, a fact
+about closed goals the simulator knows), ``suggests F`` (a soft fact, a radical upgrade),
+``reveals G`` (full observers become aware of goal ``G``). Observer conditions are formulas
+over the world as each candidate observer ``o`` perceives it: ``sees(X)`` (``X`` within
+``o``'s sensing range; ``X`` may be ``reachers``), ``near(X, D)`` (``o`` within ``D`` m of
+``X``) and ``sensor(range)``/``sensor(bearing)``; an observer named ``robots`` stands for
+every robot.
 
 Examples
 --------
