@@ -93,6 +93,12 @@ class TeamKnowledge:
         )
         return self.observe(found)
 
+    def notice_closed(self, goal: int, observers) -> bool:
+        """The observers (``n`` booleans) see that ``goal`` is closed (a task done)."""
+        names = {self.robots[i] for i in np.flatnonzero(observers)}
+        seen = Observation("notice", full=names, pre=self.closed[goal], args=(self.goals[goal],))
+        return self.observe(seen)
+
     def tell(self, fact: Formula, observers) -> bool:
         """The observers (``n`` booleans) are told ``fact`` (and who else was)."""
         names = {self.robots[i] for i in np.flatnonzero(observers)}

@@ -46,7 +46,7 @@ class Observations(NamedTuple):
     known_goals : numpy.ndarray
         ``(n, m)`` booleans: the goals (tasks) robot ``i`` knows of.
     known_done : numpy.ndarray
-        ``(n, m)`` booleans: the tasks robot ``i`` knows are done (multitask).
+        ``(n, m)`` booleans: the goals robot ``i`` knows are closed (tasks done).
     knowledge : TeamKnowledge or None
         The facts each robot (and each chain of robots) learnt from observation events
         (:mod:`epistemica.sim.knowledge`); read it, never change it. ``known_goals`` and
@@ -96,15 +96,13 @@ class Sensing:
         d = distances(poses[:, :2], poses[:, :2])
         return d <= self.sensing_range
 
-    def observe(
-        self, poses: np.ndarray, step: int, settled=None, done=None, open_goals=None
-    ) -> Observations:
+    def observe(self, poses: np.ndarray, step: int, settled=None, closed=None) -> Observations:
         """Perceive the true ``poses`` at ``step``.
 
         ``settled`` marks robots that have stopped at a goal (teammates who see them
-        learn of that goal); ``done`` the tasks completed so far (robots within the
-        discovery range of a task see whether it is done); ``open_goals`` the goals that
-        exist now (a closed goal is not discovered).
+        learn of that goal); ``closed`` the goals closed now (tasks done, doors shut):
+        robots within the discovery range of a goal see whether it is closed, and a
+        closed goal is not discovered.
         """
         s, n = self.scenario, poses.shape[0]
         noise = np.stack([g.standard_normal((n, 2)) for g in self.generators])  # (n, n, 2)
@@ -115,14 +113,13 @@ class Sensing:
         self.estimates[idx, idx] = poses  # own pose is exact
         self.last_seen[seen] = step
         near_goal = distances(poses[:, :2], s.goals) <= self.discovery_range
-        exists = True if open_goals is None else np.asarray(open_goals)[None, :]
-        self.known_goals |= near_goal & exists
+        closed = np.zeros(s.n_goals, dtype=bool) if closed is None else np.asarray(closed)
+        self.known_goals |= near_goal & ~closed[None, :]
         if settled is not None and np.any(settled):
             at = distances(poses[:, :2], s.goals) <= s.success_radius  # (n, m)
             shown = at & np.asarray(settled)[:, None]
             self.known_goals |= (seen.astype(int) @ shown.astype(int)) > 0
-        if done is not None:
-            self.known_done |= near_goal & np.asarray(done)[None, :]
+        self.known_done |= near_goal & closed[None, :]
         return Observations(
             step,
             self.estimates.copy(),

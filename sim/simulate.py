@@ -103,8 +103,7 @@ def simulate(
             names[r] = policy.name
     run = _Run(s, streams)
     for step in range(s.max_steps):
-        done = run.done >= 0 if s.mission == "multitask" else None
-        obs = run.perceive(step, done)
+        obs = run.perceive(step)
         controls = np.empty((n, 2))
         started = perf_counter()
         for policy, robots in groups:
@@ -175,13 +174,16 @@ class _Run:
         has = own >= 0
         self.goal_belief[step, robots[has], own[has]] = 1.0
 
-    def perceive(self, step: int, done):
+    def perceive(self, step: int):
         """The team's observations at ``step``, after this step's observation events."""
         settled = self.settled()
-        before = self.sensing.known_goals.copy()
-        obs = self.sensing.observe(self.poses, step, settled, done, self.open)
+        before, before_closed = self.sensing.known_goals.copy(), self.sensing.known_done.copy()
+        obs = self.sensing.observe(self.poses, step, settled, ~self.open)
+        alone = np.eye(self.s.n_robots, dtype=bool)
         for i, g in zip(*np.nonzero(obs.known_goals & ~before), strict=True):
-            self.knowledge.discover(g, np.arange(self.s.n_robots) == i)
+            self.knowledge.discover(g, alone[i])
+        for i, g in zip(*np.nonzero(obs.known_done & ~before_closed), strict=True):
+            self.knowledge.notice_closed(g, alone[i])
         self._events(step, arrivals=False)
         known_goals, known_done = obs.known_goals, obs.known_done
         if self.s.events:  # what the events taught: goals revealed, tasks seen done

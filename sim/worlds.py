@@ -33,8 +33,9 @@ import numpy as np
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.explicit.checker import propositional_truth
 from epistemica.del_.language.formula import And, Atom, Formula, Not, Top
+from epistemica.del_.models import KripkeModel
 from epistemica.del_.state import EpistemicState
-from epistemica.del_.state.explicit import GroupModel, group_model
+from epistemica.del_.state.explicit import group_model
 
 __all__ = [
     "MAX_CONFIGURATIONS",
@@ -180,7 +181,7 @@ def configuration_model(
     goals: Sequence[str],
     rows,
     state: EpistemicState | None = None,
-) -> GroupModel:
+) -> KripkeModel:
     """The model over the configurations ``rows`` after what ``state`` recorded (default:
     nothing; every robot then considers every configuration possible).
 

@@ -37,10 +37,9 @@ from epistemica.del_.explicit.checker import propositional_truth
 from epistemica.del_.explicit.relations import arrows_from_edges, as_compact
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
-from epistemica.del_.state.state import Chain, EpistemicState, group_formula
+from epistemica.del_.state.state import Chain, EpistemicState
 
 __all__ = [
-    "GroupModel",
     "ValuationTable",
     "WorldTable",
     "belief_mask",
@@ -188,30 +187,18 @@ def belief_masks(state: EpistemicState, chains: Sequence[Chain], table: WorldTab
     return out
 
 
-class GroupModel(KripkeModel):
-    """A Kripke model of the group semantics: a :class:`~epistemica.del_.KripkeModel`
-    that refuses distributed knowledge (see :func:`~.state.group_formula`)."""
-
-    def truth_mask(self, formula, actions=None, **options) -> np.ndarray:
-        return super().truth_mask(group_formula(formula), actions, **options)
-
-    def truth_set(self, formula, actions=None, **options) -> frozenset:
-        return super().truth_set(group_formula(formula), actions, **options)
-
-    def holds(self, formula, actions=None, **options) -> bool:
-        return super().holds(group_formula(formula), actions, **options)
-
-
 def group_model(
     state: EpistemicState, table: WorldTable, designated: np.ndarray | None = None
-) -> GroupModel:
+) -> KripkeModel:
     """The Kripke model of the group semantics over ``table``.
 
     One copy of the worlds per history a chain reaches (the observations its group saw):
     the actual history (every observation) and, from a copy of history ``h``, for each
     agent ``i`` the copy of ``h`` restricted to what ``i`` observed. A copy holds the worlds
-    of its ``K`` set; ``K[i]`` leads from a copy to every world of the next copy's ``K``
-    set, ``B[i]`` to every world of its ``B`` set. Designated: the actual copy's worlds
+    of its ``K`` set. ``B[i]`` leads from a copy to the ``B`` set of ``h`` restricted to
+    what ``i`` observed (an oblivious agent believes nothing else happened); ``K[i]`` to the
+    ``K`` set of every copy that agrees with ``h`` on what ``i`` observed (it cannot rule
+    out that what it did not observe happened). Designated: the actual copy's worlds
     (within ``designated``, a mask over the table, when given).
     """
     agents = state.agents
@@ -241,12 +228,16 @@ def group_model(
     belief_rel, knowledge_rel = {}, {}
     for i, agent in enumerate(agents):
         edges = {"belief": ([], []), "knowledge": ([], [])}
+        alike: dict[tuple, list] = {}  # i's view of a history -> the copies with that view
         for k in keys:
-            target = step[(k, i)]
+            alike.setdefault(step[(k, i)], []).append(k)
+        for k in keys:
+            view = step[(k, i)]
             ids = start[k] + np.arange(rows[k].size)
-            for kind, mask in (("knowledge", know[target]), ("belief", believe[target])):
-                # B is within K: ids of target worlds among the copy's K worlds
-                where = np.flatnonzero(mask[rows[target]]) + start[target]
+            # B is within K: the target worlds are ids among the target copy's K worlds
+            believed = np.flatnonzero(believe[view][rows[view]]) + start[view]
+            known = np.concatenate([start[c] + np.arange(rows[c].size) for c in alike[view]])
+            for kind, where in (("belief", believed), ("knowledge", known)):
                 sources, targets = edges[kind]
                 sources.append(np.repeat(ids, where.size))
                 targets.append(np.tile(where, ids.size))
@@ -266,6 +257,6 @@ def group_model(
             "no designated world satisfies what was observed",
             hint="designate worlds where the observed facts hold",
         )
-    return GroupModel.from_arrays(
+    return KripkeModel.from_arrays(
         names, tuple(table.atoms), val, agents, belief_rel, knowledge_rel, designated_ids
     )

@@ -22,10 +22,12 @@ fully:
   ``F(S)`` applied newest first, each kept only if some world is left (a lexicographic
   radical upgrade: the newest consistent evidence wins).
 
-``K[i1] K[i2] ... K[ik] f`` (``f`` propositional) holds iff ``f`` holds on ``K(S)``, exactly
-as after the product update of the observations' action models (tests/del/test_state.py);
-``B[i1] ... B[ik] f`` iff ``f`` holds on ``B(S)``. A chain mixing the two is read by the
-kind of its last modality (the group model of :func:`~.explicit.group_model`).
+``K[i1] K[i2] ... K[ik] f`` (``f`` propositional) holds iff ``f`` holds on ``K(S)``, and
+``B[i1] ... B[ik] f`` iff ``f`` holds on ``B(S)``. The group models
+(:func:`~.explicit.group_model`, :func:`~.symbolic.group_structure`) answer every formula;
+for hard evidence they give the verdicts of the product update of the observations'
+action models (tests/del/test_state.py checks it on random histories and formulas of
+every modality), and they extend it with awareness and soft evidence.
 
 An observation that teaches no group anything it had not observed already (the same
 content, observers within an earlier one's) is not recorded.
@@ -49,11 +51,10 @@ from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.language.formula import Distributed, Formula
-from epistemica.del_.language.parser import as_formula
+from epistemica.del_.language.formula import Formula
 from epistemica.del_.state.observation import Observation
 
-__all__ = ["EpistemicState", "History", "group_formula"]
+__all__ = ["EpistemicState", "History"]
 
 Chain = Sequence[str] | Sequence[int]
 
@@ -137,15 +138,14 @@ class EpistemicState:
 
     def observe(self, observation: Observation) -> bool:
         """Record an observation; ``False`` (and nothing recorded) if every group that
-        observed it had observed the same already."""
+        observed it had observed the same already. An event nobody observed is recorded
+        too: it happened, so the actual world satisfies its precondition."""
         if not isinstance(observation, Observation):
             raise InvalidArgumentError(
                 f"expected an Observation, got {type(observation).__name__}",
                 hint="build one with epistemica.del_.Observation(...)",
             )
         full, seen = self.bits(observation.full), self.bits(observation.observers)
-        if not seen:
-            return False
         key = (
             observation.name,
             observation.args,
@@ -234,20 +234,3 @@ class _Group(NamedTuple):
     seen: tuple[int, ...]
     full: tuple[int, ...]
     history: History
-
-
-def group_formula(formula: Formula | str) -> Formula:
-    """``formula`` as a tree, refused if the group semantics cannot read it.
-
-    Distributed knowledge ``D[G]`` pools what the members of ``G`` observed, but a group
-    model keeps only what they all observed: it has no world for the pooled evidence.
-    """
-    tree = as_formula(formula)
-    if any(isinstance(f, Distributed) for f in tree.subformulas()):
-        raise InvalidArgumentError(
-            "distributed knowledge D[...] has no meaning in the group semantics of an "
-            "epistemic state (it keeps what a group observed together, not what its "
-            "members saw apart)",
-            hint="ask K[i] of each member instead, or model the events in a spec file",
-        )
-    return tree

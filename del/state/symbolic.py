@@ -27,13 +27,12 @@ from collections.abc import Sequence
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KnowledgeStructure
-from epistemica.del_.state.state import Chain, EpistemicState, group_formula
+from epistemica.del_.state.state import Chain, EpistemicState
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows
 
 __all__ = [
-    "GroupStructure",
     "belief_bdd",
     "count",
     "group_structure",
@@ -85,22 +84,16 @@ def _within(bits: int, group_slots: Sequence[int]) -> BDDFunction:
     return out
 
 
-class GroupStructure(KnowledgeStructure):
-    """A knowledge structure of the group semantics, refusing distributed knowledge
-    (see :func:`~.state.group_formula`)."""
-
-    def truth(self, formula, actions=None) -> BDDFunction:
-        return super().truth(group_formula(formula), actions)
-
-
-def group_structure(state: EpistemicState, space: KnowledgeStructure) -> GroupStructure:
+def group_structure(state: EpistemicState, space: KnowledgeStructure) -> KnowledgeStructure:
     """The knowledge structure of the group semantics over ``space``.
 
     States are pairs (group, world): group variable ``j`` says that agent ``j`` belongs to
     the group whose picture of the world the state is. The law holds the pairs whose world
-    is in the group's ``K`` set; ``K[i]`` (``B[i]``) leads from (S, w) to every (S ∪ {i}, v)
-    with ``v`` in ``K`` (``B``) of ``S ∪ {i}``; the designated states are the empty group
-    (the actual world) with every world its ``K`` set allows.
+    is in the group's ``K`` set; ``B[i]`` leads from (S, w) to every (S ∪ {i}, v) with ``v``
+    in ``B`` of ``S ∪ {i}``, ``K[i]`` to every (S', v) with ``v`` in ``K`` of ``S'`` for
+    the groups ``S'`` whose history agrees with that of ``S`` on what ``i`` observed; the
+    designated states are the empty group (the actual world) with every world its ``K``
+    set allows.
     """
     atom_slots = dict(space.atom_slots)
     first = max(space.slots, default=-1) + 1
@@ -137,10 +130,16 @@ def group_structure(state: EpistemicState, space: KnowledgeStructure) -> GroupSt
         for j, slot in enumerate(group_slots):
             if j != i:
                 step &= _bdd.var(slot).equiv(_bdd.prime(slot))
-        knowledge[agent] = Arrows(step & _bdd.primed(know, slots))
         belief[agent] = Arrows(step & _bdd.primed(believe, slots))
+        same_view = _bdd.true()  # S and S' saw alike what i observed
+        for masks in (observed, full):
+            for bits in masks:
+                if bits >> i & 1:
+                    inside = _within(bits, group_slots)
+                    same_view &= inside.equiv(_bdd.primed(inside, group_slots))
+        knowledge[agent] = Arrows(same_view & _bdd.primed(know, slots))
     actual = know & _within(0, group_slots)
-    return GroupStructure(atom_slots, slots, know, state.agents, belief, knowledge, actual)
+    return KnowledgeStructure(atom_slots, slots, know, state.agents, belief, knowledge, actual)
 
 
 def holds_on(space: KnowledgeStructure, worlds: BDDFunction, fact: Formula | str) -> bool:

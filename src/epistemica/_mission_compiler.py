@@ -447,13 +447,6 @@ class MissionCompiler:
                         "use assigned(ROBOT, GOAL) atoms with ~, &, |, ->, <->",
                     )
                 self.robot_name(token)
-            elif kind == "distributed":
-                raise self.error(
-                    "distributed knowledge D[...] is not defined for mission claims",
-                    node,
-                    "a robot's state keeps what groups observed together; ask K[ROBOT] of "
-                    "each member",
-                )
             elif kind == "action" or (kind in ("announce", "announce_diamond") and not epistemic):
                 raise self.error(
                     "actions and announcements are not part of mission formulas",

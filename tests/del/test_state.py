@@ -20,7 +20,6 @@ from epistemica.del_ import (
     And,
     Atom,
     Bottom,
-    Distributed,
     EpistemicState,
     Iff,
     Implies,
@@ -60,10 +59,7 @@ facts = st.recursive(
     ),
     max_leaves=5,
 )
-#: The group semantics speaks of K, B, E, C, EB, CB; distributed knowledge is refused.
-group_formulas = formulas(ATOMS, AGENTS, max_leaves=6, announcements=False).filter(
-    lambda f: not any(isinstance(g, Distributed) for g in f.subformulas())
-)
+group_formulas = formulas(ATOMS, AGENTS, max_leaves=6, announcements=False)
 ALL = np.array(list(itertools.product([False, True], repeat=len(ATOMS))))
 
 
@@ -263,6 +259,19 @@ def test_the_group_model_and_the_group_structure_agree(history, formula):
     assert model.holds(formula) == structure.holds(formula)
 
 
+@settings(max_examples=100, deadline=None)
+@given(histories(soft=False, awareness=False), group_formulas)
+def test_with_hard_evidence_the_group_model_is_the_product_update(history, formula):
+    """Every modality (K, B, Kw, E, C, D, EB, CB, nested and negated): the same verdicts as
+    the product update of the observations' action models."""
+    _, worlds, _, tracked, observations = history
+    state = _state(tracked, observations)
+    reference = _reference(worlds, observations)
+    assert group_model(state, ValuationTable(ATOMS, worlds)).holds(formula) == reference.holds(
+        formula
+    )
+
+
 @settings(max_examples=40, deadline=None)
 @given(histories(), chains, facts)
 def test_the_group_model_reads_pure_chains_as_the_sets(history, chain, fact):
@@ -287,12 +296,3 @@ def test_bad_observations_are_refused():
     with pytest.raises(InvalidArgumentError, match="distinct"):
         EpistemicState(["a", "a"])
     assert as_formula("p") == Observation("x", {"a"}, pre="p").pre
-
-
-def test_distributed_knowledge_is_refused_by_the_group_models():
-    state = EpistemicState(["a", "b"])
-    table = ValuationTable(["p"], np.array([[False], [True]]))
-    for model in (group_model(state, table), group_structure(state, world_space(["p"]))):
-        with pytest.raises(InvalidArgumentError, match="distributed knowledge"):
-            model.holds("D[a, b] p")
-        assert not model.holds("K[a] p")
