@@ -12,8 +12,10 @@ from hypothesis import strategies as st
 
 from epistemica.cli_run import is_mission_file
 from epistemica.del_.errors import EpistemicaError, SourceError
+from epistemica.del_.state.explicit import knowledge_mask
 from epistemica.mission import load_mission, parse_mission
 from epistemica.sim import Scenario, simulate
+from epistemica.sim.worlds import ConfigurationTable
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if is_mission_file(str(p)))
@@ -270,3 +272,32 @@ def test_mutated_missions_compile_or_fail_cleanly(path, data):
     except EpistemicaError:
         return
     mission.scenario()  # a mission that compiles is a valid simulator world
+
+
+AFTER = [p for p in SHIPPED if load_mission(p).kind != "multitask"]
+
+
+@pytest.mark.parametrize("path", AFTER, ids=lambda p: p.stem)
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 40), steps=st.integers(1, 25), data=st.data())
+def test_check_after_agrees_with_what_the_robots_knew(path, seed, steps, data):
+    """The model `check --after` builds and the knowledge the simulated robots acted on
+    give the same answers: B[i] f and K[i] f, and B[i] B[j] f, for every robot and goal."""
+    mission = load_mission(path)
+    level = data.draw(st.sampled_from(mission.study.levels))
+    knowledge = mission.trial(steps, seed, level).knowledge
+    model = mission.model_after(steps, seed, level)
+    rows = mission.configurations()
+    robots, goals = mission.robots, mission.goals
+    i, j = data.draw(st.integers(0, len(robots) - 1)), data.draw(st.integers(0, len(robots) - 1))
+    believed = knowledge.possible((i,), rows)
+    nested = knowledge.possible((i, j), rows)
+    known = knowledge_mask(knowledge.state, (i,), ConfigurationTable(rows, robots, goals))
+    for r in range(len(robots)):
+        for g in range(len(goals)):
+            fact = f"assigned({robots[r]}, {goals[g]})"
+            on = rows[:, r] == g
+            assert mission.holds(f"B[{robots[i]}] {fact}", model) == bool(on[believed].all())
+            assert mission.holds(f"K[{robots[i]}] {fact}", model) == bool(on[known].all())
+            pair = f"B[{robots[i]}] B[{robots[j]}] {fact}"
+            assert mission.holds(pair, model) == bool(on[nested].all())
