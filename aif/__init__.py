@@ -41,7 +41,8 @@ from epistemica.aif.configurations import (
     shared_configurations,
     valid_configurations,
 )
-from epistemica.aif.controller import Controller, Decision, decide
+from epistemica.aif.controller import Controller, decide
+from epistemica.aif.decision import Decision
 from epistemica.aif.evidence import (
     BEARING,
     RANGE,

@@ -12,103 +12,25 @@ import dataclasses
 import difflib
 import functools
 import math
-from collections.abc import Iterable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from epistemica._mission_events import compile_event
-from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula, build_imported_formula, range_names
-from epistemica.del_.errors import EpistemicaError, SpecError
+from epistemica._mission_names import KEYWORDS, LIMITS, MAX_NUMBER, MissionScope
+from epistemica._mission_parts import GoalSpec, MissionCheck, MissionParts, RobotSpec, assemble
+from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula
 from epistemica.del_.language.parser import syntax_error
-from epistemica.sim.events import EventRule, ObserverRule, expand
-from epistemica.sim.levels import REASONING
+from epistemica.sim.events import EventRule, ObserverRule
 from epistemica.sim.scenario import MISSIONS, OBSERVATIONS
 
-__all__ = ["GoalSpec", "MissionCheck", "MissionParts", "RobotSpec", "compile_text"]
+__all__ = ["compile_events", "compile_text", "everyone_observes"]
 
 MISSION_GRAMMAR = Path(__file__).with_name("mission.lark")
 
-#: The keywords that start a statement.
-KEYWORDS = (
-    "mission", "valid", "workspace", "robot", "goal", "task", "sensing", "knows", "learns",
-    "initially", "event", "teammate", "policy", "check", "simulate",
-)  # fmt: skip
 SENSOR_TYPES = ("range", "bearing", "random")
-#: Largest accepted magnitude of any number in a mission file.
-MAX_NUMBER = 1e6
-#: Most robots, goals (tasks), steps and trials a mission file may declare.
-LIMITS = {"robots": 12, "goals": 64, "steps": 100_000, "trials": 100_000}
-#: Steps of a trial unless ``simulate steps N`` says otherwise.
-DEFAULT_STEPS = 100
-
-
-@dataclass(frozen=True)
-class RobotSpec:
-    """A ``robot`` line: name, sensor (or ``random``), place (None: at random), limits."""
-
-    name: str
-    token: Token
-    sensor: str
-    place: tuple[float, ...] | None
-    speed: float = 1.0
-    turn: float = math.pi
-
-
-@dataclass(frozen=True)
-class GoalSpec:
-    """A ``goal`` (or ``task``) line."""
-
-    name: str
-    token: Token
-    place: tuple[float, ...] | None
-    needs: int | None = None
-    closed: bool = False
-    needs_token: Token | None = None
-
-
-@dataclass(frozen=True)
-class MissionCheck:
-    """A claim, on the initial model or ``after`` steps of a seeded trial."""
-
-    check: Check
-    after: int | None = None
-    seed: int | None = None
-    level: str | None = None
-
-
-@dataclass(frozen=True)
-class MissionParts:
-    """Everything a mission file declares, checked (see docs/language.md)."""
-
-    kind: str
-    robots: tuple[RobotSpec, ...]
-    goals: tuple[GoalSpec, ...]
-    capacities: tuple[int, ...] | None
-    options: dict[str, Any]
-    valid: tuple[Formula, ...]
-    initially: tuple[Formula, ...]
-    learns: tuple[tuple[tuple[str, ...], Formula], ...]
-    known_goals: np.ndarray | str | None
-    events: tuple[EventRule, ...]
-    teammates: tuple[tuple[str, str, Token], ...]
-    policy: tuple[tuple[str, Any, Token], ...]
-    checks: tuple[MissionCheck, ...]
-    trials: int | None
-    seed: int | None
-    levels: tuple[tuple[str, Token], ...] | None
-
-    @property
-    def robot_names(self) -> tuple[str, ...]:
-        return tuple(r.name for r in self.robots)
-
-    @property
-    def goal_names(self) -> tuple[str, ...]:
-        return tuple(g.name for g in self.goals)
 
 
 @functools.cache
@@ -136,13 +58,12 @@ def parse_tree(text: str, filename: str) -> Tree:
         raise error from None
 
 
-class MissionCompiler:
+class MissionCompiler(MissionScope):
     """Walks the statements of one mission text and collects its parts."""
 
     def __init__(self, source: str, filename: str, library: dict[str, EventRule]) -> None:
-        self.source, self.filename, self.library = source, filename, library
-        self.robots: dict[str, RobotSpec] = {}
-        self.goals: dict[str, GoalSpec] = {}
+        super().__init__(source, filename)
+        self.library = library
         self.kind: str | None = None
         self.kind_token: Any = None
         self.is_tasks = False
@@ -160,55 +81,6 @@ class MissionCompiler:
         self.step_triggers: list[tuple[int, Token]] = []
         self.level_tokens: list[Token] = []  # every level a line names, checked at the end
 
-    # -- errors ------------------------------------------------------------------------
-
-    def error(self, message: str, where: Token | Tree | None, hint: str | None = None):
-        line = column = None
-        if isinstance(where, Token):
-            line, column = where.line, where.column
-        elif isinstance(where, Tree):
-            line, column = getattr(where.meta, "line", None), getattr(where.meta, "column", None)
-        return SpecError(
-            message, line=line, column=column, source=self.source, filename=self.filename,
-            hint=hint,
-        )  # fmt: skip
-
-    def unknown(self, what: str, token: Token, known: Iterable[str]) -> SpecError:
-        known = list(known)
-        close = difflib.get_close_matches(str(token), known, n=1)
-        hint = (
-            f"did you mean '{close[0]}'?"
-            if close
-            else f"declared {what}s: " + (", ".join(known) or "none")
-        )
-        return self.error(f"unknown {what} '{token}'", token, hint)
-
-    # -- names ---------------------------------------------------------------------------
-
-    def is_robot(self, name: str) -> bool:
-        return name in self.robots
-
-    def is_goal(self, name: str) -> bool:
-        return name in self.goals
-
-    def is_declared(self, name: str) -> bool:
-        return name in self.robots or name in self.goals
-
-    def declared(self, kind: str) -> list[str]:
-        """The declared names of a kind (``robot``, ``goal`` or ``place``: both)."""
-        robots = list(self.robots) if kind in ("robot", "place") else []
-        return robots + (list(self.goals) if kind in ("goal", "place") else [])
-
-    def robot_name(self, token: Token) -> str:
-        if str(token) not in self.robots:
-            raise self.unknown("robot", token, self.robots)
-        return str(token)
-
-    def goal_name(self, token: Token) -> str:
-        if str(token) not in self.goals:
-            raise self.unknown("goal", token, self.goals)
-        return str(token)
-
     # -- walking -----------------------------------------------------------------------
 
     def compile(self, tree: Tree) -> MissionParts:
@@ -217,40 +89,6 @@ class MissionCompiler:
         for statement in statements:
             getattr(self, str(statement.data))(statement)
         return self.finish()
-
-    def number(self, item, low: float = -MAX_NUMBER, high: float = MAX_NUMBER) -> float:
-        text = str(item)
-        if len(text) > 40:
-            raise self.error(f"number of {len(text)} characters", item, "write a short number")
-        try:
-            value = float(text)
-        except ValueError:
-            raise self.error(f"expected a number, got '{text}'", item, "e.g. 5 or 2.5") from None
-        if not math.isfinite(value) or not low <= value <= high:
-            raise self.error(
-                f"{text} is outside [{low:g}, {high:g}]", item, "use a value within the bounds"
-            )
-        return value
-
-    def count(self, item, what: str, low: int = 1) -> int:
-        value = self.number(item, low, LIMITS.get(what, MAX_NUMBER))
-        if value != int(value):
-            raise self.error(f"{what} must be a whole number, got {item}", item, "e.g. 5")
-        return int(value)
-
-    def new_name(self, name: str, token: Token, what: str) -> str:
-        if name in self.robots or name in self.goals:
-            raise self.error(f"{what} '{name}' is declared twice", token, "use distinct names")
-        if name in KEYWORDS or name in ("and", "or", "not", "true", "false", "robots"):
-            raise self.error(f"'{name}' is a reserved word", token, "choose another name")
-        return name
-
-    def expand_names(self, node: Tree) -> list[tuple[str, Token]]:
-        """The names of a ``declared`` node: one, or a range ``r1..r5`` (``r01..r03``
-        keeps its zeros), expanded as spec files expand them."""
-        if node.data != "span":
-            return [(str(node.children[0]), node.children[0])]
-        return range_names(*node.children, self.error)
 
     def mission_decl(self, node: Tree) -> None:
         token = node.children[0]
@@ -418,167 +256,11 @@ class MissionCompiler:
             else:
                 self.study[key] = self.count(value, "trials")
 
-    # -- formulas ------------------------------------------------------------------------
-
-    def fact(self, fml: Tree) -> Formula:
-        """A propositional formula over assigned(ROBOT, GOAL) and closed(GOAL) atoms."""
-        return self.formula(fml, epistemic=False)
-
-    def build(self, fml: Tree) -> Formula:
-        """The formula of a checked ``fml`` node (``closed(G)`` left as written)."""
-        try:
-            return build_imported_formula(fml.children[0])
-        except SpecError:
-            raise
-        except EpistemicaError as exc:  # a bound the formula builder enforces
-            raise self.error(exc.message, fml, exc.hint) from None
-
-    def formula(self, fml: Tree, epistemic: bool) -> Formula:
-        for node in fml.children[0].iter_subtrees_topdown():
-            kind = node.data.rsplit("__", 1)[-1]
-            if kind == "atom":
-                self.atom(node)
-            elif kind == "agent":
-                token = node.children[0]
-                if not epistemic:
-                    raise self.error(
-                        "a fact about configurations cannot speak of knowledge",
-                        token,
-                        "use assigned(ROBOT, GOAL) atoms with ~, &, |, ->, <->",
-                    )
-                self.robot_name(token)
-            elif kind == "action" or (kind in ("announce", "announce_diamond") and not epistemic):
-                raise self.error(
-                    "actions and announcements are not part of mission formulas",
-                    node,
-                    "check them in an .epi spec file, or simulate the mission",
-                )
-        return expand(self.build(fml), tuple(self.robots))
-
-    def atom(self, node: Tree) -> None:
-        stem, args = node.children
-        arguments = [] if args is None else args.children
-        if str(stem) == "closed" and len(arguments) == 1:
-            self.goal_name(arguments[0])
-            return
-        if str(stem) != "assigned" or len(arguments) != 2:
-            raise self.error(
-                f"unknown atom '{stem}'",
-                stem,
-                "mission formulas speak of assigned(ROBOT, GOAL) and closed(GOAL)",
-            )
-        self.robot_name(arguments[0])
-        self.goal_name(arguments[1])
-
     # -- the whole ----------------------------------------------------------------------
 
     def finish(self) -> MissionParts:
-        end = Token("NAME", "", line=max(1, self.source.count("\n") + 1), column=1)
-        if self.kind is None:
-            raise self.error(
-                "the mission has no 'mission' line", end, "add e.g. 'mission rendezvous'"
-            )
-        if not self.robots:
-            raise self.error(
-                "the mission declares no robot", end, "add 'robot r1: range at (x, y)'"
-            )
-        if not self.goals:
-            raise self.error("the mission declares no goal", end, "add 'goal g1 at (x, y)'")
-        self._check_kind()
-        self._check_steps()
-        self._check_levels()
-        return MissionParts(
-            kind=self.kind,
-            robots=tuple(self.robots.values()),
-            goals=tuple(self.goals.values()),
-            capacities=self._capacities(),
-            options=self.options,
-            valid=tuple(self.valid),
-            initially=tuple(self.initially),
-            learns=tuple(self.learns),
-            known_goals=self._known(end),
-            events=tuple(self.events.values()),
-            teammates=tuple(self.teammates),
-            policy=tuple(self.policy),
-            checks=tuple(self.checks),
-            trials=self.study.get("trials"),
-            seed=self.study.get("seed"),
-            levels=self.study.get("levels"),
-        )
-
-    def _check_kind(self) -> None:
-        kind = self.kind
-        if (kind == "multitask") != self.is_tasks:
-            want = "task" if kind == "multitask" else "goal"
-            raise self.error(
-                f"a {kind} mission declares {want}s",
-                self.kind_token,
-                f"declare its places with '{want} NAME at (x, y)'",
-            )
-        needs = [g for g in self.goals.values() if g.needs is not None]
-        if kind == "capacity":
-            missing = [g for g in self.goals.values() if g.needs is None]
-            if missing:
-                raise self.error(
-                    "every goal of a capacity mission says how many robots it needs",
-                    missing[0].token,
-                    "write 'goal NAME at (x, y) needs 2'",
-                )
-        elif needs:
-            raise self.error(
-                f"'needs' in a {kind} mission", needs[0].needs_token, "use 'mission capacity'"
-            )
-        workspace = self.options.get("workspace", 30.0)
-        if workspace <= 2.0 and any(g.place is None for g in self.goals.values()):
-            raise self.error(
-                f"a workspace of {workspace:g} m leaves no room for goals at random "
-                "(they keep 1 m from the borders)",
-                self.kind_token,
-                "enlarge 'workspace', or place the goals",
-            )
-
-    def _check_steps(self) -> None:
-        limit = self.options.get("max_steps", DEFAULT_STEPS)
-        for step, token in self.step_triggers:
-            if step >= limit:
-                raise self.error(
-                    f"a trigger at step {step} never fires: trials stop after {limit} steps",
-                    token,
-                    f"choose a step below {limit}, or raise 'simulate steps'",
-                )
-
-    def _check_levels(self) -> None:
-        seen = set()
-        for token in self.level_tokens:
-            name = str(token).replace("_", "-")
-            if name not in REASONING:
-                raise self.error(
-                    f"unknown reasoning level '{token}'",
-                    token,
-                    "levels: " + ", ".join(r.replace("-", "_") for r in REASONING),
-                )
-        for name, token in self.study.get("levels", ()):
-            if name in seen:
-                raise self.error(f"level '{token}' is listed twice", token, "list it once")
-            seen.add(name)
-
-    def _capacities(self) -> tuple[int, ...] | None:
-        if self.kind != "capacity":
-            return None
-        return tuple(int(g.needs) for g in self.goals.values())
-
-    def _known(self, end: Token) -> np.ndarray | str | None:
-        if self.random_knowledge and self.knows:
-            raise self.error(
-                "'knows random' and 'knows ROBOTS: GOALS' exclude each other",
-                end,
-                "keep one way of saying who knows which goal",
-            )
-        if self.random_knowledge:
-            return "random"
-        if not self.knows:
-            return None
-        return np.array([[g in self.knows.get(r, set()) for g in self.goals] for r in self.robots])
+        """The parts, after the checks that need the whole file."""
+        return assemble(self)
 
 
 def everyone_observes(rule: EventRule) -> EventRule:
