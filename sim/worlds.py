@@ -26,23 +26,36 @@ True
 from __future__ import annotations
 
 import functools
+import itertools
 from collections.abc import Sequence
 
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.explicit.checker import propositional_truth
-from epistemica.del_.language.formula import And, Atom, Formula, Not, Top
-from epistemica.del_.models import KripkeModel
+from epistemica.del_.language.formula import (
+    And,
+    Atom,
+    Formula,
+    Not,
+    Top,
+    conjunction,
+    disjunction,
+)
+from epistemica.del_.models import KnowledgeStructure, KripkeModel
 from epistemica.del_.state import EpistemicState
 from epistemica.del_.state.explicit import group_model
+from epistemica.del_.state.symbolic import group_structure, world_space
 
 __all__ = [
     "MAX_CONFIGURATIONS",
     "ConfigurationTable",
     "assignment_atom",
     "closed_fact",
+    "configuration_atoms",
+    "configuration_law",
     "configuration_model",
+    "configuration_structure",
     "fact_mask",
     "goal_atoms",
 ]
@@ -198,3 +211,74 @@ def configuration_model(
         )
     table = ConfigurationTable(rows, robots, goals)
     return group_model(EpistemicState(robots) if state is None else state, table)
+
+
+def configuration_law(
+    kind: str,
+    robots: Sequence[str],
+    goals: Sequence[str],
+    capacities: Sequence[int] | None = None,
+    constraints: Sequence[Formula] = (),
+) -> Formula:
+    """The valid configurations as a propositional law over ``assigned(ROBOT, GOAL)``
+    atoms, for the symbolic backend (no configuration is listed): each robot goes to one
+    goal, and the mission kind (rendezvous: all to one; allocation: no goal shared;
+    capacity: goal ``g`` takes ``capacities[g]`` robots) and ``constraints`` hold.
+
+    Examples
+    --------
+    >>> from epistemica.del_.state.symbolic import count, world_space
+    >>> law = configuration_law("allocation", ["a", "b", "c"], ["x", "y", "z"])
+    >>> space = world_space(configuration_atoms(["a", "b", "c"], ["x", "y", "z"]), law)
+    >>> count(space, space.law)  # 3! allocations
+    6
+    """
+    atom = {(r, g): Atom("assigned", (r, g)) for r in robots for g in goals}
+    parts: list[Formula] = []
+    for r in robots:
+        parts.append(disjunction(atom[r, g] for g in goals))
+        parts += [Not(And(atom[r, g], atom[r, h])) for g, h in itertools.combinations(goals, 2)]
+    if kind == "rendezvous":
+        parts.append(disjunction(conjunction(atom[r, g] for r in robots) for g in goals))
+    elif kind == "allocation":
+        for g in goals:
+            parts += [
+                Not(And(atom[r, g], atom[s, g])) for r, s in itertools.combinations(robots, 2)
+            ]
+    elif kind == "capacity":
+        for g, needs in zip(goals, capacities or (), strict=True):
+            parts.append(_exactly(int(needs), [atom[r, g] for r in robots]))
+    else:
+        raise InvalidArgumentError(
+            f"no configuration law for a {kind} mission",
+            hint="rendezvous, allocation or capacity",
+        )
+    return conjunction([*parts, *constraints])
+
+
+def _exactly(count: int, literals: list[Formula]) -> Formula:
+    """Exactly ``count`` of ``literals`` hold (every choice of ``count`` of them)."""
+    chosen = []
+    for subset in itertools.combinations(range(len(literals)), count):
+        inside = set(subset)
+        chosen.append(conjunction(x if i in inside else Not(x) for i, x in enumerate(literals)))
+    return disjunction(chosen)
+
+
+def configuration_atoms(robots: Sequence[str], goals: Sequence[str]) -> list[str]:
+    """Every ``assigned(ROBOT, GOAL)`` atom, robot by robot."""
+    return [assignment_atom(r, g) for r in robots for g in goals]
+
+
+def configuration_structure(
+    kind: str,
+    robots: Sequence[str],
+    goals: Sequence[str],
+    state: EpistemicState,
+    capacities: Sequence[int] | None = None,
+    constraints: Sequence[Formula] = (),
+) -> KnowledgeStructure:
+    """The knowledge structure over the valid configurations after what ``state``
+    recorded: :func:`configuration_model` on BDDs, for missions too large to list."""
+    law = configuration_law(kind, robots, goals, capacities, constraints)
+    return group_structure(state, world_space(configuration_atoms(robots, goals), law))

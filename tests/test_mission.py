@@ -11,11 +11,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from epistemica.cli_run import is_mission_file
+from epistemica.del_ import KnowledgeStructure, parse_formula
 from epistemica.del_.errors import EpistemicaError, SourceError
 from epistemica.del_.state.explicit import knowledge_mask
 from epistemica.mission import load_mission, parse_mission
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.worlds import ConfigurationTable
+from epistemica.sim.worlds import ConfigurationTable, configuration_model, configuration_structure
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if is_mission_file(str(p)))
@@ -55,11 +56,38 @@ def test_shipped_missions_compile_and_their_claims_hold(path):
     assert trial.steps <= 5
 
 
-def test_too_many_configurations_for_a_model_is_a_clean_error():
+def test_too_many_configurations_for_a_list_are_a_knowledge_structure():
     mission = load_mission(ROOT / "specs" / "stress" / "allocation_honest_10.epi")
-    assert mission.scenario().n_robots == 10  # the simulator needs no model
-    with pytest.raises(EpistemicaError, match="exceed the explicit limit"):
-        _ = mission.model
+    model = mission.model  # 10! = 3,628,800 allocations, never listed
+    assert isinstance(model, KnowledgeStructure)
+    assert mission.holds("~K[r1] assigned(r1, g1) & K[r1] ~(assigned(r1, g1) & assigned(r2, g1))")
+
+
+SMALL = ("capacity", "sensing_radius", "door_closes", "relocated_goal", "private_message")
+
+
+@pytest.mark.parametrize("path", [p for p in SHIPPED if p.stem in SMALL], ids=lambda p: p.stem)
+def test_the_symbolic_model_gives_the_explicit_verdicts(path):
+    mission = load_mission(path)
+    knowledge = mission.trial(8, 0).knowledge
+    p, robots, goals = mission.parts, mission.robots, mission.goals
+    rows = mission.configurations()
+    explicit = configuration_model(robots, goals, rows, knowledge.state)
+    constraints = p.valid + p.initially
+    symbolic = configuration_structure(
+        mission.kind, robots, goals, knowledge.state, p.capacities, constraints
+    )
+    formulas = [c.check.formula for c in mission.checks]
+    for i, r in enumerate(robots):
+        other = robots[(i + 1) % len(robots)]
+        for g in goals:
+            formulas += [
+                parse_formula(f"K[{r}] assigned({r}, {g})"),
+                parse_formula(f"B[{r}] ~B[{other}] assigned({other}, {g})"),
+                parse_formula(f"C[{r}, {other}] ~assigned({r}, {g})"),
+            ]
+    for f in formulas:
+        assert mission.holds(f, explicit) == mission.holds(f, symbolic), f
 
 
 def test_worlds_are_the_valid_configurations():

@@ -44,7 +44,7 @@ from epistemica._mission_compiler import (
     everyone_observes,
 )
 from epistemica.aif.configurations import count_configurations, valid_configurations
-from epistemica.del_ import Formula, KripkeModel, parse_formula
+from epistemica.del_ import Formula, KnowledgeStructure, KripkeModel, parse_formula
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.events import EventRule, expand
@@ -53,7 +53,12 @@ from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.simulate import simulate
 from epistemica.sim.trial import Trial
-from epistemica.sim.worlds import MAX_CONFIGURATIONS, configuration_model, fact_mask
+from epistemica.sim.worlds import (
+    MAX_CONFIGURATIONS,
+    configuration_model,
+    configuration_structure,
+    fact_mask,
+)
 
 __all__ = [
     "LIBRARY",
@@ -304,9 +309,10 @@ class Mission:
             short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
         )
 
-    def model_of(self, knowledge: TeamKnowledge) -> KripkeModel:
-        """The Kripke model over the valid configurations after what ``knowledge`` holds
-        (the group semantics of :mod:`epistemica.del_.state`)."""
+    def model_of(self, knowledge: TeamKnowledge) -> KripkeModel | KnowledgeStructure:
+        """The model over the valid configurations after what ``knowledge`` holds (the
+        group semantics of :mod:`epistemica.del_.state`): a Kripke model, or a knowledge
+        structure on BDDs when the configurations are too many to list."""
         if self.kind == "multitask":
             raise InvalidArgumentError(
                 "a multitask mission has no explicit model over configurations",
@@ -314,10 +320,10 @@ class Mission:
             )
         p, n, m = self.parts, len(self.robots), len(self.goals)
         total = count_configurations(self.kind, n, m, p.capacities)
-        if self._table is None and total > MAX_CONFIGURATIONS:  # refuse before enumerating
-            raise InvalidArgumentError(
-                f"{total} configurations exceed the explicit limit of {MAX_CONFIGURATIONS}",
-                hint="the simulator needs no model; check claims on a smaller mission",
+        if total > MAX_CONFIGURATIONS:  # symbolic: the configurations are never listed
+            constraints = p.valid + p.initially
+            return configuration_structure(
+                self.kind, self.robots, self.goals, knowledge.state, p.capacities, constraints
             )
         return configuration_model(self.robots, self.goals, self.configurations(), knowledge.state)
 
