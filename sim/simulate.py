@@ -196,6 +196,8 @@ class _Run:
         """Fire the mission's event rules at ``step``: arrivals (``G is reached``) right
         after the robots move, the others when they perceive."""
         s = self.s
+        if not any((rule.trigger.kind == "reached") == arrivals for rule in s.events):
+            return
         world = World(
             step,
             self.poses,
