@@ -27,6 +27,7 @@ from epistemica.aif.controller import Controller
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
 from epistemica.aif.prior import shared_rank, team_log_prior
+from epistemica.sim.anticipation import anticipated_prior
 from epistemica.sim.baselines import Convention
 from epistemica.sim.configuration_sets import ConfigurationSets, nested_sets
 from epistemica.sim.explore import Explorer
@@ -251,15 +252,32 @@ class ActiveInference(Policy):
             total = p.sum()
             return p / total if total > 0 else base  # a chain with no set: no restriction
 
+        own = restricted(sets.own)
+        if self._anticipates(sets):
+            own = anticipated_prior(
+                rows[keep],
+                base / base.sum(),
+                robot,
+                sets.own[keep],
+                {j: m[keep] for j, m in sets.pairs.items()},
+                {jk: m[keep] for jk, m in sets.triples.items()},
+            )
         d = ctrl.decide(
             robot,
             observations.poses[robot],
-            prior=restricted(sets.own),
+            prior=own,
             modelled_priors=[restricted(m) for m in sets.modelled] or None,
         )
         out.unpruned[row] = rows.shape[0]
         self._record(out, row, robot, ctrl, choice.goals, d)
         out.considered[row] = int(sets.own.sum())
+
+    def _anticipates(self, sets) -> bool:
+        """Whether to predict teammates from their sets: at order 2 and above, with nested
+        sets, where some teammate keeps another set than the robot."""
+        if self.order < 2 or not self.parameters.anticipate or not self.parameters.nested:
+            return False
+        return any(not np.array_equal(m, sets.own) for m in sets.pairs.values())
 
     def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
         if self.parameters.memory > 0:

@@ -107,10 +107,13 @@ class ConfigurationSets:
 
 class NestedSets(NamedTuple):
     """A robot's own set and, per modelled perspective, the set it models, as masks over
-    one table of configurations."""
+    one table of configurations; ``pairs[j]`` is ``B_ij`` (what the robot knows teammate
+    ``j`` keeps) and ``triples[j, k]`` is ``B_ijk`` (order 3), for anticipation."""
 
     own: np.ndarray
     modelled: list[np.ndarray]
+    pairs: dict[int, np.ndarray]
+    triples: dict[tuple[int, int], np.ndarray]
 
     @property
     def union(self) -> np.ndarray:
@@ -131,8 +134,11 @@ def nested_sets(
     the chains that end at that teammate. ``nested=False`` is the ablation: every modelled
     perspective gets the robot's own set."""
     chains = perspective_sets(sensors, robot, order)
+    n = len(sensors)
+    pairs = [(robot, j) for j in range(n) if j != robot] if order >= 2 else []
+    triples = [(robot, j, k) for _, j in pairs for k in range(n) if k != j] if order >= 3 else []
     # Chains that saw the same events keep the same set: computed once per signature.
-    every = [(robot,)] + [c for level in chains[2:] for c in level]
+    every = [(robot,)] + [c for level in chains[2:] for c in level] + pairs + triples
     kept = dict(zip(every, knowledge.possible_many(every, table), strict=True))
     own = kept[(robot,)]
     modelled = []
@@ -146,4 +152,11 @@ def nested_sets(
             if chain[-1] == view.agent:
                 mask |= kept[chain]
         modelled.append(mask)
-    return NestedSets(own, modelled)
+    if not nested:  # the ablation: every teammate keeps what the robot keeps
+        return NestedSets(own, modelled, {j: own for _, j in pairs}, {})
+    return NestedSets(
+        own,
+        modelled,
+        {j: kept[(robot, j)] for _, j in pairs},
+        {(j, k): kept[(robot, j, k)] for _, j, k in triples},
+    )

@@ -63,6 +63,12 @@ class ActiveParameters:
         Model each teammate over the configurations the robot knows that teammate keeps;
         ``False`` is the ablation (``*-shared``): every teammate is taken to have seen
         what the robot saw.
+    anticipate : bool
+        At order 2 and above, where a teammate keeps other configurations than the robot
+        (it did not see what the robot saw, or knows other goals), predict its goal from
+        its set and take the configurations it will actually join
+        (:mod:`epistemica.sim.anticipation`). Off by default until measured against the
+        stress suite (docs/results.md).
     common_view : bool
         At order 2 and above, take the team prior from what is common knowledge: with a
         teammate out of sight no position is, so every robot is placed at the workspace
@@ -94,6 +100,7 @@ class ActiveParameters:
     headings: int = 16
     pruning: bool = True
     nested: bool = True
+    anticipate: bool = False
     common_view: bool = True
     search: bool = True
     lone_wait: int = 15
