@@ -254,13 +254,22 @@ class ActiveInference(Policy):
 
         own = restricted(sets.own)
         if self._anticipates(sets):
+            view = self._views(observations, (robot,))[0]
+
+            def redecide(teammate: int, goal: int) -> np.ndarray:
+                moved = view.copy()
+                moved[teammate, :2] = ctrl.goals[goal]
+                prior = self._priors(ctrl, moved[None], (robot,))[0]
+                return np.full(len(base), 1.0) if prior is None else prior
+
             own = anticipated_prior(
-                rows[keep],
+                ctrl.configurations,
                 base / base.sum(),
                 robot,
                 sets.own[keep],
                 {j: m[keep] for j, m in sets.pairs.items()},
                 {jk: m[keep] for jk, m in sets.triples.items()},
+                redecide,
             )
         d = ctrl.decide(
             robot,

@@ -30,7 +30,7 @@ Two robots, goals 0 and 1; robot 0 prefers goal 1 but knows robot 1 does not kno
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -54,6 +54,7 @@ def anticipated_prior(
     own: np.ndarray,
     theirs: Mapping[int, np.ndarray],
     nested: Mapping[tuple[int, int], np.ndarray] | None = None,
+    redecide: Callable[[int, int], np.ndarray] | None = None,
 ) -> np.ndarray:
     """Robot ``robot``'s prior over ``table`` when it anticipates its teammates.
 
@@ -72,6 +73,11 @@ def anticipated_prior(
     nested : mapping, optional
         ``(j, k)`` -> ``(k,)`` booleans ``B_ijk`` (order 3: ``j``'s best response to its
         predictions of ``k``).
+    redecide : callable, optional
+        ``redecide(j, g)``: the team prior over ``table`` once ``j`` stands at goal ``g``.
+        A teammate predicted to head for a goal the robot knows it cannot use (a closed
+        goal it did not see close) will see that there and choose again, from there,
+        among the configurations both keep.
 
     Returns
     -------
@@ -90,6 +96,10 @@ def anticipated_prior(
                     if prediction.any():
                         view = view * prediction[table[:, k]]
         prediction = goal_distribution(table, view, j, n_goals)
+        heading = int(np.argmax(prediction))
+        if redecide is not None and prediction.any() and not (own & (table[:, j] == heading)).any():
+            again = np.where(mask & own, redecide(j, heading), 0.0)
+            prediction = goal_distribution(table, again, j, n_goals)
         if prediction.any():
             weights = weights * prediction[table[:, j]]
     total = weights.sum()
