@@ -351,7 +351,17 @@ def _selectors(conds: Mapping[int, Formula]) -> dict[int, Formula]:
         out[t] = conj([conds[t], *(negate(conds[u]) for u in order[k + 1 :])])
     none = conj(negate(conds[t]) for t in order)
     out[0] = disj([out[0], none]) if 0 in out else none
-    return {t: f for t, f in out.items() if satisfiable(f)}
+    # The usual case, exclusive and exhaustive conditions (if ... else ...): keep them.
+    return {
+        t: conds[t] if t in conds and equivalent(f, conds[t]) else f
+        for t, f in out.items()
+        if satisfiable(f)
+    }
+
+
+def equivalent(f: Formula, g: Formula) -> bool:
+    """Whether ``f`` and ``g`` are equivalent as Boolean formulas (see :func:`satisfiable`)."""
+    return not satisfiable(Or(And(f, negate(g)), And(negate(f), g)))
 
 
 def satisfiable(f: Formula) -> bool:
@@ -368,7 +378,7 @@ def satisfiable(f: Formula) -> bool:
         elif g not in opaque:
             opaque[g] = len(opaque)
     if len(opaque) > _TRUTH_TABLE:
-        return True  # too many to tabulate: keep it
+        return True  # too many to tabulate: assume satisfiable (a copy too many is harmless)
     for bits in range(1 << len(opaque)):
         if _truth(f, opaque, bits):
             return True

@@ -67,7 +67,7 @@ def conj(parts: Iterable[Formula]) -> Formula:
     for f in parts:
         if isinstance(f, Bottom):
             return Bottom()
-        if not isinstance(f, Top):
+        if not isinstance(f, Top) and f not in kept:
             kept.append(f)
     return _fold(kept, And, Top())
 
@@ -78,7 +78,7 @@ def disj(parts: Iterable[Formula]) -> Formula:
     for f in parts:
         if isinstance(f, Top):
             return Top()
-        if not isinstance(f, Bottom):
+        if not isinstance(f, Bottom) and f not in kept:
             kept.append(f)
     return _fold(kept, Or, Bottom())
 
