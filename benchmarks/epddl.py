@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import multiprocessing
 import platform
+import re
 import statistics
 import subprocess
 import time
@@ -41,6 +42,17 @@ def instances(root: Path) -> list[tuple[str, Path, Path]]:
             continue
         found += [(folder.name, domains[0], p) for p in problems]
     return found
+
+
+def libraries_for(domain: Path, available: list[Path]) -> list[Path]:
+    """The libraries a domain names (``(:action-type-libraries ...)``, found by file name),
+    or every available one when it names none."""
+    text = "\n".join(line.split(";", 1)[0] for line in domain.read_text().splitlines())
+    match = re.search(r"\(:action-type-libraries([^)]*)\)", text)
+    if not match:
+        return available
+    names = match.group(1).split()
+    return [p for p in available if p.stem in names] or available
 
 
 def solve(domain: Path, problem: Path, libraries: list[Path], max_depth: int, out) -> None:
@@ -93,8 +105,8 @@ def run(domain: Path, problem: Path, libraries: list[Path], args) -> dict:
 def plank_verdict(plank: Path, domain: Path, problem: Path, libraries, plan: list[str]) -> str:
     """plank's ``validate`` answer on the plan: ``true``, or ``false (...)`` and why."""
     command = [str(plank), "validate", "-d", str(domain), "-p", str(problem)]
-    for library in libraries:
-        command += ["-l", str(library)]
+    if libraries:
+        command += ["-l", *map(str, libraries)]
     command += ["-a", *plan] if plan else []
     done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
     lines = [ln for ln in (done.stdout + done.stderr).splitlines() if ln.strip()]
@@ -120,19 +132,21 @@ def main() -> None:
         label = f"{name}/{problem.relative_to(domain.parent / 'instances')}"
         if args.only and not any(word in str(problem) for word in args.only):
             continue
-        runs = [run(domain, problem, libraries, args) for _ in range(args.repeat)]
+        chosen = libraries_for(domain, libraries)
+        runs = [run(domain, problem, chosen, args) for _ in range(args.repeat)]
         first = runs[0]
         seconds = [r["seconds"] for r in runs if "seconds" in r]
         row = {"instance": label, **first}
         if seconds:
             row["seconds"] = statistics.median(seconds)
         if args.plank and first.get("plank_plan") is not None:
-            row["plank"] = plank_verdict(args.plank, domain, problem, libraries, first["plank_plan"])
+            row["plank"] = plank_verdict(args.plank, domain, problem, chosen, first["plank_plan"])
         rows.append(row)
         print(_line(row, args.markdown) if args.markdown else _text(row), flush=True)
     if args.markdown:
-        print(f"\n({platform.python_implementation()} {platform.python_version()}, "
-              f"{platform.machine()}; BFS up to depth {args.max_depth}, median of {args.repeat})")  # fmt: skip
+        python = f"{platform.python_implementation()} {platform.python_version()}"
+        depth = f"BFS up to depth {args.max_depth}, median of {args.repeat}"
+        print(f"\n({python}, {platform.machine()}; {depth})")
 
 
 def _length(row: dict) -> str:

@@ -119,8 +119,8 @@ def ground_actions(g: Grounder, initial) -> tuple[dict[str, ActionModel], dict[s
             else:
                 raise g.dsrc.error(
                     f"unknown action type '{tname}'", tname,
-                    "it must be defined in an action-type library that the domain names in "
-                    "(:action-type-libraries ...), or be 'basic'",
+                    "it must be defined in an action-type library given with -l (such as one "
+                    "the domain names in (:action-type-libraries ...)), or be 'basic'",
                 )  # fmt: skip
         kind = types[str(tname)]
         calls = signature.children[1:]

@@ -178,6 +178,8 @@ class Grounder:
                     yield node.children[0], node.children[1] and str(node.children[1])
 
     def _collect_libraries(self, libraries) -> None:
+        """The action types of every library given (as plank: the ones the domain names
+        must be among them, and come first when two define one name)."""
         wanted: dict[str, Token] = {}
         for item in self.domain.children[1:]:
             if item.data == "libraries":
@@ -197,6 +199,8 @@ class Grounder:
                     f"action-type library '{name}' is not given", token,
                     "pass the file that defines it, e.g. -l libraries/" + name + ".epddl",
                 )  # fmt: skip
+        order = [*wanted, *(name for name in given if name not in wanted)]
+        for name in order:
             tree, src = given[name]
             for item in tree.children[1:]:
                 if item.data == "action_type":

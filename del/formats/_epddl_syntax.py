@@ -8,8 +8,8 @@ trees are compiled by :mod:`epistemica.del_.formats._epddl_ground`.
 Examples
 --------
 >>> tree = parse("(define (domain d) (:predicates (p)))", "d.epddl")
->>> tree.data, tree.children[0].children[0]
-('domain', Token('NAME', 'd'))
+>>> tree.data, str(tree.children[0]), tree.children[1].data
+('domain', 'd', 'predicates')
 >>> parse("(define (domain d) (:predicate (p)))", "d.epddl")
 Traceback (most recent call last):
 ...
