@@ -8,7 +8,7 @@ trees are compiled by :mod:`epistemica.del_.formats._epddl_ground`.
 Examples
 --------
 >>> tree = parse("(define (domain d) (:predicates (p)))", "d.epddl")
->>> tree.data, str(tree.children[0]), tree.children[1].data
+>>> str(tree.data), str(tree.children[0]), str(tree.children[1].data)
 ('domain', 'd', 'predicates')
 >>> parse("(define (domain d) (:predicate (p)))", "d.epddl")
 Traceback (most recent call last):
