@@ -45,14 +45,22 @@ def instances(root: Path) -> list[tuple[str, Path, Path]]:
 
 
 def libraries_for(domain: Path, available: list[Path]) -> list[Path]:
-    """The libraries a domain names (``(:action-type-libraries ...)``, found by file name),
-    or every available one when it names none."""
+    """The libraries a domain names (``(:action-type-libraries ...)``, found by file name);
+    for a domain that names none, the first library that defines every action type it
+    uses (plank rejects two libraries that define one name)."""
     text = "\n".join(line.split(";", 1)[0] for line in domain.read_text().splitlines())
     match = re.search(r"\(:action-type-libraries([^)]*)\)", text)
-    if not match:
-        return available
-    names = match.group(1).split()
-    return [p for p in available if p.stem in names] or available
+    if match:
+        names = match.group(1).split()
+        return [p for p in available if p.stem in names] or available
+    used = set(re.findall(r":action-type\s*\(\s*([^\s()]+)", text)) - {"basic"}
+    if not used:
+        return []
+    for library in available:
+        defined = set(re.findall(r"\(:action-type\s+([^\s()]+)", library.read_text()))
+        if used <= defined:
+            return [library]
+    return available
 
 
 def solve(domain: Path, problem: Path, libraries: list[Path], max_depth: int, out) -> None:

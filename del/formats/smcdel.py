@@ -199,7 +199,13 @@ class _Reader:
                 where.append((text, f))
                 continue
             if job.data == "true_q":
-                f = Implies(self.state(parts[0], law), f)
+                state = self.state(parts[0], law)
+                if not _satisfied_somewhere(model, state):
+                    raise self.src.error(
+                        "the state of this TRUE? violates the LAW", parts[0],
+                        "list the atoms true at a state that satisfies the LAW",
+                    )  # fmt: skip
+                f = Implies(state, f)
             checks.append(Check(f"{keyword} #{k}", text, f, True, self.src.filename, line, column))
         spec = Spec(
             model=model, actions=dict(self.actions), goal=None, checks=tuple(checks),
@@ -309,6 +315,12 @@ class _Reader:
         name = f"announce_{len(self.actions) + 1}"
         self.actions[name] = action
         return name
+
+
+def _satisfied_somewhere(model, f: Formula) -> bool:
+    if hasattr(model, "truth_mask"):
+        return bool(model.truth_mask(f).any())
+    return model.count(f) > 0
 
 
 def _punctuation(item) -> bool:
@@ -424,6 +436,7 @@ def to_smcdel(spec: Spec) -> str:
             lines.append(f"VALID? {text}")
         elif len(points) == 1:
             true = [str(number[a]) for a, v in zip(atoms, rows[points[0]], strict=True) if v]
+            true += [str(n) for n in numbers[len(atoms) :]]  # the constant atom, if any
             lines.append(f"TRUE? {{{','.join(true)}}} {text}")
         else:
             where = _law(rows[points], 0, [number[a] for a in atoms], tuple(range(len(points))))
