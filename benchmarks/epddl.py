@@ -110,13 +110,18 @@ def run(domain: Path, problem: Path, libraries: list[Path], args) -> dict:
     return outcome
 
 
-def plank_verdict(plank: Path, domain: Path, problem: Path, libraries, plan: list[str]) -> str:
+def plank_verdict(
+    plank: Path, domain: Path, problem: Path, libraries, plan: list[str], timeout: float = 600
+) -> str:
     """plank's ``validate`` answer on the plan: ``true``, or ``false (...)`` and why."""
     command = [str(plank), "validate", "-d", str(domain), "-p", str(problem)]
     if libraries:
         command += ["-l", *map(str, libraries)]
     command += ["-a", *plan] if plan else []
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, check=False)
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired:
+        return f"no answer within {timeout:g} s"
     lines = [ln for ln in (done.stdout + done.stderr).splitlines() if ln.strip()]
     verdicts = [ln.strip() for ln in lines if ln.strip().startswith(("true", "false"))]
     return verdicts[-1] if verdicts else (lines[-1] if lines else f"exit {done.returncode}")
@@ -148,7 +153,10 @@ def main() -> None:
         if seconds:
             row["seconds"] = statistics.median(seconds)
         if args.plank and first.get("plank_plan") is not None:
-            row["plank"] = plank_verdict(args.plank, domain, problem, chosen, first["plank_plan"])
+            plank_plan = first["plank_plan"]
+            row["plank"] = plank_verdict(
+                args.plank, domain, problem, chosen, plank_plan, args.timeout
+            )
         rows.append(row)
         print(_line(row, args.markdown) if args.markdown else _text(row), flush=True)
     if args.markdown:

@@ -189,11 +189,11 @@ def _action(g: Grounder, kind: _ActionType, calls, observability, env) -> tuple:
             raise src.error(f"unknown event '{ename}'", ename, f"events: {', '.join(g.events)}")
         event = g.events[str(ename)]
         _check_conditions(src, kind, var, event, ename)
-        pre[var], post[var] = _event(g, event, [g.term(a, env, src) for a in args], ename)
+        pre[var], post[var] = _event(g, event, [g.term(a, env, src) for a in args], ename, env)
     return pre, post, _observability(g, kind, observability, env)
 
 
-def _event(g: Grounder, event: Tree, values: list[str], call: Token):
+def _event(g: Grounder, event: Tree, values: list[str], call: Token, outer: dict):
     src = g.dsrc
     ename, params, precondition, effects = event.children
     formal = [] if params is None else [str(v.children[0]) for v in params.children]
@@ -209,7 +209,9 @@ def _event(g: Grounder, event: Tree, values: list[str], call: Token):
                 f"'{value}' is not of type {' or '.join(sorted(wanted))}", call,
                 f"parameter {token} of event '{ename}'",
             )  # fmt: skip
-    env = dict(zip(formal, values, strict=True))
+    # plank looks a variable up in the outermost binding first: an action parameter
+    # shadows an event parameter of the same name (docs/epddl.md, "Scopes").
+    env = {**dict(zip(formal, values, strict=True)), **outer}
     pre = Top() if precondition is None else g.formula(precondition, env, src)
     if effects is None or effects.children[0] is None:
         return pre, {}

@@ -115,6 +115,17 @@ def test_the_domain_and_problem_may_come_in_either_order():
     assert bisimilar(first.model, second.model) and sorted(first.actions) == sorted(second.actions)
 
 
+def test_an_action_parameter_shadows_an_event_parameter_of_the_same_name():
+    # as plank's grounder (outermost binding first): (e ?j) with e's own parameter ?i
+    # reads the action's ?i
+    domain = """(define (domain d) (:predicates (on ?i - agent))
+      (:event e :parameters (?i - agent) :precondition (on ?i))
+      (:action a :parameters (?i ?j - agent | (/= ?i ?j)) :action-type (basic (e ?j))))"""
+    problem = "(define (problem p) (:domain d) (:agents x y) (:init (:and (on x))))"
+    actions = parse_epddl(domain, problem).spec.actions
+    assert str(actions["a(x, y)"].pre[0]) == "on(x)" and str(actions["a(y, x)"].pre[0]) == "on(y)"
+
+
 # -- errors -------------------------------------------------------------------------------
 
 DOMAIN = (DATA / "peek.epddl").read_text()
