@@ -241,14 +241,9 @@ def _event(g: Grounder, event: Tree, values: list[str], call: Token, outer: dict
     post = {}
     for atom in dict.fromkeys([*true_when, *false_when]):
         on, off = true_when.get(atom, []), false_when.get(atom, [])
-        keep = conj([_atom(atom), negate(disj(off))])
+        keep = conj([g.atom_formula(atom), negate(disj(off))])
         post[atom] = disj(on) if not off else (keep if not on else disj([disj(on), keep]))
     return pre, post
-
-
-def _atom(key: str) -> Atom:
-    name, _, rest = key.partition("(")
-    return Atom(name, tuple(a.strip() for a in rest[:-1].split(",")) if rest else ())
 
 
 def _check_conditions(src: Source, kind: _ActionType, var: str, event: Tree, call: Token) -> None:

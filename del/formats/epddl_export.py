@@ -63,6 +63,7 @@ from epistemica.del_.language.formula import (
     Or,
     Top,
 )
+from epistemica.del_.language.parser import as_formula
 from epistemica.del_.spec import Spec
 
 __all__ = ["MAX_PAIRS", "atom_renaming", "to_epddl"]
@@ -321,9 +322,10 @@ class _Writer:
 
 
 def _parse_atom(key: str) -> Atom:
-    name, _, rest = key.partition("(")
-    args = tuple(a.strip() for a in rest[:-1].split(",")) if rest else ()
-    return Atom(name, args)
+    atom = as_formula(key)
+    if not isinstance(atom, Atom):  # pragma: no cover - a spec's atoms are atoms
+        raise InvalidArgumentError(f"'{key}' is not an atom")
+    return atom
 
 
 def _flatten(f: Formula, op: type) -> list[Formula]:
