@@ -30,16 +30,9 @@ from collections.abc import Mapping
 from lark import Token, Tree
 
 from epistemica.del_.explicit.action import ActionModel
-from epistemica.del_.formats._epddl_ground import (
-    MAX_GROUND,
-    Grounder,
-    conj,
-    disj,
-    mangle,
-    negate,
-    plank_name,
-)
-from epistemica.del_.formats._epddl_syntax import Source
+from epistemica.del_.formats._epddl_formulas import conj, disj, negate
+from epistemica.del_.formats._epddl_ground import MAX_GROUND, Grounder, plank_name
+from epistemica.del_.formats._epddl_syntax import Source, mangle
 from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
 
 __all__ = ["MAX_ASSIGNMENTS", "ground_actions"]

@@ -26,21 +26,16 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formats._epddl_syntax import Source
+from epistemica.del_.formats._epddl_formulas import ground_formula, static_truth
+from epistemica.del_.formats._epddl_syntax import Source, mangle
 from epistemica.del_.language.formula import (
-    And,
     Atom,
-    Believe,
     Bottom,
-    CommonBelief,
     Formula,
-    Implies,
-    Not,
-    Or,
     Top,
 )
 
-__all__ = ["MAX_GROUND", "Grounder", "conj", "disj", "negate", "plank_name"]
+__all__ = ["MAX_GROUND", "Grounder", "plank_name"]
 
 #: Bound on the bindings of one list and on the ground atoms of a task.
 MAX_GROUND = 1_000_000
@@ -50,56 +45,9 @@ _BUILTIN = {"entity": None, "object": "entity", "agent": "entity", "agent-group"
 _MODAL = {"box", "diamond"}
 
 
-def negate(f: Formula) -> Formula:
-    """``~f``, folding constants."""
-    if isinstance(f, Top):
-        return Bottom()
-    if isinstance(f, Bottom):
-        return Top()
-    if isinstance(f, Not):
-        return f.operand
-    return Not(f)
-
-
-def conj(parts: Iterable[Formula]) -> Formula:
-    """The conjunction of ``parts``, folding constants (empty: ``true``)."""
-    kept: list[Formula] = []
-    for f in parts:
-        if isinstance(f, Bottom):
-            return Bottom()
-        if not isinstance(f, Top) and f not in kept:
-            kept.append(f)
-    return _fold(kept, And, Top())
-
-
-def disj(parts: Iterable[Formula]) -> Formula:
-    """The disjunction of ``parts``, folding constants (empty: ``false``)."""
-    kept: list[Formula] = []
-    for f in parts:
-        if isinstance(f, Top):
-            return Top()
-        if not isinstance(f, Bottom) and f not in kept:
-            kept.append(f)
-    return _fold(kept, Or, Bottom())
-
-
-def _fold(parts: list[Formula], op: type, empty: Formula) -> Formula:
-    if not parts:
-        return empty
-    result = parts[0]
-    for f in parts[1:]:
-        result = op(result, f)
-    return result
-
-
 def plank_name(action: str, args: Iterable[str]) -> str:
     """The name plank gives a ground action: ``tell`` with ``C, A`` is ``tell_C_A``."""
     return "_".join([action, *args])
-
-
-def mangle(name: str) -> str:
-    """An EPDDL name as an epistemica name (``-`` becomes ``_``)."""
-    return name.replace("-", "_")
 
 
 class Grounder:
@@ -487,104 +435,11 @@ class Grounder:
 
     def formula(self, tree: Tree, env: Mapping[str, str], src: Source) -> Formula:
         """The ground :class:`Formula` of a ``formula`` (or body) node under ``env``."""
-        if tree.data == "formula":
-            tree = tree.children[0]
-        kind = tree.data
-        kids = tree.children
-        if kind == "top":
-            return Top()
-        if kind == "bottom":
-            return Bottom()
-        if kind == "predicate":
-            return self.atom(kids[0], kids[1:], env, src)
-        if kind in ("eq", "neq"):
-            same = self.term(kids[0], env, src) == self.term(kids[1], env, src)
-            return Top() if same == (kind == "eq") else Bottom()
-        if kind == "neg":
-            return negate(self.formula(kids[0], env, src))
-        if kind in ("conj", "disj"):
-            parts = (self.formula(k, env, src) for k in kids)
-            return conj(parts) if kind == "conj" else disj(parts)
-        if kind == "imply":
-            left, right = (self.formula(k, env, src) for k in kids)
-            return _implies(left, right)
-        if kind in ("forall", "exists"):
-            comprehension, body = kids
-            parts = (self.formula(body, b, src) for b in self.bindings(comprehension, env, src))
-            return conj(parts) if kind == "forall" else disj(parts)
-        if kind in _MODAL:
-            return self._modal(tree, env, src)
-        raise AssertionError(kind)  # pragma: no cover - the grammar has no other node
-
-    def _modal(self, tree: Tree, env: Mapping[str, str], src: Source) -> Formula:
-        modality, operand = tree.children
-        name, index = modality.children
-        group = [mangle(a) for a in self.agent_list(index, env, src)]
-        f = self.formula(operand, env, src)
-        box = tree.data == "box"
-        if name is None:
-            if box:
-                return conj(Believe(a, f) for a in group)
-            return conj(negate(Believe(a, negate(f))) for a in group)
-        if str(name) == "Kw.":
-            if box:
-                return conj(Or(Believe(a, f), Believe(a, negate(f))) for a in group)
-            return conj(And(negate(Believe(a, f)), negate(Believe(a, negate(f)))) for a in group)
-        if box:
-            return CommonBelief(tuple(group), f)
-        return negate(CommonBelief(tuple(group), negate(f)))
+        return ground_formula(self, tree, env, src)
 
     def static_truth(self, tree: Tree, env: Mapping[str, str], src: Source, local=None) -> bool:
         """Truth of a list-comprehension condition: facts, ``=``, ``/=`` and connectives."""
-        if tree.data == "formula":
-            tree = tree.children[0]
-        kind, kids = tree.data, tree.children
-        if kind in ("top", "bottom"):
-            return kind == "top"
-        if kind == "predicate":
-            _, is_fact, _ = self.predicate(kids[0], kids[1:], src)
-            if not is_fact:
-                raise src.error(
-                    f"'{kids[0]}' is not a fact", kids[0],
-                    "a list comprehension's condition may use only facts, = and /=, whose "
-                    "truth is known before any state",
-                )  # fmt: skip
-            values = self.check_args(kids[0], kids[1:], env, src, local)
-            return (str(kids[0]), values) in self.facts
-        if kind in ("eq", "neq"):
-            same = self.term(kids[0], env, src, local) == self.term(kids[1], env, src, local)
-            return same == (kind == "eq")
-        if kind == "neg":
-            return not self.static_truth(kids[0], env, src, local)
-        if kind == "conj":
-            return all(self.static_truth(k, env, src, local) for k in kids)
-        if kind == "disj":
-            return any(self.static_truth(k, env, src, local) for k in kids)
-        if kind == "imply":
-            return not self.static_truth(kids[0], env, src, local) or self.static_truth(
-                kids[1], env, src, local
-            )
-        if kind in ("forall", "exists"):
-            comprehension, body = kids
-            values = (
-                self.static_truth(body, b, src, local)
-                for b in self.bindings(comprehension, env, src, local)
-            )
-            return all(values) if kind == "forall" else any(values)
-        raise src.error(
-            "a modality in a list comprehension's condition", tree,
-            "conditions are evaluated before any state: use facts, = and /= only",
-        )  # fmt: skip
-
-
-def _implies(left: Formula, right: Formula) -> Formula:
-    if isinstance(left, Bottom) or isinstance(right, Top):
-        return Top()
-    if isinstance(left, Top):
-        return right
-    if isinstance(right, Bottom):
-        return negate(left)
-    return Implies(left, right)
+        return static_truth(self, tree, env, src, local)
 
 
 def _closest(name: str, known: Iterable[str]) -> str:

@@ -24,8 +24,9 @@ from lark import Tree
 
 from epistemica.del_.errors import EpistemicaError
 from epistemica.del_.explicit.relations import Partition, relation_from_pairs
-from epistemica.del_.formats._epddl_ground import Grounder, conj, mangle
-from epistemica.del_.formats._epddl_syntax import Source
+from epistemica.del_.formats._epddl_formulas import conj
+from epistemica.del_.formats._epddl_ground import Grounder
+from epistemica.del_.formats._epddl_syntax import Source, mangle
 from epistemica.del_.language.formula import Bottom, Formula, Not, Or, Top
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
 from epistemica.del_.symbolic.convert import states

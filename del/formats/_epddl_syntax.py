@@ -31,7 +31,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from epistemica.del_.errors import ParseError, SpecError
 
-__all__ = ["EPDDL_GRAMMAR", "Source", "parse", "position"]
+__all__ = ["EPDDL_GRAMMAR", "Source", "mangle", "parse", "position"]
 
 #: Path of the grammar file of EPDDL.
 EPDDL_GRAMMAR = Path(__file__).with_name("epddl.lark")
@@ -90,6 +90,11 @@ def position(item: Token | Tree) -> tuple[int | None, int | None]:
         return item.line, item.column
     meta = item.meta
     return getattr(meta, "line", None), getattr(meta, "column", None)
+
+
+def mangle(name: str) -> str:
+    """An EPDDL name as an epistemica name (``-`` becomes ``_``)."""
+    return name.replace("-", "_")
 
 
 @functools.cache

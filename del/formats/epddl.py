@@ -51,7 +51,8 @@ from lark import Tree
 
 from epistemica.del_.errors import SpecError
 from epistemica.del_.formats._epddl_actions import ground_actions
-from epistemica.del_.formats._epddl_ground import Grounder, conj
+from epistemica.del_.formats._epddl_formulas import conj
+from epistemica.del_.formats._epddl_ground import Grounder
 from epistemica.del_.formats._epddl_state import initial_state
 from epistemica.del_.formats._epddl_syntax import Source, parse
 from epistemica.del_.language.formula import Formula
