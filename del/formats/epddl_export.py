@@ -162,6 +162,8 @@ class _Writer:
                     self.args[arg] = _identifier(arg, taken)
         self.stems = {stem: _identifier(stem, taken) for stem in stems}
         self.actions = {key: _identifier(key, taken) for key in spec.actions}
+        # plank grounds no action of an empty parameter list: one of a one-object type
+        self.unit, self.now = _identifier("unit", taken), _identifier("now", taken)
 
     # -- formulas -------------------------------------------------------------------------
 
@@ -228,8 +230,9 @@ class _Writer:
                 params = " ".join(f"?x{i} - entity" for i in range(arity))
                 lines.append(f"    ({stem}{' ' + params if params else ''})")
             lines.append("  )")
-        if self.args:
-            lines.append(f"  (:constants {' '.join(self.args.values())} - object)")
+        lines.append(f"  (:types {self.unit})")
+        constants = f"{' '.join(self.args.values())} - object " if self.args else ""
+        lines.append(f"  (:constants {constants}{self.now} - {self.unit})")
         for key, action in self.spec.actions.items():
             lines += self.action(key, action)
         lines.append(")")
@@ -252,7 +255,8 @@ class _Writer:
             f"({self.agents[agent]} t{k})" for k, members in enumerate(groups) for agent in members
         )
         lines.append(
-            f"  (:action {name} :parameters ()\n    :action-type ({name}-type {calls})\n"
+            f"  (:action {name} :parameters (?u - {self.unit})\n"
+            f"    :action-type ({name}-type {calls})\n"
             f"    :observability-conditions (:and {observability}))"
         )
         return lines
@@ -274,12 +278,18 @@ class _Writer:
             rels = []
             for k, members in enumerate(groups):
                 pairs = " ".join(f"(?e{e} ?e{f})" for e, f in relations[members[0]])
-                rels.append(f"t{k} (:and {pairs})" if pairs else f"t{k} ()")
+                if pairs:  # plank reads "()" badly; a type left out relates nothing
+                    rels.append(f"t{k} (:and {pairs})")
             points = " ".join(f"?e{k}" for k in designated)
+            # plank needs a :conditions section: say what holds (trivial precondition or not)
+            conditions = " ".join(
+                f"?e{k} (:{'' if isinstance(pre, Top) else 'non-'}trivial-precondition)"
+                for k, (pre, _) in enumerate(events)
+            )
             lines.append(
                 f"  (:action-type {self.actions[key]}-type\n    :events ({variables})\n"
                 f"    :observability-types ({types})\n    :relations ({' '.join(rels)})\n"
-                f"    :designated ({points}))"
+                f"    :designated ({points})\n    :conditions ({conditions}))"
             )
         lines.append(")")
         return "\n".join(lines) + "\n"
@@ -301,15 +311,15 @@ class _Writer:
                     hint="minimize the model first, or use fewer worlds",
                 )
             body = " ".join(f"({worlds[i]} {worlds[j]})" for i, j in pairs)
-            relations.append(
-                f"{self.agents[agent]} (:and {body})" if body else f"{self.agents[agent]} ()"
-            )
+            if body:  # an agent left out relates nothing (plank reads "()" badly)
+                relations.append(f"{self.agents[agent]} (:and {body})")
         labels = []
         valuation = m.valuation
         for i, w in enumerate(worlds):
             true = [self.atom(a)[1:-1] for a, v in zip(m.atoms, valuation[i], strict=True) if v]
             body = " ".join(f"({t})" for t in true)
-            labels.append(f"{w} (:and {body})" if true else f"{w} ()")
+            if true:  # a world left out makes no atom true
+                labels.append(f"{w} (:and {body})")
         points = " ".join(worlds[i] for i in m.designated_positions)
         lines.append(
             f"  (:init\n    :worlds ({' '.join(worlds)})\n    :relations ({' '.join(relations)})\n"
