@@ -19,6 +19,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import lru_cache
 from math import factorial, prod
 
 import numpy as np
@@ -30,6 +31,7 @@ __all__ = [
     "MISSIONS",
     "count_configurations",
     "filter_configurations",
+    "shared_configurations",
     "valid_configurations",
 ]
 
@@ -198,6 +200,22 @@ def valid_configurations(
         raise _unknown_mission(mission)
     if where is not None:
         rows = filter_configurations(rows, where)
+    return rows
+
+
+@lru_cache(maxsize=32)
+def shared_configurations(mission: str, n_robots: int, n_goals: int) -> np.ndarray:
+    """:func:`valid_configurations` of a mission without capacities, computed once and
+    read-only, for the many controllers that reason over the same set.
+
+    Examples
+    --------
+    >>> rows = shared_configurations("allocation", 2, 3)
+    >>> rows.flags.writeable, rows is shared_configurations("allocation", 2, 3)
+    (False, True)
+    """
+    rows = valid_configurations(mission, n_robots, n_goals)
+    rows.setflags(write=False)
     return rows
 
 

@@ -43,22 +43,21 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import softmax
 
 from epistemica.aif._logspace import log_softmax
 from epistemica.aif._validate import as_distribution, as_finite, positive, positive_int
 from epistemica.aif.belief import PUBLISHED_WEIGHT
+from epistemica.aif.decision import Decision, choose
 from epistemica.aif.evidence import (
     DEFAULT_ETA,
     DEFAULT_ETA_BEARING,
     check_order,
     check_robot,
     check_sensors,
+    noise_attenuation,
 )
-from epistemica.aif.free_energy import select_policy
 from epistemica.aif.likelihood import check_configurations
 from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.one_step import OneStepEFE, Terms
@@ -73,34 +72,6 @@ __all__ = ["Controller", "Decision", "decide"]
 _CHUNK_CELLS = 4_000_000
 # From this many valid configurations on, the controller's large passes use float32.
 _FLOAT32_ROWS = 20_000
-
-
-@dataclass(frozen=True)
-class Decision:
-    """The outcome of one decision.
-
-    Attributes
-    ----------
-    control : tuple of float
-        The chosen ``(speed, heading change)``.
-    index : int
-        Its row in :attr:`Controller.controls`.
-    G : numpy.ndarray
-        Expected free energy of every candidate (best continuation when ``horizon > 1``).
-    q_pi : numpy.ndarray
-        Policy posterior ``softmax(-gamma G)`` over the candidates.
-    belief : numpy.ndarray
-        The robot's current belief over the valid configurations.
-    focal : int
-        Row of the focal (most probable) configuration.
-    """
-
-    control: tuple[float, float]
-    index: int
-    G: np.ndarray
-    q_pi: np.ndarray
-    belief: np.ndarray
-    focal: int
 
 
 class Controller:
@@ -235,16 +206,7 @@ class Controller:
         return self._perspective_cache[robot]
 
     def _poses(self, poses) -> np.ndarray:
-        n = len(self.sensors)
-        p = as_finite(poses, "poses", ndim=2, shape=(n, None))
-        if p.shape[1] == 2:
-            p = np.column_stack([p, np.zeros(n)])
-        if p.shape[1] != 3:
-            raise InvalidArgumentError(
-                f"poses must be (n, 2) or (n, 3), got {p.shape}",
-                hint="x, y and optionally heading per robot",
-            )
-        return p
+        return checked_poses(poses, len(self.sensors))
 
     def prior_vector(self, prior) -> np.ndarray:
         k = self.configurations.shape[0]
@@ -258,25 +220,12 @@ class Controller:
             views, robot, pos, xs, self.goals, self.bearing, self.eta, self.eta_bearing
         )
         if self.position_noise > 0:
-            e *= self._attenuation(robot, pos)[None, None, :, None]
+            factor = noise_attenuation(
+                pos[None], np.array([robot]), self.bearing, self.position_noise, self.eta,
+                self.eta_bearing,
+            )[0]  # fmt: skip
+            e *= factor[None, None, :, None]
         return e
-
-    def _attenuation(self, robot: int, pos: np.ndarray) -> np.ndarray:
-        """Per-row factor ``1 / sqrt(1 + pi s² / 8)`` for noisy observed positions.
-
-        A row's evidence differs between goals by about ``Δd / eta`` (range) or
-        ``Δangle / eta_bearing`` (bearing, seen from ``robot``); noise of variance ``σ²``
-        per axis gives those differences a variance ``s² ≈ 2σ² / eta²`` or
-        ``2σ² / (eta_bearing · ρ)²`` at range ``ρ``. The deciding robot's own row is exact.
-        """
-        if self.bearing[robot]:
-            rho = np.maximum(np.hypot(*(pos - pos[robot]).T), 1.0)
-            s2 = 2.0 * self.position_noise / (self.eta_bearing * rho) ** 2
-        else:
-            s2 = np.full(pos.shape[0], 2.0 * self.position_noise / self.eta**2)
-        factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
-        factor[robot] = 1.0
-        return factor
 
     def beliefs(self, robot: int, poses, prior=None) -> tuple[np.ndarray, int]:
         """Robot ``robot``'s current belief over the configurations and its focal row.
@@ -342,17 +291,8 @@ class Controller:
 
     def _modelled(self, robot: int, priors) -> np.ndarray | None:
         """``(k, P - 1)`` priors of the modelled perspectives, validated, or None."""
-        if priors is None:
-            return None
-        views = self.perspectives(robot)
-        k = self.configurations.shape[0]
-        if len(priors) != len(views) - 1:
-            raise InvalidArgumentError(
-                f"modelled_priors has {len(priors)} entries for {len(views) - 1} modelled "
-                "perspectives",
-                hint="one prior per perspective after the first of Controller.perspectives",
-            )
-        return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)
+        views = len(self.perspectives(robot)) - 1
+        return modelled_priors(priors, views, self.configurations.shape[0])
 
     def decide(
         self,
@@ -408,7 +348,7 @@ class Controller:
                 self.horizon,
                 self.beam,
             )
-        return self.choose(G[None], [q], [focal], [rng])[0]
+        return choose(self.controls, self.gamma, G[None], [q], [focal], [rng])[0]
 
     def decide_team(self, observations, robots=None, priors=None, rng=None) -> list[Decision]:
         """Every robot's :meth:`decide` in one vectorised pass.
@@ -448,27 +388,6 @@ class Controller:
         """
         return decide_team(self, observations, robots, priors, rng)
 
-    def choose(self, G: np.ndarray, beliefs, focals, rngs) -> list[Decision]:
-        """Decisions from the candidates' ``G (R, c)``: least (first on ties), or sampled."""
-        finite = np.isfinite(G)
-        if not finite.any(axis=1).all():
-            raise InvalidArgumentError(
-                "no candidate control has a finite expected free energy",
-                hint="check the weights and the controls",
-            )
-        least = np.where(finite, G, np.inf).min(axis=1, keepdims=True)
-        shifted = np.where(finite, G - least, 0.0)
-        with np.errstate(over="ignore"):  # a huge precision: logits -inf, never NaN
-            logits = np.where(finite, -self.gamma * shifted, -np.inf)
-        q_pi = softmax(logits, axis=1)
-        first = np.argmax(G == least, axis=1)
-        out = []
-        for r, rng in enumerate(rngs):
-            index = int(first[r]) if rng is None else select_policy(q_pi[r], rng)
-            control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
-            out.append(Decision(control, index, G[r], q_pi[r], beliefs[r], int(focals[r])))
-        return out
-
 
 def decide(
     robot: int, poses, goals, sensors, configurations, *, prior=None, rng=None, **options
@@ -486,3 +405,28 @@ def decide(
     return Controller(goals, sensors, configurations, **options).decide(
         robot, poses, prior=prior, rng=rng
     )
+
+
+def checked_poses(poses, n: int) -> np.ndarray:
+    """``(n, 3)`` poses from ``(n, 2)`` positions (heading 0) or ``(n, 3)`` poses."""
+    p = as_finite(poses, "poses", ndim=2, shape=(n, None))
+    if p.shape[1] == 2:
+        p = np.column_stack([p, np.zeros(n)])
+    if p.shape[1] != 3:
+        raise InvalidArgumentError(
+            f"poses must be (n, 2) or (n, 3), got {p.shape}",
+            hint="x, y and optionally heading per robot",
+        )
+    return p
+
+
+def modelled_priors(priors, views: int, k: int) -> np.ndarray | None:
+    """``(k, views)`` priors of the modelled perspectives, validated, or None."""
+    if priors is None:
+        return None
+    if len(priors) != views:
+        raise InvalidArgumentError(
+            f"modelled_priors has {len(priors)} entries for {views} modelled perspectives",
+            hint="one prior per perspective after the first of Controller.perspectives",
+        )
+    return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)

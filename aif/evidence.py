@@ -270,6 +270,42 @@ def measurements(
     return out
 
 
+def noise_attenuation(
+    pos: np.ndarray,
+    robots: np.ndarray,
+    bearing: np.ndarray,
+    position_noise: float,
+    eta: float,
+    eta_bearing: float,
+) -> np.ndarray:
+    """``(R, n)`` per-row factors ``1 / sqrt(1 + pi s² / 8)`` for noisy observed positions,
+    each robot ``robots[r]`` in its own view ``pos[r]`` (``(R, n, 2)``).
+
+    A row's evidence differs between goals by about ``Δd / eta`` (range) or
+    ``Δangle / eta_bearing`` (bearing, seen from the deciding robot); noise of variance
+    ``σ²`` per axis gives those differences a variance ``s² ≈ 2σ² / eta²`` or
+    ``2σ² / (eta_bearing · ρ)²`` at range ``ρ`` (docs/aif.md, "Observation noise"). The
+    deciding robot's own row is exact.
+
+    Examples
+    --------
+    >>> pos = np.array([[[0.0, 0.0], [10.0, 0.0]]])
+    >>> noise_attenuation(pos, np.array([0]), np.array([False, False]), 0.0, 50.0, 1.0)
+    array([[1., 1.]])
+    """
+    R = robots.size
+    rel = pos - pos[np.arange(R), robots][:, None]
+    rho = np.maximum(np.hypot(rel[..., 0], rel[..., 1]), 1.0)
+    s2 = np.where(
+        bearing[robots][:, None],
+        2.0 * position_noise / (eta_bearing * rho) ** 2,
+        2.0 * position_noise / eta**2,
+    )
+    factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
+    factor[np.arange(R), robots] = 1.0
+    return factor
+
+
 def check_robot(robot, n: int) -> int:
     """``robot`` as an index in ``range(n)``, or a clear error."""
     if isinstance(robot, bool) or not isinstance(robot, (int, np.integer)) or not 0 <= robot < n:

@@ -32,7 +32,8 @@ import numpy as np
 
 from epistemica.aif._logspace import log_softmax
 from epistemica.aif._validate import as_finite
-from epistemica.aif.evidence import angle_batch, check_robot, stack_evidence
+from epistemica.aif.decision import choose
+from epistemica.aif.evidence import angle_batch, check_robot, noise_attenuation, stack_evidence
 from epistemica.aif.motion import turn_then_move
 from epistemica.aif.one_step import Terms
 from epistemica.aif.perspective import chain_sums, row_weights
@@ -137,7 +138,7 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
                 ctrl.horizon,
                 ctrl.beam,
             )
-    return ctrl.choose(G, beliefs, focals, rngs)
+    return choose(ctrl.controls, ctrl.gamma, G, beliefs, focals, rngs)
 
 
 def _pass(ctrl, obs, robots, first, stay, priors, rows):
@@ -171,7 +172,9 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     base, moved, root = e[:, 0], e[q_all, :, mover], e[roots]
     root[at, :, robots] = root[at, 0, robots][:, None]  # own motion: no own-goal evidence
     if ctrl.position_noise > 0:
-        factor = _attenuation(ctrl, pos, robots)
+        factor = noise_attenuation(
+            pos, robots, ctrl.bearing, ctrl.position_noise, ctrl.eta, ctrl.eta_bearing
+        )
         base *= factor[owner][:, :, None]  # (the mover's own row keeps factor 1: exact)
         root *= factor[:, None, :, None]
     log_base, log_moved, log_root = (log_softmax(x, -1) for x in (base, moved, root))
@@ -235,18 +238,3 @@ def _scene_stack(ctrl, pos: np.ndarray, robots: np.ndarray, batch: np.ndarray):
         stack[turning, :, who] = np.exp(-ang / ctrl.eta_bearing)  # (Rb, b, n, m)
         stack[turning, :, who, who] = 0.0
     return stack, ranged
-
-
-def _attenuation(ctrl, pos: np.ndarray, robots: np.ndarray) -> np.ndarray:
-    """:meth:`Controller._attenuation` of each robot in its own view: ``(R, n)``."""
-    R = robots.size
-    rel = pos - pos[np.arange(R), robots][:, None]
-    rho = np.maximum(np.hypot(rel[..., 0], rel[..., 1]), 1.0)
-    s2 = np.where(
-        ctrl.bearing[robots][:, None],
-        2.0 * ctrl.position_noise / (ctrl.eta_bearing * rho) ** 2,
-        2.0 * ctrl.position_noise / ctrl.eta**2,
-    )
-    factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
-    factor[np.arange(R), robots] = 1.0
-    return factor

@@ -1,7 +1,8 @@
 """Fingerprints of a fixed sample of simulated trials, to show a refactor changed nothing.
 
-Each trial (mission file, level, seed) is summarised by its outcome and a hash of its whole
-record (trajectory, focal configurations, configuration-set sizes, events). Write the
+Each trial (mission file, level, seed) is summarised by its outcome and a hash of its
+record (trajectory, focal configurations, configuration-set sizes, and each event's step,
+kind and observers). Write the
 fingerprints of one version, then compare another version against them:
 
     python benchmarks/trial_fingerprints.py --write before.jsonl
@@ -24,7 +25,6 @@ import numpy as np
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials
-from epistemica.sim.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 STRESS_LEVELS = ("convention", "first", "third", "third-shared")
@@ -54,11 +54,13 @@ def fingerprint(path: Path, level: str, seed: int) -> dict:
     """The outcome of one trial and a hash of its record."""
     mission = load_mission(path)
     spec = mission_trials(mission, [level], 1, seed)[0]
-    trial = simulate(spec.scenario(), level, seed=seed, policies=spec.policies())
+    trial = spec.simulate()
     digest = hashlib.sha256()
     for array in (trial.trajectory, trial.focal, trial.considered, trial.unpruned):
         digest.update(np.ascontiguousarray(array).tobytes())
-    digest.update(json.dumps([list(map(repr, e)) for e in trial.events]).encode())
+    # step, kind and observers of every event (their other fields are free to change)
+    events = [[int(e[0]), str(e[1]), [int(i) for i in e[-1]]] for e in trial.events]
+    digest.update(json.dumps(events).encode())
     return {
         "trial": f"{path.stem}/{level}/{seed}",
         "success": bool(trial.success),

@@ -31,8 +31,6 @@ from pathlib import Path
 import networkx as nx
 import pytest
 
-import epistemica
-
 SOURCE = Path(os.environ.get("EPISTEMICA_SOURCE") or Path(__file__).resolve().parents[1])
 #: Package name -> folder, in layer order: a layer imports only the layers before it.
 LAYERS = (
@@ -156,8 +154,7 @@ def import_graph() -> tuple[nx.DiGraph, list[str]]:
     graph.add_nodes_from(MODULES)
     from_root = []
     for module, (_, tree) in MODULES.items():
-        edges = [(target, names) for node in _runtime_imports(tree) for target, names in
-                 _targets(module, node)]  # fmt: skip
+        edges = [edge for node in _runtime_imports(tree) for edge in _targets(module, node)]
         edges += [(target, []) for target in _registry_targets(tree)]
         for target, names in edges:
             if target == "epistemica.del_" and names and _layer(module) == 0:
@@ -188,9 +185,7 @@ def test_no_import_cycle():
 def test_layers_import_only_the_layers_before_them():
     graph, _ = import_graph()
     # every import of a subpackage first runs the root's __init__ (lazy re-exports only)
-    upward = [
-        f"{a} -> {b}" for a, b in graph.edges if _layer(b) > _layer(a) and b != "epistemica"
-    ]
+    upward = [f"{a} -> {b}" for a, b in graph.edges if _layer(b) > _layer(a) and b != "epistemica"]
     assert not upward, "imports against the layers:\n" + "\n".join(sorted(upward))
 
 
@@ -249,8 +244,6 @@ def test_no_private_attribute_of_another_object():
     assert not found, f"{len(found)} private accesses:\n" + "\n".join(found)
 
 
-
-
 def test_no_private_import_from_another_module():
     found = []
     for module, (_, tree) in MODULES.items():
@@ -265,13 +258,7 @@ def test_no_private_import_from_another_module():
     assert not found, f"{len(found)} private imports:\n" + "\n".join(found)
 
 
-@pytest.mark.parametrize(
-    ("code", "expected"),
-    [
-        ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\nelse:\n    import b\n",
-         ["TYPE_CHECKING", "b"]),  # fmt: skip
-    ],
-)
-def test_a_type_checking_block_is_not_a_runtime_import(code, expected):
+def test_a_type_checking_block_is_not_a_runtime_import():
+    code = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\nelse:\n    import b"
     names = [alias.name for node in _runtime_imports(ast.parse(code)) for alias in node.names]
-    assert sorted(names) == expected
+    assert sorted(names) == ["TYPE_CHECKING", "b"]

@@ -34,7 +34,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import gc
-from collections.abc import Generator, Mapping
+from collections.abc import Callable, Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -71,7 +71,13 @@ from epistemica.del_.language.parser import as_formula
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
 
-__all__ = ["designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
+__all__ = [
+    "designated_truth",
+    "evaluate",
+    "evaluate_bits",
+    "propositional_mask",
+    "propositional_truth",
+]
 
 _CONNECTIVES = CONNECTIVES
 _BINARY = (And, Or, Implies, Iff)
@@ -447,16 +453,44 @@ def propositional_mask(
     >>> propositional_mask("p & ~q", val, {"p": 0, "q": 1}).tolist()
     [True, False]
     """
+
+    def atom_mask(key: str) -> np.ndarray:
+        if key not in column:
+            raise InvalidArgumentError(
+                f"unknown atom {key!r}", hint=f"declared atoms: {', '.join(column)}"
+            )
+        return val[:, column[key]]
+
+    return propositional_truth(formula, len(val), atom_mask)
+
+
+def propositional_truth(
+    formula: Formula | str, n_rows: int, atom_mask: Callable[[str], np.ndarray]
+) -> np.ndarray:
+    """Truth of a propositional formula on ``n_rows`` worlds whose atoms are read lazily.
+
+    The one propositional evaluator of the package: ``atom_mask(key)`` gives the boolean
+    truth of the atom named ``key`` (canonical text, as :attr:`Atom.key`) on every world,
+    so worlds stored in any form (a valuation matrix, rows of goal indices) are evaluated
+    without building a valuation matrix first.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If the formula has a modality (or ``atom_mask`` rejects an atom).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> goal = np.array([0, 1, 1])
+    >>> propositional_truth("at_1 & ~at_0", 3, lambda key: goal == int(key[-1])).tolist()
+    [False, True, True]
+    """
     tree = as_formula(formula)
-    return _propositional(tree, val, column)
-
-
-def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) -> Any:
-    """Post-order over an explicit stack: laws and postconditions of any depth."""
     done: dict[int, np.ndarray] = {}
     uses: dict[int, int] = {}  # parents still to compute, per shared node
-    stack: list[tuple[Formula, bool]] = [(root, False)]
-    while stack:
+    stack: list[tuple[Formula, bool]] = [(tree, False)]
+    while stack:  # post-order over an explicit stack: laws of any depth
         f, expanded = stack.pop()
         if id(f) in done:
             continue
@@ -475,19 +509,14 @@ def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) ->
                     del done[id(c)]
             done[id(f)] = ~values[0] if kind is Not else _CONNECTIVES[kind](*values)
         elif kind is Atom:
-            if f.key not in column:
-                raise InvalidArgumentError(
-                    f"unknown atom {f.key!r}", hint=f"declared atoms: {', '.join(column)}"
-                )
-            done[id(f)] = val[:, column[f.key]]
+            done[id(f)] = np.asarray(atom_mask(f.key), dtype=bool)
         elif kind is Top:
-            done[id(f)] = np.ones(len(val), dtype=bool)
+            done[id(f)] = np.ones(n_rows, dtype=bool)
         elif kind is Bottom:
-            done[id(f)] = np.zeros(len(val), dtype=bool)
+            done[id(f)] = np.zeros(n_rows, dtype=bool)
         else:
             raise InvalidArgumentError(
                 f"expected a propositional formula, found the modality in {_short(f)}",
-                hint="laws and postconditions evaluated on valuations alone cannot mention "
-                "K, B, C, ...",
+                hint="laws, postconditions and facts about worlds cannot mention K, B, C, ...",
             )
-    return done[id(root)]
+    return done[id(tree)]
