@@ -4,8 +4,9 @@ bisimulation contraction and epistemic planning. Pure logic, no robots.
 Imported as ``epistemica.del_`` (``del`` is a Python keyword). The modules are grouped in
 families: ``language/`` (formulas and their grammar), ``explicit/`` (Kripke models as
 arrays and their algorithms), ``symbolic/`` (knowledge structures on BDDs), ``models.py``
-(the public model classes of both backends), ``spec/`` (the ``.epi`` language) and
-``planning/``; see docs/architecture.md. Import public names from here.
+(the public model classes of both backends), ``spec/`` (the ``.epi`` language),
+``formats/`` (EPDDL and SMCDEL's text format) and ``planning/``; see
+docs/architecture.md. Import public names from here.
 """
 
 import importlib
@@ -41,6 +42,9 @@ _SOURCES = {
         "SpecError",
     ),
     "explicit.export": ("to_dot", "to_networkx"),
+    "formats.epddl": ("EpddlTask", "load_epddl", "parse_epddl"),
+    "formats.epddl_export": ("to_epddl",),
+    "formats.smcdel": ("SmcdelFile", "load_smcdel", "parse_smcdel", "to_smcdel"),
     "language.formula": (
         "After",
         "And",
@@ -120,6 +124,7 @@ __all__ = [
     "CommonBelief",
     "CoordinationReport",
     "Distributed",
+    "EpddlTask",
     "EpistemicState",
     "EpistemicaError",
     "Everybody",
@@ -139,6 +144,7 @@ __all__ = [
     "Or",
     "ParseError",
     "PlanResult",
+    "SmcdelFile",
     "SourceError",
     "Spec",
     "SpecError",
@@ -154,10 +160,14 @@ __all__ = [
     "describe_model",
     "disjunction",
     "evaluate",
+    "load_epddl",
+    "load_smcdel",
     "load_spec",
     "minimize",
     "observability_action",
+    "parse_epddl",
     "parse_formula",
+    "parse_smcdel",
     "parse_spec",
     "plan",
     "plan_implicitly_coordinated",
@@ -169,6 +179,8 @@ __all__ = [
     "range_names",
     "semi_private_sensing",
     "to_dot",
+    "to_epddl",
     "to_networkx",
+    "to_smcdel",
     "validate",
 ]

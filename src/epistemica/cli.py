@@ -9,6 +9,8 @@ Commands:
   ``--implicit``: an implicitly coordinated plan (each action's owner knows the rest of
   the plan works); ``--verify A,B,C``: check a given plan instead (valid, or with
   ``--implicit`` implicitly coordinated, and why not); plan steps count from 1;
+- ``check``, ``plan`` and ``show`` also read an EPDDL task (``DOMAIN PROBLEM -l LIB``) and
+  SMCDEL's text format; ``epistemica export --epddl|--smcdel SPEC`` writes a spec in them;
 - ``epistemica show FILE``: the spec's model, optionally ``--after`` some of its actions,
   as text, Graphviz DOT or JSON (which :func:`epistemica.model_json.model_from_json`
   reads back);
@@ -49,6 +51,8 @@ examples:
   epistemica plan specs/planning/two_robots_implicit.epi --implicit --verify go_r2_g2,go_r1_g1
   epistemica show specs/puzzles/muddy_children.epi --after father,nobody_knows
   epistemica show specs/puzzles/sally_anne.epi --after sally_leaves --dot sally.dot
+  epistemica plan DOMAIN.epddl PROBLEM.epddl -l LIBRARY.epddl
+  epistemica export --epddl specs/planning/grapevine.epi -o out/
   epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third --gif t.gif
   epistemica sweep --mission rendezvous --robots 2..5 --trials 50 --out runs/study.sqlite
   epistemica report runs/study.sqlite --markdown
@@ -112,6 +116,11 @@ def build_parser() -> argparse.ArgumentParser:
     add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
+    from epistemica.cli_formats import add_export_command, add_input_options
+
+    for name in ("check", "plan", "show"):
+        add_input_options(commands.choices[name])
+    add_export_command(commands)
     for name in ("check", "plan", "show"):
         commands.choices[name].add_argument(
             "--memory-budget",

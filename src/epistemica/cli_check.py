@@ -13,9 +13,10 @@ from typing import Any
 import numpy as np
 
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli_inputs import load_input, where_lines
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_label, world_labels
-from epistemica.del_.spec.backend import formula_summary, load_spec
+from epistemica.del_.spec.backend import formula_summary
 
 __all__ = ["run_check"]
 
@@ -37,13 +38,13 @@ def _show(entry: dict[str, Any]) -> str:
 def run_check(args: argparse.Namespace) -> int:
     from epistemica.cli_run import check_mission, is_mission_file
 
-    if is_mission_file(args.file):
+    if args.problem is None and is_mission_file(args.file):
         return check_mission(args)
     if args.after is not None or args.robot is not None:
         raise InvalidArgumentError(
             "--after and --robot apply to mission files", hint="a file starting with 'mission'"
         )
-    spec = load_spec(args.file, args.backend)
+    spec, source = load_input(args, args.backend)
     if args.formula is not None:
         return _check_formula(spec, args)
     results = [(c, spec.holds(c.formula)) for c in spec.checks]
@@ -79,6 +80,9 @@ def run_check(args: argparse.Namespace) -> int:
             print(f"  FAIL  {verdict}  {c.name}  (expected {str(c.expected).lower()})")
             print(f"        {c.location}: {c.text}")
     print(f"{len(results) - len(failed)} passed, {len(failed)} failed")
+    if getattr(source, "where", None):
+        print("WHERE?")
+        print("\n".join(where_lines(source)))
     return EXIT_FALSE if failed else EXIT_OK
 
 

@@ -13,7 +13,8 @@ import json
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.del_ import describe_model, load_spec, plan_with_stats, validate
+from epistemica.cli_inputs import load_input, plank_line
+from epistemica.del_ import describe_model, plan_with_stats, validate
 from epistemica.del_.errors import SpecError
 
 __all__ = ["run_plan"]
@@ -21,7 +22,7 @@ __all__ = ["run_plan"]
 
 def run_plan(args: argparse.Namespace) -> int:
     """Run ``epistemica plan`` with parsed arguments; return the exit status."""
-    spec = load_spec(args.file)
+    spec, task = load_input(args)
     spec.require_goal()
     if not spec.actions:
         raise SpecError(
@@ -54,6 +55,8 @@ def run_plan(args: argparse.Namespace) -> int:
             "seconds": round(result.seconds, 6),
             "complete": result.complete,
         }
+        if task is not None and result.plan is not None:
+            out["plank_plan"] = task.plank_plan(result.plan)
         if args.explain:
             out["states"] = states
         print(json.dumps(out, indent=2))
@@ -66,4 +69,6 @@ def run_plan(args: argparse.Namespace) -> int:
     print(f"plan of {result.length} step{'s' if result.length != 1 else ''} ({stats}):")
     print_steps(result.plan, {}, states if args.explain else None)
     print(("validated: " if ok else "INVALID: ") + check.reason)
+    if task is not None:
+        print(plank_line(task, result.plan))
     return EXIT_OK if ok else EXIT_FALSE

@@ -12,7 +12,8 @@ import json
 
 from epistemica.cli_coordination import split_plan
 from epistemica.cli_exit import EXIT_OK
-from epistemica.del_ import KripkeModel, Spec, describe_model, load_spec, to_dot
+from epistemica.cli_inputs import load_input
+from epistemica.del_ import KripkeModel, Spec, describe_model, to_dot
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import names_hint
 from epistemica.model_json import model_from_json, model_to_json
@@ -49,7 +50,7 @@ def model_after(spec: Spec, steps: list[str]) -> KripkeModel:
 
 def run_show(args: argparse.Namespace) -> int:
     """Run ``epistemica show`` with parsed arguments; return the exit status."""
-    spec = load_spec(args.file)
+    spec, _task = load_input(args)
     steps = split_plan(args.after) if args.after.strip() else []
     model = model_after(spec, steps)
     # The atoms in the order the spec declares them (a model of explicit worlds may hold
