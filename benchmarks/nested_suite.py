@@ -125,11 +125,8 @@ def mission(kind: str, n: int) -> str:
                 if kind == "new_goal"
                 else ("every robot believes the team may meet at g4", "~B[r1] closed(g4)")
             )
-            lines += [
-                f'check "at the start {claim[0]}":',
-                f"    {claim[1]} & B[r2] B[r1] "
-                + ("closed(g4)" if kind == "new_goal" else "~closed(g4)"),
-            ]
+            nested = "B[r2] B[r1] closed(g4)" if kind == "new_goal" else "~B[r2] B[r1] closed(g4)"
+            lines += [f'check "at the start {claim[0]}":', f"    {claim[1]} & {nested}"]
     lines.append(f"simulate trials 100 seed 0 steps 60 levels {LEVELS}")
     return "\n".join(lines) + "\n"
 
