@@ -238,3 +238,21 @@ def test_found_plans_are_listed_from_1(capsys, tmp_path):
         code, out, _ = run(capsys, "plan", str(path), *implicit)
         assert code == 0
         assert "  1. on" in out and "  2. use" in out and "  0." not in out
+
+
+def test_irrelevant_atoms_change_neither_the_plan_nor_the_validated_states(capsys, tmp_path):
+    """The command line validates on the states the search sees (issue 21: grapevine with
+    8 atoms nobody observes used to spend minutes contracting 16,384-world states)."""
+    source = Path(MUDDY).parents[1] / "planning" / "grapevine.epi"
+    lines = source.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("atoms "))
+    lines.insert(at + 1, "atoms " + ", ".join(f"junk{j}" for j in range(8)))
+    padded = tmp_path / "grapevine_padded.epi"
+    padded.write_text("\n".join(lines) + "\n")
+    code, out, _ = run(capsys, "plan", str(source), "--json", "--explain")
+    plain = json.loads(out)
+    code_padded, out, _ = run(capsys, "plan", str(padded), "--json", "--explain")
+    data = json.loads(out)
+    assert code == code_padded == 0
+    assert data["plan"] == plain["plan"] and data["valid"]
+    assert data["states"] == plain["states"]

@@ -55,7 +55,11 @@ from epistemica.del_.explicit.checker import evaluate
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KripkeModel
-from epistemica.del_.planning.planner import applicable_in_all, inapplicable_worlds
+from epistemica.del_.planning.planner import (
+    applicable_in_all,
+    inapplicable_worlds,
+    relevant_part,
+)
 from epistemica.del_.planning.state_space import PlanResult, check_problem, search_states
 
 __all__ = [
@@ -162,7 +166,7 @@ def check_implicit_coordination(
     check_problem(initial, actions)
     _check_owners(initial, actions, owners)
     tree = as_formula(goal)
-    table = dict(actions)
+    initial, table = relevant_part(initial, actions, tree, set(owners.values()))
     if isinstance(plan, str):
         raise InvalidArgumentError("plan must be a sequence of action names", hint=f"[{plan!r}]")
     steps = list(plan)
@@ -248,7 +252,7 @@ def plan_implicitly_coordinated_with_stats(
     check_problem(initial, actions)
     _check_owners(initial, actions, owners)
     tree = as_formula(goal)
-    table = dict(actions)
+    initial, table = relevant_part(initial, actions, tree, set(owners.values()))
 
     def successors(state: KripkeModel) -> Iterable[tuple[str, KripkeModel]]:
         views: dict[str, KripkeModel] = {}

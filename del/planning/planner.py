@@ -84,6 +84,7 @@ __all__ = [
     "project",
     "relevant_agents",
     "relevant_atoms",
+    "relevant_part",
     "uses_knowledge",
     "validate",
 ]
@@ -181,7 +182,7 @@ def plan_with_stats(
     tree = as_formula(goal)
     table = dict(actions)
     if not callable(heuristic):  # a user's heuristic may read any atom or agent
-        initial, table = _relevant_part(initial, table, tree)
+        initial, table = relevant_part(initial, table, tree)
     # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
     # the search then tracks belief relations only (half the relational work).
     beliefs_only = not uses_knowledge(tree, table.values())
@@ -209,7 +210,8 @@ def validate(
     """Check a plan: every step applicable, the goal true at the end.
 
     Returns a :class:`Validation`, true in a boolean context when the plan is valid and
-    carrying the reason otherwise.
+    carrying the reason otherwise. The states are those the search visits: on the atoms
+    and agents that the goal or an action mentions (:func:`relevant_part`), contracted.
 
     Raises
     ------
@@ -242,6 +244,7 @@ def validate(
                 f"the plan names an unknown action {name!r}",
                 hint=f"actions: {', '.join(table)}",
             )
+    initial, table = relevant_part(initial, table, tree)
     state = initial.minimize()
     states = [state]
     for i, name in enumerate(steps):
@@ -330,15 +333,32 @@ def relevant_agents(goal: Formula | str, actions: Iterable[ActionModel]) -> froz
     return frozenset(g for f in _formulas(as_formula(goal), actions) for g in f.agents())
 
 
-def _relevant_part(
-    state: KripkeModel, actions: dict[str, ActionModel], goal: Formula
+def relevant_part(
+    state: KripkeModel,
+    actions: Mapping[str, ActionModel],
+    goal: Formula | str,
+    agents: Iterable[str] = (),
 ) -> tuple[KripkeModel, dict[str, ActionModel]]:
     """The state and actions without the atoms and agents no formula of them reads.
 
     An agent that no modality names changes no truth value, but its relation still
-    splits states (and each action carries it); an unread atom doubles the worlds.
+    splits states (and each action carries it); an unread atom doubles the worlds. The
+    search, :func:`validate` and implicit coordination (which also keeps ``agents``, the
+    owners whose perspectives it takes) all plan on this part, so they see the same
+    states. Every formula over the kept atoms and agents keeps its truth.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel, public_announcement
+    >>> s = KripkeModel.from_observables(["p", "junk"], {"a": [], "b": []}, designated=["p"])
+    >>> small, acts = relevant_part(s, {"tell": public_announcement("p", ["a", "b"])}, "K[a] p")
+    >>> small.atoms, small.agents, small.n_worlds
+    (('p',), ('a',), 2)
     """
-    keep = relevant_agents(goal, actions.values()) & set(state.agents) or set(state.agents[:1])
+    goal = as_formula(goal)
+    actions = dict(actions)
+    named = relevant_agents(goal, actions.values()) | set(agents)
+    keep = named & set(state.agents) or set(state.agents[:1])
     if len(keep) < len(state.agents):
         agents = tuple(a for a in state.agents if a in keep)
         state = _with_agents(state, agents)

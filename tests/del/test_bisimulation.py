@@ -166,9 +166,7 @@ def _union(model, other):
             for a in model.agents
         }
 
-    return KripkeModel(
-        worlds, valuation, pairs("belief"), worlds[:1], knowledge=pairs("knowledge")
-    )
+    return KripkeModel(worlds, valuation, pairs("belief"), worlds[:1], knowledge=pairs("knowledge"))
 
 
 @settings(max_examples=300, deadline=None)
@@ -266,8 +264,7 @@ def reference_key(model) -> tuple:
     label = {w: tuple(sorted(model.valuation_of(w))) for w in worlds}
     while True:
         described = {
-            w: (label[w], *(tuple(sorted({label[v] for v in s[w]})) for s in succ))
-            for w in worlds
+            w: (label[w], *(tuple(sorted({label[v] for v in s[w]})) for s in succ)) for w in worlds
         }
         ranks = {d: i for i, d in enumerate(sorted(set(described.values())))}
         refined = {w: ranks[described[w]] for w in worlds}
