@@ -76,8 +76,10 @@ __all__ = [
     "SEARCHES",
     "PlanResult",
     "Validation",
+    "action_with_agents",
     "applicable_in_all",
     "canonical_key",
+    "choose_heuristic",
     "goal_count",
     "plan",
     "plan_with_stats",
@@ -197,7 +199,7 @@ def plan_with_stats(
     def is_goal(state: KripkeModel) -> bool:
         return state.holds(tree, actions=table)
 
-    h = _heuristic(heuristic, search, tree, table)
+    h = choose_heuristic(heuristic, search, tree, table)
     return search_states(initial, successors, is_goal, search, max_depth, h, max_states)
 
 
@@ -362,7 +364,7 @@ def relevant_part(
     if len(keep) < len(state.agents):
         agents = tuple(a for a in state.agents if a in keep)
         state = _with_agents(state, agents)
-        actions = {name: _action_with_agents(a, agents) for name, a in actions.items()}
+        actions = {name: action_with_agents(a, agents) for name, a in actions.items()}
     return project(state, relevant_atoms(goal, actions.values())), actions
 
 
@@ -382,7 +384,8 @@ def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
     )
 
 
-def _action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+def action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+    """The action model with the relations of ``agents`` only."""
     events = action.events
 
     def edges(table: dict, agent: str) -> list[tuple]:
@@ -543,9 +546,14 @@ def _goal_at_points(state: KripkeModel, goal: Formula, actions: Mapping) -> list
     return [bool(x) for x in mask[state.designated_positions]]
 
 
-def _heuristic(
+def choose_heuristic(
     heuristic: str | Heuristic | None, search: str, goal: Formula, actions: Mapping
 ) -> Heuristic | None:
+    """The heuristic function for ``search`` (None for breadth-first search), checked.
+
+    ``"goalcount"`` (the default for greedy and A*), ``"blind"`` or a callable; the
+    built-in ones call ``state.holds``, so they serve both backends.
+    """
     if search not in SEARCHES:
         raise InvalidArgumentError(
             f"unknown search {search!r}", hint=f"choose one of {', '.join(SEARCHES)}"

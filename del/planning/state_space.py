@@ -32,6 +32,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -41,7 +42,14 @@ from epistemica.del_.explicit.bisimulation import generated_submodel, quotient
 from epistemica.del_.explicit.canonical import canonical_classes, canonical_key
 from epistemica.del_.models import KripkeModel
 
-__all__ = ["SEARCHES", "Heuristic", "PlanResult", "check_problem", "search_states"]
+__all__ = [
+    "SEARCHES",
+    "Heuristic",
+    "PlanResult",
+    "StateStore",
+    "check_problem",
+    "search_states",
+]
 
 #: The search strategies that :func:`search_states` accepts.
 SEARCHES = ("bfs", "greedy", "astar")
@@ -100,6 +108,7 @@ def search_states(
     max_depth: int | None = None,
     heuristic: Heuristic | None = None,
     max_states: int | None = None,
+    store: StateStore | None = None,
 ) -> PlanResult:
     """Generic search over epistemic states with duplicate detection up to bisimulation.
 
@@ -120,6 +129,10 @@ def search_states(
         For ``greedy``/``astar``: a state's non-negative estimate (default 0).
     max_states : int, optional
         Stop storing new states after this many distinct ones.
+    store : StateStore, optional
+        Where distinct states are kept: by default Kripke models contracted and keyed by
+        :func:`~epistemica.del_.explicit.canonical.canonical_key`; the symbolic planner
+        passes one for knowledge structures.
 
     Returns
     -------
@@ -138,8 +151,8 @@ def search_states(
     _check_bound(max_depth, "max_depth", minimum=0)
     _check_bound(max_states, "max_states", minimum=1)
     start = time.perf_counter()
-    table = _StateTable()
-    root = table.add(initial.minimize())[0]
+    table = _StateTable() if store is None else store
+    root = table.add(initial)[0]
     parent: dict[int, tuple[int, str] | None] = {root: None}
     depth = {root: 0}
     stats = {"expanded": 0, "generated": 0}
@@ -237,6 +250,20 @@ def search_states(
             counter += 1
             heapq.heappush(heap, (priority(child), counter, child))
     return result(None)
+
+
+class StateStore(Protocol):
+    """Distinct states, stored once each: what :func:`search_states` needs of a store."""
+
+    states: list
+
+    def __len__(self) -> int: ...
+
+    def find(self, state: Any) -> int | None:
+        """The index of a stored state equivalent to ``state``, or None."""
+
+    def add(self, state: Any) -> tuple[int, bool]:
+        """Store ``state`` (normalised) unless an equivalent one is; (index, whether new)."""
 
 
 class _StateTable:
