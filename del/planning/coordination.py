@@ -65,9 +65,11 @@ from epistemica.del_.planning.state_space import PlanResult, check_problem, sear
 __all__ = [
     "CoordinationReport",
     "check_implicit_coordination",
+    "check_owners",
     "perspective",
     "plan_implicitly_coordinated",
     "plan_implicitly_coordinated_with_stats",
+    "pointed_at",
 ]
 
 
@@ -128,6 +130,11 @@ def perspective(state: KripkeModel, agent: str) -> KripkeModel:
     mask = np.zeros(state.n_worlds, dtype=bool)
     mask[state.designated_positions] = True
     seen = state.knowledge_relations[agent].successors_of(mask)
+    return pointed_at(state, np.flatnonzero(seen))
+
+
+def pointed_at(state: KripkeModel, positions: Iterable[int]) -> KripkeModel:
+    """The same model with the worlds at ``positions`` designated (by index)."""
     return KripkeModel.from_arrays(
         state.lazy_names,
         state.atoms,
@@ -135,7 +142,7 @@ def perspective(state: KripkeModel, agent: str) -> KripkeModel:
         state.agents,
         state.belief_relations,
         state.knowledge_relations,
-        np.flatnonzero(seen),
+        np.asarray(list(positions), dtype=np.intp),
     )
 
 
@@ -164,7 +171,7 @@ def check_implicit_coordination(
         True in a boolean context when the plan is implicitly coordinated.
     """
     check_problem(initial, actions)
-    _check_owners(initial, actions, owners)
+    check_owners(initial, actions, owners)
     tree = as_formula(goal)
     initial, table = relevant_part(initial, actions, tree, set(owners.values()))
     if isinstance(plan, str):
@@ -250,7 +257,7 @@ def plan_implicitly_coordinated_with_stats(
 ) -> PlanResult:
     """Like :func:`plan_implicitly_coordinated`, with search statistics."""
     check_problem(initial, actions)
-    _check_owners(initial, actions, owners)
+    check_owners(initial, actions, owners)
     tree = as_formula(goal)
     initial, table = relevant_part(initial, actions, tree, set(owners.values()))
 
@@ -302,7 +309,8 @@ def _atoms(model: KripkeModel, world) -> str:
     return "{" + ", ".join(sorted(model.valuation_of(world))) + "}"
 
 
-def _check_owners(initial: KripkeModel, actions: Mapping, owners: object) -> None:
+def check_owners(initial: KripkeModel, actions: Mapping, owners: object) -> None:
+    """Every action has an owner, an agent of the model (eagerly, with a hint)."""
     if not isinstance(owners, Mapping):
         raise InvalidArgumentError(
             "owners must map action names to agents", hint="e.g. {'go_r1_g1': 'r1'}"

@@ -218,7 +218,14 @@ def _add_plan(commands) -> None:
         "--policy",
         action="store_true",
         help="with --implicit: a policy that branches on what the acting agent observes "
-        "(printed as a tree); with --verify, check that the plan works as such a policy",
+        "(printed as a tree); with --verify, check a policy (a JSON file written by "
+        "--policy --json, or a plan A,B,C) against that definition",
+    )
+    plan.add_argument(
+        "--perspective",
+        metavar="AGENT",
+        help="with --implicit --policy: plan (or verify) from this agent's perspective on the "
+        "initial state, every world it considers possible designated",
     )
     plan.set_defaults(handler="epistemica.cli_plan:run_plan")
 

@@ -24,7 +24,7 @@ from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 
-__all__ = ["plan_implicit", "print_steps", "split_plan", "verify_plan"]
+__all__ = ["owners_of", "plan_implicit", "print_steps", "split_plan", "verify_plan"]
 
 EXIT_OK, EXIT_FALSE = 0, 1
 
@@ -82,7 +82,8 @@ def _canonical(name: str) -> str:
     return f"{stem.strip()}({', '.join(a.strip() for a in args)})"
 
 
-def _owners(spec: Any, file: str) -> dict[str, str]:
+def owners_of(spec: Any, file: str) -> dict[str, str]:
+    """The spec's action owners; a located error naming the first action without one."""
     missing = [name for name in spec.actions if name not in spec.owners]
     if missing:
         raise SpecError(
@@ -151,7 +152,7 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
             f"--implicit searches breadth-first only, not with --search {args.search}",
             hint="drop --search (implicitly coordinated plans are found by BFS)",
         )
-    owners = _owners(spec, args.file)
+    owners = owners_of(spec, args.file)
     result = plan_implicitly_coordinated_with_stats(
         spec.model, spec.actions, owners, spec.goal, max_depth=args.max_depth
     )
@@ -202,7 +203,7 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
     steps = split_plan(args.verify)
     _check_steps(spec, steps)
     if args.implicit:
-        owners = _owners(spec, args.file)
+        owners = owners_of(spec, args.file)
         report = check_implicit_coordination(spec.model, spec.actions, owners, steps, spec.goal)
         ok, reason, verdict = report.coordinated, report.reason, "implicitly coordinated"
         extra = _report_json(report)

@@ -52,16 +52,31 @@ def run_plan(args: argparse.Namespace) -> int:
             filename=args.file,
             hint="declare 'action' lines to plan with",
         )
-    if getattr(args, "policy", False) and not args.implicit:
+    policy = getattr(args, "policy", False)
+    if policy and not args.implicit:
         raise InvalidArgumentError(
             "--policy is a kind of implicitly coordinated plan",
             hint="use it with --implicit (and --verify to check a plan as a policy)",
+        )
+    if getattr(args, "perspective", None) is not None and not policy:
+        raise InvalidArgumentError(
+            "--perspective is for policies", hint="use it with --implicit --policy"
         )
     if args.implicit and backend == "symbolic":
         raise InvalidArgumentError(
             "implicit coordination is planned over Kripke models only",
             hint="use --backend explicit (or a smaller spec, or a larger --memory-budget)",
         )
+    if policy:
+        from epistemica.cli_policy import plan_policy_command, verify_policy_command
+
+        if args.perspective is not None and args.perspective not in spec.agents:
+            raise InvalidArgumentError(
+                f"unknown agent {args.perspective!r} for --perspective",
+                hint=f"agents: {', '.join(spec.agents)}",
+            )
+        command = plan_policy_command if args.verify is None else verify_policy_command
+        return command(args, spec)
     if args.verify is not None or args.implicit:
         return verify_plan(args, spec) if args.verify is not None else plan_implicit(args, spec)
     plan_with, validate_with, describe = plan_with_stats, validate, describe_model
