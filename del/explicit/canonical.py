@@ -130,12 +130,7 @@ def _canonical_bitmasks(
             if id(r) not in masks:
                 masks[id(r)] = _reached_mask(r, labels)
         described = np.column_stack([labels] + [masks[id(r)] for r in relations])
-        order = np.lexsort(described.T[::-1])
-        ordered = described[order]
-        changed = np.zeros(len(labels), dtype=bool)
-        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-        refined = np.empty_like(labels)
-        refined[order] = np.cumsum(changed)
+        refined = _rank_rows(described)
         new_count = int(refined.max()) + 1
         labels = refined
         if new_count == count:
@@ -145,6 +140,18 @@ def _canonical_bitmasks(
     table = np.column_stack([codes, described[:, 1:]])[first]
     points = tuple(np.unique(labels[state.designated_positions]).tolist())
     return labels.tolist(), (tuple(atoms), table.tobytes(), points)
+
+
+def _rank_rows(described: np.ndarray) -> np.ndarray:
+    """Each row's rank among the distinct rows, in lexicographic order: names that depend
+    on the rows' content only."""
+    order = np.lexsort(described.T[::-1])
+    ordered = described[order]
+    changed = np.zeros(len(described), dtype=bool)
+    changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    refined = np.empty(len(described), dtype=np.int64)
+    refined[order] = np.cumsum(changed)
+    return refined
 
 
 def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
@@ -185,12 +192,7 @@ def _canonical_hashes(
         described = np.column_stack(
             [labels.astype(np.uint64)] + [found[id(r)][0][sets[id(r)][0]] for r in relations]
         )
-        order = np.lexsort(described.T[::-1])
-        ordered = described[order]
-        changed = np.zeros(len(labels), dtype=bool)
-        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-        refined = np.empty_like(labels)
-        refined[order] = np.cumsum(changed)
+        refined = _rank_rows(described)
         new_count = int(refined.max()) + 1
         labels = refined
         if new_count == count:

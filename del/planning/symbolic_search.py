@@ -45,17 +45,22 @@ from epistemica.del_.planning.planner import (
     relevant_agents,
     relevant_atoms,
 )
-from epistemica.del_.planning.state_space import PlanResult, search_states
+from epistemica.del_.planning.state_space import (
+    KeyedStates,
+    PlanResult,
+    check_problem,
+    search_states,
+)
 from epistemica.del_.symbolic.normal_form import normalise, state_key, without_free_atoms
 from epistemica.del_.symbolic.structure import SymbolicModel
 
 __all__ = [
-    "SymbolicStates",
     "applicable_in_all_symbolic",
     "choose_backend",
     "plan_symbolic",
     "plan_symbolic_with_stats",
     "relevant_structure",
+    "symbolic_states",
     "validate_symbolic",
 ]
 
@@ -102,7 +107,7 @@ def plan_symbolic_with_stats(
     max_states: int | None = None,
 ) -> PlanResult:
     """Like :func:`plan_symbolic`, returning a :class:`PlanResult` with statistics."""
-    _check_symbolic_problem(initial, actions)
+    check_problem(initial, actions, SymbolicModel)
     tree = as_formula(goal)
     table = dict(actions)
     if not callable(heuristic):  # a user's heuristic may read any atom or agent
@@ -118,7 +123,7 @@ def plan_symbolic_with_stats(
 
     h = choose_heuristic(heuristic, search, tree, table)
     return search_states(
-        initial, successors, is_goal, search, max_depth, h, max_states, store=SymbolicStates()
+        initial, successors, is_goal, search, max_depth, h, max_states, store=symbolic_states()
     )
 
 
@@ -131,7 +136,7 @@ def validate_symbolic(
     """Check a plan over knowledge structures, as
     :func:`~epistemica.del_.planning.planner.validate` does over Kripke models (the
     states of the verdict are the normalised structures)."""
-    _check_symbolic_problem(initial, actions)
+    check_problem(initial, actions, SymbolicModel)
     tree = as_formula(goal)
     if isinstance(plan, str):
         raise InvalidArgumentError(
@@ -221,53 +226,13 @@ def relevant_structure(
     return smaller, table
 
 
-class SymbolicStates:
-    """Distinct knowledge structures, normalised and keyed by
-    :func:`~epistemica.del_.symbolic.normal_form.state_key` (a store for
-    :func:`~epistemica.del_.planning.state_space.search_states`)."""
+def symbolic_states() -> KeyedStates:
+    """A store of distinct knowledge structures for
+    :func:`~epistemica.del_.planning.state_space.search_states`: each normalised and keyed
+    by :func:`~epistemica.del_.symbolic.normal_form.state_key`."""
 
-    def __init__(self) -> None:
-        self.states: list[SymbolicModel] = []
-        self._index: dict[tuple, int] = {}
-
-    def __len__(self) -> int:
-        return len(self.states)
-
-    def find(self, state: SymbolicModel) -> int | None:
-        return self._index.get(state_key(normalise(state)))
-
-    def add(self, state: SymbolicModel) -> tuple[int, bool]:
+    def prepare(state: SymbolicModel) -> tuple[SymbolicModel, tuple]:
         state = normalise(state)
-        key = state_key(state)
-        found = self._index.get(key)
-        if found is not None:
-            return found, False
-        self.states.append(state)
-        self._index[key] = len(self.states) - 1
-        return len(self.states) - 1, True
+        return state, state_key(state)
 
-
-def _check_symbolic_problem(initial: object, actions: object) -> None:
-    if not isinstance(initial, SymbolicModel):
-        raise InvalidArgumentError(
-            f"the initial state must be a KnowledgeStructure, got {type(initial).__name__}",
-            hint="build one with KnowledgeStructure.from_observables(...) or "
-            "KripkeModel.to_symbolic()",
-        )
-    if not isinstance(actions, Mapping):
-        raise InvalidArgumentError(
-            "actions must map action names to ActionModels",
-            hint="e.g. {'open': open_action, 'peek': peek_action}",
-        )
-    for name, action in actions.items():
-        if not isinstance(action, ActionModel):
-            raise InvalidArgumentError(
-                f"action {name!r} is a {type(action).__name__}, not an ActionModel",
-                hint="build it with ActionModel(...) or observability_action(...)",
-            )
-        if set(action.agents) != set(initial.agents):
-            raise InvalidArgumentError(
-                f"action {name!r} has agents {sorted(action.agents)}, the initial state "
-                f"{sorted(initial.agents)}",
-                hint="every action must give a relation to exactly the model's agents",
-            )
+    return KeyedStates(prepare)

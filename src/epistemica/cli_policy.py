@@ -43,10 +43,7 @@ def plan_policy_command(args: argparse.Namespace, spec: Any) -> int:
     ok = report is not None and report.ok
     if args.json:
         out = {
-            "file": args.file,
-            "goal": str(spec.goal),
-            "implicit": True,
-            "perspective": args.perspective,
+            **_header(args, spec),
             **({} if result.policy is None else result.policy.to_dict()),
             "depth": None if result.policy is None else result.policy.depth,
             "decisions": None if result.policy is None else result.policy.size,
@@ -82,10 +79,7 @@ def verify_policy_command(args: argparse.Namespace, spec: Any) -> int:
     report = check_policy(spec.model, spec.actions, owners, spec.goal, policy, args.perspective)
     if args.json:
         out = {
-            "file": args.file,
-            "goal": str(spec.goal),
-            "implicit": True,
-            "perspective": args.perspective,
+            **_header(args, spec),
             **policy.to_dict(),
             "coordinated": report.ok,
             "reason": report.reason,
@@ -128,6 +122,15 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
     for name in reversed(steps):
         chain = (decision(owners[name], Top(), name, chain),)
     return policy_class(chain)
+
+
+def _header(args: argparse.Namespace, spec: Any) -> dict[str, Any]:
+    return {
+        "file": args.file,
+        "goal": str(spec.goal),
+        "implicit": True,
+        "perspective": args.perspective,
+    }
 
 
 def _indent(text: str) -> str:
