@@ -165,13 +165,13 @@ def _one_hot(names: list[str]) -> str:
 
 
 INSTANCES = {
-    **{f"SC_{r}_{n}": (selective_communication, (r, n)) for r, n in [(6, 3), (12, 4), (30, 8)]},
     **{
-        f"CC_2_2_{r}_{s}": (collaboration, (2, 2, r, s))
-        for r in (3, 5, 9, 12)
-        for s in ("partial", "oblivious")
+        f"SC_{r}_{n}": (selective_communication, (r, n))
+        for r, n in [(6, 3), (12, 4), (24, 8), (30, 8), (60, 30)]
     },
-    **{f"CC_2_{b}_3_partial": (collaboration, (2, b, 3, "partial")) for b in (4, 8)},
+    **{f"CC_2_2_{r}_partial": (collaboration, (2, 2, r, "partial")) for r in (3, 5, 7, 9)},
+    **{f"CC_2_2_{r}_oblivious": (collaboration, (2, 2, r, "oblivious")) for r in (3, 5)},
+    **{f"CC_2_{b}_3_partial": (collaboration, (2, b, 3, "partial")) for b in (4, 8, 12)},
 }
 
 _RUN = """
@@ -184,16 +184,16 @@ try:
     if backend == "explicit":
         from epistemica.del_ import plan_with_stats
         spec = load_spec(path, "explicit")
-        result = plan_with_stats(spec.model, spec.actions, spec.goal, max_depth=40)
+        result = plan_with_stats(spec.model, spec.actions, spec.goal, max_depth=200)
     else:
         from epistemica.del_.planning.symbolic_search import plan_symbolic_with_stats
         spec = load_spec(path, "symbolic")
-        result = plan_symbolic_with_stats(spec.model, spec.actions, spec.goal, max_depth=40)
+        result = plan_symbolic_with_stats(spec.model, spec.actions, spec.goal, max_depth=200)
 except EpistemicaError as error:
     print(json.dumps({"refused": str(error).splitlines()[0]}))
     sys.exit(0)
 print(json.dumps({"plan": result.plan, "distinct": result.distinct,
-                  "seconds": time.perf_counter() - start}))
+                  "complete": result.complete, "seconds": time.perf_counter() - start}))
 """
 
 
@@ -219,13 +219,16 @@ def run(path: Path, backend: str, timeout: float) -> dict:
 
 def describe(outcome: dict) -> str:
     if "refused" in outcome:
-        return "refused (memory budget)"
+        return "refused"
     if "timeout" in outcome:
         return f"> {outcome['timeout']:.0f} s"
     if "error" in outcome:
         return "error: " + outcome["error"]
-    length = "none" if outcome["plan"] is None else len(outcome["plan"])
-    return f"{length} steps, {outcome['distinct']} states, {outcome['seconds']:.1f} s"
+    states = f"{outcome['distinct']} states, {outcome['seconds']:.1f} s"
+    if outcome["plan"] is None:
+        proven = "no plan" if outcome["complete"] else "no plan within 200 steps"
+        return f"{proven}, {states}"
+    return f"{len(outcome['plan'])} steps, {states}"
 
 
 def sizes(path: Path) -> tuple[int, int, int]:

@@ -247,7 +247,8 @@ class _Problem:
         check_owners(initial, actions, owners)
         self.goal = as_formula(goal)
         self.owners = dict(owners)
-        state, self.actions = relevant_part(initial, actions, self.goal, set(owners.values()))
+        keep = set(owners.values()) | ({perspective_of} if perspective_of else set())
+        state, self.actions = relevant_part(initial, actions, self.goal, keep)
         self.state = state
         if perspective_of is not None:
             state = perspective(state, perspective_of)
