@@ -293,7 +293,7 @@ def test_policy_tree_and_its_verification(capsys, tmp_path):
 
 
 def test_policy_where_no_sequential_plan_exists(capsys):
-    path = str(PLANNING / "tiger_signal.epi")
+    path = str(PLANNING / "policies" / "tiger_signal.epi")
     code, _, _ = run(capsys, "plan", path, "--implicit")
     assert code == 1
     code, out, _ = run(capsys, "plan", path, "--implicit", "--policy")

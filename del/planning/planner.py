@@ -106,7 +106,9 @@ class Validation:
         0-based index of the first inapplicable action; ``len(plan)`` when only the goal
         fails; ``None`` when valid.
     states : tuple of KripkeModel
-        The (contracted) states reached, starting with the initial one.
+        The (contracted) states reached, starting with the initial one, on the atoms and
+        agents the search sees (knowledge structures, normalised, for
+        :func:`~epistemica.del_.planning.symbolic_search.validate_symbolic`).
     """
 
     valid: bool

@@ -33,7 +33,8 @@ SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 
 
 def spec(name):
-    return load_spec(SPECS / f"{name}.epi")
+    found = SPECS / f"{name}.epi"
+    return load_spec(found if found.exists() else SPECS / "policies" / f"{name}.epi")
 
 
 def chain(owners, *steps):

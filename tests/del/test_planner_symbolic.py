@@ -63,6 +63,18 @@ def test_same_shortest_plans_as_the_explicit_planner(name):
     assert validate(explicit.model, explicit.actions, found.plan, explicit.goal)
 
 
+@pytest.mark.parametrize("search", ["astar", "greedy"])
+def test_heuristic_searches_over_structures_return_valid_plans(search):
+    spec = load_with_backend(SPECS / "coin_in_the_box_b.epi", "symbolic")
+    found = plan_symbolic_with_stats(spec.model, spec.actions, spec.goal, search=search)
+    assert found.plan is not None and found.search == search
+    assert validate_symbolic(spec.model, spec.actions, found.plan, spec.goal)
+    blind = plan_symbolic_with_stats(
+        spec.model, spec.actions, spec.goal, search="astar", heuristic="blind"
+    )
+    assert blind.length == 4  # blind A* is admissible: the shortest length, as BFS
+
+
 def test_no_plan_is_reported_complete_when_the_space_is_exhausted():
     spec = load_with_backend(SPECS / "sally_anne.epi", "symbolic")
     # K instead of B: knowledge is truthful, so no plan exists (docs/planning.md)
