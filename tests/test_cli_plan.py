@@ -312,3 +312,14 @@ def test_policy_where_no_sequential_plan_exists(capsys):
 def test_policy_options_misused_exit_2(capsys, argv):
     code, _, err = run(capsys, "plan", str(PLANNING / "two_robots_implicit.epi"), *argv)
     assert code == 2 and "hint:" in err
+
+
+def test_verify_on_the_symbolic_backend(capsys):
+    path = str(PLANNING / "selective_communication.epi")
+    argv = ["plan", path, "--backend", "symbolic", "--verify"]
+    code, out, _ = run(capsys, *argv, "right,sense,right,right,shout")
+    assert code == 0 and "valid" in out
+    code, out, _ = run(capsys, *argv, "sense,right")
+    assert code == 1 and "step 1 (sense) is not applicable" in out
+    code, out, _ = run(capsys, *argv, "right,sense", "--explain")
+    assert code == 1 and "variables, atoms: at1, at2, at3, at4, secret" in out

@@ -107,11 +107,11 @@ def _check_steps(spec: Any, steps: list[str]) -> None:
             )
 
 
-def _states(spec: Any, steps: list[str]) -> list[str]:
+def _states(spec: Any, steps: list[str], validate_with: Any = None, describe: Any = None):
     from epistemica.del_ import describe_model, validate
 
-    run = validate(spec.model, spec.actions, steps, spec.goal)
-    return [describe_model(s) for s in run.states]
+    run = (validate_with or validate)(spec.model, spec.actions, steps, spec.goal)
+    return [(describe or describe_model)(s) for s in run.states]
 
 
 def print_steps(steps: list[str], owners: dict[str, str], states: list[str] | None) -> None:
@@ -196,9 +196,15 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
     return EXIT_OK if ok else EXIT_FALSE
 
 
-def verify_plan(args: argparse.Namespace, spec: Any) -> int:
-    """Check the plan given with ``--verify``: implicitly coordinated, or just valid."""
-    from epistemica.del_ import check_implicit_coordination, validate
+def verify_plan(
+    args: argparse.Namespace, spec: Any, validate_with: Any = None, describe: Any = None
+) -> int:
+    """Check the plan given with ``--verify``: implicitly coordinated, or just valid
+    (by ``validate_with``, default :func:`~epistemica.del_.validate`, its states printed
+    by ``describe`` with ``--explain``)."""
+    from epistemica.del_ import check_implicit_coordination, describe_model, validate
+
+    validate_with, describe = validate_with or validate, describe or describe_model
 
     steps = split_plan(args.verify)
     _check_steps(spec, steps)
@@ -209,7 +215,7 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
         extra = _report_json(report)
     else:
         owners = dict(spec.owners)
-        run = validate(spec.model, spec.actions, steps, spec.goal)
+        run = validate_with(spec.model, spec.actions, steps, spec.goal)
         ok, reason, verdict = run.valid, run.reason, "valid"
         # Steps count from 1 in every output, and a goal that fails only at the end is
         # charged to the last step, as --implicit does (Validation.step is 0-based and
@@ -220,12 +226,12 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
         out = {"file": args.file, "goal": str(spec.goal), "implicit": args.implicit}
         out.update({"plan": steps, **extra})
         if args.explain:
-            out["states"] = _states(spec, steps)
+            out["states"] = _states(spec, steps, validate_with, describe)
         print(json.dumps(out, indent=2))
         return EXIT_OK if ok else EXIT_FALSE
     print(f"plan {', '.join(steps)}: {'' if ok else 'not '}{verdict}")
     if args.explain:
-        print_steps(steps, owners, _states(spec, steps))
+        print_steps(steps, owners, _states(spec, steps, validate_with, describe))
     print(f"  {reason}")
     return EXIT_OK if ok else EXIT_FALSE
 

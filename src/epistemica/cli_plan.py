@@ -77,8 +77,6 @@ def run_plan(args: argparse.Namespace) -> int:
             )
         command = plan_policy_command if args.verify is None else verify_policy_command
         return command(args, spec)
-    if args.verify is not None or args.implicit:
-        return verify_plan(args, spec) if args.verify is not None else plan_implicit(args, spec)
     plan_with, validate_with, describe = plan_with_stats, validate, describe_model
     if backend == "symbolic":
         from epistemica.del_.planning.symbolic_search import (
@@ -87,6 +85,10 @@ def run_plan(args: argparse.Namespace) -> int:
         )
 
         plan_with, validate_with, describe = plan_symbolic_with_stats, validate_symbolic, summary
+    if args.verify is not None:
+        return verify_plan(args, spec, validate_with, describe)
+    if args.implicit:
+        return plan_implicit(args, spec)
     result = plan_with(
         spec.model, spec.actions, spec.goal, search=args.search or "bfs", max_depth=args.max_depth
     )
