@@ -27,6 +27,8 @@ False
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from epistemica.del_.explicit._model import ExplicitModel
@@ -121,25 +123,42 @@ def _canonical_bitmasks(
     columns = [state.atoms.index(a) for a in atoms]
     codes = state.valuation[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
     labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
-    count = int(labels.max()) + 1
-    while True:
-        if count > _MASK_BITS:
+
+    def describe(labels: np.ndarray) -> np.ndarray | None:
+        if int(labels.max()) + 1 > _MASK_BITS:
             return None
         masks: dict[int, np.ndarray] = {}  # a relation shared by belief and knowledge
         for r in relations:
             if id(r) not in masks:
                 masks[id(r)] = _reached_mask(r, labels)
-        described = np.column_stack([labels] + [masks[id(r)] for r in relations])
-        refined = _rank_rows(described)
-        new_count = int(refined.max()) + 1
-        labels = refined
-        if new_count == count:
-            break
-        count = new_count
+        return np.column_stack([labels] + [masks[id(r)] for r in relations])
+
+    done = _fixed_point(labels, describe)
+    if done is None:
+        return None
+    labels, described = done
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
     table = np.column_stack([codes, described[:, 1:]])[first]
     points = tuple(np.unique(labels[state.designated_positions]).tolist())
     return labels.tolist(), (tuple(atoms), table.tobytes(), points)
+
+
+def _fixed_point(
+    labels: np.ndarray, describe: Callable[[np.ndarray], np.ndarray | None]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """Refine ``labels`` by ranking ``describe(labels)`` (one row per world, the label
+    first) until the number of classes stops growing; the labels and the last rows, or
+    None as soon as ``describe`` gives up."""
+    count = int(labels.max()) + 1
+    while True:
+        described = describe(labels)
+        if described is None:
+            return None
+        refined = _rank_rows(described)
+        new_count = int(refined.max()) + 1
+        if new_count == count:
+            return refined, described
+        labels, count = refined, new_count
 
 
 def _rank_rows(described: np.ndarray) -> np.ndarray:
@@ -184,20 +203,20 @@ def _canonical_hashes(
     for r in relations:
         if id(r) not in sets:
             sets[id(r)] = successor_sets(r)
-    count = int(labels.max()) + 1
-    while True:
-        found = {key: _set_hashes(parts, labels) for key, parts in sets.items()}
+    found: dict[int, tuple] = {}
+
+    def describe(labels: np.ndarray) -> np.ndarray | None:
+        found.update({key: _set_hashes(parts, labels) for key, parts in sets.items()})
         if any(f is None for f in found.values()):
             return None
-        described = np.column_stack(
+        return np.column_stack(
             [labels.astype(np.uint64)] + [found[id(r)][0][sets[id(r)][0]] for r in relations]
         )
-        refined = _rank_rows(described)
-        new_count = int(refined.max()) + 1
-        labels = refined
-        if new_count == count:
-            break
-        count = new_count
+
+    done = _fixed_point(labels, describe)
+    if done is None:
+        return None
+    labels = done[0]
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
     parts = [rows[first].tobytes()]
     for r in relations:
