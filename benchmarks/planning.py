@@ -8,7 +8,9 @@ With ``--irrelevant K``, every spec is planned twice, as shipped and with ``K`` 
 atoms that no action or goal mentions and no agent observes (each doubles the worlds of
 the initial state), and the table gives both times, their ratio and whether the plans are
 the same; ``--agents J`` also adds ``J`` agents that observe nothing and that no formula
-names; ``--only NAME ...`` restricts the specs (for slow baselines).
+names; ``--only NAME ...`` restricts the specs (for slow baselines); ``--cli`` times the
+command line ``epistemica plan FILE`` instead (a fresh process per run: load, search,
+validation and printing), and compares the plans it prints.
 
 Usage: ``python benchmarks/planning.py [--repeat 3] [--max-depth 9] [--irrelevant 10]``
 """
@@ -16,8 +18,11 @@ Usage: ``python benchmarks/planning.py [--repeat 3] [--max-depth 9] [--irrelevan
 from __future__ import annotations
 
 import argparse
+import json
 import platform
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -69,8 +74,22 @@ def timed_plan(path: Path, repeat: int, max_depth: int):
     return statistics.median(times), result, spec.model.n_worlds
 
 
+def timed_cli(path: Path, repeat: int, max_depth: int):
+    """Median seconds of ``repeat`` runs of ``epistemica plan FILE --json`` (fresh
+    processes), the result (an object with the plan) and the world count."""
+    command = [sys.executable, "-m", "epistemica", "plan", str(path), "--json"]
+    command += ["--max-depth", str(max_depth)]
+    times, out = [], ""
+    for _ in range(repeat):
+        start = time.perf_counter()
+        out = subprocess.run(command, capture_output=True, text=True, check=False).stdout
+        times.append(time.perf_counter() - start)
+    plan = json.loads(out)["plan"]
+    return statistics.median(times), argparse.Namespace(plan=plan), load_spec(path).model.n_worlds
+
+
 def irrelevant_table(
-    names: list[str], k: int, repeat: int, max_depth: int, agents: int = 0
+    names: list[str], k: int, repeat: int, max_depth: int, agents: int = 0, cli: bool = False
 ) -> None:
     """Planning time as shipped and with ``k`` irrelevant atoms; the plans must agree."""
     more_agents = f" +{agents} agents" if agents else ""
@@ -82,9 +101,10 @@ def irrelevant_table(
     with tempfile.TemporaryDirectory() as folder:
         for name in names:
             path = SPECS / f"{name}.epi"
-            base, plain, worlds = timed_plan(path, repeat, max_depth)
+            timed = timed_cli if cli else timed_plan
+            base, plain, worlds = timed(path, repeat, max_depth)
             bigger = with_irrelevant_atoms(path, k, Path(folder), agents)
-            more, padded, more_worlds = timed_plan(bigger, repeat, max_depth)
+            more, padded, more_worlds = timed(bigger, repeat, max_depth)
             print(
                 f"| {name} | {worlds:,} | {base:.4f} | {more_worlds:,} | {more:.4f} | "
                 f"{more / base:.2f} | {'yes' if plain.plan == padded.plan else 'NO'} |",
@@ -99,14 +119,16 @@ def main() -> None:
     parser.add_argument("--irrelevant", type=int, default=0, metavar="K")
     parser.add_argument("--agents", type=int, default=0, metavar="J")
     parser.add_argument("--only", nargs="*", default=None, metavar="NAME")
+    parser.add_argument("--cli", action="store_true", help="time `epistemica plan` processes")
     args = parser.parse_args()
     names = args.only or list(PUBLISHED)
     if args.irrelevant:
         print(
             f"Python {platform.python_version()}, {platform.machine()}; "
-            f"median of {args.repeat} runs; breadth-first search\n"
+            f"median of {args.repeat} runs; breadth-first search"
+            + ("; `epistemica plan FILE` in a fresh process per run\n" if args.cli else "\n")
         )
-        irrelevant_table(names, args.irrelevant, args.repeat, args.max_depth, args.agents)
+        irrelevant_table(names, args.irrelevant, args.repeat, args.max_depth, args.agents, args.cli)
         return
     print(
         f"Python {platform.python_version()}, {platform.machine()}; "

@@ -79,6 +79,8 @@ _SOURCES = {
         "parse_formula",
     ),
     "planning.planner": ("PlanResult", "Validation", "plan", "plan_with_stats", "validate"),
+    "planning.policy": ("Decision", "Policy", "check_policy", "plan_policy"),
+    "planning.symbolic_search": ("plan_symbolic", "plan_symbolic_with_stats", "validate_symbolic"),
     "spec._document": ("Check", "Spec", "load_spec", "parse_spec"),
     "spec._names": ("range_names",),
     "state.observation": ("Observation",),
@@ -123,6 +125,7 @@ __all__ = [
     "Common",
     "CommonBelief",
     "CoordinationReport",
+    "Decision",
     "Distributed",
     "EpddlTask",
     "EpistemicState",
@@ -144,7 +147,11 @@ __all__ = [
     "Or",
     "ParseError",
     "PlanResult",
+<<<<<<< HEAD
     "SmcdelFile",
+=======
+    "Policy",
+>>>>>>> planning
     "SourceError",
     "Spec",
     "SpecError",
@@ -156,6 +163,7 @@ __all__ = [
     "build_imported_formula",
     "canonical_atom",
     "check_implicit_coordination",
+    "check_policy",
     "conjunction",
     "describe_model",
     "disjunction",
@@ -171,6 +179,9 @@ __all__ = [
     "parse_spec",
     "plan",
     "plan_implicitly_coordinated",
+    "plan_policy",
+    "plan_symbolic",
+    "plan_symbolic_with_stats",
     "plan_with_stats",
     "private_announcement",
     "product_update",
@@ -183,4 +194,5 @@ __all__ = [
     "to_networkx",
     "to_smcdel",
     "validate",
+    "validate_symbolic",
 ]

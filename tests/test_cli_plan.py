@@ -238,3 +238,88 @@ def test_found_plans_are_listed_from_1(capsys, tmp_path):
         code, out, _ = run(capsys, "plan", str(path), *implicit)
         assert code == 0
         assert "  1. on" in out and "  2. use" in out and "  0." not in out
+
+
+def test_irrelevant_atoms_change_neither_the_plan_nor_the_validated_states(capsys, tmp_path):
+    """The command line validates on the states the search sees (issue 21: grapevine with
+    8 atoms nobody observes used to spend minutes contracting 16,384-world states)."""
+    source = Path(MUDDY).parents[1] / "planning" / "grapevine.epi"
+    lines = source.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("atoms "))
+    lines.insert(at + 1, "atoms " + ", ".join(f"junk{j}" for j in range(8)))
+    padded = tmp_path / "grapevine_padded.epi"
+    padded.write_text("\n".join(lines) + "\n")
+    code, out, _ = run(capsys, "plan", str(source), "--json", "--explain")
+    plain = json.loads(out)
+    code_padded, out, _ = run(capsys, "plan", str(padded), "--json", "--explain")
+    data = json.loads(out)
+    assert code == code_padded == 0
+    assert data["plan"] == plain["plan"] and data["valid"]
+    assert data["states"] == plain["states"]
+
+
+PLANNING = Path(MUDDY).parents[1] / "planning"
+
+
+def test_backends_give_the_same_plan(capsys):
+    path = str(PLANNING / "selective_communication.epi")
+    _, out, _ = run(capsys, "plan", path, "--json", "--backend", "explicit")
+    explicit = json.loads(out)
+    code, out, _ = run(capsys, "plan", path, "--json", "--backend", "symbolic")
+    symbolic = json.loads(out)
+    assert code == 0 and symbolic["valid"] and symbolic["backend"] == "symbolic"
+    assert explicit["backend"] == "explicit" and symbolic["plan"] == explicit["plan"]
+    code, _, err = run(capsys, "plan", path, "--backend", "symbolic", "--implicit")
+    assert code == 2 and "Kripke models only" in err
+
+
+def test_policy_tree_and_its_verification(capsys, tmp_path):
+    path = str(PLANNING / "two_robots_implicit.epi")
+    code, out, _ = run(capsys, "plan", path, "--implicit", "--policy", "--perspective", "r2")
+    assert code == 0
+    assert "  r1, when it knows target1: go_r1_g1\n    r2: go_r2_g2\n" in out
+    assert "  r1, when it knows ~target1: go_r1_g2\n    r2: go_r2_g1\n" in out
+    code, out, _ = run(
+        capsys, "plan", path, "--implicit", "--policy", "--perspective", "r2", "--json"
+    )
+    saved = tmp_path / "policy.json"
+    saved.write_text(out)
+    assert json.loads(out)["depth"] == 2 and json.loads(out)["decisions"] == 4
+    verify = ["plan", path, "--implicit", "--policy", "--perspective", "r2", "--verify"]
+    code, out, _ = run(capsys, *verify, str(saved))
+    assert code == 0 and "implicitly coordinated" in out
+    code, out, _ = run(capsys, *verify, "go_r1_g1,go_r2_g2")  # no branch: fails for ~target1
+    assert code == 1 and "does not know that go_r1_g1 is applicable" in out
+
+
+def test_policy_where_no_sequential_plan_exists(capsys):
+    path = str(PLANNING / "policies" / "tiger_signal.epi")
+    code, _, _ = run(capsys, "plan", path, "--implicit")
+    assert code == 1
+    code, out, _ = run(capsys, "plan", path, "--implicit", "--policy")
+    assert code == 0 and "l, when it knows tiger_left: go_right" in out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--policy"],  # needs --implicit
+        ["--implicit", "--perspective", "r2"],  # needs --policy
+        ["--implicit", "--policy", "--perspective", "nobody"],
+        ["--implicit", "--policy", "--verify", "missing.json"],
+    ],
+)
+def test_policy_options_misused_exit_2(capsys, argv):
+    code, _, err = run(capsys, "plan", str(PLANNING / "two_robots_implicit.epi"), *argv)
+    assert code == 2 and "hint:" in err
+
+
+def test_verify_on_the_symbolic_backend(capsys):
+    path = str(PLANNING / "selective_communication.epi")
+    argv = ["plan", path, "--backend", "symbolic", "--verify"]
+    code, out, _ = run(capsys, *argv, "right,sense,right,right,shout")
+    assert code == 0 and "valid" in out
+    code, out, _ = run(capsys, *argv, "sense,right")
+    assert code == 1 and "step 1 (sense) is not applicable" in out
+    code, out, _ = run(capsys, *argv, "right,sense", "--explain")
+    assert code == 1 and "variables, atoms: at1, at2, at3, at4, secret" in out

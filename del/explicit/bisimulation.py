@@ -2,26 +2,39 @@
 
 Two worlds are bisimilar when they agree on every atom and each agent's successors of one
 can be matched by bisimilar successors of the other; bisimilar worlds satisfy the same
-formulas of the language. The coarsest bisimulation is computed by partition refinement:
-start from "same valuation" and split blocks by the set of blocks each world reaches, per
-agent and relation, until nothing splits.
+formulas of the language. The coarsest bisimulation is the coarsest stable refinement of
+"same valuation" in a labelled graph (:mod:`~epistemica.del_.explicit._refinement`, O(m log n)):
 
-Each round summarises "the set of blocks a world reaches" by a sum of random 64-bit
-values, one per block (a set hash drawn from a fixed seed, so results are reproducible);
-two different sets collide with probability about 2^-64 per comparison.
+- each world is a node;
+- each relation (per agent, belief and, when separate, knowledge) has a label, and its
+  worlds' successor *sets* are nodes too: a world has one edge to its set, and the set
+  one edge to each member. A partition's sets are its classes, so an equivalence costs
+  two edges per world instead of the square of its class sizes; arrows whose rows repeat
+  (beliefs after an oblivious event) share a node per distinct row.
+
+Two worlds then reach the same blocks exactly when their successor sets meet the same
+blocks, which is the bisimulation condition.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import breadth_first_order
 
 from epistemica.del_.errors import ModelError
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._refinement import coarsest_partition, mix64, ranges
 from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
 
-__all__ = ["bisimilar", "bisimulation_classes", "generated_submodel", "minimize", "quotient"]
-
-_SEED = 20170601
+__all__ = [
+    "bisimilar",
+    "bisimulation_classes",
+    "generated_submodel",
+    "minimize",
+    "quotient",
+    "successor_sets",
+]
 
 
 def generated_submodel(model: ExplicitModel) -> ExplicitModel:
@@ -34,19 +47,34 @@ def generated_submodel(model: ExplicitModel) -> ExplicitModel:
     >>> generated_submodel(m).worlds
     ('u',)
     """
+    reached = _reached(model)
+    if reached.all():
+        return model
+    return model.restrict(reached)
+
+
+# Reachability first steps through the relations' own operations (a few numpy calls per
+# step, the whole model each time); a model not done after this many steps is searched
+# once over an explicit graph instead, in O(worlds + edges).
+_STEPS = 16
+
+
+def _reached(model: ExplicitModel) -> np.ndarray:
     reached = np.zeros(model.n_worlds, dtype=bool)
     reached[model.designated_positions] = True
     relations = _relations(model)
     frontier = reached.copy()
-    while frontier.any():
+    for _ in range(_STEPS):
+        if not frontier.any():
+            return reached
         step = np.zeros_like(reached)
         for r in relations:
             step |= r.successors_of(frontier)
         frontier = step & ~reached
         reached |= frontier
-    if reached.all():
-        return model
-    return model.restrict(reached)
+    if not frontier.any():
+        return reached
+    return _Graph(model).reached(model.designated_positions)
 
 
 def bisimulation_classes(model: ExplicitModel) -> np.ndarray:
@@ -61,30 +89,9 @@ def bisimulation_classes(model: ExplicitModel) -> np.ndarray:
     >>> bool(u == v != w)   # u and v only see each other's p-worlds; w has no p
     True
     """
-    rng = np.random.default_rng(_SEED)
-    blocks = _valuation_classes(model.valuation)
-    relations = _relations(model)
-    count = int(blocks.max()) + 1 if len(blocks) else 0
-    while True:
-        weights = rng.integers(0, 2**64, size=count, dtype=np.uint64, endpoint=False)
-        digest = np.zeros(len(blocks), dtype=np.uint64)
-        for relation in relations:
-            multiplier = rng.integers(0, 2**64, dtype=np.uint64, endpoint=False) | np.uint64(1)
-            digest = digest * multiplier + _reach_signature(relation, blocks, weights)
-        refined = _group_pairs(blocks, digest)
-        new_count = int(refined.max()) + 1 if len(refined) else 0
-        if new_count == count:
-            return refined
-        blocks, count = refined, new_count
-
-
-def _group_pairs(first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Labels ``0..k-1`` of the distinct pairs ``(first[i], second[i])``, exactly."""
-    order = np.lexsort((second, first))
-    changed = (np.diff(first[order]) != 0) | (np.diff(second[order]) != 0)
-    labels = np.empty(len(first), dtype=np.intp)
-    labels[order] = np.concatenate([[0], np.cumsum(changed)]) if len(first) else []
-    return labels
+    if not model.n_worlds:
+        return np.zeros(0, dtype=np.intp)
+    return _Graph(model).classes()
 
 
 def minimize(model: ExplicitModel) -> ExplicitModel:
@@ -176,6 +183,109 @@ def _relations(model: ExplicitModel) -> list[Relation]:
     return found
 
 
+class _Graph:
+    """A model as the labelled graph whose coarsest stable partition is bisimilarity.
+
+    Nodes ``0..n-1`` are the worlds, then come the successor-set nodes of each relation.
+    ``initial`` separates worlds by valuation and the set nodes of each relation from
+    everything else.
+    """
+
+    def __init__(self, model: ExplicitModel) -> None:
+        n = model.n_worlds
+        valuation = _valuation_classes(model.valuation)
+        n_blocks = int(valuation.max()) + 1 if n else 0
+        initial, sources, targets, labels = [valuation], [], [], []
+        count = n
+        for label, relation in enumerate(_relations(model)):
+            owner, n_sets, members, of_set = successor_sets(relation)
+            # Each edge list sorted by target, for the refinement's merge (see there).
+            by_set, by_member = np.argsort(owner), np.argsort(members, kind="stable")
+            sources += [by_set, of_set[by_member] + count]
+            targets += [owner[by_set] + count, members[by_member]]
+            labels += [np.full(n, 2 * label), np.full(len(members), 2 * label + 1)]
+            initial.append(np.full(n_sets, n_blocks + label))
+            count += n_sets
+        self.n_nodes = count
+        self.initial = np.concatenate(initial)
+        empty = np.zeros(0, dtype=np.int64)
+        self.sources = np.concatenate(sources) if sources else empty
+        self.targets = np.concatenate(targets) if targets else empty
+        self.labels = np.concatenate(labels) if labels else empty
+        self.n_worlds = n
+
+    def reached(self, points: np.ndarray) -> np.ndarray:
+        """Which worlds are reachable from ``points`` (a breadth-first search, O(n + m))."""
+        root = self.n_nodes  # one more node, pointing at every point
+        rows = np.concatenate([self.sources, np.full(len(points), root)])
+        cols = np.concatenate([self.targets, points])
+        data = np.ones(len(rows), dtype=bool)
+        graph = sp.coo_matrix((data, (rows, cols)), shape=(root + 1, root + 1)).tocsr()
+        found = breadth_first_order(graph, root, directed=True, return_predecessors=False)
+        reached = np.zeros(root + 1, dtype=bool)
+        reached[found] = True
+        return reached[: self.n_worlds]
+
+    def classes(self) -> np.ndarray:
+        """Each world's class of the coarsest bisimulation, labels ``0..k-1``."""
+        blocks = coarsest_partition(self.initial, self.sources, self.targets, self.labels)
+        return np.unique(blocks[: self.n_worlds], return_inverse=True)[1].reshape(-1)
+
+
+def successor_sets(relation: Relation) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+    """Each world's successor set: ``(set of each world, number of sets, members, and
+    the set each member belongs to)``; worlds with equal successor sets share one."""
+    if isinstance(relation, Partition):
+        # Unused labels are sets without members; compact only when they would abound.
+        compact = relation.n_labels > 2 * relation.n
+        classes = relation.compact() if compact else relation.labels.astype(np.int64)
+        return (
+            classes,
+            int(classes.max()) + 1 if compact and len(classes) else relation.n_labels,
+            np.arange(len(classes)),
+            classes,
+        )
+    matrix = relation.to_csr()
+    owner, n_sets = _equal_rows(matrix)
+    first = np.full(n_sets, -1, dtype=np.int64)
+    first[owner[::-1]] = np.arange(relation.n)[::-1]
+    rows = matrix[first]
+    of_set = np.repeat(np.arange(n_sets), np.diff(rows.indptr))
+    return owner, n_sets, rows.indices.astype(np.int64), of_set
+
+
+def _equal_rows(matrix: sp.csr_matrix) -> tuple[np.ndarray, int]:
+    """A label per row of a CSR matrix, equal for rows with the same columns (exactly)."""
+    matrix = matrix.tocsr()
+    matrix.sort_indices()
+    lengths = np.diff(matrix.indptr)
+    starts = matrix.indptr[:-1]
+    digest = mix64(lengths)
+    nonempty = lengths > 0
+    if len(matrix.indices):
+        digest[nonempty] ^= np.add.reduceat(mix64(matrix.indices), starts[nonempty])
+    _, first, labels = np.unique(digest, return_index=True, return_inverse=True)
+    labels = labels.reshape(-1)
+    # The digest groups rows; check each against its group's first row, exactly.
+    check = np.flatnonzero(first[labels] != np.arange(len(labels)))
+    rep = first[labels[check]]
+    if np.array_equal(lengths[check], lengths[rep]):
+        size = lengths[check]
+        mine = matrix.indices[ranges(starts[check], size)]
+        theirs = matrix.indices[ranges(starts[rep], size)]
+        if np.array_equal(mine, theirs):
+            return labels, len(first)
+    exact: dict[tuple, int] = {}
+    labels = np.array(
+        [
+            exact.setdefault(tuple(matrix.indices[s : s + k].tolist()), len(exact))
+            for s, k in zip(starts.tolist(), lengths.tolist(), strict=True)
+        ],
+        dtype=np.int64,
+    )
+    return labels, len(exact)
+
+
 def _valuation_classes(val: np.ndarray) -> np.ndarray:
     if not val.shape[1]:
         return np.zeros(len(val), dtype=np.intp)
@@ -184,22 +294,6 @@ def _valuation_classes(val: np.ndarray) -> np.ndarray:
         return np.unique(codes, return_inverse=True)[1].reshape(-1)
     packed = np.packbits(val, axis=1)
     return np.unique(packed, axis=0, return_inverse=True)[1].reshape(-1)
-
-
-def _reach_signature(relation: Relation, blocks: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Per world, a hash of the set of blocks its successors lie in (a sum of weights)."""
-    if isinstance(relation, Partition):
-        owner, target_block = relation.labels, blocks
-        size = relation.n_labels
-    else:
-        owner, targets = relation.edges()
-        target_block = blocks[targets]
-        size = relation.n
-    width = len(weights)
-    pairs = np.unique(owner.astype(np.int64) * width + target_block)
-    signature = np.zeros(size, dtype=np.uint64)
-    np.add.at(signature, pairs // width, weights[pairs % width])
-    return signature[relation.labels] if isinstance(relation, Partition) else signature
 
 
 def _quotient(relation: Relation, blocks: np.ndarray, count: int) -> Relation:

@@ -5,11 +5,15 @@ hashable value, so that a planner can detect a state it has seen before with one
 lookup instead of pairwise :func:`~epistemica.del_.explicit.bisimulation.bisimilar` tests.
 
 The key comes from a partition refinement in which every class is named by its rank in
-the sorted order of its description (valuation first, then per agent and relation the
-set of classes reached), so the names do not depend on the order or names of the worlds.
-At the fixed point the classes are the bisimulation classes and the key spells out the
-quotient model. Refinement runs on int64 bitmasks while there are at most 62 classes
-(vectorised with numpy) and on Python tuples beyond that.
+an order of descriptions that depends on their content only (valuation first, then per
+agent and relation the set of classes reached), so the names do not depend on the order
+or names of the worlds. At the fixed point the classes are the bisimulation classes and
+the key spells out the quotient model. A state of more than :data:`CONTRACT_ABOVE` worlds
+is contracted first (:func:`~epistemica.del_.explicit.bisimulation.bisimulation_classes`,
+O(m log n)), which leaves the key unchanged: every description is a bisimulation
+invariant. Refinement runs on int64 bitmasks while there are at most 62 classes, and
+beyond that on 64-bit hashes of each successor set, ordered by (label, hash); sets with
+equal hashes are compared exactly, and a collision falls back to Python tuples.
 
 Examples
 --------
@@ -23,15 +27,22 @@ False
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._refinement import mix64, ranges
+from epistemica.del_.explicit.bisimulation import bisimulation_classes, quotient, successor_sets
 from epistemica.del_.explicit.relations import Partition, Relation
 
-__all__ = ["canonical_classes", "canonical_key"]
+__all__ = ["CONTRACT_ABOVE", "canonical_classes", "canonical_key"]
 
 # Sets of at most this many classes (and valuations of fewer atoms) are int64 bitmasks.
 _MASK_BITS = 62
+
+#: States of more worlds are contracted before their canonical refinement.
+CONTRACT_ABOVE = 256
 
 
 def canonical_key(state: ExplicitModel) -> tuple:
@@ -78,6 +89,11 @@ def canonical_classes(state: ExplicitModel) -> tuple[list[int], tuple]:
     >>> key == canonical_key(m)
     True
     """
+    if state.n_worlds > CONTRACT_ABOVE:
+        blocks = bisimulation_classes(state)
+        if int(blocks.max()) + 1 < state.n_worlds:
+            labels, key = canonical_classes(quotient(state, blocks))
+            return np.asarray(labels)[blocks].tolist(), key
     atoms = sorted(
         a for a, column in zip(state.atoms, state.valuation.T, strict=True) if column.any()
     )
@@ -90,6 +106,9 @@ def canonical_classes(state: ExplicitModel) -> tuple[list[int], tuple]:
         found = _canonical_bitmasks(state, atoms, relations)
         if found is not None:
             return found
+    found = _canonical_hashes(state, atoms, relations)
+    if found is not None:
+        return found
     return _canonical_tuples(state, atoms, relations)
 
 
@@ -104,30 +123,54 @@ def _canonical_bitmasks(
     columns = [state.atoms.index(a) for a in atoms]
     codes = state.valuation[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
     labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
-    count = int(labels.max()) + 1
-    while True:
-        if count > _MASK_BITS:
+
+    def describe(labels: np.ndarray) -> np.ndarray | None:
+        if int(labels.max()) + 1 > _MASK_BITS:
             return None
         masks: dict[int, np.ndarray] = {}  # a relation shared by belief and knowledge
         for r in relations:
             if id(r) not in masks:
                 masks[id(r)] = _reached_mask(r, labels)
-        described = np.column_stack([labels] + [masks[id(r)] for r in relations])
-        order = np.lexsort(described.T[::-1])
-        ordered = described[order]
-        changed = np.zeros(len(labels), dtype=bool)
-        changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-        refined = np.empty_like(labels)
-        refined[order] = np.cumsum(changed)
-        new_count = int(refined.max()) + 1
-        labels = refined
-        if new_count == count:
-            break
-        count = new_count
+        return np.column_stack([labels] + [masks[id(r)] for r in relations])
+
+    done = _fixed_point(labels, describe)
+    if done is None:
+        return None
+    labels, described = done
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
     table = np.column_stack([codes, described[:, 1:]])[first]
     points = tuple(np.unique(labels[state.designated_positions]).tolist())
     return labels.tolist(), (tuple(atoms), table.tobytes(), points)
+
+
+def _fixed_point(
+    labels: np.ndarray, describe: Callable[[np.ndarray], np.ndarray | None]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """Refine ``labels`` by ranking ``describe(labels)`` (one row per world, the label
+    first) until the number of classes stops growing; the labels and the last rows, or
+    None as soon as ``describe`` gives up."""
+    count = int(labels.max()) + 1
+    while True:
+        described = describe(labels)
+        if described is None:
+            return None
+        refined = _rank_rows(described)
+        new_count = int(refined.max()) + 1
+        if new_count == count:
+            return refined, described
+        labels, count = refined, new_count
+
+
+def _rank_rows(described: np.ndarray) -> np.ndarray:
+    """Each row's rank among the distinct rows, in lexicographic order: names that depend
+    on the rows' content only."""
+    order = np.lexsort(described.T[::-1])
+    ordered = described[order]
+    changed = np.zeros(len(described), dtype=bool)
+    changed[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    refined = np.empty(len(described), dtype=np.int64)
+    refined[order] = np.cumsum(changed)
+    return refined
 
 
 def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
@@ -143,18 +186,91 @@ def _reached_mask(relation: Relation, labels: np.ndarray) -> np.ndarray:
     return reached
 
 
+def _canonical_hashes(
+    state: ExplicitModel, atoms: list[str], relations: list[Relation]
+) -> tuple[list[int], tuple] | None:
+    """Vectorised canonical refinement for any number of classes; None on a collision.
+
+    A world's description is its label and, per relation, a 64-bit hash of the set of
+    labels its successors have; descriptions are ranked by (label, hashes), an order that
+    depends on content only. Sets with equal hashes are compared exactly within the state,
+    and the key lists the sets themselves, so keys of different states never collide.
+    """
+    columns = [state.atoms.index(a) for a in atoms]
+    rows = np.packbits(state.valuation[:, columns], axis=1)
+    labels = _row_ranks(rows)
+    sets = {}
+    for r in relations:
+        if id(r) not in sets:
+            sets[id(r)] = successor_sets(r)
+    found: dict[int, tuple] = {}
+
+    def describe(labels: np.ndarray) -> np.ndarray | None:
+        found.update({key: _set_hashes(parts, labels) for key, parts in sets.items()})
+        if any(f is None for f in found.values()):
+            return None
+        return np.column_stack(
+            [labels.astype(np.uint64)] + [found[id(r)][0][sets[id(r)][0]] for r in relations]
+        )
+
+    done = _fixed_point(labels, describe)
+    if done is None:
+        return None
+    labels = done[0]
+    first = np.unique(labels, return_index=True)[1]  # one world per class, by class
+    parts = [rows[first].tobytes()]
+    for r in relations:
+        # per class: the sorted distinct labels its successors have, with their count
+        chosen = sets[id(r)][0][first]
+        starts, lengths = found[id(r)][1]
+        parts.append(lengths[chosen].tobytes())
+        parts.append(found[id(r)][2][ranges(starts[chosen], lengths[chosen])].tobytes())
+    points = tuple(np.unique(labels[state.designated_positions]).tolist())
+    return labels.tolist(), (tuple(atoms), tuple(parts), points)
+
+
+def _set_hashes(parts: tuple, labels: np.ndarray) -> tuple | None:
+    """Per successor set, a hash of the labels it meets (exact within the state).
+
+    Returns ``(hashes, (starts, lengths), sorted labels)``: each set's distinct member
+    labels are ``sorted labels[starts[s] : starts[s] + lengths[s]]``; ``None`` when two
+    different sets share a hash.
+    """
+    _, n_sets, members, of_set = parts
+    met = of_set.astype(np.int64) * (int(labels.max()) + 1) + labels[members]
+    met = np.unique(met)
+    width = int(labels.max()) + 1
+    owner, label = met // width, met % width
+    lengths = np.bincount(owner, minlength=n_sets)
+    starts = np.zeros(n_sets, dtype=np.int64)
+    starts[1:] = np.cumsum(lengths)[:-1]
+    hashes = np.zeros(n_sets, dtype=np.uint64)
+    hit = lengths > 0
+    if len(label):
+        hashes[hit] = np.add.reduceat(mix64(label), starts[hit])
+    hashes ^= mix64(lengths)
+    # Equal hashes must mean equal sets: compare each set with the first of its hash.
+    _, first, inverse = np.unique(hashes, return_index=True, return_inverse=True)
+    rep = first[inverse.reshape(-1)]
+    if not np.array_equal(lengths, lengths[rep]):
+        return None
+    if not np.array_equal(label[ranges(starts, lengths)], label[ranges(starts[rep], lengths)]):
+        return None
+    return hashes, (starts, lengths), label
+
+
 def _canonical_tuples(
     state: ExplicitModel, atoms: list[str], relations: list[Relation]
 ) -> tuple[list[int], tuple]:
     """Canonical refinement on Python tuples, for states of many classes."""
     columns = [state.atoms.index(a) for a in atoms]
     rows = [tuple(np.flatnonzero(row)) for row in state.valuation[:, columns]]
-    labels = _ranks(rows)
+    labels = _tuple_ranks(rows)
     count = len(set(labels))
     while True:
         reached = [_reached_labels(relation, labels) for relation in relations]
         described = [(labels[w], *(r[w] for r in reached)) for w in range(state.n_worlds)]
-        labels = _ranks(described)
+        labels = _tuple_ranks(described)
         new_count = len(set(labels))
         if new_count == count:
             break
@@ -180,7 +296,15 @@ def _reached_labels(relation: Relation, labels: list[int]) -> list[tuple[int, ..
     return [tuple(sorted(targets)) for targets in found]
 
 
-def _ranks(items: list) -> list[int]:
-    # Each distinct item's rank in sorted order: names independent of world order.
+def _row_ranks(rows: np.ndarray) -> np.ndarray:
+    """Each distinct row's rank in the sorted order of rows (as bytes)."""
+    if not rows.shape[1]:
+        return np.zeros(len(rows), dtype=np.int64)
+    keys = np.ascontiguousarray(rows).view(np.dtype((np.void, rows.shape[1]))).reshape(-1)
+    return np.unique(keys, return_inverse=True)[1].reshape(-1).astype(np.int64)
+
+
+def _tuple_ranks(items: list) -> list[int]:
+    """Each distinct item's rank in sorted order: names independent of world order."""
     order = {item: rank for rank, item in enumerate(sorted(set(items)))}
     return [order[item] for item in items]

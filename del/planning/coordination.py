@@ -55,15 +55,21 @@ from epistemica.del_.explicit.checker import evaluate
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KripkeModel
-from epistemica.del_.planning.planner import applicable_in_all, inapplicable_worlds
+from epistemica.del_.planning.planner import (
+    applicable_in_all,
+    inapplicable_worlds,
+    relevant_part,
+)
 from epistemica.del_.planning.state_space import PlanResult, check_problem, search_states
 
 __all__ = [
     "CoordinationReport",
     "check_implicit_coordination",
+    "check_owners",
     "perspective",
     "plan_implicitly_coordinated",
     "plan_implicitly_coordinated_with_stats",
+    "pointed_at",
 ]
 
 
@@ -124,6 +130,11 @@ def perspective(state: KripkeModel, agent: str) -> KripkeModel:
     mask = np.zeros(state.n_worlds, dtype=bool)
     mask[state.designated_positions] = True
     seen = state.knowledge_relations[agent].successors_of(mask)
+    return pointed_at(state, np.flatnonzero(seen))
+
+
+def pointed_at(state: KripkeModel, positions: Iterable[int]) -> KripkeModel:
+    """The same model with the worlds at ``positions`` designated (by index)."""
     return KripkeModel.from_arrays(
         state.lazy_names,
         state.atoms,
@@ -131,7 +142,7 @@ def perspective(state: KripkeModel, agent: str) -> KripkeModel:
         state.agents,
         state.belief_relations,
         state.knowledge_relations,
-        np.flatnonzero(seen),
+        np.asarray(list(positions), dtype=np.intp),
     )
 
 
@@ -160,9 +171,9 @@ def check_implicit_coordination(
         True in a boolean context when the plan is implicitly coordinated.
     """
     check_problem(initial, actions)
-    _check_owners(initial, actions, owners)
+    check_owners(initial, actions, owners)
     tree = as_formula(goal)
-    table = dict(actions)
+    initial, table = relevant_part(initial, actions, tree, set(owners.values()))
     if isinstance(plan, str):
         raise InvalidArgumentError("plan must be a sequence of action names", hint=f"[{plan!r}]")
     steps = list(plan)
@@ -246,9 +257,9 @@ def plan_implicitly_coordinated_with_stats(
 ) -> PlanResult:
     """Like :func:`plan_implicitly_coordinated`, with search statistics."""
     check_problem(initial, actions)
-    _check_owners(initial, actions, owners)
+    check_owners(initial, actions, owners)
     tree = as_formula(goal)
-    table = dict(actions)
+    initial, table = relevant_part(initial, actions, tree, set(owners.values()))
 
     def successors(state: KripkeModel) -> Iterable[tuple[str, KripkeModel]]:
         views: dict[str, KripkeModel] = {}
@@ -298,7 +309,8 @@ def _atoms(model: KripkeModel, world) -> str:
     return "{" + ", ".join(sorted(model.valuation_of(world))) + "}"
 
 
-def _check_owners(initial: KripkeModel, actions: Mapping, owners: object) -> None:
+def check_owners(initial: KripkeModel, actions: Mapping, owners: object) -> None:
+    """Every action has an owner, an agent of the model (eagerly, with a hint)."""
     if not isinstance(owners, Mapping):
         raise InvalidArgumentError(
             "owners must map action names to agents", hint="e.g. {'go_r1_g1': 'r1'}"

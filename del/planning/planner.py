@@ -76,14 +76,17 @@ __all__ = [
     "SEARCHES",
     "PlanResult",
     "Validation",
+    "action_with_agents",
     "applicable_in_all",
     "canonical_key",
+    "choose_heuristic",
     "goal_count",
     "plan",
     "plan_with_stats",
     "project",
     "relevant_agents",
     "relevant_atoms",
+    "relevant_part",
     "uses_knowledge",
     "validate",
 ]
@@ -103,7 +106,9 @@ class Validation:
         0-based index of the first inapplicable action; ``len(plan)`` when only the goal
         fails; ``None`` when valid.
     states : tuple of KripkeModel
-        The (contracted) states reached, starting with the initial one.
+        The (contracted) states reached, starting with the initial one, on the atoms and
+        agents the search sees (knowledge structures, normalised, for
+        :func:`~epistemica.del_.planning.symbolic_search.validate_symbolic`).
     """
 
     valid: bool
@@ -181,7 +186,7 @@ def plan_with_stats(
     tree = as_formula(goal)
     table = dict(actions)
     if not callable(heuristic):  # a user's heuristic may read any atom or agent
-        initial, table = _relevant_part(initial, table, tree)
+        initial, table = relevant_part(initial, table, tree)
     # Without K, Kw, E, C or D anywhere, states that agree on beliefs are interchangeable:
     # the search then tracks belief relations only (half the relational work).
     beliefs_only = not uses_knowledge(tree, table.values())
@@ -196,7 +201,7 @@ def plan_with_stats(
     def is_goal(state: KripkeModel) -> bool:
         return state.holds(tree, actions=table)
 
-    h = _heuristic(heuristic, search, tree, table)
+    h = choose_heuristic(heuristic, search, tree, table)
     return search_states(initial, successors, is_goal, search, max_depth, h, max_states)
 
 
@@ -209,7 +214,8 @@ def validate(
     """Check a plan: every step applicable, the goal true at the end.
 
     Returns a :class:`Validation`, true in a boolean context when the plan is valid and
-    carrying the reason otherwise.
+    carrying the reason otherwise. The states are those the search visits: on the atoms
+    and agents that the goal or an action mentions (:func:`relevant_part`), contracted.
 
     Raises
     ------
@@ -242,6 +248,7 @@ def validate(
                 f"the plan names an unknown action {name!r}",
                 hint=f"actions: {', '.join(table)}",
             )
+    initial, table = relevant_part(initial, table, tree)
     state = initial.minimize()
     states = [state]
     for i, name in enumerate(steps):
@@ -330,19 +337,36 @@ def relevant_agents(goal: Formula | str, actions: Iterable[ActionModel]) -> froz
     return frozenset(g for f in _formulas(as_formula(goal), actions) for g in f.agents())
 
 
-def _relevant_part(
-    state: KripkeModel, actions: dict[str, ActionModel], goal: Formula
+def relevant_part(
+    state: KripkeModel,
+    actions: Mapping[str, ActionModel],
+    goal: Formula | str,
+    agents: Iterable[str] = (),
 ) -> tuple[KripkeModel, dict[str, ActionModel]]:
     """The state and actions without the atoms and agents no formula of them reads.
 
     An agent that no modality names changes no truth value, but its relation still
-    splits states (and each action carries it); an unread atom doubles the worlds.
+    splits states (and each action carries it); an unread atom doubles the worlds. The
+    search, :func:`validate` and implicit coordination (which also keeps ``agents``, the
+    owners whose perspectives it takes) all plan on this part, so they see the same
+    states. Every formula over the kept atoms and agents keeps its truth.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel, public_announcement
+    >>> s = KripkeModel.from_observables(["p", "junk"], {"a": [], "b": []}, designated=["p"])
+    >>> small, acts = relevant_part(s, {"tell": public_announcement("p", ["a", "b"])}, "K[a] p")
+    >>> small.atoms, small.agents, small.n_worlds
+    (('p',), ('a',), 2)
     """
-    keep = relevant_agents(goal, actions.values()) & set(state.agents) or set(state.agents[:1])
+    goal = as_formula(goal)
+    actions = dict(actions)
+    named = relevant_agents(goal, actions.values()) | set(agents)
+    keep = named & set(state.agents) or set(state.agents[:1])
     if len(keep) < len(state.agents):
         agents = tuple(a for a in state.agents if a in keep)
         state = _with_agents(state, agents)
-        actions = {name: _action_with_agents(a, agents) for name, a in actions.items()}
+        actions = {name: action_with_agents(a, agents) for name, a in actions.items()}
     return project(state, relevant_atoms(goal, actions.values())), actions
 
 
@@ -362,7 +386,8 @@ def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
     )
 
 
-def _action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+def action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionModel:
+    """The action model with the relations of ``agents`` only."""
     events = action.events
 
     def edges(table: dict, agent: str) -> list[tuple]:
@@ -523,9 +548,14 @@ def _goal_at_points(state: KripkeModel, goal: Formula, actions: Mapping) -> list
     return [bool(x) for x in mask[state.designated_positions]]
 
 
-def _heuristic(
+def choose_heuristic(
     heuristic: str | Heuristic | None, search: str, goal: Formula, actions: Mapping
 ) -> Heuristic | None:
+    """The heuristic function for ``search`` (None for breadth-first search), checked.
+
+    ``"goalcount"`` (the default for greedy and A*), ``"blind"`` or a callable; the
+    built-in ones call ``state.holds``, so they serve both backends.
+    """
     if search not in SEARCHES:
         raise InvalidArgumentError(
             f"unknown search {search!r}", hint=f"choose one of {', '.join(SEARCHES)}"

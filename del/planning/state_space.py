@@ -30,18 +30,28 @@ import heapq
 import math
 import time
 from collections import deque
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Hashable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.explicit.bisimulation import generated_submodel, quotient
-from epistemica.del_.explicit.canonical import canonical_classes, canonical_key
+from epistemica.del_.explicit.canonical import canonical_classes
 from epistemica.del_.models import KripkeModel
+from epistemica.del_.symbolic.structure import SymbolicModel
 
-__all__ = ["SEARCHES", "Heuristic", "PlanResult", "check_problem", "search_states"]
+__all__ = [
+    "SEARCHES",
+    "Heuristic",
+    "KeyedStates",
+    "PlanResult",
+    "StateStore",
+    "check_problem",
+    "search_states",
+]
 
 #: The search strategies that :func:`search_states` accepts.
 SEARCHES = ("bfs", "greedy", "astar")
@@ -100,6 +110,7 @@ def search_states(
     max_depth: int | None = None,
     heuristic: Heuristic | None = None,
     max_states: int | None = None,
+    store: StateStore | None = None,
 ) -> PlanResult:
     """Generic search over epistemic states with duplicate detection up to bisimulation.
 
@@ -120,6 +131,10 @@ def search_states(
         For ``greedy``/``astar``: a state's non-negative estimate (default 0).
     max_states : int, optional
         Stop storing new states after this many distinct ones.
+    store : StateStore, optional
+        Where distinct states are kept: by default Kripke models contracted and keyed by
+        :func:`~epistemica.del_.explicit.canonical.canonical_key`; the symbolic planner
+        passes one for knowledge structures.
 
     Returns
     -------
@@ -138,8 +153,8 @@ def search_states(
     _check_bound(max_depth, "max_depth", minimum=0)
     _check_bound(max_states, "max_states", minimum=1)
     start = time.perf_counter()
-    table = _StateTable()
-    root = table.add(initial.minimize())[0]
+    table = KeyedStates() if store is None else store
+    root = table.add(initial)[0]
     parent: dict[int, tuple[int, str] | None] = {root: None}
     depth = {root: 0}
     stats = {"expanded": 0, "generated": 0}
@@ -239,29 +254,60 @@ def search_states(
     return result(None)
 
 
-class _StateTable:
-    """Distinct states up to bisimulation, keyed by :func:`canonical_key`."""
+class StateStore(Protocol):
+    """Distinct states, stored once each: what :func:`search_states` needs of a store."""
 
-    def __init__(self) -> None:
-        self.states: list[KripkeModel] = []
-        self._index: dict[tuple, int] = {}
+    states: list
+
+    def __len__(self) -> int: ...
+
+    def find(self, state: Any) -> int | None:
+        """The index of a stored state equivalent to ``state``, or None."""
+
+    def add(self, state: Any) -> tuple[int, bool]:
+        """Store ``state`` (normalised) unless an equivalent one is; (index, whether new)."""
+
+
+class KeyedStates:
+    """A :class:`StateStore`: each state prepared (contracted, normalised) and keyed, one
+    per key. ``prepare(state)`` gives ``(state to store, key)``; the default contracts a
+    Kripke model and keys it by :func:`canonical_key`."""
+
+    def __init__(self, prepare: Callable[[Any], tuple[Any, Hashable]] | None = None) -> None:
+        self.states: list[Any] = []
+        self._index: dict[Hashable, int] = {}
+        self._prepare = prepare or _contracted
 
     def __len__(self) -> int:
         return len(self.states)
 
-    def find(self, state: KripkeModel) -> int | None:
-        return self._index.get(canonical_key(generated_submodel(state)))
+    def find(self, state: Any) -> int | None:
+        return self._index.get(self._prepare(state)[1])
 
-    def add(self, state: KripkeModel) -> tuple[int, bool]:
-        """Contract ``state`` and store it unless a bisimilar state is stored already."""
-        state = generated_submodel(state)
-        labels, key = canonical_classes(state)
+    def add(self, state: Any) -> tuple[int, bool]:
+        """Store ``state`` unless an equivalent (same key) state is stored already."""
+        state, key = self._prepare(state)
         found = self._index.get(key)
         if found is not None:
             return found, False
-        self.states.append(quotient(state, np.asarray(labels, dtype=np.intp)))
+        self.states.append(state)
         self._index[key] = len(self.states) - 1
         return len(self.states) - 1, True
+
+
+def _contracted(state: KripkeModel) -> tuple[KripkeModel, tuple]:
+    """The bisimulation contraction of the generated submodel, and its canonical key."""
+    state = generated_submodel(state)
+    labels, key = canonical_classes(state)
+    return quotient(state, np.asarray(labels, dtype=np.intp)), key
+
+
+_KIND_NAMES = {KripkeModel: "KripkeModel", SymbolicModel: "KnowledgeStructure"}
+_KIND_HINTS = {
+    KripkeModel: "build one with KripkeModel(...) or KripkeModel.from_observables(...)",
+    SymbolicModel: "build one with KnowledgeStructure.from_observables(...) or "
+    "KripkeModel.to_symbolic()",
+}
 
 
 def _check_bound(value: object, name: str, minimum: int) -> None:
@@ -274,12 +320,13 @@ def _check_bound(value: object, name: str, minimum: int) -> None:
         )
 
 
-def check_problem(initial: object, actions: object) -> None:
-    """Validate a planning problem's initial state and named actions eagerly."""
-    if not isinstance(initial, KripkeModel):
+def check_problem(initial: object, actions: object, kind: type = KripkeModel) -> None:
+    """Validate a planning problem's initial state (a ``kind``) and named actions eagerly."""
+    if not isinstance(initial, kind):
         raise InvalidArgumentError(
-            f"the initial state must be a KripkeModel, got {type(initial).__name__}",
-            hint="build one with KripkeModel(...) or KripkeModel.from_observables(...)",
+            f"the initial state must be a {_KIND_NAMES.get(kind, kind.__name__)}, "
+            f"got {type(initial).__name__}",
+            hint=_KIND_HINTS.get(kind, "build it with from_observables(...)"),
         )
     if not isinstance(actions, Mapping):
         raise InvalidArgumentError(

@@ -216,6 +216,26 @@ def _add_plan(commands) -> None:
         "--implicit, whether it is implicitly coordinated and why not",
     )
     plan.add_argument("--json", action="store_true", help="print a JSON object")
+    plan.add_argument(
+        "--backend",
+        choices=("auto", "explicit", "symbolic"),
+        default="auto",
+        help="search over Kripke models or over BDD knowledge structures (default auto: "
+        "symbolic when the explicit model would exceed the memory budget)",
+    )
+    plan.add_argument(
+        "--policy",
+        action="store_true",
+        help="with --implicit: a policy that branches on what the acting agent observes "
+        "(printed as a tree); with --verify, check a policy (a JSON file written by "
+        "--policy --json, or a plan A,B,C) against that definition",
+    )
+    plan.add_argument(
+        "--perspective",
+        metavar="AGENT",
+        help="with --implicit --policy: plan (or verify) from this agent's perspective on the "
+        "initial state, every world it considers possible designated",
+    )
     plan.set_defaults(handler="epistemica.cli_plan:run_plan")
 
 

@@ -24,7 +24,7 @@ from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 
-__all__ = ["plan_implicit", "print_steps", "split_plan", "verify_plan"]
+__all__ = ["owners_of", "plan_implicit", "print_steps", "split_plan", "verify_plan"]
 
 EXIT_OK, EXIT_FALSE = 0, 1
 
@@ -82,7 +82,8 @@ def _canonical(name: str) -> str:
     return f"{stem.strip()}({', '.join(a.strip() for a in args)})"
 
 
-def _owners(spec: Any, file: str) -> dict[str, str]:
+def owners_of(spec: Any, file: str) -> dict[str, str]:
+    """The spec's action owners; a located error naming the first action without one."""
     missing = [name for name in spec.actions if name not in spec.owners]
     if missing:
         raise SpecError(
@@ -106,11 +107,11 @@ def _check_steps(spec: Any, steps: list[str]) -> None:
             )
 
 
-def _states(spec: Any, steps: list[str]) -> list[str]:
+def _states(spec: Any, steps: list[str], validate_with: Any = None, describe: Any = None):
     from epistemica.del_ import describe_model, validate
 
-    run = validate(spec.model, spec.actions, steps, spec.goal)
-    return [describe_model(s) for s in run.states]
+    run = (validate_with or validate)(spec.model, spec.actions, steps, spec.goal)
+    return [(describe or describe_model)(s) for s in run.states]
 
 
 def print_steps(steps: list[str], owners: dict[str, str], states: list[str] | None) -> None:
@@ -151,7 +152,7 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
             f"--implicit searches breadth-first only, not with --search {args.search}",
             hint="drop --search (implicitly coordinated plans are found by BFS)",
         )
-    owners = _owners(spec, args.file)
+    owners = owners_of(spec, args.file)
     result = plan_implicitly_coordinated_with_stats(
         spec.model, spec.actions, owners, spec.goal, max_depth=args.max_depth
     )
@@ -195,20 +196,26 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
     return EXIT_OK if ok else EXIT_FALSE
 
 
-def verify_plan(args: argparse.Namespace, spec: Any) -> int:
-    """Check the plan given with ``--verify``: implicitly coordinated, or just valid."""
-    from epistemica.del_ import check_implicit_coordination, validate
+def verify_plan(
+    args: argparse.Namespace, spec: Any, validate_with: Any = None, describe: Any = None
+) -> int:
+    """Check the plan given with ``--verify``: implicitly coordinated, or just valid
+    (by ``validate_with``, default :func:`~epistemica.del_.validate`, its states printed
+    by ``describe`` with ``--explain``)."""
+    from epistemica.del_ import check_implicit_coordination, describe_model, validate
+
+    validate_with, describe = validate_with or validate, describe or describe_model
 
     steps = split_plan(args.verify)
     _check_steps(spec, steps)
     if args.implicit:
-        owners = _owners(spec, args.file)
+        owners = owners_of(spec, args.file)
         report = check_implicit_coordination(spec.model, spec.actions, owners, steps, spec.goal)
         ok, reason, verdict = report.coordinated, report.reason, "implicitly coordinated"
         extra = _report_json(report)
     else:
         owners = dict(spec.owners)
-        run = validate(spec.model, spec.actions, steps, spec.goal)
+        run = validate_with(spec.model, spec.actions, steps, spec.goal)
         ok, reason, verdict = run.valid, run.reason, "valid"
         # Steps count from 1 in every output, and a goal that fails only at the end is
         # charged to the last step, as --implicit does (Validation.step is 0-based and
@@ -219,12 +226,12 @@ def verify_plan(args: argparse.Namespace, spec: Any) -> int:
         out = {"file": args.file, "goal": str(spec.goal), "implicit": args.implicit}
         out.update({"plan": steps, **extra})
         if args.explain:
-            out["states"] = _states(spec, steps)
+            out["states"] = _states(spec, steps, validate_with, describe)
         print(json.dumps(out, indent=2))
         return EXIT_OK if ok else EXIT_FALSE
     print(f"plan {', '.join(steps)}: {'' if ok else 'not '}{verdict}")
     if args.explain:
-        print_steps(steps, owners, _states(spec, steps))
+        print_steps(steps, owners, _states(spec, steps, validate_with, describe))
     print(f"  {reason}")
     return EXIT_OK if ok else EXIT_FALSE
 

@@ -4,25 +4,55 @@ Helper of :mod:`epistemica.cli`, imported only when the command runs; ``--implic
 ``--verify`` are in :mod:`epistemica.cli_coordination`. Plan steps are numbered from 1 in
 every output, text and JSON alike. Exit status 0 when a (valid) plan was found, 1 when no
 plan exists or the plan is not valid.
+
+``--backend``: ``explicit`` searches over Kripke models, ``symbolic`` over knowledge
+structures (:mod:`epistemica.del_.planning.symbolic_search`), ``auto`` (the default) the
+explicit one unless its estimate for the spec's atoms exceeds the memory budget.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from typing import Any
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli_inputs import load_input, plank_line
 from epistemica.del_ import describe_model, plan_with_stats, validate
-from epistemica.del_.errors import SpecError
+from epistemica.del_.errors import InvalidArgumentError, SpecError
+from epistemica.del_.formats.epddl import is_epddl
+from epistemica.del_.formats.smcdel import is_smcdel
 
-__all__ = ["run_plan"]
+__all__ = ["load_for_planning", "run_plan"]
+
+
+def load_for_planning(path: str, backend: str = "auto") -> tuple[Any, str]:
+    """The spec with its model for ``backend``, and the backend chosen (``explicit`` or
+    ``symbolic``); ``auto`` asks :func:`~epistemica.del_.planning.symbolic_search.choose_backend`
+    about the spec's atoms and agents."""
+    from epistemica.del_ import KripkeModel
+    from epistemica.del_.planning.symbolic_search import choose_backend
+    from epistemica.del_.spec.backend import load_spec
+
+    spec = load_spec(path, "symbolic" if backend == "symbolic" else "auto")
+    if backend == "symbolic":
+        return spec, "symbolic"
+    if isinstance(spec.model, KripkeModel):
+        return spec, "explicit"
+    if backend == "auto" and choose_backend(len(spec.atoms), len(spec.agents)) == "symbolic":
+        return spec, "symbolic"
+    return load_spec(path, "explicit"), "explicit"
 
 
 def run_plan(args: argparse.Namespace) -> int:
     """Run ``epistemica plan`` with parsed arguments; return the exit status."""
-    spec, task = load_input(args)
+    task = None
+    if getattr(args, "problem", None) is not None or is_epddl(args.file) or is_smcdel(args.file):
+        spec, task = load_input(args)  # EPDDL and SMCDEL inputs plan on Kripke models
+        backend = "explicit"
+    else:
+        spec, backend = load_for_planning(args.file, getattr(args, "backend", "auto"))
     spec.require_goal()
     if not spec.actions:
         raise SpecError(
@@ -30,21 +60,59 @@ def run_plan(args: argparse.Namespace) -> int:
             filename=args.file,
             hint="declare 'action' lines to plan with",
         )
-    if args.verify is not None or args.implicit:
-        return verify_plan(args, spec) if args.verify is not None else plan_implicit(args, spec)
-    result = plan_with_stats(
+    policy = getattr(args, "policy", False)
+    if policy and not args.implicit:
+        raise InvalidArgumentError(
+            "--policy is a kind of implicitly coordinated plan",
+            hint="use it with --implicit (and --verify to check a plan as a policy)",
+        )
+    if getattr(args, "perspective", None) is not None and not policy:
+        raise InvalidArgumentError(
+            "--perspective is for policies", hint="use it with --implicit --policy"
+        )
+    if args.implicit and backend == "symbolic":
+        raise InvalidArgumentError(
+            "implicit coordination is planned over Kripke models only",
+            hint="use --backend explicit (or a smaller spec, or a larger --memory-budget)",
+        )
+    if policy:
+        from epistemica.cli_policy import plan_policy_command, verify_policy_command
+
+        if args.perspective is not None and args.perspective not in spec.agents:
+            raise InvalidArgumentError(
+                f"unknown agent {args.perspective!r} for --perspective",
+                hint=f"agents: {', '.join(spec.agents)}",
+            )
+        command = plan_policy_command if args.verify is None else verify_policy_command
+        return command(args, spec)
+    plan_with, validate_with, describe = plan_with_stats, validate, describe_model
+    if backend == "symbolic":
+        from epistemica.del_.planning.symbolic_search import (
+            plan_symbolic_with_stats,
+            validate_symbolic,
+        )
+
+        plan_with, validate_with, describe = plan_symbolic_with_stats, validate_symbolic, summary
+    if args.verify is not None:
+        return verify_plan(args, spec, validate_with, describe)
+    if args.implicit:
+        return plan_implicit(args, spec)
+    result = plan_with(
         spec.model, spec.actions, spec.goal, search=args.search or "bfs", max_depth=args.max_depth
     )
     check = (
-        None if result.plan is None else validate(spec.model, spec.actions, result.plan, spec.goal)
+        None
+        if result.plan is None
+        else validate_with(spec.model, spec.actions, result.plan, spec.goal)
     )
-    states = [] if check is None else [describe_model(s) for s in check.states]
+    states = [] if check is None else [describe(s) for s in check.states]
     ok = check is not None and check.valid
     if args.json:
         out = {
             "file": args.file,
             "goal": str(spec.goal),
             "search": result.search,
+            "backend": backend,
             "plan": result.plan,
             "length": result.length,
             "valid": ok,
@@ -62,6 +130,8 @@ def run_plan(args: argparse.Namespace) -> int:
         print(json.dumps(out, indent=2))
         return EXIT_OK if ok else EXIT_FALSE
     stats = f"{result.search}, {result.distinct} distinct states, {result.seconds:.3f} s"
+    if backend == "symbolic":
+        stats = f"symbolic, {stats}"
     if result.plan is None:
         why = "no plan exists" if result.complete else "no plan within the search bound"
         print(f"{why} for goal {spec.goal} ({stats})")
@@ -72,3 +142,11 @@ def run_plan(args: argparse.Namespace) -> int:
     if task is not None:
         print(plank_line(task, result.plan))
     return EXIT_OK if ok else EXIT_FALSE
+
+
+def summary(structure: Any) -> str:
+    """One line about a knowledge structure (``--explain`` of the symbolic backend)."""
+    return (
+        f"{structure.n_worlds} states ({structure.count_designated()} designated), "
+        f"{structure.n_variables} variables, atoms: {', '.join(structure.atoms)}"
+    )

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from epistemica.del_ import KripkeModel, load_spec, plan
+from epistemica.del_ import KripkeModel, load_spec, plan, validate
 from epistemica.del_.planning.planner import project, relevant_agents, relevant_atoms
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
@@ -68,3 +68,43 @@ def test_projection_keeps_what_a_law_ties_to_the_dropped_atom():
     small = project(m, ["p"])
     assert small.atoms == ("p",) and small.n_worlds == 2
     assert small.holds("K[a] p & ~Kw[b] p & K[b] Kw[a] p")
+
+
+def test_validation_sees_the_states_the_search_sees(tmp_path):
+    """validate projects as the search does: with 8 atoms nobody observes added to
+    grapevine (16,384 worlds), the validated states have the worlds of the plain spec."""
+    spec = load_spec(SPECS / "grapevine.epi")
+    padded = load_spec(_with_irrelevant_atoms(SPECS / "grapevine.epi", 8, tmp_path))
+    assert padded.model.n_worlds == 2**14
+    steps = plan(spec.model, spec.actions, spec.goal)
+    assert plan(padded.model, padded.actions, padded.goal) == steps
+    plain = validate(spec.model, spec.actions, steps, spec.goal)
+    run = validate(padded.model, padded.actions, steps, padded.goal)
+    assert plain and run
+    assert [s.n_worlds for s in run.states] == [s.n_worlds for s in plain.states]
+    assert all(not any(a.startswith("irrelevant") for a in s.atoms) for s in run.states)
+    # and a wrong plan is still refused, at the same step
+    wrong = ["share_b_b", *steps]
+    assert validate(padded.model, padded.actions, wrong, padded.goal).step == (
+        validate(spec.model, spec.actions, wrong, spec.goal).step
+    )
+
+
+def test_implicit_coordination_keeps_owners_and_drops_the_rest(tmp_path):
+    from epistemica.del_ import check_implicit_coordination, plan_implicitly_coordinated
+
+    path = SPECS / "two_robots_implicit.epi"
+    spec = load_spec(path)
+    padded = load_spec(_with_irrelevant_atoms(path, 6, tmp_path, agents=2))
+    found = plan_implicitly_coordinated(spec.model, spec.actions, spec.owners, spec.goal)
+    assert found == ["go_r1_g1", "go_r2_g2"]
+    assert (
+        plan_implicitly_coordinated(padded.model, padded.actions, padded.owners, padded.goal)
+        == found
+    )
+    # the owners are named by no formula (the goal and preconditions are propositional),
+    # yet their perspectives are what makes the other order fail
+    report = check_implicit_coordination(
+        padded.model, padded.actions, padded.owners, ["go_r2_g2", "go_r1_g1"], padded.goal
+    )
+    assert not report and (report.step, report.agent) == (1, "r1")
