@@ -147,11 +147,8 @@ __all__ = [
     "Or",
     "ParseError",
     "PlanResult",
-<<<<<<< HEAD
-    "SmcdelFile",
-=======
     "Policy",
->>>>>>> planning
+    "SmcdelFile",
     "SourceError",
     "Spec",
     "SpecError",
