@@ -100,6 +100,7 @@ class SymbolicModel:
     ) -> None:
         self._atoms = dict(atoms)
         self._slots = tuple(slots)
+        _bdd.reserve(self._slots)  # the structure's variables exist before it counts
         self._law = law
         self._agents = tuple(agents)
         self._belief = dict(belief)
@@ -332,8 +333,7 @@ class SymbolicModel:
     # -- internals ----------------------------------------------------------------------
 
     def _count(self, f: BDDFunction) -> int:
-        n_vars = _bdd.manager().num_vars()
-        return f.sat_count(n_vars) >> (n_vars - len(self._slots))
+        return _bdd.count(f, self._slots)
 
     def restricted(self, keep: BDDFunction, designated: BDDFunction) -> SymbolicModel:
         """The structure with the law narrowed to ``keep`` and these designated states."""
