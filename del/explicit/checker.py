@@ -25,8 +25,9 @@ the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first ra
 :class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
 evaluated through their partition; any other relation through its arrows.
 
-Atoms that the model does not know are false everywhere (a valuation lists true atoms
-only); spec files declare their atoms, which catches misspellings.
+An atom outside the model's vocabulary (its declared atoms, by default those its valuation
+names) is refused with "unknown atom", as on the symbolic backend; a declared atom that no
+world makes true is false everywhere.
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ import numpy as np
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._model import ExplicitModel, column_of
 from epistemica.del_.explicit._product import product_with_provenance
 from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
 from epistemica.del_.language.formula import (
@@ -381,9 +382,11 @@ class _Run:
 def _leaf(model: ExplicitModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
     """The read-only truth set of an atom, ``true`` or ``false``."""
     column = model.atom_column(f.key) if type(f) is Atom else None
+    if column is None and type(f) is Atom:
+        column_of(dict.fromkeys(model.atoms, 0), f.key, "the formula")  # raises: unknown
     if column is not None:  # a bitset built once per space, or a column of the valuation
         found = model.cube.atom(column) if bits else model.valuation[:, column]
-    elif bits:  # false, or an atom the model does not know (false everywhere), or true
+    elif bits:  # true or false
         found = model.cube.ones() if type(f) is Top else model.cube.zeros()
     else:
         found = np.full(model.n_worlds, type(f) is Top, dtype=bool)

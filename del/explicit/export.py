@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from epistemica.del_.explicit._model import ExplicitModel
-from epistemica.del_.explicit.describe import world_labels
+from epistemica.del_.explicit.describe import true_atoms, world_labels
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -74,7 +74,8 @@ def to_dot(model: ExplicitModel) -> str:
 
     Knowledge edges (when separate from belief) are dashed. Worlds are labelled with the
     names the user wrote (:func:`~epistemica.del_.explicit.describe.world_labels`: ``u``, ``u.tell``
-    after an update) and their true atoms.
+    after an update) and their true atoms. Linear in the worlds and related pairs (no
+    graph object is built).
 
     Examples
     --------
@@ -83,17 +84,24 @@ def to_dot(model: ExplicitModel) -> str:
     >>> print(to_dot(m).splitlines()[0])
     digraph kripke {
     """
-    graph = to_networkx(model)
-    # Node ids are internal; the labels carry the user's names.
-    ids = {name: f"w{i}" for i, name in enumerate(graph.nodes)}
     names = world_labels(model)
+    designated = np.zeros(model.n_worlds, dtype=bool)
+    designated[model.designated_positions] = True
+    atoms = true_atoms(model, np.arange(model.n_worlds), sorted(model.atoms))
     lines = ["digraph kripke {", "  node [shape=circle];"]
-    for name, data in graph.nodes(data=True):
-        label = f"{names[name]}\\n{', '.join(data['atoms'])}"
-        shape = "doublecircle" if data["designated"] else "circle"
-        lines.append(f"  {ids[name]} [label={_quote(label)}, shape={shape}];")
-    for w, v, data in graph.edges(data=True):
-        style = ", style=dashed" if data["relation"] == "knowledge" else ""
-        lines.append(f"  {ids[w]} -> {ids[v]} [label={_quote(data['agent'])}{style}];")
+    for i, name in enumerate(model.worlds):
+        label = f"{names[name]}\\n{', '.join(atoms[i])}"
+        shape = "doublecircle" if designated[i] else "circle"
+        lines.append(f"  w{i} [label={_quote(label)}, shape={shape}];")
+    for agent in model.agents:
+        kinds = ["belief"]
+        if model.knowledge_relations[agent] is not model.belief_relations[agent]:
+            kinds.append("knowledge")
+        for kind in kinds:
+            style = ", style=dashed" if kind == "knowledge" else ""
+            quoted = _quote(agent)
+            lines.extend(
+                f"  w{w} -> w{v} [label={quoted}{style}];" for w, v in _edges(model, agent, kind)
+            )
     lines.append("}")
     return "\n".join(lines)

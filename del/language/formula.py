@@ -52,6 +52,7 @@ __all__ = [
     "Not",
     "Or",
     "Top",
+    "atom_name",
     "canonical_atom",
     "conjunction",
     "disjunction",
@@ -69,6 +70,8 @@ RESERVED_WORDS = frozenset(
 )
 
 _ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_ARGUMENT = re.compile(r"[A-Za-z0-9_]+")
 
 
 def canonical_atom(text: str) -> str:
@@ -91,6 +94,49 @@ def canonical_atom(text: str) -> str:
     if args is None:
         return name
     return f"{name}({', '.join(a.strip() for a in args.split(','))})"
+
+
+def atom_name(text: str, where: str = "the argument") -> str:
+    """The canonical spelling of an atom, refusing text that no formula could name.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If ``text`` is not ``name`` or ``name(arg, ...)`` with names (letters, digits,
+        ``_``, not starting with a digit) and arguments that are names or numbers, or if
+        the name is a reserved word.
+
+    Examples
+    --------
+    >>> atom_name("at(r1,g1)")
+    'at(r1, g1)'
+    >>> atom_name("p q")
+    Traceback (most recent call last):
+    ...
+    epistemica.del_.errors.InvalidArgumentError: 'p q' in the argument is not an atom name
+    hint: an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or 'at(r1, g1)'
+    """
+    key = canonical_atom(str(text))
+    match = _ATOM_TEXT.match(key)
+    if match is None or not _valid_atom(match.group(1), _split_args(match.group(2))):
+        raise InvalidArgumentError(
+            f"{text!r} in {where} is not an atom name",
+            hint="an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or "
+            "'at(r1, g1)'",
+        )
+    return key
+
+
+def _split_args(args: str | None) -> tuple[str, ...]:
+    return () if args is None else tuple(a.strip() for a in args.split(","))
+
+
+def _valid_atom(name: str, args: tuple[str, ...]) -> bool:
+    return (
+        _NAME.fullmatch(name) is not None
+        and name not in RESERVED_WORDS
+        and all(_ARGUMENT.fullmatch(a) for a in args)
+    )
 
 
 # A piece of printed text: literal text, or a subformula to print where it stands and the
@@ -251,6 +297,18 @@ class Atom(Formula):
                 hint="rename the atom, e.g. to '" + self.name + "_'",
             )
         object.__setattr__(self, "args", tuple(str(a) for a in self.args))
+        if not self.args and "(" in self.name:  # Atom("at(r1, g1)") is the predicate atom
+            match = _ATOM_TEXT.match(self.name)
+            if match is not None and match.group(2) is not None:
+                object.__setattr__(self, "name", match.group(1))
+                object.__setattr__(self, "args", _split_args(match.group(2)))
+        if not _valid_atom(self.name, self.args):
+            # It would print as text that does not parse back to this atom.
+            raise InvalidArgumentError(
+                f"{str(self)!r} is not an atom name",
+                hint="an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or "
+                "'at(r1, g1)'",
+            )
         Formula.__post_init__(self)
 
     def __str__(self) -> str:

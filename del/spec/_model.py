@@ -95,7 +95,9 @@ def explicit_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> K
             "add a line such as 'designated w1' (the actual world)",
         )
     designated = members(comp, designated_decl, worlds, "world")
-    return KripkeModel(list(worlds), valuation, belief, designated, knowledge=knowledge)
+    return KripkeModel(
+        list(worlds), valuation, belief, designated, knowledge=knowledge, atoms=comp.names.atoms
+    )
 
 
 def satisfies(f: Formula, true: set[str]) -> bool:

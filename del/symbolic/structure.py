@@ -32,12 +32,12 @@ True
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.explicit._model import column_of
 from epistemica.del_.language.formula import (
     And,
     Atom,
@@ -48,7 +48,7 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
-    canonical_atom,
+    atom_name,
 )
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.symbolic import _bdd
@@ -139,7 +139,7 @@ class SymbolicModel:
         >>> s.holds("E[c1, c2] (m1 | m2) & ~C[c1, c2] (m1 | m2)")
         True
         """
-        names = tuple(canonical_atom(str(a)) for a in atoms)
+        names = tuple(atom_name(a, "atoms") for a in atoms)
         if len(set(names)) != len(names):
             raise InvalidArgumentError("atoms must be distinct", hint="remove the repeated atom")
         slot = {a: j for j, a in enumerate(names)}
@@ -363,15 +363,7 @@ class SymbolicModel:
 
 
 def _slot_of(slots: Mapping[str, int], atom: str, where: str) -> int:
-    key = canonical_atom(str(atom))
-    if key not in slots:
-        close = difflib.get_close_matches(key, list(slots), n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        raise InvalidArgumentError(
-            f"unknown atom {atom!r} in {where}",
-            hint=f"{hint}declared atoms: {', '.join(slots) or 'none'}",
-        )
-    return slots[key]
+    return column_of(slots, atom, where)
 
 
 def _propositional(f: Formula, slots: Mapping[str, int], where: str) -> BDDFunction:

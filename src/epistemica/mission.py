@@ -43,6 +43,7 @@ from epistemica.del_.planning.configuration_model import (
     configuration_model,
     observed,
 )
+from epistemica.input_files import read_input
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.knowledge import rows_satisfying
 from epistemica.sim.scenario import Scenario
@@ -364,11 +365,5 @@ def load_mission(path: str | Path) -> Mission:
     ...     load_mission(p).name
     'tiny'
     """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidArgumentError(
-            f"cannot read mission file {str(path)!r}: {exc}", hint="check the path"
-        ) from None
+    _, text = read_input(path, "run", ("mission",))
     return parse_mission(text, str(path))

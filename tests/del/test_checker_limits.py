@@ -108,6 +108,7 @@ def _explicit_copy(model):
         {w: model.valuation_of(w) for w in worlds},
         {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
         list(model.designated),
+        atoms=model.atoms,
     )
 
 

@@ -24,6 +24,7 @@ def explicit_copy(model: KripkeModel) -> KripkeModel:
         {w: model.valuation_of(w) for w in worlds},
         {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
         list(model.designated),
+        atoms=model.atoms,
     )
 
 
