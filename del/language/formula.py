@@ -57,6 +57,7 @@ __all__ = [
     "conjunction",
     "disjunction",
     "fold",
+    "iter_nodes",
     "iter_postorder",
 ]
 
@@ -616,6 +617,31 @@ def iter_postorder(formula: Formula, *, unique: bool = False) -> Iterator[Formul
         elif not (unique and node in seen):
             stack.append((node, True))
             stack.extend((child, False) for child in reversed(node.children()))
+
+
+def iter_nodes(formula: Formula) -> Iterator[Formula]:
+    """Every node object of ``formula`` once, in no particular order, without recursion.
+
+    Distinct by identity, not by equality: no subformula is hashed or compared, so this is
+    the cheap walk for checks that look at each node alone (the names a formula uses,
+    whether it is propositional), also on formulas whose equal subtrees are separate
+    objects (a parsed text).
+
+    Examples
+    --------
+    >>> p = Atom("p")
+    >>> sorted(str(f) for f in iter_nodes(p & ~p))
+    ['p', 'p & ~p', '~p']
+    """
+    seen: set[int] = set()
+    stack = [formula]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        yield node
+        stack.extend(node.children())
 
 
 _T = TypeVar("_T")

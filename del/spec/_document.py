@@ -40,6 +40,7 @@ from epistemica.del_.errors import ParseError, SpecError
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
+from epistemica.del_.spec._fast_syntax import FastPathMiss
 from epistemica.del_.spec._source import read_source
 from epistemica.del_.spec._syntax import parse
 from epistemica.del_.spec.backend import check_backend, model_builder, on_backend
@@ -190,8 +191,11 @@ def parse_spec(text: str, filename: str = "<string>", backend: str = "auto") -> 
     hint: declared agents: a
     """
     build = model_builder(backend)
-    tree = parse(text, filename, start="start")
-    parts = Compiler(text, filename, observables=build).compile(tree)
+    try:
+        parts = Compiler(text, filename, observables=build).compile(parse(text, filename, "start"))
+    except FastPathMiss:  # a name the fast path cannot locate: lark's tree, lark's errors
+        tree = parse(text, filename, "start", fast=False)
+        parts = Compiler(text, filename, observables=build).compile(tree)
     spec = Spec(**parts._asdict(), filename=filename, source=text)
     model = on_backend(spec.model, spec.atoms, backend)
     return spec if model is spec.model else dataclasses.replace(spec, model=model)

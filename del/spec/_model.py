@@ -11,11 +11,13 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
 from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS
-from epistemica.del_.language.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
+from epistemica.del_.explicit.checker import propositional_mask
+from epistemica.del_.language.formula import Atom, Formula, iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._actions import members, relations
 
@@ -101,22 +103,8 @@ def explicit_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> K
 
 
 def satisfies(f: Formula, true: set[str]) -> bool:
-    """Truth of a propositional formula under the valuation making ``true`` true."""
-    return fold(f, lambda g, inner: _truth(g, inner, true))
-
-
-def _truth(f: Formula, inner: tuple[bool, ...], true: set[str]) -> bool:
-    if isinstance(f, Atom):
-        return f.key in true
-    if isinstance(f, (Top, Bottom)):
-        return isinstance(f, Top)
-    if isinstance(f, Not):
-        return not inner[0]
-    left, right = inner
-    if isinstance(f, Or):
-        return left or right
-    if isinstance(f, Implies):
-        return (not left) or right
-    if isinstance(f, Iff):
-        return left == right
-    return left and right
+    """Truth of a propositional formula under the valuation making ``true`` true (the
+    explicit checker's propositional evaluator, on one row: linear, no recursion)."""
+    names = list(dict.fromkeys([*(g.key for g in iter_nodes(f) if isinstance(g, Atom)), *true]))
+    row = np.array([[name in true for name in names]], dtype=bool)
+    return bool(propositional_mask(f, row, {name: j for j, name in enumerate(names)})[0])

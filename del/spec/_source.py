@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from epistemica.del_.errors import SourceError
+from epistemica.del_.errors import SpecError
 
 __all__ = ["MAX_SOURCE_BYTES", "decode_source", "read_source"]
 
@@ -27,7 +27,7 @@ def read_source(path: str | Path, what: str = "spec file", limit: int = MAX_SOUR
 
     Raises
     ------
-    SourceError
+    SpecError
         The file cannot be opened, is larger than ``limit``, is binary, or is not UTF-8;
         the message says which (and where, for an encoding error).
 
@@ -40,7 +40,7 @@ def read_source(path: str | Path, what: str = "spec file", limit: int = MAX_SOUR
     'agents a\\n'
     >>> try:
     ...     read_source("/dev/zero")
-    ... except SourceError as err:
+    ... except SpecError as err:
     ...     print(err.message)
     the spec file is binary, not text (a NUL byte at offset 0)
     """
@@ -49,7 +49,7 @@ def read_source(path: str | Path, what: str = "spec file", limit: int = MAX_SOUR
     try:
         handle = open(path, "rb")  # closed by the `with` below
     except OSError as exc:
-        raise SourceError(
+        raise SpecError(
             f"cannot read the {what}: {exc.strerror or exc}",
             filename=name,
             hint="check the path" if isinstance(exc, FileNotFoundError) else hint,
@@ -67,15 +67,15 @@ def read_source(path: str | Path, what: str = "spec file", limit: int = MAX_SOUR
                 blocks.append(block)
                 size += len(block)
                 if size > limit:
-                    raise SourceError(
+                    raise SpecError(
                         f"the {what} is larger than the limit of {limit:,} bytes",
                         filename=name,
                         hint="split it, or generate a smaller one",
                     )
     except IsADirectoryError:
-        raise SourceError(f"cannot read the {what}: it is a directory", filename=name) from None
+        raise SpecError(f"cannot read the {what}: it is a directory", filename=name) from None
     except OSError as exc:
-        raise SourceError(f"cannot read the {what}: {exc.strerror or exc}", filename=name) from None
+        raise SpecError(f"cannot read the {what}: {exc.strerror or exc}", filename=name) from None
     return decode_source(b"".join(blocks), name, what)
 
 
@@ -91,7 +91,7 @@ def decode_source(data: bytes, filename: str = "<string>", what: str = "spec fil
         start = before.rfind(b"\n") + 1
         column = len(before[start:].decode("utf-8", errors="replace")) + 1
         text = data.decode("utf-8", errors="replace")
-        raise SourceError(
+        raise SpecError(
             f"the {what} is not UTF-8 text: byte 0x{data[exc.start]:02x} cannot start or "
             "continue a character",
             line=line,
@@ -105,7 +105,7 @@ def decode_source(data: bytes, filename: str = "<string>", what: str = "spec fil
 def _refuse_binary(block: bytes, name: str, what: str, hint: str) -> None:
     zero = block.find(b"\x00")
     if zero >= 0:
-        raise SourceError(
+        raise SpecError(
             f"the {what} is binary, not text (a NUL byte at offset {zero})",
             filename=name,
             hint=hint,

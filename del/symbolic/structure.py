@@ -49,6 +49,7 @@ from epistemica.del_.language.formula import (
     Or,
     Top,
     atom_name,
+    iter_nodes,
 )
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.symbolic import _bdd
@@ -367,7 +368,7 @@ def _slot_of(slots: Mapping[str, int], atom: str, where: str) -> int:
 
 
 def _propositional(f: Formula, slots: Mapping[str, int], where: str) -> BDDFunction:
-    if not all(isinstance(g, _PROPOSITIONAL) for g in f.subformulas()):
+    if not all(isinstance(g, _PROPOSITIONAL) for g in iter_nodes(f)):
         raise InvalidArgumentError(
             f"expected a propositional formula in {where}, found {f}",
             hint="laws constrain valuations only; they cannot mention K, B, C, ...",

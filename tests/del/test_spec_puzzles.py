@@ -25,6 +25,9 @@ def test_the_puzzles_are_shipped():
         "muddy_children_4.epi",
         "sally_anne.epi",
         "coin_toss.epi",
+        "dining_cryptographers_100.epi",
+        "drinking_logicians_400.epi",
+        "sum_and_product.epi",
     } <= names
 
 
