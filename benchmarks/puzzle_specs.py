@@ -117,7 +117,7 @@ def drinking(n: int = 400) -> str:
         "",
         'check "at first nobody knows whether everyone wants beer":',
         f"    {_conj(f'~Kw[l{i}] {everyone}' for i in (1, n // 2, n))}",
-        f'check "after {n - 1} answers of \'I don\'t know\', the last logician knows":',
+        f"check \"after {n - 1} answers of 'I don't know', the last logician knows\":",
         f"    {said} K[l{n}] {everyone}",
         f'check "after {n - 2} answers, logician {n - 1} does not know yet":',
         f"    {said_but_last} Kw[l{n - 1}] {everyone} expect false",

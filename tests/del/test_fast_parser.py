@@ -23,9 +23,7 @@ from epistemica.del_.spec._syntax import parse
 from epistemic_strategies import formulas
 
 ROOT = Path(__file__).resolve().parents[2]
-SPECS = sorted(
-    p for p in ROOT.glob("specs/**/*.epi") if p.parent.name in ("puzzles", "planning")
-)
+SPECS = sorted(p for p in ROOT.glob("specs/**/*.epi") if p.parent.name in ("puzzles", "planning"))
 
 
 def _lark_formula(text):
@@ -49,8 +47,9 @@ def test_other_spellings_read_the_same_as_lark(text):
     assert read_whole_formula(text) == _lark_formula(text)
 
 
-TOKENS = ["p", "q", "~", "&", "|", "->", "<->", "(", ")", "K[a]", "E[a, b]", "[!", "]", "<!",
-          ">", "[go]", "true", "and", "K", ",", "[", "=", "9", "#", "M", "C[", "<", "!"]  # fmt: skip
+TOKENS = ["p", "q", "~", "&", "|", "->", "<->", "(", ")", "K[a]", "E[a, b]", "[!", "]",
+          "<!", ">", "[go]", "true", "and", "K", ",", "[", "=", "9", "#", "M", "C[", "<",
+          "!"]  # fmt: skip
 
 
 @settings(max_examples=400, deadline=None)
@@ -93,9 +92,9 @@ def test_shipped_specs_compile_the_same_on_both_paths(path, monkeypatch):
     [
         ("agents a\natoms p\nlaw p & zz\n", 3, 9, "unknown atom 'zz'"),
         ("agents a\natoms p\ngoal K[b] p\n", 3, 8, "unknown agent 'b'"),
-        ("agents a\natoms p\ncheck \"c\": [go] p\n", 3, 13, "unknown action 'go'"),
+        ('agents a\natoms p\ncheck "c": [go] p\n', 3, 13, "unknown action 'go'"),
         ("agents a\natoms p\ngoal p &\n", 3, 9, "expected a formula"),
-        ("agents a\natoms p\naction go: public p\ncheck \"c\": p expect maybe\n", 4, 21, ""),
+        ('agents a\natoms p\naction go: public p\ncheck "c": p expect maybe\n', 4, 21, ""),
     ],
 )
 def test_errors_in_fast_path_statements_are_lark_located(text, line, column, message):
