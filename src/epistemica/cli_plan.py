@@ -13,15 +13,17 @@ import json
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.del_ import describe_model, load_spec, plan_with_stats, validate
+from epistemica.del_ import describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import SpecError
+from epistemica.input_files import read_input
 
 __all__ = ["run_plan"]
 
 
 def run_plan(args: argparse.Namespace) -> int:
     """Run ``epistemica plan`` with parsed arguments; return the exit status."""
-    spec = load_spec(args.file)
+    # Planning lists states: the explicit backend (a spec too large for it is refused).
+    spec = parse_spec(read_input(args.file, "plan")[1], args.file, backend="explicit")
     spec.require_goal()
     if not spec.actions:
         raise SpecError(

@@ -103,3 +103,15 @@ def test_errors_in_fast_path_statements_are_lark_located(text, line, column, mes
     err = caught.value
     assert (err.line, err.column) == (line, column), str(err)
     assert message in err.message
+
+
+def test_an_error_at_the_end_of_a_long_law_is_located_not_a_recursion_error():
+    """Found by the fuzz corpus: the expected tokens were computed on a deep copy of the
+    parser's values, which recursed down a 3,000-term law."""
+    law = " | ".join(f"(p{i % 3} & ~p{(i + 1) % 3})" for i in range(3_000))
+    text = f"agents a\natoms p0..p2\nlaw {law} &\n"
+    with pytest.raises(ParseError) as caught:
+        parse_spec(text, "long.epi")
+    # End of input is reported just after the last token, as for "goal p &" above.
+    assert (caught.value.line, caught.value.column) == (3, len(f"law {law} &") + 1)
+    assert "expected a formula" in caught.value.message
