@@ -77,8 +77,9 @@ class Tokens:
     """The tokens of a text: parallel lists of kinds, values and start offsets."""
 
     def __init__(self, text: str) -> None:
-        # Compact arrays: a token costs 17 bytes, not the 80 of three lists of objects.
-        kinds, values, starts = bytearray(), [], array.array("q")
+        # Compact arrays: a token costs 13 bytes, not the 80 of three lists of objects
+        # (offsets fit in 32 bits: sources are at most 64 MiB).
+        kinds, values, starts = bytearray(), [], array.array("i")
         shared: dict[str, str] = {}  # one string object per distinct token text
         for match in _TOKEN.finditer(text):
             kind = match.lastindex
@@ -92,6 +93,12 @@ class Tokens:
             values.append(value)
             starts.append(match.start())
         self.kinds, self.values, self.starts = kinds, values, starts
+        # Atoms and negated atoms, shared by every formula read from this text.
+        self.atoms: dict[str, Atom] = {}
+        self.negated: dict[int, Formula] = {}
+        # Connectives by (operator, id(left), id(right)); each keeps its parts alive, so
+        # an id is never reused while the table lives.
+        self.made: dict[tuple, Formula] = {}
         kinds.append(0)  # end of input
         values.append("")
         starts.append(len(text))
@@ -120,10 +127,10 @@ class _Frame:
     """A formula being read: its operands and pending operators, the prefixes waiting for
     the next operand, and the token that closes it (``None`` at the top)."""
 
-    __slots__ = ("closer", "kind", "operands", "operators", "prefixes")
+    __slots__ = ("closer", "kind", "made", "operands", "operators", "prefixes")
 
-    def __init__(self, closer: str | None, kind: int = 0) -> None:
-        self.closer, self.kind = closer, kind
+    def __init__(self, closer: str | None, made: dict, kind: int = 0) -> None:
+        self.closer, self.kind, self.made = closer, kind, made
         self.operands: list[Formula] = []
         self.operators: list[int] = []
         self.prefixes: list[Any] = []
@@ -142,7 +149,15 @@ class _Frame:
             or (_BINARY[operators[-1]][0] == strength and kind != _IMPLIES)
         ):
             right = operands.pop()
-            operands[-1] = _BINARY[operators.pop()][1](operands[-1], right)
+            left = operands[-1]
+            operator = operators.pop()
+            # Equal connectives of shared parts are one object: a generated spec repeats
+            # the same conjunction hundreds of times.
+            key = (operator, id(left), id(right))
+            node = self.made.get(key)
+            if node is None:  # the node keeps its parts alive: their ids stay theirs
+                node = self.made[key] = _BINARY[operator][1](left, right)
+            operands[-1] = node
 
 
 class _Reader:
@@ -151,13 +166,13 @@ class _Reader:
 
     def __init__(self, tokens: Tokens) -> None:
         self.kinds, self.values = tokens.kinds, tokens.values
-        # Atoms and negated atoms are shared: a generated law repeats them thousands of times.
-        self.atoms: dict[str, Atom] = {}
-        self.negated: dict[int, Formula] = {}
+        # Shared: a generated law repeats the same atoms thousands of times.
+        self.atoms, self.negated, self.made = tokens.atoms, tokens.negated, tokens.made
 
     def formula(self, i: int) -> tuple[Formula, int]:
         kinds, values = self.kinds, self.values
-        frames = [_Frame(None)]
+        made = self.made
+        frames = [_Frame(None, made)]
         frame = frames[0]
         while True:
             # -- an operand, after its prefixes ----------------------------------------
@@ -180,7 +195,7 @@ class _Reader:
                     continue
                 raise _Miss
             if kind == _ANNOUNCE or kind == _DIAMOND:
-                frame = _Frame("]" if kind == _ANNOUNCE else ">", kind)
+                frame = _Frame("]" if kind == _ANNOUNCE else ">", made, kind)
                 frames.append(frame)
                 i += 1
                 continue
@@ -189,7 +204,7 @@ class _Reader:
                 frame.prefixes.append((After, action))
                 continue
             if kind == _PUNCT and values[i] == "(":
-                frame = _Frame(")")
+                frame = _Frame(")", made)
                 frames.append(frame)
                 i += 1
                 continue

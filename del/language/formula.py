@@ -339,6 +339,12 @@ class _Binary(Formula):
     symbol = ""
     right_assoc = False
 
+    def __post_init__(self) -> None:
+        # Formula's hash, (type, left, right), without its generic walk over the fields:
+        # a generated spec builds hundreds of thousands of connectives.
+        left, right = self.left, self.right  # type: ignore[attr-defined]
+        object.__setattr__(self, "_hash", hash((type(self), left, right)))
+
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)  # type: ignore[attr-defined]
 

@@ -35,6 +35,22 @@ def _world(model: Any, world: Any, label) -> dict[str, Any]:
     return {"world": label(world), "atoms": [a for a in model.atoms if a in true]}
 
 
+def _count(n: int) -> str:
+    """A number of worlds for a line of text: 2^400 is not printed digit by digit."""
+    if n < 10**12:
+        return f"{n:,}"
+    if n & (n - 1) == 0:
+        return f"2^{n.bit_length() - 1}"
+    return f"about 2^{n.bit_length() - 1}"
+
+
+def _listing(names, shown: int = 10) -> str:
+    names = list(names)
+    if len(names) <= shown:
+        return ", ".join(names)
+    return ", ".join(names[:shown]) + f", ... ({len(names)} in all)"
+
+
 def _show(entry: dict[str, Any]) -> str:
     return f"{entry['world']} {{{', '.join(entry['atoms'])}}}"
 
@@ -73,7 +89,7 @@ def run_check(args: argparse.Namespace) -> int:
     model = spec.model
     print(
         f"{args.file}: {len(results)} claim{'s' if len(results) != 1 else ''}; "
-        f"{model.n_worlds} worlds, agents {', '.join(spec.agents)}"
+        f"{_count(model.n_worlds)} worlds, agents {_listing(spec.agents)}"
     )
     if not results:
         print("no claims: add 'check \"name\": FORMULA' lines, or pass --formula")
