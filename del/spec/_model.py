@@ -46,20 +46,23 @@ def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -
     if len(actual) > 1:
         raise comp.error("a second 'actual' world", actual[1], "keep one 'actual' line")
     designated = None
+    true: set[str] = set()
     if actual:
         items = actual[0].children[0]
         true = {comp.atom(k, t) for k, t in comp.atom_items(items, {})} if items else set()
-        if not satisfies(law, true):
+        designated = sorted(true)
+    try:
+        return build(atoms, observes, law=law, designated=designated)
+    except EpistemicaError as exc:
+        # The builder checks the actual world against the law too (on the whole model,
+        # cheaply); only to locate its error is the law evaluated on that one world here.
+        if actual and not satisfies(law, true):
             raise comp.error(
                 "the actual world violates the law",
                 actual[0],
                 f"the law is {law}; the actual world makes true: "
                 f"{', '.join(sorted(true)) or 'no atom'}",
-            )
-        designated = sorted(true)
-    try:
-        return build(atoms, observes, law=law, designated=designated)
-    except EpistemicaError as exc:
+            ) from None
         laws = [s.children[0] for s in by_kind.get("law_decl", [])]
         where = (laws or by_kind.get("atoms_decl") or [None])[0]
         raise comp.error(exc.message, where, exc.hint) from None

@@ -239,7 +239,8 @@ class _Run:
         result = product(s, action, lambda g: self.value(s, g))
         after = result.structure
         inner = yield after, f.operand
-        fresh = [slot for slot in after.slots if slot not in set(s.slots)]
+        old = set(s.slots)
+        fresh = [slot for slot in after.slots if slot not in old]
         # g at every (s, e) of the product with e designated: quantify the new variables.
         return after.law.apply_forall(
             _bdd.IMP, result.designated_events.imp(inner), _bdd.cube(fresh)
