@@ -158,6 +158,18 @@ def models(draw, kind="s5", max_worlds=6, atoms=ATOMS, agents=AGENTS):
     )
 
 
+def explicit_copy(model):
+    """The same model rebuilt from its worlds and pairs (no bitset cube), same vocabulary."""
+    worlds = list(model.worlds)
+    return KripkeModel(
+        worlds,
+        {w: model.valuation_of(w) for w in worlds},
+        {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
+        list(model.designated),
+        atoms=model.atoms,
+    )
+
+
 # -- the reference checker -------------------------------------------------------------
 
 

@@ -66,6 +66,7 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
+    fold_nodes,
 )
 from epistemica.del_.language.parser import as_formula
 
@@ -455,42 +456,26 @@ def propositional_mask(
 
 
 def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) -> Any:
-    """Post-order over an explicit stack: laws and postconditions of any depth."""
-    done: dict[int, np.ndarray] = {}
-    uses: dict[int, int] = {}  # parents still to compute, per shared node
-    stack: list[tuple[Formula, bool]] = [(root, False)]
-    while stack:
-        f, expanded = stack.pop()
-        if id(f) in done:
-            continue
+    """A fold over the node objects (no recursion; each mask freed after its last use)."""
+
+    def combine(f: Formula, values: list[np.ndarray]) -> np.ndarray:
         kind = type(f)
-        if kind in _CONNECTIVES or kind is Not:
-            if not expanded:
-                stack.append((f, True))
-                for c in f.children():
-                    uses[id(c)] = uses.get(id(c), 0) + 1
-                    stack.append((c, False))
-                continue
-            values = [done[id(c)] for c in f.children()]
-            for c in f.children():
-                uses[id(c)] -= 1
-                if not uses[id(c)]:
-                    del done[id(c)]
-            done[id(f)] = ~values[0] if kind is Not else _CONNECTIVES[kind](*values)
-        elif kind is Atom:
+        if kind is Not:
+            return ~values[0]
+        if kind in _CONNECTIVES:
+            return _CONNECTIVES[kind](*values)
+        if kind is Atom:
             if f.key not in column:
                 raise InvalidArgumentError(
                     f"unknown atom {f.key!r}", hint=f"declared atoms: {', '.join(column)}"
                 )
-            done[id(f)] = val[:, column[f.key]]
-        elif kind is Top:
-            done[id(f)] = np.ones(len(val), dtype=bool)
-        elif kind is Bottom:
-            done[id(f)] = np.zeros(len(val), dtype=bool)
-        else:
-            raise InvalidArgumentError(
-                f"expected a propositional formula, found the modality in {_short(f)}",
-                hint="laws and postconditions evaluated on valuations alone cannot mention "
-                "K, B, C, ...",
-            )
-    return done[id(root)]
+            return val[:, column[f.key]]
+        if kind is Top or kind is Bottom:
+            return np.full(len(val), kind is Top, dtype=bool)
+        raise InvalidArgumentError(
+            f"expected a propositional formula, found the modality in {_short(f)}",
+            hint="laws and postconditions evaluated on valuations alone cannot mention "
+            "K, B, C, ...",
+        )
+
+    return fold_nodes(root, combine)

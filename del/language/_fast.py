@@ -190,7 +190,7 @@ class _Reader:
                     i += 4
                     continue
                 if word in _GROUP_MODALITIES:
-                    group, i = self.group(i + 2)
+                    group, i = self.names(i + 2, "]")
                     frame.prefixes.append((word, group))
                     continue
                 raise _Miss
@@ -240,30 +240,16 @@ class _Reader:
                 frame.prefixes.append((closed.kind, result))
                 break  # the announcement's operand follows
 
-    def group(self, i: int) -> tuple[tuple[str, ...], int]:
+    def names(self, i: int, closer: str) -> tuple[tuple[str, ...], int]:
+        """``name, name, ...`` from token ``i`` up to ``closer``, and the index after it."""
         kinds, values = self.kinds, self.values
         names = []
         while True:
             if kinds[i] not in (_WORD, _INT):
                 raise _Miss
             names.append(values[i])
-            if values[i + 1] == "]":
+            if values[i + 1] == closer:
                 return tuple(names), i + 2
-            if values[i + 1] != ",":
-                raise _Miss
-            i += 2
-
-    def arguments(self, i: int) -> tuple[tuple[str, ...], int]:
-        """``(arg, ...)`` after a name, at token ``i`` (the '(')."""
-        kinds, values = self.kinds, self.values
-        args = []
-        i += 1
-        while True:
-            if kinds[i] not in (_WORD, _INT):
-                raise _Miss
-            args.append(values[i])
-            if values[i + 1] == ")":
-                return tuple(args), i + 2
             if values[i + 1] != ",":
                 raise _Miss
             i += 2
@@ -274,7 +260,7 @@ class _Reader:
         name = self.values[i]
         i += 1
         if self.values[i] == "(" and self.kinds[i] == _PUNCT:
-            args, i = self.arguments(i)
+            args, i = self.names(i + 1, ")")
             name = f"{name}({', '.join(args)})"
         if self.values[i] != "]":
             raise _Miss
@@ -288,7 +274,7 @@ class _Reader:
             if name in RESERVED_WORDS:
                 raise _Miss
             if kinds[i + 1] == _PUNCT and values[i + 1] == "(":
-                args, i = self.arguments(i + 1)
+                args, i = self.names(i + 2, ")")
                 return Atom(name, args), i
             atom = self.atoms.get(name)
             if atom is None:

@@ -57,6 +57,7 @@ __all__ = [
     "conjunction",
     "disjunction",
     "fold",
+    "fold_nodes",
     "iter_nodes",
     "iter_postorder",
 ]
@@ -670,6 +671,46 @@ def fold(formula: Formula, combine: Callable[[Formula, tuple[_T, ...]], _T]) -> 
     for node in iter_postorder(formula, unique=True):
         values[node] = combine(node, tuple(values[child] for child in node.children()))
     return values[formula]
+
+
+def fold_nodes(formula: Formula, combine: Callable[[Formula, list[_T]], _T]) -> _T:
+    """Like :func:`fold`, but over node objects (by identity), freeing each value as soon
+    as its last parent has used it.
+
+    Nothing is hashed or compared, so this is the fold for large values (truth sets,
+    BDDs) over parsed text, whose equal subtrees are often separate objects; a node
+    object shared by several parents is still combined once.
+
+    Examples
+    --------
+    >>> p = Atom("p")
+    >>> calls = []
+    >>> fold_nodes(p & ~p, lambda node, inner: calls.append(node) or 1 + sum(inner))
+    4
+    >>> len(calls)  # p, ~p and the conjunction: the shared p is combined once
+    3
+    """
+    done: dict[int, _T] = {}
+    uses: dict[int, int] = {}  # parents still to combine, per node
+    stack: list[tuple[Formula, bool]] = [(formula, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if id(node) in done:
+            continue
+        children = node.children()
+        if children and not expanded:
+            stack.append((node, True))
+            for child in children:
+                uses[id(child)] = uses.get(id(child), 0) + 1
+                stack.append((child, False))
+            continue
+        values = [done[id(c)] for c in children]
+        for c in children:
+            uses[id(c)] -= 1
+            if not uses[id(c)]:
+                del done[id(c)]
+        done[id(node)] = combine(node, values)
+    return done[id(formula)]
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

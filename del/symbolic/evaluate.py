@@ -35,6 +35,7 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
+    fold_nodes,
 )
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
@@ -69,8 +70,8 @@ def evaluate(
 def propositional(f: Formula, atom: Callable[[Atom], BDDFunction]) -> BDDFunction:
     """The BDD of a formula without modalities, atoms given by ``atom``.
 
-    A post-order over an explicit stack; a value shared by several parents (a DAG) is
-    computed once and freed after its last parent used it.
+    A fold over the node objects (:func:`~epistemica.del_.language.formula.fold_nodes`):
+    no recursion, a shared node computed once, each BDD freed after its last use.
 
     Examples
     --------
@@ -79,42 +80,25 @@ def propositional(f: Formula, atom: Callable[[Atom], BDDFunction]) -> BDDFunctio
     >>> propositional(parse_formula("~~p | false"), lambda a: p) == p
     True
     """
-    done: dict[int, BDDFunction] = {}
-    uses: dict[int, int] = {}  # parents still to compute, per node
-    stack: list[tuple[Formula, bool]] = [(f, False)]
-    while stack:
-        node, expanded = stack.pop()
-        if id(node) in done:
-            continue
+
+    def combine(node: Formula, values: list[BDDFunction]) -> BDDFunction:
         kind = type(node)
-        children = node.children()
-        if children and not expanded:
-            stack.append((node, True))
-            for child in children:
-                uses[id(child)] = uses.get(id(child), 0) + 1
-                stack.append((child, False))
-            continue
-        values = [done[id(c)] for c in children]
-        for c in children:
-            uses[id(c)] -= 1
-            if not uses[id(c)]:
-                del done[id(c)]
         if kind is Atom:
-            done[id(node)] = atom(node)
-        elif kind is Top:
-            done[id(node)] = _bdd.true()
-        elif kind is Bottom:
-            done[id(node)] = _bdd.false()
-        elif kind is Not:
-            done[id(node)] = ~values[0]
-        elif kind in _BINARY:
-            done[id(node)] = _connective(kind, *values)
-        else:
-            raise InvalidArgumentError(
-                f"expected a propositional formula, found {kind.__name__}",
-                hint="laws constrain valuations only; they cannot mention K, B, C, ...",
-            )
-    return done[id(f)]
+            return atom(node)
+        if kind is Top:
+            return _bdd.true()
+        if kind is Bottom:
+            return _bdd.false()
+        if kind is Not:
+            return ~values[0]
+        if kind in _BINARY:
+            return _connective(kind, *values)
+        raise InvalidArgumentError(
+            f"expected a propositional formula, found {kind.__name__}",
+            hint="laws constrain valuations only; they cannot mention K, B, C, ...",
+        )
+
+    return fold_nodes(f, combine)
 
 
 _BINARY = (And, Or, Implies, Iff)

@@ -33,6 +33,8 @@ from epistemica.del_ import (
     Or,
 )
 
+from epistemic_strategies import explicit_copy
+
 DEEP = 10_000
 WIDE = 100_000
 P, Q = Atom("p"), Atom("q")
@@ -42,13 +44,7 @@ OBSERVES = {"a": ["q"], "b": ["p"]}
 def _backends(designated=("p",)):
     """The same two-atom S5 model: on bitsets, as explicit worlds, and as a BDD structure."""
     cube = KripkeModel.from_observables(["p", "q"], OBSERVES, designated=list(designated))
-    worlds = list(cube.worlds)
-    plain = KripkeModel(
-        worlds,
-        {w: cube.valuation_of(w) for w in worlds},
-        {g: [(w, v) for w in worlds for v in cube.successors(g, w)] for g in cube.agents},
-        list(cube.designated),
-    )
+    plain = explicit_copy(cube)
     symbolic = KnowledgeStructure.from_observables(["p", "q"], OBSERVES, designated=designated)
     return {"bitsets": cube, "explicit": plain, "symbolic": symbolic}
 
