@@ -14,16 +14,16 @@ CORPUS = Path(__file__).with_name("fuzz_corpus.py")
 
 def test_fuzzed_specs_and_parameters_exit_0_1_or_2_in_bounded_time_and_memory():
     out = subprocess.run(
-        [sys.executable, str(CORPUS), "--cases", "150", "--seed", "2024", "--limit", "20",
+        [sys.executable, str(CORPUS), "--cases", "500", "--seed", "2024", "--limit", "20",
          "--memory-gib", "3"],
         capture_output=True, text=True, timeout=110, check=False,
     )  # fmt: skip
     assert out.returncode == 0, out.stderr[-2000:]
     result = json.loads(out.stdout)
     assert result["bad"] == [], result["bad"]
-    assert sum(result["counts"].values()) == 150
+    assert sum(result["counts"].values()) == 500
     assert set(result["counts"]) <= {"0", "1", "2"}
     assert result["slowest_seconds"] < 20
     assert result["max_rss_mib"] < 3 * 1024
     # The corpus is not all refusals: unmutated cases and harmless edits run through.
-    assert result["counts"].get("0", 0) + result["counts"].get("1", 0) >= 10
+    assert result["counts"].get("0", 0) + result["counts"].get("1", 0) >= 30
