@@ -239,3 +239,15 @@ def test_where_is_capped_by_limit(capsys, tmp_path):
     assert code == 0 and data["holds"] and data["n_true"] == 2**29  # m1 is actual
     assert len(data["valuations"]) == 4 and data["truncated"]
     assert all("m1" in v for v in data["valuations"])
+
+
+def test_dot_of_too_many_pairs_is_refused_and_limit_draws_a_part(capsys, tmp_path):
+    """b sees nothing of 65,536 worlds: 2^32 pairs to draw; --limit 50 draws 50 worlds."""
+    path = tmp_path / "blind.epi"
+    path.write_text("agents a, b\natoms m1..m16\nobserves a: m1\n", encoding="utf-8")
+    dot = tmp_path / "m.dot"
+    code, _, err = run(capsys, "show", str(path), "--dot", str(dot))
+    assert code == 2 and "more than 5,000,000 to draw" in err and "--limit" in err
+    code, out, _ = run(capsys, "show", str(path), "--dot", str(dot), "--limit", "50")
+    assert code == 0 and "(the first 50)" in out
+    assert dot.read_text().count("[label=") == 50 + 2 * 50 * 50  # worlds, then a's and b's pairs

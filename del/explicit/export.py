@@ -14,13 +14,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit.describe import true_atoms, world_labels
+from epistemica.del_.explicit.relations import Partition, Relation
 
 if TYPE_CHECKING:
     import networkx as nx
 
-__all__ = ["to_dot", "to_networkx"]
+__all__ = ["MAX_DOT_EDGES", "to_dot", "to_networkx"]
 
 
 def _edges(model: ExplicitModel, agent: str, kind: str):
@@ -65,6 +67,18 @@ def to_networkx(model: ExplicitModel) -> nx.MultiDiGraph:
     return graph
 
 
+#: DOT draws every related pair: an agent who sees nothing of 65,536 worlds relates 2^32.
+MAX_DOT_EDGES = 5_000_000
+
+
+def _n_edges(relation: Relation) -> int:
+    """The number of related pairs, without listing them."""
+    if isinstance(relation, Partition):
+        sizes = np.bincount(relation.labels)
+        return int((sizes.astype(np.int64) ** 2).sum())
+    return len(relation.edges()[0])
+
+
 def _quote(text: object) -> str:
     return '"' + str(text).replace('"', '\\"') + '"'
 
@@ -84,6 +98,13 @@ def to_dot(model: ExplicitModel) -> str:
     >>> print(to_dot(m).splitlines()[0])
     digraph kripke {
     """
+    edges = sum(_n_edges(r) for r in model.belief_relations.values())
+    if edges > MAX_DOT_EDGES:
+        raise InvalidArgumentError(
+            f"the model has {edges:,} related pairs, more than {MAX_DOT_EDGES:,} to draw",
+            hint="draw a part of it (epistemica show --dot F --limit N), or use --json, "
+            "which writes an equivalence as its blocks",
+        )
     names = world_labels(model)
     designated = np.zeros(model.n_worlds, dtype=bool)
     designated[model.designated_positions] = True
