@@ -140,3 +140,15 @@ def test_load_spec_has_one_meaning_on_both_sides(tmp_path):
     assert type(load_spec(MUDDY, backend="symbolic").model).__name__ == "KnowledgeStructure"
     with pytest.raises(ValueError, match="unknown backend"):
         load_spec(MUDDY, backend="fast")
+
+
+def test_more_than_twenty_atoms_without_actual_and_an_unobserved_atom(capsys, tmp_path):
+    """Issue 22: n_worlds shifted by a negative count (exit 3). 21 atoms, a sees m1 only,
+    m21 is observed by nobody, every world designated: 2^21 worlds, and a cannot know m2."""
+    path = tmp_path / "wide.epi"
+    path.write_text(
+        'agents a\natoms m1..m21\nobserves a: m1\ncheck "a does not know m2": ~Kw[a] m2\n',
+        encoding="utf-8",
+    )
+    code, out, _ = run(capsys, "check", path)
+    assert code == 0 and "2,097,152 worlds" in out and "1 passed, 0 failed" in out

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import array
 import re
+from collections.abc import Iterator
 from typing import Any
 
 from epistemica.del_.language.formula import (
@@ -43,24 +44,44 @@ __all__ = ["Tokens", "read_formula", "tokenize"]
 # Token kinds: the first group of _TOKEN that matched (lastindex).
 _SPACE, _WORD, _INT, _STRING, _ANNOUNCE, _DIAMOND, _IFF, _IMPLIES, _AND, _OR, _NOT = range(1, 12)
 _TOP, _BOTTOM, _PUNCT, _OTHER = 12, 13, 14, 15
+# Spaces and comments before each token (group 1), and the token (group 2): findall
+# returns the pairs, and offsets are their running lengths (no match object per token).
 _TOKEN = re.compile(
-    r"((?:\s+|#[^\n]*)+)"  # 1 whitespace and comments
-    r"|([A-Za-z_][A-Za-z0-9_]*)"  # 2 word
-    r"|([0-9]+)"  # 3 integer
-    r'|("[^"\n]*")'  # 4 string
-    r"|(\[[ \t\r\n]*!)"  # 5 [!
-    r"|(<[ \t\r\n]*!)"  # 6 <!
-    r"|(<->|<=>|↔)"  # 7
-    r"|(->|=>|→)"  # 8
-    r"|(&&?|∧)"  # 9
-    r"|(\|\|?|∨)"  # 10
-    r"|(~|!|¬)"  # 11
-    r"|(⊤)"  # 12
-    r"|(⊥)"  # 13
-    r"|([\[\](),:{}<>.=])"  # 14
-    r"|(.)",  # 15 anything else
-    re.DOTALL,
+    r"((?:\s+|#[^\n]*)*)"
+    r"([A-Za-z_][A-Za-z0-9_]*|[0-9]+|\"[^\"\n]*\"|\[[ \t\r\n]*!|<[ \t\r\n]*!|<->|<=>|->|=>"
+    r"|&&|\|\||\S)",  # \S: trailing space is no token
 )
+# A token's kind from its first character; the few that need the second are below.
+_FIRST = {c: _WORD for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_"}
+_FIRST.update({c: _INT for c in "0123456789"})
+_FIRST.update({"&": _AND, "∧": _AND, "|": _OR, "∨": _OR, "~": _NOT, "!": _NOT, "¬": _NOT,
+               "→": _IMPLIES, "↔": _IFF, "⊤": _TOP, "⊥": _BOTTOM})  # fmt: skip
+_FIRST.update({c: _PUNCT for c in "[](),:{}<>.="})
+_LONGER = {"[": _ANNOUNCE, "<": _DIAMOND, "-": _IMPLIES, "=": _IMPLIES, '"': _STRING}
+
+
+def _chunks(text: str, size: int = 1 << 16) -> Iterator[tuple[int, str]]:
+    """``text`` in pieces of about ``size`` characters, cut after a newline, with their
+    offsets: findall's list of a piece stays small. A token split by a cut (``[`` and
+    ``!`` of an announcement on two lines) only sends the text to lark."""
+    start = 0
+    while start < len(text):
+        cut = text.find("\n", start + size)
+        end = len(text) if cut < 0 else cut + 1
+        yield start, text[start:end]
+        start = end
+
+
+def _kind(value: str) -> int:
+    first = value[0]
+    if len(value) > 1 and first in _LONGER:
+        if first == "<" and value[1] in "-=":
+            return _IFF  # <-> and <=>
+        return _LONGER[first]
+    kind = _FIRST.get(first, _OTHER)
+    return _WORD_KIND.get(value, _WORD) if kind == _WORD else kind
+
+
 _WORD_KIND = {"not": _NOT, "and": _AND, "or": _OR, "true": _TOP, "false": _BOTTOM}
 _AGENT_MODALITIES = {"K": Know, "B": Believe, "Kw": KnowWhether}
 _GROUP_MODALITIES = {
@@ -80,18 +101,18 @@ class Tokens:
         # Compact arrays: a token costs 13 bytes, not the 80 of three lists of objects
         # (offsets fit in 32 bits: sources are at most 64 MiB).
         kinds, values, starts = bytearray(), [], array.array("i")
-        shared: dict[str, str] = {}  # one string object per distinct token text
-        for match in _TOKEN.finditer(text):
-            kind = match.lastindex
-            if kind == _SPACE:
-                continue
-            value = match.group(kind)
-            value = shared.setdefault(value, value)
-            if kind == _WORD:
-                kind = _WORD_KIND.get(value, _WORD)
-            kinds.append(kind)
-            values.append(value)
-            starts.append(match.start())
+        known: dict[str, tuple[int, str]] = {}  # token text -> (kind, the one string kept)
+        for offset, chunk in _chunks(text):
+            position = offset
+            for space, value in _TOKEN.findall(chunk):
+                position += len(space)
+                found = known.get(value)
+                if found is None:
+                    found = known[value] = (_kind(value), value)
+                kinds.append(found[0])
+                values.append(found[1])
+                starts.append(position)
+                position += len(value)
         self.kinds, self.values, self.starts = kinds, values, starts
         # Atoms and negated atoms, shared by every formula read from this text.
         self.atoms: dict[str, Atom] = {}

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from lark.exceptions import UnexpectedInput
 
 from epistemica.del_ import ParseError, SpecError, parse_spec
+from epistemica.del_.language import _fast as fast_module
 from epistemica.del_.language._fast import read_formula, tokenize
 from epistemica.del_.language.parser import FormulaBuilder, _lark, read_whole_formula
 from epistemica.del_.spec import _syntax as spec_syntax
@@ -115,3 +116,20 @@ def test_an_error_at_the_end_of_a_long_law_is_located_not_a_recursion_error():
     # End of input is reported just after the last token, as for "goal p &" above.
     assert (caught.value.line, caught.value.column) == (3, len(f"law {law} &") + 1)
     assert "expected a formula" in caught.value.message
+
+
+@settings(max_examples=100, deadline=None)
+@given(formulas(max_leaves=8), st.integers(1, 12))
+def test_text_read_in_small_pieces_reads_the_same(f, size):
+    """The tokenizer reads long text in pieces cut after newlines; a token cut in two
+    (the '[' and '!' of an announcement on two lines) must only send the text to lark."""
+    text = str(f).replace(" ", "\n").replace("[!", "[\n!").replace("<!", "<\n!")
+    original = fast_module._chunks
+    fast_module._chunks = lambda t, size=size: original(t, size)
+    try:
+        tokens = tokenize(text)
+        found = read_formula(tokens, 0)
+    finally:
+        fast_module._chunks = original
+    assert found is None or (tokens.kinds[found[1]] == 0 and found[0] == f)
+    assert read_whole_formula(text) == f
