@@ -26,8 +26,6 @@ of ``type(model)`` (:meth:`ExplicitModel.from_arrays`, :meth:`ExplicitModel.from
 
 from __future__ import annotations
 
-import difflib
-import itertools
 from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import Any
@@ -36,9 +34,10 @@ import numpy as np
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError, ModelError
+from epistemica.del_.explicit._arguments import column_of, declared_atoms, require_mapping
 from epistemica.del_.explicit._cube import Cube
 from epistemica.del_.explicit.relations import Partition, Relation, relation_from_pairs
-from epistemica.del_.language.formula import atom_name, canonical_atom
+from epistemica.del_.language.formula import atom_name
 
 __all__ = ["MAX_ENUMERATED_ATOMS", "ExplicitModel", "column_of"]
 
@@ -66,10 +65,10 @@ class ExplicitModel:
         *,
         atoms: Iterable[str] | None = None,
     ) -> None:
-        _require_mapping(valuation, "valuation", "world -> the atoms true there")
-        _require_mapping(relations, "relations", "agent -> (world, world) pairs")
+        require_mapping(valuation, "valuation", "world -> the atoms true there")
+        require_mapping(relations, "relations", "agent -> (world, world) pairs")
         if knowledge is not None:
-            _require_mapping(knowledge, "knowledge", "agent -> (world, world) pairs")
+            require_mapping(knowledge, "knowledge", "agent -> (world, world) pairs")
         if isinstance(worlds, (str, bytes)) or not isinstance(worlds, Iterable):
             raise InvalidArgumentError(
                 f"worlds must be a sequence of world names, not {type(worlds).__name__}",
@@ -79,7 +78,7 @@ class ExplicitModel:
         index = {w: i for i, w in enumerate(names)}
         if len(index) != len(names):
             raise ModelError("world names must be distinct", hint="rename the repeated world")
-        declared = None if atoms is None else _declared_atoms(atoms)
+        declared = None if atoms is None else declared_atoms(atoms)
         found: dict[str, None] = dict.fromkeys(declared or ())
         keys: dict[World, list[str]] = {}
         for w, true_atoms in valuation.items():
@@ -528,44 +527,6 @@ def _lookup(index: Mapping[World, int], world: World, where: str) -> int:
         raise ModelError(
             f"unknown world {world!r} in {where}", hint="every world must be listed in `worlds`"
         ) from None
-
-
-def _require_mapping(value: Any, name: str, what: str) -> None:
-    if not isinstance(value, Mapping):
-        raise InvalidArgumentError(
-            f"{name} must be a mapping {what}, not {type(value).__name__}",
-            hint=f"pass a dict of {what} (an empty dict for none)",
-        )
-
-
-def _declared_atoms(atoms: Iterable[str]) -> dict[str, None]:
-    if isinstance(atoms, (str, bytes)):
-        raise InvalidArgumentError(
-            "atoms must be an iterable of atom names, not a string", hint='e.g. ["p", "q"]'
-        )
-    declared: dict[str, None] = {}
-    for a in atoms:
-        key = atom_name(a, "atoms")
-        if key in declared:
-            raise InvalidArgumentError(f"atom {key!r} is declared twice", hint="remove the repeat")
-        declared[key] = None
-    return declared
-
-
-def column_of(column: Mapping[str, int], atom: str, where: str) -> int:
-    """The column (or slot) of ``atom``, or "unknown atom" with the closest declared one."""
-    key = canonical_atom(str(atom))
-    found = column.get(key)
-    if found is None:
-        close = difflib.get_close_matches(key, list(column)[:10_000], n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        names = list(itertools.islice(column, 20))
-        listed = ", ".join(names) + (", ..." if len(column) > 20 else "")
-        raise InvalidArgumentError(
-            f"unknown atom {atom!r} in {where}",
-            hint=f"{hint}declared atoms: {listed or 'none'}",
-        )
-    return found
 
 
 def _relation(index: Mapping[World, int], pairs: Iterable, where: str) -> Relation:

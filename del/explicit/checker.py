@@ -66,9 +66,9 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
-    fold_nodes,
 )
 from epistemica.del_.language.parser import as_formula
+from epistemica.del_.language.walk import fold_nodes
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel

@@ -23,12 +23,18 @@ K[a] (p & ~q)
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
 from typing import TypeVar
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.language._atom_names import (
+    RESERVED_WORDS,
+    atom_name,
+    canonical_atom,
+    split_predicate,
+    valid_atom,
+)
 
 __all__ = [
     "RESERVED_WORDS",
@@ -57,89 +63,12 @@ __all__ = [
     "conjunction",
     "disjunction",
     "fold",
-    "fold_nodes",
-    "iter_nodes",
     "iter_postorder",
 ]
 
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
 # announcements, actions) all share the top level.
 _UNARY, _AND, _OR, _IMPLIES, _IFF = 5, 4, 3, 2, 1
-
-#: Words that the lexer reads as keywords, so they cannot name an atom.
-RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
-)
-
-_ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")
-_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_ARGUMENT = re.compile(r"[A-Za-z0-9_]+")
-
-
-def canonical_atom(text: str) -> str:
-    """Return the canonical spelling of an atom written as text.
-
-    Predicate atoms are spelled ``name(arg1, arg2)`` with one space after each comma, so
-    that ``"at(r1,g1)"`` and ``"at( r1 , g1 )"`` name the same atom.
-
-    Examples
-    --------
-    >>> canonical_atom("at(r1,g1)")
-    'at(r1, g1)'
-    >>> canonical_atom(" p ")
-    'p'
-    """
-    match = _ATOM_TEXT.match(text)
-    if match is None:
-        return text.strip()
-    name, args = match.groups()
-    if args is None:
-        return name
-    return f"{name}({', '.join(a.strip() for a in args.split(','))})"
-
-
-def atom_name(text: str, where: str = "the argument") -> str:
-    """The canonical spelling of an atom, refusing text that no formula could name.
-
-    Raises
-    ------
-    InvalidArgumentError
-        If ``text`` is not ``name`` or ``name(arg, ...)`` with names (letters, digits,
-        ``_``, not starting with a digit) and arguments that are names or numbers, or if
-        the name is a reserved word.
-
-    Examples
-    --------
-    >>> atom_name("at(r1,g1)")
-    'at(r1, g1)'
-    >>> atom_name("p q")
-    Traceback (most recent call last):
-    ...
-    epistemica.del_.errors.InvalidArgumentError: 'p q' in the argument is not an atom name
-    hint: an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or 'at(r1, g1)'
-    """
-    key = canonical_atom(str(text))
-    match = _ATOM_TEXT.match(key)
-    if match is None or not _valid_atom(match.group(1), _split_args(match.group(2))):
-        raise InvalidArgumentError(
-            f"{text!r} in {where} is not an atom name",
-            hint="an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or "
-            "'at(r1, g1)'",
-        )
-    return key
-
-
-def _split_args(args: str | None) -> tuple[str, ...]:
-    return () if args is None else tuple(a.strip() for a in args.split(","))
-
-
-def _valid_atom(name: str, args: tuple[str, ...]) -> bool:
-    return (
-        _NAME.fullmatch(name) is not None
-        and name not in RESERVED_WORDS
-        and all(_ARGUMENT.fullmatch(a) for a in args)
-    )
-
 
 # A piece of printed text: literal text, or a subformula to print where it stands and the
 # binding strength below which it needs parentheses.
@@ -300,11 +229,11 @@ class Atom(Formula):
             )
         object.__setattr__(self, "args", tuple(str(a) for a in self.args))
         if not self.args and "(" in self.name:  # Atom("at(r1, g1)") is the predicate atom
-            match = _ATOM_TEXT.match(self.name)
-            if match is not None and match.group(2) is not None:
-                object.__setattr__(self, "name", match.group(1))
-                object.__setattr__(self, "args", _split_args(match.group(2)))
-        if not _valid_atom(self.name, self.args):
+            parts = split_predicate(self.name)
+            if parts is not None:
+                object.__setattr__(self, "name", parts[0])
+                object.__setattr__(self, "args", parts[1])
+        if not valid_atom(self.name, self.args):
             # It would print as text that does not parse back to this atom.
             raise InvalidArgumentError(
                 f"{str(self)!r} is not an atom name",
@@ -626,31 +555,6 @@ def iter_postorder(formula: Formula, *, unique: bool = False) -> Iterator[Formul
             stack.extend((child, False) for child in reversed(node.children()))
 
 
-def iter_nodes(formula: Formula) -> Iterator[Formula]:
-    """Every node object of ``formula`` once, in no particular order, without recursion.
-
-    Distinct by identity, not by equality: no subformula is hashed or compared, so this is
-    the cheap walk for checks that look at each node alone (the names a formula uses,
-    whether it is propositional), also on formulas whose equal subtrees are separate
-    objects (a parsed text).
-
-    Examples
-    --------
-    >>> p = Atom("p")
-    >>> sorted(str(f) for f in iter_nodes(p & ~p))
-    ['p', 'p & ~p', '~p']
-    """
-    seen: set[int] = set()
-    stack = [formula]
-    while stack:
-        node = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
-        yield node
-        stack.extend(node.children())
-
-
 _T = TypeVar("_T")
 
 
@@ -671,46 +575,6 @@ def fold(formula: Formula, combine: Callable[[Formula, tuple[_T, ...]], _T]) -> 
     for node in iter_postorder(formula, unique=True):
         values[node] = combine(node, tuple(values[child] for child in node.children()))
     return values[formula]
-
-
-def fold_nodes(formula: Formula, combine: Callable[[Formula, list[_T]], _T]) -> _T:
-    """Like :func:`fold`, but over node objects (by identity), freeing each value as soon
-    as its last parent has used it.
-
-    Nothing is hashed or compared, so this is the fold for large values (truth sets,
-    BDDs) over parsed text, whose equal subtrees are often separate objects; a node
-    object shared by several parents is still combined once.
-
-    Examples
-    --------
-    >>> p = Atom("p")
-    >>> calls = []
-    >>> fold_nodes(p & ~p, lambda node, inner: calls.append(node) or 1 + sum(inner))
-    4
-    >>> len(calls)  # p, ~p and the conjunction: the shared p is combined once
-    3
-    """
-    done: dict[int, _T] = {}
-    uses: dict[int, int] = {}  # parents still to combine, per node
-    stack: list[tuple[Formula, bool]] = [(formula, False)]
-    while stack:
-        node, expanded = stack.pop()
-        if id(node) in done:
-            continue
-        children = node.children()
-        if children and not expanded:
-            stack.append((node, True))
-            for child in children:
-                uses[id(child)] = uses.get(id(child), 0) + 1
-                stack.append((child, False))
-            continue
-        values = [done[id(c)] for c in children]
-        for c in children:
-            uses[id(c)] -= 1
-            if not uses[id(c)]:
-                del done[id(c)]
-        done[id(node)] = combine(node, values)
-    return done[id(formula)]
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

@@ -40,9 +40,9 @@ from epistemica.del_.language.formula import (
     Or,
     Top,
     conjunction,
-    iter_nodes,
 )
 from epistemica.del_.language.parser import build_imported_formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec import _actions as spec_actions
 from epistemica.del_.spec import _model as spec_model

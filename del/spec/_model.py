@@ -17,7 +17,8 @@ from lark import Token, Tree
 from epistemica.del_.errors import EpistemicaError
 from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS
 from epistemica.del_.explicit.checker import propositional_mask
-from epistemica.del_.language.formula import Atom, Formula, iter_nodes
+from epistemica.del_.language.formula import Atom, Formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._actions import members, relations
 

@@ -35,8 +35,8 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
-    fold_nodes,
 )
+from epistemica.del_.language.walk import fold_nodes
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import box, intersection

@@ -49,9 +49,9 @@ from epistemica.del_.language.formula import (
     Or,
     Top,
     atom_name,
-    iter_nodes,
 )
 from epistemica.del_.language.parser import as_formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import evaluate, propositional
