@@ -26,6 +26,7 @@ __all__ = ["FastPathMiss", "fast_formula", "fast_parse"]
 
 _SIMPLE = frozenset(("agents", "atoms", "observes", "actual", "designated"))
 _FORMULA = frozenset(("law", "goal", "check", "action"))
+_OTHER = frozenset(("world", "relation", "knowledge", "partition"))  # left to lark
 _WORD, _STRING = 2, 4
 
 
@@ -77,8 +78,6 @@ def fast_parse(text: str, parse_statement: Callable[[str], Tree]) -> Tree | None
     ``parse_statement(padded)`` parses one simple statement with lark; ``padded`` puts it
     at its line and column of the file, so that its tokens are located as in the file.
     """
-    if '"' in text and "\\" in text:  # escapes: leave strings to lark
-        return None
     tokens = tokenize(text)
     where = _Positions(text)
     kinds, values, starts = tokens.kinds, tokens.values, tokens.starts
@@ -119,14 +118,11 @@ def _statement_end(tokens: Tokens, i: int) -> int:
         if (
             kinds[i] == _WORD
             and (values[i] in _SIMPLE or values[i] in _FORMULA or values[i] in _OTHER)
-            and values[i - 1] not in (",", ":", "{", "..")
+            and values[i - 1] not in (",", ":", "{", ".")
         ):
             return i
         i += 1
     return i
-
-
-_OTHER = frozenset(("world", "relation", "knowledge", "partition"))
 
 
 def _ends_statement(tokens: Tokens, i: int, also: str = "") -> bool:
