@@ -46,10 +46,12 @@ _SPACE, _WORD, _INT, _STRING, _ANNOUNCE, _DIAMOND, _IFF, _IMPLIES, _AND, _OR, _N
 _TOP, _BOTTOM, _PUNCT, _OTHER = 12, 13, 14, 15
 # Spaces and comments before each token (group 1), and the token (group 2): findall
 # returns the pairs, and offsets are their running lengths (no match object per token).
+# Group 2 also matches the end of the text, so that a match never fails: a failing match
+# would be retried at every position of a trailing run of blank lines (quadratic time).
 _TOKEN = re.compile(
     r"((?:\s+|#[^\n]*)*)"
     r"([A-Za-z_][A-Za-z0-9_]*|[0-9]+|\"[^\"\n]*\"|\[[ \t\r\n]*!|<[ \t\r\n]*!|<->|<=>|->|=>"
-    r"|&&|\|\||\S)",  # \S: trailing space is no token
+    r"|&&|\|\||\S|\Z)",
 )
 # A token's kind from its first character; the few that need the second are below.
 _FIRST = {c: _WORD for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_"}
@@ -105,6 +107,8 @@ class Tokens:
         for offset, chunk in _chunks(text):
             position = offset
             for space, value in _TOKEN.findall(chunk):
+                if not value:  # the end of the piece
+                    break
                 position += len(space)
                 found = known.get(value)
                 if found is None:

@@ -7,6 +7,7 @@ located messages stay the only error messages.
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import pytest
@@ -14,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lark.exceptions import UnexpectedInput
 
-from epistemica.del_ import ParseError, SpecError, parse_spec
+from epistemica.del_ import ParseError, SpecError, parse_formula, parse_spec
 from epistemica.del_.language import _fast as fast_module
 from epistemica.del_.language._fast import read_formula, tokenize
 from epistemica.del_.language.parser import FormulaBuilder, _lark, read_whole_formula
@@ -133,3 +134,14 @@ def test_text_read_in_small_pieces_reads_the_same(f, size):
         fast_module._chunks = original
     assert found is None or (tokens.kinds[found[1]] == 0 and found[0] == f)
     assert read_whole_formula(text) == f
+
+
+def test_long_runs_of_blank_lines_and_comments_take_linear_time():
+    """Found by the fuzz corpus: a tokenizer match that could fail was retried at every
+    position of a trailing run of blank lines (a 200-line run took seconds)."""
+    text = "agents a\natoms p\ngoal p\n" + "\n" * 200_000 + "# the end\n" * 50_000
+    start = time.perf_counter()
+    tokens = tokenize(text)
+    assert list(tokens.values) == ["agents", "a", "atoms", "p", "goal", "p", ""]
+    assert time.perf_counter() - start < 2
+    assert parse_spec(text, "blank.epi").goal == parse_formula("p")
