@@ -38,9 +38,11 @@ from epistemica.aif.configurations import (
     MISSIONS,
     count_configurations,
     filter_configurations,
+    shared_configurations,
     valid_configurations,
 )
-from epistemica.aif.controller import Controller, Decision, decide
+from epistemica.aif.controller import Controller, decide
+from epistemica.aif.decision import Decision
 from epistemica.aif.evidence import (
     BEARING,
     RANGE,
@@ -129,6 +131,7 @@ __all__ = [
     "range_evidence",
     "row_sums",
     "select_policy",
+    "shared_configurations",
     "total_correlation",
     "uniform_belief",
     "valid_configurations",

@@ -43,26 +43,25 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import softmax
 
 from epistemica.aif._logspace import log_softmax
 from epistemica.aif._validate import as_distribution, as_finite, positive, positive_int
 from epistemica.aif.belief import PUBLISHED_WEIGHT
+from epistemica.aif.decision import Decision, choose
 from epistemica.aif.evidence import (
     DEFAULT_ETA,
     DEFAULT_ETA_BEARING,
-    _check_order,
-    _check_robot,
-    _sensors,
+    check_order,
+    check_robot,
+    check_sensors,
+    noise_attenuation,
 )
-from epistemica.aif.free_energy import select_policy
 from epistemica.aif.likelihood import check_configurations
 from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.one_step import OneStepEFE, Terms
-from epistemica.aif.perspective import Perspective, _predicted_evidence, perspectives
+from epistemica.aif.perspective import Perspective, perspectives, predicted_evidence
 from epistemica.aif.search import receding_horizon
 from epistemica.aif.team import decide_team
 from epistemica.del_.errors import InvalidArgumentError
@@ -73,34 +72,6 @@ __all__ = ["Controller", "Decision", "decide"]
 _CHUNK_CELLS = 4_000_000
 # From this many valid configurations on, the controller's large passes use float32.
 _FLOAT32_ROWS = 20_000
-
-
-@dataclass(frozen=True)
-class Decision:
-    """The outcome of one decision.
-
-    Attributes
-    ----------
-    control : tuple of float
-        The chosen ``(speed, heading change)``.
-    index : int
-        Its row in :attr:`Controller.controls`.
-    G : numpy.ndarray
-        Expected free energy of every candidate (best continuation when ``horizon > 1``).
-    q_pi : numpy.ndarray
-        Policy posterior ``softmax(-gamma G)`` over the candidates.
-    belief : numpy.ndarray
-        The robot's current belief over the valid configurations.
-    focal : int
-        Row of the focal (most probable) configuration.
-    """
-
-    control: tuple[float, float]
-    index: int
-    G: np.ndarray
-    q_pi: np.ndarray
-    belief: np.ndarray
-    focal: int
 
 
 class Controller:
@@ -164,15 +135,15 @@ class Controller:
         position_noise: float = 0.0,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
-        self.sensors = _sensors(sensors)
-        self._bearing = np.array([s == "bearing" for s in self.sensors])
+        self.sensors = check_sensors(sensors)
+        self.bearing = np.array([s == "bearing" for s in self.sensors])
         n, m = len(self.sensors), self.goals.shape[0]
         if n == 0 or m == 0:
             raise InvalidArgumentError(
                 "need at least one robot and one goal", hint="pass non-empty goals and sensors"
             )
         self.configurations = check_configurations(configurations, n, m)
-        self.order = _check_order(order)
+        self.order = check_order(order)
         self.controls = (
             control_grid()
             if controls is None
@@ -194,7 +165,7 @@ class Controller:
         # Large sets: the (k x candidates) passes are memory-bound; float32 halves them. Log
         # likelihoods are sums of n terms of order 1, so the rounding stays near 1e-6 nats.
         large = self.configurations.shape[0] >= _FLOAT32_ROWS
-        self._model = OneStepEFE(
+        self.model = OneStepEFE(
             self.goals,
             self.configurations,
             update=update,
@@ -206,13 +177,12 @@ class Controller:
             dtype=np.float32 if large else np.float64,
             chunk_cells=_CHUNK_CELLS,
         )
-        self.update, self.weight = self._model.update, self._model.weight
-        self.progress_weight = self._model.progress_weight
-        self.social_weight = self._model.social_weight
-        self.preference_floor = self._model.preference_floor
+        self.update, self.weight = self.model.update, self.model.weight
+        self.progress_weight = self.model.progress_weight
+        self.social_weight = self.model.social_weight
+        self.preference_floor = self.model.preference_floor
         self._perspective_cache: dict[int, list[Perspective]] = {}
-        self._views_cache: dict = {}  # robot -> its perspectives as arrays (team call)
-        self._chunk = _CHUNK_CELLS  # the team call's passes stay within one chunk
+        self.chunk_cells = _CHUNK_CELLS  # the team call's passes stay within one chunk
         self.position_noise = float(as_finite(position_noise, "position_noise"))
         if self.position_noise < 0:
             raise InvalidArgumentError(
@@ -230,24 +200,15 @@ class Controller:
         >>> [(p.agent, p.order, p.weight) for p in ctrl.perspectives(0)]
         [(0, 3, 1.0), (1, 2, 1.0), (2, 2, 1.0), (1, 1, 1.0)]
         """
-        robot = _check_robot(robot, len(self.sensors))
+        robot = check_robot(robot, len(self.sensors))
         if robot not in self._perspective_cache:
             self._perspective_cache[robot] = perspectives(self.sensors, robot, self.order)
         return self._perspective_cache[robot]
 
     def _poses(self, poses) -> np.ndarray:
-        n = len(self.sensors)
-        p = as_finite(poses, "poses", ndim=2, shape=(n, None))
-        if p.shape[1] == 2:
-            p = np.column_stack([p, np.zeros(n)])
-        if p.shape[1] != 3:
-            raise InvalidArgumentError(
-                f"poses must be (n, 2) or (n, 3), got {p.shape}",
-                hint="x, y and optionally heading per robot",
-            )
-        return p
+        return checked_poses(poses, len(self.sensors))
 
-    def _prior(self, prior) -> np.ndarray:
+    def prior_vector(self, prior) -> np.ndarray:
         k = self.configurations.shape[0]
         if prior is None:
             return np.full(k, 1.0 / k)
@@ -255,29 +216,16 @@ class Controller:
 
     def _evidence(self, views, robot: int, pos: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """Evidence ``(P, b, n, m)`` of ``views`` with ``robot`` at each of ``xs (b, 2)``."""
-        e = _predicted_evidence(
-            views, robot, pos, xs, self.goals, self._bearing, self.eta, self.eta_bearing
+        e = predicted_evidence(
+            views, robot, pos, xs, self.goals, self.bearing, self.eta, self.eta_bearing
         )
         if self.position_noise > 0:
-            e *= self._attenuation(robot, pos)[None, None, :, None]
+            factor = noise_attenuation(
+                pos[None], np.array([robot]), self.bearing, self.position_noise, self.eta,
+                self.eta_bearing,
+            )[0]  # fmt: skip
+            e *= factor[None, None, :, None]
         return e
-
-    def _attenuation(self, robot: int, pos: np.ndarray) -> np.ndarray:
-        """Per-row factor ``1 / sqrt(1 + pi s² / 8)`` for noisy observed positions.
-
-        A row's evidence differs between goals by about ``Δd / eta`` (range) or
-        ``Δangle / eta_bearing`` (bearing, seen from ``robot``); noise of variance ``σ²``
-        per axis gives those differences a variance ``s² ≈ 2σ² / eta²`` or
-        ``2σ² / (eta_bearing · ρ)²`` at range ``ρ``. The deciding robot's own row is exact.
-        """
-        if self._bearing[robot]:
-            rho = np.maximum(np.hypot(*(pos - pos[robot]).T), 1.0)
-            s2 = 2.0 * self.position_noise / (self.eta_bearing * rho) ** 2
-        else:
-            s2 = np.full(pos.shape[0], 2.0 * self.position_noise / self.eta**2)
-        factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
-        factor[robot] = 1.0
-        return factor
 
     def beliefs(self, robot: int, poses, prior=None) -> tuple[np.ndarray, int]:
         """Robot ``robot``'s current belief over the configurations and its focal row.
@@ -291,11 +239,11 @@ class Controller:
         >>> focal, bool(q[0] > q[1])
         (0, True)
         """
-        robot = _check_robot(robot, len(self.sensors))
+        robot = check_robot(robot, len(self.sensors))
         pos = self._poses(poses)[:, :2]
-        prior = self._prior(prior)
+        prior = self.prior_vector(prior)
         e = self._evidence(self.perspectives(robot)[:1], robot, pos, pos[robot][None])[0]
-        q = np.exp(self._model._posterior_log(log_softmax(e, -1), prior)[:, 0])
+        q = np.exp(self.model.unchecked_posterior_log(log_softmax(e, -1), prior)[:, 0])
         return q, int(np.argmax(q))
 
     def evaluate(self, robot: int, poses, candidates, prior=None) -> np.ndarray:
@@ -324,12 +272,12 @@ class Controller:
         >>> t.progress.round(2).tolist(), bool(t.reading[0] == t.reading[1])  # 30 · d / 50
         ([2.4, 3.6], True)
         """
-        robot = _check_robot(robot, len(self.sensors))
+        robot = check_robot(robot, len(self.sensors))
         pos = self._poses(poses)[:, :2]
         xs = as_finite(candidates, "candidates", ndim=2, shape=(None, 2))
-        return self._evaluate(robot, pos, xs, self._prior(prior))[0]
+        return self.evaluate_batch(robot, pos, xs, self.prior_vector(prior))[0]
 
-    def _evaluate(self, robot, pos, xs, prior, modelled=None):
+    def evaluate_batch(self, robot, pos, xs, prior, modelled=None):
         views = self.perspectives(robot)
         weights = np.array([p.weight for p in views])
         # Column 0 is the current position; candidates that stop share it.
@@ -338,22 +286,13 @@ class Controller:
         back[~stay] = 1 + np.arange(np.count_nonzero(~stay))
         batch = np.concatenate([pos[robot][None], xs[~stay]])
         log_p = log_softmax(self._evidence(views, robot, pos, batch), -1)
-        terms, q_root, focal = self._model._terms(log_p, weights, robot, batch, prior, modelled)
+        terms, q_root, focal = self.model.batch_terms(log_p, weights, robot, batch, prior, modelled)
         return Terms(*(t[back] for t in terms)), q_root, focal
 
     def _modelled(self, robot: int, priors) -> np.ndarray | None:
         """``(k, P - 1)`` priors of the modelled perspectives, validated, or None."""
-        if priors is None:
-            return None
-        views = self.perspectives(robot)
-        k = self.configurations.shape[0]
-        if len(priors) != len(views) - 1:
-            raise InvalidArgumentError(
-                f"modelled_priors has {len(priors)} entries for {len(views) - 1} modelled "
-                "perspectives",
-                hint="one prior per perspective after the first of Controller.perspectives",
-            )
-        return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)
+        views = len(self.perspectives(robot)) - 1
+        return modelled_priors(priors, views, self.configurations.shape[0])
 
     def decide(
         self,
@@ -391,17 +330,17 @@ class Controller:
         >>> ctrl.decide(0, [[9.5, 0.0, 0.0], [-9.0, 0.0, 0.0]]).control  # half a metre to go
         (0.3333333333333333, 0.0)
         """
-        robot = _check_robot(robot, len(self.sensors))
+        robot = check_robot(robot, len(self.sensors))
         poses = self._poses(poses)
-        prior = self._prior(prior)
+        prior = self.prior_vector(prior)
         modelled = self._modelled(robot, modelled_priors)
         pos = poses[:, :2]
         first = predict_poses(poses[robot], self.controls, self.dt)
-        terms, q, focal = self._evaluate(robot, pos, first[:, :2], prior, modelled)
+        terms, q, focal = self.evaluate_batch(robot, pos, first[:, :2], prior, modelled)
         G = terms.G
         if self.horizon > 1:
             G = receding_horizon(
-                lambda xs: self._evaluate(robot, pos, xs, prior, modelled)[0].G,
+                lambda xs: self.evaluate_batch(robot, pos, xs, prior, modelled)[0].G,
                 first,
                 G,
                 self.controls,
@@ -409,7 +348,7 @@ class Controller:
                 self.horizon,
                 self.beam,
             )
-        return self._choose(G[None], [q], [focal], [rng])[0]
+        return choose(self.controls, self.gamma, G[None], [q], [focal], [rng])[0]
 
     def decide_team(self, observations, robots=None, priors=None, rng=None) -> list[Decision]:
         """Every robot's :meth:`decide` in one vectorised pass.
@@ -449,27 +388,6 @@ class Controller:
         """
         return decide_team(self, observations, robots, priors, rng)
 
-    def _choose(self, G: np.ndarray, beliefs, focals, rngs) -> list[Decision]:
-        """Decisions from the candidates' ``G (R, c)``: least (first on ties), or sampled."""
-        finite = np.isfinite(G)
-        if not finite.any(axis=1).all():
-            raise InvalidArgumentError(
-                "no candidate control has a finite expected free energy",
-                hint="check the weights and the controls",
-            )
-        least = np.where(finite, G, np.inf).min(axis=1, keepdims=True)
-        shifted = np.where(finite, G - least, 0.0)
-        with np.errstate(over="ignore"):  # a huge precision: logits -inf, never NaN
-            logits = np.where(finite, -self.gamma * shifted, -np.inf)
-        q_pi = softmax(logits, axis=1)
-        first = np.argmax(G == least, axis=1)
-        out = []
-        for r, rng in enumerate(rngs):
-            index = int(first[r]) if rng is None else select_policy(q_pi[r], rng)
-            control = (float(self.controls[index, 0]), float(self.controls[index, 1]))
-            out.append(Decision(control, index, G[r], q_pi[r], beliefs[r], int(focals[r])))
-        return out
-
 
 def decide(
     robot: int, poses, goals, sensors, configurations, *, prior=None, rng=None, **options
@@ -487,3 +405,28 @@ def decide(
     return Controller(goals, sensors, configurations, **options).decide(
         robot, poses, prior=prior, rng=rng
     )
+
+
+def checked_poses(poses, n: int) -> np.ndarray:
+    """``(n, 3)`` poses from ``(n, 2)`` positions (heading 0) or ``(n, 3)`` poses."""
+    p = as_finite(poses, "poses", ndim=2, shape=(n, None))
+    if p.shape[1] == 2:
+        p = np.column_stack([p, np.zeros(n)])
+    if p.shape[1] != 3:
+        raise InvalidArgumentError(
+            f"poses must be (n, 2) or (n, 3), got {p.shape}",
+            hint="x, y and optionally heading per robot",
+        )
+    return p
+
+
+def modelled_priors(priors, views: int, k: int) -> np.ndarray | None:
+    """``(k, views)`` priors of the modelled perspectives, validated, or None."""
+    if priors is None:
+        return None
+    if len(priors) != views:
+        raise InvalidArgumentError(
+            f"modelled_priors has {len(priors)} entries for {views} modelled perspectives",
+            hint="one prior per perspective after the first of Controller.perspectives",
+        )
+    return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)

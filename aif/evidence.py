@@ -75,7 +75,8 @@ DEFAULT_ETA_BEARING = 1.0
 _COINCIDENT = 1e-9
 
 
-def _sensors(sensors, n: int | None = None) -> tuple[str, ...]:
+def check_sensors(sensors, n: int | None = None) -> tuple[str, ...]:
+    """The sensor types as a tuple, each checked (and ``n`` of them, when given)."""
     if isinstance(sensors, str):
         sensors = [sensors]
     out = tuple(sensors)
@@ -111,7 +112,7 @@ def dominates(sensor_a: str, sensor_b: str) -> bool:
     >>> dominates("range", "bearing"), dominates("bearing", "range")
     (True, False)
     """
-    a, b = _sensors([sensor_a, sensor_b])
+    a, b = check_sensors([sensor_a, sensor_b])
     return _RANK[a] >= _RANK[b]
 
 
@@ -150,14 +151,14 @@ def bearing_evidence(
 
 
 def _angles(v: np.ndarray, pos: np.ndarray, gl: np.ndarray) -> np.ndarray:
-    return _angle_batch(v, pos, gl, _scale(pos, gl, v))
+    return angle_batch(v, pos, gl, _scale(pos, gl, v))
 
 
 def _scale(*arrays) -> float:
     return max(1.0, max(float(np.abs(a).max()) for a in arrays))
 
 
-def _angle_batch(v: np.ndarray, pos: np.ndarray, gl: np.ndarray, scale: float) -> np.ndarray:
+def angle_batch(v: np.ndarray, pos: np.ndarray, gl: np.ndarray, scale: float) -> np.ndarray:
     """Angles at viewpoints ``v (..., 2)`` between points ``pos (..., n, 2)`` and goals."""
     dr = pos - v[..., None, :]
     dg = gl - v[..., None, :]
@@ -172,7 +173,7 @@ def _angle_batch(v: np.ndarray, pos: np.ndarray, gl: np.ndarray, scale: float) -
     return angle
 
 
-def _stack(
+def stack_evidence(
     pos: np.ndarray,
     gl: np.ndarray,
     bearing: np.ndarray,
@@ -193,7 +194,7 @@ def _stack(
     out[:, ~bearing] = ranged[:, None]
     if bearing.any():
         scale = _scale(pos, gl) if scale is None else scale
-        ang = _angle_batch(pos[:, bearing], pos[:, None], gl, scale)
+        ang = angle_batch(pos[:, bearing], pos[:, None], gl, scale)
         out[:, bearing] = np.exp(-ang / eta_bearing)
     out[:, np.arange(n), np.arange(n)] = 0.0
     return out, ranged
@@ -232,9 +233,11 @@ def measurement_stack(
         )
     pos = pos[..., :2]
     n = pos.shape[1]
-    bearing = np.array([s == BEARING for s in _sensors(sensors, n)])
+    bearing = np.array([s == BEARING for s in check_sensors(sensors, n)])
     gl = _points(goals, "goals")
-    out, _ = _stack(pos, gl, bearing, positive(eta, "eta"), positive(eta_bearing, "eta_bearing"))
+    out, _ = stack_evidence(
+        pos, gl, bearing, positive(eta, "eta"), positive(eta_bearing, "eta_bearing")
+    )
     return out[0] if single else out
 
 
@@ -258,7 +261,7 @@ def measurements(
     [[0.0, 0.0], [0.905, 0.26]]
     """
     pos = _points(positions, "positions")
-    sensors = _sensors(sensors, pos.shape[0])
+    sensors = check_sensors(sensors, pos.shape[0])
     if sensors[viewpoint] == RANGE:
         out = range_evidence(pos, goals, eta)
     else:
@@ -267,7 +270,44 @@ def measurements(
     return out
 
 
-def _check_robot(robot, n: int) -> int:
+def noise_attenuation(
+    pos: np.ndarray,
+    robots: np.ndarray,
+    bearing: np.ndarray,
+    position_noise: float,
+    eta: float,
+    eta_bearing: float,
+) -> np.ndarray:
+    """``(R, n)`` per-row factors ``1 / sqrt(1 + pi s² / 8)`` for noisy observed positions,
+    each robot ``robots[r]`` in its own view ``pos[r]`` (``(R, n, 2)``).
+
+    A row's evidence differs between goals by about ``Δd / eta`` (range) or
+    ``Δangle / eta_bearing`` (bearing, seen from the deciding robot); noise of variance
+    ``σ²`` per axis gives those differences a variance ``s² ≈ 2σ² / eta²`` or
+    ``2σ² / (eta_bearing · ρ)²`` at range ``ρ`` (docs/aif.md, "Observation noise"). The
+    deciding robot's own row is exact.
+
+    Examples
+    --------
+    >>> pos = np.array([[[0.0, 0.0], [10.0, 0.0]]])
+    >>> noise_attenuation(pos, np.array([0]), np.array([False, False]), 0.0, 50.0, 1.0)
+    array([[1., 1.]])
+    """
+    R = robots.size
+    rel = pos - pos[np.arange(R), robots][:, None]
+    rho = np.maximum(np.hypot(rel[..., 0], rel[..., 1]), 1.0)
+    s2 = np.where(
+        bearing[robots][:, None],
+        2.0 * position_noise / (eta_bearing * rho) ** 2,
+        2.0 * position_noise / eta**2,
+    )
+    factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
+    factor[np.arange(R), robots] = 1.0
+    return factor
+
+
+def check_robot(robot, n: int) -> int:
+    """``robot`` as an index in ``range(n)``, or a clear error."""
     if isinstance(robot, bool) or not isinstance(robot, (int, np.integer)) or not 0 <= robot < n:
         raise InvalidArgumentError(
             f"robot must be an index in range({n}), got {robot!r}",
@@ -276,7 +316,8 @@ def _check_robot(robot, n: int) -> int:
     return int(robot)
 
 
-def _check_order(order) -> int:
+def check_order(order) -> int:
+    """``order`` as an order of reasoning 0-3, or a clear error."""
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or not 0 <= order <= 3:
         raise InvalidArgumentError(
             f"order must be 0, 1, 2 or 3, got {order!r}",
@@ -296,10 +337,10 @@ def perspective_sets(sensors: Sequence[str], robot: int, order: int) -> list[lis
     >>> perspective_sets(["bearing", "range", "bearing"], 0, 2)
     [[(0,)], [(0,)], [(0, 2)]]
     """
-    sensors = _sensors(sensors)
+    sensors = check_sensors(sensors)
     n = len(sensors)
-    robot = _check_robot(robot, n)
-    order = _check_order(order)
+    robot = check_robot(robot, n)
+    order = check_order(order)
     levels: list[list[tuple]] = [[(robot,)]]
     if order >= 1:
         levels.append([(robot,)])
@@ -327,7 +368,7 @@ def chain_counts(sensors: Sequence[str], robot: int, order: int) -> np.ndarray:
     [[1, 0, 0], [1, 0, 0], [0, 1, 1], [0, 1, 1]]
     """
     levels = perspective_sets(sensors, robot, order)
-    counts = np.zeros((len(levels), len(_sensors(sensors))), dtype=np.int64)
+    counts = np.zeros((len(levels), len(check_sensors(sensors))), dtype=np.int64)
     for k, chains in enumerate(levels):
         for chain in chains:
             counts[k, chain[-1]] += 1
@@ -371,8 +412,8 @@ def evidence_by_order(
     """
     pos = _points(positions, "positions")
     n = pos.shape[0]
-    sensors = _sensors(sensors, n)
-    robot = _check_robot(robot, n)
+    sensors = check_sensors(sensors, n)
+    robot = check_robot(robot, n)
     counts = chain_counts(sensors, robot, order)
     gl = _points(goals, "goals")
     out = np.zeros((counts.shape[0], n, gl.shape[0]))

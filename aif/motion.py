@@ -96,7 +96,7 @@ def predict_poses(pose, controls, dt: float = 1.0) -> np.ndarray:
         raise InvalidArgumentError(
             f"pose must end in (x, y, heading), got shape {p.shape}", hint="pass three numbers"
         )
-    return _turn_then_move(p[..., None, :], u, dt)
+    return turn_then_move(p[..., None, :], u, dt)
 
 
 def move(poses, controls, dt: float = 1.0) -> np.ndarray:
@@ -122,7 +122,7 @@ def move(poses, controls, dt: float = 1.0) -> np.ndarray:
     """
     p = as_finite(poses, "poses", ndim=2, shape=(None, 3))
     u = as_finite(controls, "controls", ndim=2, shape=(p.shape[0], 2))
-    return _turn_then_move(p, u, positive(dt, "dt"))
+    return turn_then_move(p, u, positive(dt, "dt"))
 
 
 def wrap_angle(angle) -> np.ndarray:
@@ -137,7 +137,7 @@ def wrap_angle(angle) -> np.ndarray:
     return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
 
 
-def _turn_then_move(p: np.ndarray, u: np.ndarray, dt: float) -> np.ndarray:
+def turn_then_move(p: np.ndarray, u: np.ndarray, dt: float) -> np.ndarray:
     # p (..., 3) broadcasts against u (..., 2): the one implementation of the dynamics.
     heading = wrap_angle(p[..., 2] + u[..., 1])
     x = p[..., 0] + u[..., 0] * dt * np.cos(heading)

@@ -46,7 +46,7 @@ from epistemica.aif._validate import (
     positive_int,
 )
 from epistemica.aif.belief import PUBLISHED_WEIGHT
-from epistemica.aif.evidence import DEFAULT_ETA, _check_robot
+from epistemica.aif.evidence import DEFAULT_ETA, check_robot
 from epistemica.aif.row_index import RowIndex
 from epistemica.del_.errors import InvalidArgumentError
 
@@ -148,13 +148,14 @@ class OneStepEFE:
         """
         n = self.configurations.shape[1]
         lp = as_log_values(log_p, "log_p", ndim=3, shape=(None, n, self.goals.shape[0]))
-        return self._posterior_log(lp, self._check_prior(prior))
+        return self.unchecked_posterior_log(lp, self._check_prior(prior))
 
     def _check_prior(self, prior) -> np.ndarray:
         k = self.configurations.shape[0]
         return np.full(k, 1.0 / k) if prior is None else as_distribution(prior, "prior", size=k)
 
-    def _posterior_log(self, log_p: np.ndarray, prior: np.ndarray) -> np.ndarray:
+    def unchecked_posterior_log(self, log_p: np.ndarray, prior: np.ndarray) -> np.ndarray:
+        """The core of :meth:`posterior_log`, for arguments already validated."""
         with np.errstate(divide="ignore"):
             log_prior = np.log(prior)
         return self._posterior(self.index.row_sums(log_p), log_prior, prior)
@@ -211,11 +212,11 @@ class OneStepEFE:
             raise InvalidArgumentError(
                 "weights must be positive, one per perspective", hint="the root's weight is 1"
             )
-        robot = _check_robot(robot, n)
+        robot = check_robot(robot, n)
         batch = as_finite(positions, "positions", ndim=2, shape=(lp.shape[1], 2))
-        return self._terms(lp, w, robot, batch, self._check_prior(prior))
+        return self.batch_terms(lp, w, robot, batch, self._check_prior(prior))
 
-    def _terms(self, log_p, weights, robot, batch, prior, modelled=None):
+    def batch_terms(self, log_p, weights, robot, batch, prior, modelled=None):
         """Unchecked :meth:`terms`; ``prior`` is a probability vector, ``modelled`` None or
         ``(k, P - 1)`` priors of the modelled perspectives (default ``prior``)."""
         k = self.configurations.shape[0]
@@ -230,7 +231,7 @@ class OneStepEFE:
         step = max(1, self.chunk_cells // k)
         root_batch = log_p[0] if root_changed else log_p[0, :1]
         parts = [
-            self._root_terms(
+            self.root_terms(
                 self.index.row_sums(root_batch[a : a + step]),
                 log_prior,
                 prior,
@@ -255,7 +256,7 @@ class OneStepEFE:
                 movers = np.full(views.shape[0], robot)
                 r = np.concatenate(
                     [
-                        self._grouped_risk(
+                        self.grouped_risk(
                             views[a : a + step, 0],
                             views[a : a + step, :, robot],
                             movers[a : a + step],
@@ -295,7 +296,7 @@ class OneStepEFE:
         )
         return terms, q_root, focal
 
-    def _root_terms(self, ll: np.ndarray, log_prior, prior, q0, focal, uniform):
+    def root_terms(self, ll: np.ndarray, log_prior, prior, q0, focal, uniform):
         """Belief risk and reading term of the robot's own perspective, per column of ``ll``.
 
         ``ll (k, b)`` are unnormalised log likelihoods of the valid rows; it is consumed
@@ -334,7 +335,7 @@ class OneStepEFE:
         reading = np.log(2.0) - np.maximum(h_mean - e_h, 0.0)
         return risk, reading
 
-    def _grouped_risk(self, base, moved, movers, log_prior, focal, uniform) -> np.ndarray:
+    def grouped_risk(self, base, moved, movers, log_prior, focal, uniform) -> np.ndarray:
         """``KL[q'_u || C*]`` of perspectives where only one robot's row moves: ``(P, c)``.
 
         ``base (P, n, m)`` are the log goal probabilities at column 0, ``moved (P, c, m)``

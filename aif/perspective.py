@@ -25,7 +25,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from epistemica.aif.evidence import _check_order, _check_robot, _sensors, _stack, chain_counts
+from epistemica.aif.evidence import (
+    chain_counts,
+    check_order,
+    check_robot,
+    check_sensors,
+    stack_evidence,
+)
 
 __all__ = ["Perspective", "perspectives", "row_weights"]
 
@@ -69,9 +75,9 @@ def perspectives(sensors: Sequence[str], robot: int, order: int) -> list[Perspec
     >>> ps[0].counts.tolist()  # chain ends: (0,); (0, 1), (0, 2); (0, 2, 1)
     [1.0, 2.0, 1.0]
     """
-    sensors = _sensors(sensors)
-    robot = _check_robot(robot, len(sensors))
-    order = _check_order(order)
+    sensors = check_sensors(sensors)
+    robot = check_robot(robot, len(sensors))
+    order = check_order(order)
     out = [_perspective(sensors, robot, order, 1.0, root=True)]
     if order >= 2:
         counts = chain_counts(sensors, robot, order)
@@ -122,7 +128,7 @@ def row_weights(views: Sequence[Perspective], n: int) -> np.ndarray:
 _SERIAL_PRODUCT = 262_144
 
 
-def _chain_sums(counts: np.ndarray, stack: np.ndarray) -> np.ndarray:
+def chain_sums(counts: np.ndarray, stack: np.ndarray) -> np.ndarray:
     """``tensordot(counts (P, n), stack (b, n, n, m), ([1], [1]))`` in serial-size blocks.
 
     Each block is the same product over fewer candidates, so every entry is computed
@@ -141,7 +147,7 @@ def _chain_sums(counts: np.ndarray, stack: np.ndarray) -> np.ndarray:
     )
 
 
-def _predicted_evidence(
+def predicted_evidence(
     views: list[Perspective],
     robot: int,
     positions: np.ndarray,
@@ -165,16 +171,16 @@ def _predicted_evidence(
     >>> views = perspectives(["range", "range"], 0, 2)
     >>> pos = np.array([[0.0, 0.0], [0.0, 10.0]])
     >>> goals = np.array([[10.0, 0.0], [-10.0, 0.0]])
-    >>> e = _predicted_evidence(views, 0, pos, np.array([[0.0, 0.0], [5.0, 0.0]]), goals,
+    >>> e = predicted_evidence(views, 0, pos, np.array([[0.0, 0.0], [5.0, 0.0]]), goals,
     ...                         np.array([False, False]), 10.0, 1.0)
     >>> bool(np.array_equal(e[0, 0, 0], e[0, 1, 0])), bool(e[1, 1, 0, 0] > e[1, 0, 0, 0])
     (True, True)
     """
     scenes = np.repeat(positions[None], candidates.shape[0], axis=0)
     scenes[:, robot] = candidates
-    stack, ranged = _stack(scenes, goals, bearing, eta, eta_bearing)
+    stack, ranged = stack_evidence(scenes, goals, bearing, eta, eta_bearing)
     counts = np.array([p.counts for p in views])
-    e = _chain_sums(counts, stack)  # (P, b, n, m)
+    e = chain_sums(counts, stack)  # (P, b, n, m)
     agents = np.array([p.agent for p in views])
     # Order 0: each perspective's agent knows its own position exactly.
     e[np.arange(len(views)), :, agents] += ranged[:, agents].transpose(1, 0, 2)

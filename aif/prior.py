@@ -31,8 +31,10 @@ Two robots, two goals, a perfectly symmetric rendezvous: the shared order prefer
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from epistemica.aif._validate import as_finite, nonnegative, positive
+from epistemica.aif.configurations import check_capacities, index_dtype
 from epistemica.aif.likelihood import check_configurations
 from epistemica.del_.errors import InvalidArgumentError
 
@@ -175,17 +177,13 @@ def plausible_configurations(
     >>> len(plausible_configurations(cost, "allocation", within=100.0))
     6
     """
-    from scipy.optimize import linear_sum_assignment
-
-    from epistemica.aif.configurations import _check_capacities, _index_dtype
-
     c = as_finite(cost, "cost", ndim=2)
     n, m = c.shape
     within = nonnegative(within, "within")
     if mission == "rendezvous":
         total = c.sum(axis=0)
         goals = np.flatnonzero(total <= total.min() + within)
-        return np.repeat(goals[:, None], n, axis=1).astype(_index_dtype(m))
+        return np.repeat(goals[:, None], n, axis=1).astype(index_dtype(m))
     if mission == "allocation":
         if n > m:
             raise InvalidArgumentError(
@@ -194,7 +192,7 @@ def plausible_configurations(
             )
         slots, state = c, np.ones((1, m), dtype=np.int64)
     elif mission == "capacity":
-        caps = _check_capacities(capacities, n, m)
+        caps = check_capacities(capacities, n, m)
         slots, state = np.repeat(c, caps, axis=1), caps[None, :].astype(np.int64)
     else:
         raise InvalidArgumentError(
@@ -236,7 +234,7 @@ def plausible_configurations(
         state = state[parent]
         state[np.arange(goal.size), goal] -= 1
         on_best = on_best[parent] & (goal == best_ordered[r])
-    out = np.empty((spent.size, n), dtype=_index_dtype(m))
+    out = np.empty((spent.size, n), dtype=index_dtype(m))
     at = np.arange(spent.size)
     for r in range(n - 1, -1, -1):
         parent, goal = levels[r]

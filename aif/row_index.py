@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse import csr_matrix
 
-from epistemica.aif.evidence import _check_robot
+from epistemica.aif.evidence import check_robot
 from epistemica.aif.likelihood import check_configurations
 from epistemica.del_.errors import InvalidArgumentError
 
@@ -93,7 +93,7 @@ class RowIndex:
         [[0.0, 1.0, 0.0], [1.0, 0.0, 1.0]]
         """
         if robot not in self._groups:
-            robot = _check_robot(robot, self.configurations.shape[1])
+            robot = check_robot(robot, self.configurations.shape[1])
             self._groups[robot] = self._indicator(self.configurations[:, robot], self.n_goals)
         return self._groups[robot]
 

@@ -25,16 +25,18 @@ Examples
 
 from __future__ import annotations
 
+import weakref
 from typing import NamedTuple
 
 import numpy as np
 
 from epistemica.aif._logspace import log_softmax
 from epistemica.aif._validate import as_finite
-from epistemica.aif.evidence import _angle_batch, _check_robot, _stack
-from epistemica.aif.motion import _turn_then_move
+from epistemica.aif.decision import choose
+from epistemica.aif.evidence import angle_batch, check_robot, noise_attenuation, stack_evidence
+from epistemica.aif.motion import turn_then_move
 from epistemica.aif.one_step import Terms
-from epistemica.aif.perspective import _chain_sums, row_weights
+from epistemica.aif.perspective import chain_sums, row_weights
 from epistemica.aif.search import receding_horizon
 from epistemica.aif.team_terms import team_terms
 from epistemica.del_.errors import InvalidArgumentError
@@ -51,8 +53,12 @@ class _Views(NamedTuple):
     rows: np.ndarray  # (P, n) evidence terms per row (row_weights)
 
 
+# Per controller (weakly: controllers built per step come and go), robot -> its views.
+_VIEWS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _views(ctrl, robot: int) -> _Views:
-    cache = ctrl._views_cache
+    cache = _VIEWS.setdefault(ctrl, {})
     if robot not in cache:
         views = ctrl.perspectives(robot)
         cache[robot] = _Views(
@@ -100,13 +106,13 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
         raise InvalidArgumentError(
             "robots must be a sequence of distinct robot indices", hint="e.g. [0, 2, 3]"
         )
-    robots = np.array([_check_robot(r, n) for r in robots.tolist()], dtype=np.intp)
-    priors = [ctrl._prior(p) for p in _per_robot(priors, robots.size, "priors")]
+    robots = np.array([check_robot(r, n) for r in robots.tolist()], dtype=np.intp)
+    priors = [ctrl.prior_vector(p) for p in _per_robot(priors, robots.size, "priors")]
     rngs = _per_robot(rng, robots.size, "rng")
     if robots.size == 0:
         return []
     own = obs[robots, robots]  # (R, 3) each robot's own pose
-    first = _turn_then_move(own[:, None, :], ctrl.controls, ctrl.dt)  # (R, c, 3)
+    first = turn_then_move(own[:, None, :], ctrl.controls, ctrl.dt)  # (R, c, 3)
     stay = np.all(first[..., :2] == own[:, None, :2], axis=2)
     moving = np.count_nonzero(~stay, axis=1)
     G = np.empty((robots.size, ctrl.controls.shape[0]))
@@ -123,7 +129,7 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
             pos, prior = obs[robot, :, :2], priors[row]
             G[row] = receding_horizon(
                 lambda xs, robot=robot, pos=pos, prior=prior: (
-                    ctrl._evaluate(robot, pos, xs, prior)[0].G
+                    ctrl.evaluate_batch(robot, pos, xs, prior)[0].G
                 ),
                 first[row],
                 G[row],
@@ -132,7 +138,7 @@ def decide_team(ctrl, observations, robots=None, priors=None, rng=None) -> list:
                 ctrl.horizon,
                 ctrl.beam,
             )
-    return ctrl._choose(G, beliefs, focals, rngs)
+    return choose(ctrl.controls, ctrl.gamma, G, beliefs, focals, rngs)
 
 
 def _pass(ctrl, obs, robots, first, stay, priors, rows):
@@ -154,7 +160,7 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     owner = np.repeat(at, sizes)
     agents = np.concatenate([v.agents for v in views])
     # (Q, b, n, m): per robot the same BLAS products, hence the same rounding, as decide's.
-    e = np.concatenate([_chain_sums(v.counts, stack[r]) for r, v in enumerate(views)])
+    e = np.concatenate([chain_sums(v.counts, stack[r]) for r, v in enumerate(views)])
     q_all = np.arange(len(agents))
     # Order 0: each perspective's agent knows its own position exactly.
     e[q_all, :, agents] += ranged[owner, :, agents]
@@ -166,15 +172,17 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     base, moved, root = e[:, 0], e[q_all, :, mover], e[roots]
     root[at, :, robots] = root[at, 0, robots][:, None]  # own motion: no own-goal evidence
     if ctrl.position_noise > 0:
-        factor = _attenuation(ctrl, pos, robots)
+        factor = noise_attenuation(
+            pos, robots, ctrl.bearing, ctrl.position_noise, ctrl.eta, ctrl.eta_bearing
+        )
         base *= factor[owner][:, :, None]  # (the mover's own row keeps factor 1: exact)
         root *= factor[:, None, :, None]
     log_base, log_moved, log_root = (log_softmax(x, -1) for x in (base, moved, root))
     weights = np.concatenate([v.weights for v in views])
-    model, k = ctrl._model, ctrl.configurations.shape[0]
+    model, k = ctrl.model, ctrl.configurations.shape[0]
     # numpy reduces in buffers of getbufsize() elements: beyond, a lone column's sums
     # would not run as in the single call.
-    small = k <= np.getbufsize() and k * R * b <= ctrl._chunk
+    small = k <= np.getbufsize() and k * R * b <= ctrl.chunk_cells
     if model.update == "bayes" and model.index.dtype == np.float64 and small:
         prior = np.stack([priors[j] for j in rows])
         G, beliefs, focals = team_terms(
@@ -188,7 +196,7 @@ def _pass(ctrl, obs, robots, first, stay, priors, rows):
     G = np.empty((R, c))
     beliefs, focals = [], []
     for r, robot in enumerate(robots.tolist()):
-        terms, q, focal = model._terms(
+        terms, q, focal = model.batch_terms(
             log_p[start[r] : start[r + 1]], views[r].weights, robot, batch[r], priors[rows[r]]
         )
         G[r] = Terms(*(t[back[r]] for t in terms)).G
@@ -208,10 +216,10 @@ def _scene_stack(ctrl, pos: np.ndarray, robots: np.ndarray, batch: np.ndarray):
     coincidence scale, so it equals that entry bit for bit.
     """
     R, b = batch.shape[:2]
-    at, gl, bearing = np.arange(R), ctrl.goals, ctrl._bearing
+    at, gl, bearing = np.arange(R), ctrl.goals, ctrl.bearing
     scale = np.maximum(np.abs(pos).max(axis=(1, 2)), np.abs(batch).max(axis=(1, 2)))
     scale = np.maximum(np.maximum(scale, np.abs(gl).max()), 1.0)[:, None, None]
-    here, ranged_here = _stack(pos, gl, bearing, ctrl.eta, ctrl.eta_bearing, scale)
+    here, ranged_here = stack_evidence(pos, gl, bearing, ctrl.eta, ctrl.eta_bearing, scale)
     stack = np.repeat(here[:, None], b, axis=1)
     ranged = np.repeat(ranged_here[:, None], b, axis=1)
     d = np.hypot(batch[..., None, 0] - gl[:, 0], batch[..., None, 1] - gl[:, 1])
@@ -219,29 +227,14 @@ def _scene_stack(ctrl, pos: np.ndarray, robots: np.ndarray, batch: np.ndarray):
     seen = np.empty(ranged.shape)  # (R, b, viewpoint, m): the mover as each one sees it
     seen[:, :, ~bearing] = ranged[at, :, robots][:, :, None]
     if bearing.any():
-        ang = _angle_batch(pos[:, bearing], batch[:, None], gl, scale)  # (R, nb, b, m)
+        ang = angle_batch(pos[:, bearing], batch[:, None], gl, scale)  # (R, nb, b, m)
         seen[:, :, bearing] = np.exp(-ang / ctrl.eta_bearing).transpose(0, 2, 1, 3)
     seen[at, :, robots] = 0.0  # nobody measures itself
     stack[at, :, :, robots] = seen
     turning = np.flatnonzero(bearing[robots])  # movers whose own bearings move with them
     if turning.size:
         who = robots[turning]
-        ang = _angle_batch(batch[turning], pos[turning][:, None], gl, scale[turning])
+        ang = angle_batch(batch[turning], pos[turning][:, None], gl, scale[turning])
         stack[turning, :, who] = np.exp(-ang / ctrl.eta_bearing)  # (Rb, b, n, m)
         stack[turning, :, who, who] = 0.0
     return stack, ranged
-
-
-def _attenuation(ctrl, pos: np.ndarray, robots: np.ndarray) -> np.ndarray:
-    """:meth:`Controller._attenuation` of each robot in its own view: ``(R, n)``."""
-    R = robots.size
-    rel = pos - pos[np.arange(R), robots][:, None]
-    rho = np.maximum(np.hypot(rel[..., 0], rel[..., 1]), 1.0)
-    s2 = np.where(
-        ctrl._bearing[robots][:, None],
-        2.0 * ctrl.position_noise / (ctrl.eta_bearing * rho) ** 2,
-        2.0 * ctrl.position_noise / ctrl.eta**2,
-    )
-    factor = 1.0 / np.sqrt(1.0 + np.pi * s2 / 8.0)
-    factor[np.arange(R), robots] = 1.0
-    return factor

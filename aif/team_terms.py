@@ -65,7 +65,7 @@ def team_terms(model, log_base, log_moved, log_root, start, weights, robots, bat
         width = b if order == "C" else 1
         col = np.repeat(group, width)
         ll = model.index.row_sums(log_root[group, :width].reshape(-1, *log_root.shape[2:]))
-        risk, read = model._root_terms(
+        risk, read = model.root_terms(
             *(
                 np.asarray(a, order=order)
                 for a in (ll, log_prior.T[:, col], priors.T[:, col], q_root.T[:, col])
@@ -79,7 +79,7 @@ def team_terms(model, log_base, log_moved, log_root, start, weights, robots, bat
     rest = np.setdiff1d(np.arange(len(weights)), roots)
     if rest.size:
         who = owner[rest]
-        risk_rest = model._grouped_risk(
+        risk_rest = model.grouped_risk(
             log_base[rest],
             log_moved[rest],
             robots[who],

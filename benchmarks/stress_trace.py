@@ -21,7 +21,8 @@ from epistemica.sim import simulate
 
 def trace(path: str, level: str, seed: int, every: int = 10) -> str:
     trial_spec = mission_trials(load_mission(path), [level], 1, seed)[0]
-    scenario, policies = trial_spec.scenario(), trial_spec.policies()
+    scenario = trial_spec.scenario()
+    policies = trial_spec.world.policies(trial_spec.seed)
     trial = simulate(scenario, level, seed=seed, policies=policies)
     names, goals = scenario.robot_names, scenario.goal_names
     placed = zip(goals, scenario.goals, strict=True)

@@ -7,7 +7,7 @@ backend; :class:`KnowledgeStructure` is the symbolic backend's
 (:class:`~.symbolic.structure.SymbolicModel`) plus the conversion back. The algorithms take
 and return models through the data classes' interface and construct ``type(model)``, so
 they never import this module: it sits above both backends, and the import graph of
-``del/`` points one way (``tests/del/test_import_graph.py``).
+``del/`` points one way (``tests/test_import_graph.py``).
 
 Examples
 --------

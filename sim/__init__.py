@@ -8,7 +8,12 @@ never on the package root. One module per concept:
 - :mod:`~epistemica.sim.missions`: when a mission holds;
 - :mod:`~epistemica.sim.policy`: the policy interface;
 - :mod:`~epistemica.sim.baselines`: greedy (``"zero"``) and the convention;
-- :mod:`~epistemica.sim.active`: the active-inference levels;
+- :mod:`~epistemica.sim.active`: the active-inference levels, with their parts
+  :mod:`~epistemica.sim.configuration_sets`, :mod:`~epistemica.sim.search` and their
+  parameters :mod:`~epistemica.sim.parameters`;
+- :mod:`~epistemica.sim.levels`: the table of level names;
+- :mod:`~epistemica.sim.events`: observation events (triggers, effects, observers);
+- :mod:`~epistemica.sim.worlds`: configurations as worlds of the logic;
 - :mod:`~epistemica.sim.tasking`: multitask upper level (which tasks now);
 - :mod:`~epistemica.sim.simulate`: :func:`simulate`, one trial;
 - :mod:`~epistemica.sim.trial`: :class:`Trial`, its record.
@@ -21,13 +26,15 @@ Examples
 (True, (3, 3))
 """
 
-from epistemica.sim.active import LEVELS, ActiveInference
+from epistemica.sim.active import ActiveInference
 from epistemica.sim.baselines import Convention, Greedy
+from epistemica.sim.levels import LEVELS, REASONING, make_policy
 from epistemica.sim.missions import mission_holds
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Decisions, FunctionPolicy, Policy, steer
 from epistemica.sim.scenario import MISSIONS, OBSERVATIONS, Scenario
 from epistemica.sim.sensing import Observations, Sensing
-from epistemica.sim.simulate import REASONING, make_policy, simulate
+from epistemica.sim.simulate import simulate
 from epistemica.sim.trial import Trial
 
 __all__ = [
@@ -36,6 +43,7 @@ __all__ = [
     "OBSERVATIONS",
     "REASONING",
     "ActiveInference",
+    "ActiveParameters",
     "Convention",
     "Decisions",
     "FunctionPolicy",

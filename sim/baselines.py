@@ -32,11 +32,8 @@ __all__ = ["Convention", "Greedy", "open_goals"]
 
 
 def open_goals(scenario, observations: Observations, robot: int) -> np.ndarray:
-    """Indices of the goals ``robot`` knows of (multitask: and does not know are done)."""
-    mask = observations.known_goals[robot].copy()
-    if scenario.mission == "multitask":
-        mask &= ~observations.known_done[robot]
-    return np.flatnonzero(mask)
+    """Indices of the goals ``robot`` knows of and does not know are done (closed)."""
+    return np.flatnonzero(observations.known_goals[robot] & ~observations.known_done[robot])
 
 
 class _Straight(Policy):

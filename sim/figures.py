@@ -19,13 +19,14 @@ from epistemica.del_.errors import EpistemicaError
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.trial import Trial
 
-__all__ = ["animate_trial", "plot_trial"]
+__all__ = ["animate_trial", "plot_trial", "pyplot"]
 
 _ROBOT_COLOURS = "tab10"
 _MAX_FRAMES = 60
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib's pyplot on the Agg backend, or a clear error without the plot extra."""
     try:
         import matplotlib
 
@@ -87,7 +88,7 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     >>> os.path.getsize(path) > 10_000
     True
     """
-    plt = _pyplot()
+    plt = pyplot()
     robots, goals = _colours(plt, scenario.n_robots), _colours(plt, scenario.n_goals)
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
     _draw_goals(ax, scenario, ["0.45"] * scenario.n_goals if scenario.n_goals > 10 else goals)
@@ -119,7 +120,7 @@ def animate_trial(scenario: Scenario, trial: Trial, path, fps: int = 6) -> int:
     >>> animate_trial(s, simulate(s, "third", seed=0), os.path.join(tempfile.mkdtemp(), "t.gif"))
     7
     """
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     n, m = scenario.n_robots, scenario.n_goals

@@ -51,10 +51,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from epistemica.aif.configurations import shared_configurations
 from epistemica.aif.evidence import DEFAULT_ETA
 from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.row_index import RowIndex
-from epistemica.sim.active import _allocations
 from epistemica.sim.baselines import open_goals
 from epistemica.sim.missions import distances
 from epistemica.sim.policy import Decisions, Policy
@@ -157,7 +157,9 @@ class PaperPolicy(Policy):
             return known, s.configurations()
         view = observations.poses[robot, robot : robot + 1]
         nearest = known[np.argsort(distances(view, s.goals[known])[0], kind="stable")[:n]]
-        return nearest, _allocations(n, len(nearest)) if len(nearest) >= n else None
+        return nearest, shared_configurations("allocation", n, len(nearest)) if len(
+            nearest
+        ) >= n else None
 
     def _likelihoods(self, robot, scenes, goals, rows) -> np.ndarray:
         """``(b, p, k)``: each perspective's likelihood over the valid rows, per scene."""

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from epistemica.sim.figures import _pyplot
+from epistemica.sim.figures import pyplot
 
 __all__ = ["Cell", "format_table", "plot_levels", "plot_results", "summarise", "wilson_interval"]
 
@@ -158,7 +158,7 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
 def plot_results(cells: list[Cell], path) -> None:
     """The paper-style figure: per mission, success rate (multitask: mean completion step)
     against team size, one line per level, 95 % bands; written as PNG to ``path``."""
-    plt = _pyplot()
+    plt = pyplot()
     missions = sorted({c.mission for c in cells})
     fig, axes = plt.subplots(1, len(missions), figsize=(5.2 * len(missions), 4.2), squeeze=False)
     for ax, mission in zip(axes[0], missions, strict=True):
@@ -195,7 +195,7 @@ def _plot_level(ax, cells: list[Cell], level: str, mission: str) -> None:
 def plot_levels(cells: list[Cell], path, title: str) -> None:
     """One study's levels side by side: success rate with its 95 % interval (multitask:
     mean completion step), mean steps of the successes written on each bar; PNG."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(1.2 + 1.3 * len(cells), 4.2))
     names = [c.reasoning for c in cells]
     x = np.arange(len(cells))

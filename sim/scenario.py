@@ -25,17 +25,15 @@ import numpy as np
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.aif.evidence import SENSORS
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim._streams import trial_streams
+from epistemica.sim.draws import draw_layout
+from epistemica.sim.events import EventRule
 
-__all__ = ["EVENTS", "MISSIONS", "OBSERVATIONS", "SEEN_BY", "Scenario"]
+__all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
 
 #: Missions the simulator runs.
 MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
-#: Observation events (``Scenario.events``) and who sees them.
-EVENTS = ("settle", "complete")
-SEEN_BY = ("nearby", "everyone")
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -130,12 +128,14 @@ class Scenario:
         ``(k, n)`` goal indices: an explicit set of valid configurations (a subset of the
         mission's, e.g. compiled from a mission file's ``valid`` formula); the mission
         holds when the robots realise one of them.
-    events : sequence of (kind, seen_by)
+    events : sequence of EventRule
         Observation events that update the robots' knowledge
-        (:class:`~epistemica.sim.knowledge.TeamKnowledge`): ``"settle"`` (a robot stopped
-        at a goal reveals that goal) and ``"complete"`` (multitask: a task done), seen by
-        ``"nearby"`` robots (within sensing range, the robot itself included) or
-        ``"everyone"``.
+        (:class:`~epistemica.sim.events.EventRule`: when they happen, their world effects,
+        what they teach and who observes them). Mission files declare them; the library
+        events ``settle`` and ``complete`` come from ``epistemica.mission.library_event``.
+    closed : array_like, optional
+        ``(m,)`` booleans: goals closed at the start (they count for success, and are
+        discovered, only once an event opens them). Default: none.
     told : sequence of (observers, formula)
         Facts over ``assigned(ROBOT, GOAL)`` atoms that the robots marked in
         ``observers`` (``n`` booleans) know at the start (and know each other to know).
@@ -166,7 +166,8 @@ class Scenario:
     dwell: int = 5
     tasking: int | None = None
     valid: np.ndarray | None = None
-    events: tuple[tuple[str, str], ...] = ()
+    events: tuple[EventRule, ...] = ()
+    closed: np.ndarray | None = None
     told: tuple = ()
     robot_names: tuple[str, ...] | None = None
     goal_names: tuple[str, ...] | None = None
@@ -257,14 +258,20 @@ class Scenario:
             if len(names) != count or len(set(names)) != count:
                 raise _fail(f"{name} must be {count} distinct names, got {names!r}", "one each")
             set_(self, name, tuple(str(x) for x in names))
-        events = tuple((str(k), str(b)) for k, b in self.events)
-        for kind, seen_by in events:
-            if kind not in EVENTS or seen_by not in SEEN_BY:
+        events = tuple(self.events)
+        for rule in events:
+            if not isinstance(rule, EventRule):
                 raise _fail(
-                    f"unknown event ({kind!r}, {seen_by!r})",
-                    f"kinds: {', '.join(EVENTS)}; seen by: {', '.join(SEEN_BY)}",
+                    f"events must be EventRule objects, got {rule!r}",
+                    "compile them from a mission file, or use "
+                    "epistemica.mission.library_event('settle', 'nearby')",
                 )
         set_(self, "events", events)
+        closed = np.zeros(m, dtype=bool) if self.closed is None else np.array(self.closed)
+        if closed.shape != (m,) or closed.dtype != bool:
+            raise _fail(f"closed must be {m} booleans, got {closed!r}", "one per goal")
+        closed.setflags(write=False)
+        set_(self, "closed", closed)
         told = []
         for observers, formula in self.told:
             mask = np.asarray(observers, dtype=bool)
@@ -365,17 +372,13 @@ class Scenario:
             )
         n = _count(robots, "robots")
         m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
-        streams = trial_streams(seed, n)
-        geometry, sensing = streams.geometry, streams.sensors
-        task_goals = geometry.uniform(1.0, 29.0, size=(m, 2))
+        layout = draw_layout(seed, n, m, clustered=mission == "multitask")
         if mission == "multitask":
-            xy = np.clip((n - 1) + geometry.normal(0.0, 1.0, size=(n, 2)), 0.0, 30.0)
             defaults = {"max_steps": 150, "max_turn": math.pi / 4}
         else:
-            xy = geometry.uniform(0.0, 30.0, size=(n, 2))
             defaults = {"max_steps": 100}
-        sensors = tuple(SENSORS[i] for i in sensing.integers(0, 2, size=n))
-        starts = np.column_stack([xy, np.zeros(n)])
+        starts = np.column_stack([layout.starts, np.zeros(n)])
+        task_goals, sensors = layout.goals, layout.sensors
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
 
 

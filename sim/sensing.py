@@ -46,10 +46,12 @@ class Observations(NamedTuple):
     known_goals : numpy.ndarray
         ``(n, m)`` booleans: the goals (tasks) robot ``i`` knows of.
     known_done : numpy.ndarray
-        ``(n, m)`` booleans: the tasks robot ``i`` knows are done (multitask).
+        ``(n, m)`` booleans: the goals robot ``i`` knows are closed (tasks done).
     knowledge : TeamKnowledge or None
         The facts each robot (and each chain of robots) learnt from observation events
-        (:mod:`epistemica.sim.knowledge`); read it, never change it.
+        (:mod:`epistemica.sim.knowledge`); read it, never change it. ``known_goals`` and
+        ``known_done`` include what each robot learnt from events (a goal revealed, a
+        task seen done by a teammate's completion).
     """
 
     step: int
@@ -94,12 +96,13 @@ class Sensing:
         d = distances(poses[:, :2], poses[:, :2])
         return d <= self.sensing_range
 
-    def observe(self, poses: np.ndarray, step: int, settled=None, done=None) -> Observations:
+    def observe(self, poses: np.ndarray, step: int, settled=None, closed=None) -> Observations:
         """Perceive the true ``poses`` at ``step``.
 
         ``settled`` marks robots that have stopped at a goal (teammates who see them
-        learn of that goal); ``done`` the tasks completed so far (robots within the
-        discovery range of a task see whether it is done).
+        learn of that goal); ``closed`` the goals closed now (tasks done, doors shut):
+        robots within the discovery range of a goal see whether it is closed, and a
+        closed goal is not discovered.
         """
         s, n = self.scenario, poses.shape[0]
         noise = np.stack([g.standard_normal((n, 2)) for g in self.generators])  # (n, n, 2)
@@ -110,13 +113,13 @@ class Sensing:
         self.estimates[idx, idx] = poses  # own pose is exact
         self.last_seen[seen] = step
         near_goal = distances(poses[:, :2], s.goals) <= self.discovery_range
-        self.known_goals |= near_goal
+        closed = np.zeros(s.n_goals, dtype=bool) if closed is None else np.asarray(closed)
+        self.known_goals |= near_goal & ~closed[None, :]
         if settled is not None and np.any(settled):
             at = distances(poses[:, :2], s.goals) <= s.success_radius  # (n, m)
             shown = at & np.asarray(settled)[:, None]
             self.known_goals |= (seen.astype(int) @ shown.astype(int)) > 0
-        if done is not None:
-            self.known_done |= near_goal & np.asarray(done)[None, :]
+        self.known_done |= near_goal & closed[None, :]
         return Observations(
             step,
             self.estimates.copy(),
@@ -125,13 +128,6 @@ class Sensing:
             self.known_goals.copy(),
             self.known_done.copy(),
         )
-
-    def task_completed(self, poses: np.ndarray, completers: np.ndarray, tasks) -> np.ndarray:
-        """Tasks ``tasks`` were just completed by the robots ``completers`` (a mask):
-        they and whoever sees one of them learn it. Returns the witnesses (a mask)."""
-        witnesses = (self.visible(poses) & np.asarray(completers)[None, :]).any(axis=1)
-        self.known_done[np.ix_(witnesses, np.asarray(tasks, dtype=int))] = True
-        return witnesses
 
     def _measure(self, poses: np.ndarray, noise: np.ndarray) -> np.ndarray:
         s = self.scenario

@@ -21,72 +21,22 @@ import numpy as np
 from epistemica.aif.motion import move
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
-from epistemica.sim.active import LEVELS, ActiveInference
-from epistemica.sim.baselines import Convention, Greedy
+from epistemica.sim.events import STILL, World, fire
 from epistemica.sim.knowledge import initial_knowledge
+from epistemica.sim.levels import make_policy
 from epistemica.sim.missions import distances, mission_holds, realises
-from epistemica.sim.paper import PAPER_LEVELS, PaperPolicy
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Policy
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.sensing import Sensing
 from epistemica.sim.trial import Trial
 
-__all__ = ["REASONING", "make_policy", "simulate"]
-
-#: Names accepted for ``reasoning`` (and as values of ``policies``).
-REASONING = (
-    "zero",
-    "convention",
-    "first",
-    "second",
-    "third",
-    "first-unpruned",
-    "second-unpruned",
-    "third-unpruned",
-    "second-shared",
-    "third-shared",
-    "convention-reverse",
-    "paper-first",
-    "paper-higher",
-    "paper-higher-fixed",
-)
-
-# A robot that moved less than this (m) in the last step, within the success radius of a
-# goal, is seen to have settled there.
-_SETTLED = 0.05
+__all__ = ["simulate"]
 
 
-def make_policy(name: str) -> Policy:
-    """A fresh policy for a level name.
-
-    Examples
-    --------
-    >>> make_policy("third").order
-    3
-    """
-    if isinstance(name, Policy):
-        return name
-    if name == "zero":
-        return Greedy()
-    if name == "convention":
-        return Convention()
-    if name == "convention-reverse":
-        return Convention(tie_break="reverse")
-    if name in LEVELS:
-        return ActiveInference(LEVELS[name])
-    if name.endswith("-unpruned") and name.removesuffix("-unpruned") in LEVELS:
-        return ActiveInference(LEVELS[name.removesuffix("-unpruned")], pruning=False)
-    if name.endswith("-shared") and name.removesuffix("-shared") in LEVELS:
-        return ActiveInference(LEVELS[name.removesuffix("-shared")], nested=False)
-    if name in PAPER_LEVELS:
-        return PaperPolicy(name)
-    raise InvalidArgumentError(
-        f"unknown reasoning level {name!r}",
-        hint=f"use one of {', '.join(REASONING)}, or pass a Policy object",
-    )
-
-
-def _groups(n: int, reasoning, policies: Mapping | None) -> list[tuple[Policy, np.ndarray]]:
+def _groups(
+    n: int, reasoning, policies: Mapping | None, parameters: ActiveParameters | None
+) -> list[tuple[Policy, np.ndarray]]:
     chosen: dict[int, object] = dict.fromkeys(range(n), reasoning)
     for robot, value in (policies or {}).items():
         if isinstance(robot, bool) or not isinstance(robot, int | np.integer) or not 0 <= robot < n:
@@ -101,7 +51,7 @@ def _groups(n: int, reasoning, policies: Mapping | None) -> list[tuple[Policy, n
         value = chosen[robot]
         key = id(value) if isinstance(value, Policy) else value
         if key not in instances:
-            instances[key] = make_policy(value)
+            instances[key] = make_policy(value, parameters)
         members.setdefault(id(instances[key]), []).append(robot)
     by_id = {id(p): p for p in instances.values()}
     return [(by_id[k], np.array(v)) for k, v in members.items()]
@@ -113,6 +63,7 @@ def simulate(
     seed: int = 0,
     *,
     policies: Mapping | None = None,
+    parameters: ActiveParameters | None = None,
 ) -> Trial:
     """Simulate one trial of ``scenario``.
 
@@ -121,14 +72,17 @@ def simulate(
     scenario : Scenario
         The world.
     reasoning : str or Policy
-        The level of every robot: ``"zero"``, ``"convention"``, ``"first"``,
-        ``"second"``, ``"third"`` (and the ``"paper-*"`` levels of
-        :mod:`epistemica.sim.paper`), or a :class:`~epistemica.sim.policy.Policy`.
+        The level of every robot: a name of :data:`epistemica.sim.levels.REASONING`
+        (``"zero"``, ``"convention"``, ``"first"``, ``"third"``, the ablations and the
+        ``"paper-*"`` levels), or a :class:`~epistemica.sim.policy.Policy`.
     seed : int
         Trial seed: observation and process noise, and any policy randomness. The same
         seed gives the same noise for every level.
     policies : mapping, optional
         Robot index to level name or policy, overriding ``reasoning`` for that robot.
+    parameters : ActiveParameters, optional
+        Rules and constants of the active-inference levels named (default
+        :class:`~epistemica.sim.parameters.ActiveParameters`; a mission's ``policy`` line).
 
     Returns
     -------
@@ -141,7 +95,7 @@ def simulate(
         )
     s, n = scenario, scenario.n_robots
     streams = trial_streams(seed, n)
-    groups = _groups(n, reasoning, policies)
+    groups = _groups(n, reasoning, policies, parameters)
     names = [""] * n
     for policy, robots in groups:
         policy.start(s, robots, [streams.policy[r] for r in robots])
@@ -149,8 +103,7 @@ def simulate(
             names[r] = policy.name
     run = _Run(s, streams)
     for step in range(s.max_steps):
-        done = run.done >= 0 if s.mission == "multitask" else None
-        obs = run.perceive(step, done)
+        obs = run.perceive(step)
         controls = np.empty((n, 2))
         started = perf_counter()
         for policy, robots in groups:
@@ -179,8 +132,14 @@ def _checked(controls: np.ndarray, policy: Policy, count: int) -> np.ndarray:
     return controls
 
 
-def _indices(mask: np.ndarray) -> tuple[int, ...]:
-    return tuple(int(i) for i in np.flatnonzero(mask))
+def _record(step: int, rule, firing, s: Scenario) -> tuple:
+    """``(step, name, *arguments, observers)`` of an event, robots and goals by index."""
+    index = {**{r: i for i, r in enumerate(s.robot_names)},
+             **{g: j for j, g in enumerate(s.goal_names)}}  # fmt: skip
+    arguments = tuple(index.get(firing.binding.get(p, ""), -1) for p, _ in rule.parameters)
+    names = firing.observation.full | firing.observation.partial
+    observers = tuple(i for i, r in enumerate(s.robot_names) if r in names)
+    return (step, rule.name, *arguments, observers)
 
 
 class _Run:
@@ -201,7 +160,8 @@ class _Run:
         self.considered = np.zeros((steps, n), dtype=int)
         self.unpruned = np.zeros((steps, n), dtype=int)
         self.knowledge = initial_knowledge(s)
-        self.seen_by = dict(s.events)
+        self.open = ~s.closed
+        self.first_reached = np.full(s.n_goals, -1)
         self.events: list[tuple] = []
         self.goal_belief = np.zeros((steps, n, s.n_goals))
         self.time = np.zeros(steps)
@@ -214,30 +174,57 @@ class _Run:
         has = own >= 0
         self.goal_belief[step, robots[has], own[has]] = 1.0
 
-    def perceive(self, step: int, done):
+    def perceive(self, step: int):
         """The team's observations at ``step``, after this step's observation events."""
         settled = self.settled()
-        before = self.sensing.known_goals.copy()
-        obs = self.sensing.observe(self.poses, step, settled, done)
+        before, before_closed = self.sensing.known_goals.copy(), self.sensing.known_done.copy()
+        obs = self.sensing.observe(self.poses, step, settled, ~self.open)
+        alone = np.eye(self.s.n_robots, dtype=bool)
         for i, g in zip(*np.nonzero(obs.known_goals & ~before), strict=True):
-            self.knowledge.discover(g, np.arange(self.s.n_robots) == i)
-        if "settle" in self.seen_by and settled.any():
-            d = distances(self.poses, self.s.goals)
-            for r in np.flatnonzero(settled):
-                goal, observers = int(np.argmin(d[r])), self._observers("settle", r)
-                if self.knowledge.settle(r, goal, observers):
-                    self.events.append((step, "settle", int(r), goal, _indices(observers)))
+            self.knowledge.discover(g, alone[i])
+        for i, g in zip(*np.nonzero(obs.known_done & ~before_closed), strict=True):
+            self.knowledge.notice_closed(g, alone[i])
+        self._events(step, arrivals=False)
+        known_goals, known_done = obs.known_goals, obs.known_done
+        if self.s.events:  # what the events taught: goals revealed, tasks seen done
+            for i in range(self.s.n_robots):
+                known_goals[i] |= self.knowledge.knows_goals((i,))
+                known_done[i] |= self.knowledge.knows_done((i,))
         return obs._replace(knowledge=self.knowledge)
 
-    def _observers(self, kind: str, robot: int) -> np.ndarray:
-        if self.seen_by[kind] == "everyone":
-            return np.ones(self.s.n_robots, dtype=bool)
-        return self.sensing.visible(self.poses)[:, robot]
+    def _events(self, step: int, arrivals: bool) -> None:
+        """Fire the mission's event rules at ``step``: arrivals (``G is reached``) right
+        after the robots move, the others when they perceive."""
+        s = self.s
+        if not any((rule.trigger.kind == "reached") == arrivals for rule in s.events):
+            return
+        world = World(
+            step,
+            self.poses,
+            self.path[-2] if len(self.path) > 1 else None,
+            s.goals,
+            self.open.copy(),
+            self.first_reached == step,
+            self.sensing.visible(self.poses),
+            self.sensing.sensing_range,
+            s.success_radius,
+            s.sensors,
+            s.robot_names,
+            s.goal_names,
+        )
+        for rule in s.events:
+            if (rule.trigger.kind == "reached") != arrivals:
+                continue
+            for firing in fire(rule, world):
+                self.open[list(firing.closes)] = False
+                self.open[list(firing.opens)] = True
+                if self.knowledge.observe(firing.observation):
+                    self.events.append(_record(step, rule, firing, s))
 
     def settled(self) -> np.ndarray:
         if len(self.path) < 2:
             return np.zeros(self.poses.shape[0], dtype=bool)
-        still = np.hypot(*(self.path[-1][:, :2] - self.path[-2][:, :2]).T) < _SETTLED
+        still = np.hypot(*(self.path[-1][:, :2] - self.path[-2][:, :2]).T) < STILL
         near = (distances(self.poses, self.s.goals) <= self.s.success_radius).any(axis=1)
         return still & near
 
@@ -253,28 +240,44 @@ class _Run:
             poses[:, :2] = np.clip(poses[:, :2], 0.0, s.workspace)
         self.poses = poses
         self.path.append(poses.copy())
+        near = distances(poses, s.goals) <= s.success_radius  # (n, m)
+        self.first_reached[near.any(axis=0) & self.open & (self.first_reached < 0)] = step + 1
         if s.mission == "multitask":
-            return self._tasks(step)
-        if s.valid is not None:
-            holds = realises(poses, s.goals, s.success_radius, s.valid)
+            return self._tasks(step, near)
+        self._events(step + 1, arrivals=True)
+        if self.open.all():
+            holds = self._holds(poses, s.goals, s.capacities, s.valid)
         else:
-            holds = mission_holds(s.mission, poses, s.goals, s.success_radius, s.capacities)
+            holds = self._holds_open(poses)
         if holds:
             self.held += 1
         self.success = self.held >= s.dwell
         return self.success
 
-    def _tasks(self, step: int) -> bool:
-        near = distances(self.poses, self.s.goals) <= self.s.success_radius  # (n, m)
+    def _holds(self, poses, goals, capacities, valid) -> bool:
+        s = self.s
+        if valid is not None:
+            return valid.size > 0 and realises(poses, goals, s.success_radius, valid)
+        return mission_holds(s.mission, poses, goals, s.success_radius, capacities)
+
+    def _holds_open(self, poses) -> bool:
+        """Whether the mission holds over the goals still open (renumbered)."""
+        s, keep = self.s, np.flatnonzero(self.open)
+        if keep.size == 0:
+            return False
+        valid = s.valid
+        if valid is not None:
+            remap = np.full(s.n_goals, -1)
+            remap[keep] = np.arange(keep.size)
+            valid = remap[valid[np.isin(valid, keep).all(axis=1)]]
+        capacities = None if s.capacities is None else np.asarray(s.capacities)[keep]
+        return self._holds(poses, s.goals[keep], capacities, valid)
+
+    def _tasks(self, step: int, near: np.ndarray) -> bool:
         for task in np.flatnonzero(near.any(axis=0) & (self.done < 0)):
             self.done[task] = step + 1
-            witnesses = self.sensing.task_completed(self.poses, near[:, task], [task])
-            if self.seen_by.get("complete") == "everyone":
-                witnesses = np.ones_like(witnesses)
-                self.sensing.known_done[:, task] = True
-            if self.knowledge.complete(task, witnesses):
-                done_by = int(np.flatnonzero(near[:, task])[0])
-                self.events.append((step + 1, "complete", done_by, int(task), _indices(witnesses)))
+            self.open[task] = False
+        self._events(step + 1, arrivals=True)
         if np.all(self.done >= 0):
             self.success, self.completion = True, step + 1
         return self.success
@@ -296,4 +299,5 @@ class _Run:
             policies=names,
             seed=int(seed),
             events=tuple(self.events),
+            knowledge=self.knowledge,
         )

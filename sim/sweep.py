@@ -1,11 +1,12 @@
-"""Monte Carlo sweeps: trials as (parameters, seed), run locally or on a Dask cluster.
+"""Monte Carlo sweeps: trials as (world, level, seed), run locally or on a Dask cluster.
 
-A :class:`TrialSpec` names one trial; its id is a hash of its parameters and seed, so the
-same trial has the same id in every sweep and on every machine. :func:`run_sweep` runs the
-trials a :class:`~epistemica.sim.store.ResultStore` does not hold yet, on local processes
-(``concurrent.futures``) or, given a scheduler address, on a Dask cluster (the optional
-extra ``epistemica[cluster]``), and stores each row as it arrives. Workers only compute;
-the driving process alone writes the file.
+A :class:`TrialSpec` names one trial: a :class:`World` (a cell of the published protocol,
+:class:`ProtocolWorld`, or a mission file), a level and a seed; its id is a hash of the
+three, so the same trial has the same id in every sweep and on every machine.
+:func:`run_sweep` runs the trials a :class:`~epistemica.sim.store.ResultStore` does not
+hold yet, on local processes (``concurrent.futures``) or, given a scheduler address, on a
+Dask cluster (the optional extra ``epistemica[cluster]``), and stores each row as it
+arrives. Workers only compute; the driving process alone writes the file.
 
 Examples
 --------
@@ -25,15 +26,19 @@ import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.levels import make_policy
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
-from epistemica.sim.simulate import make_policy, simulate
+from epistemica.sim.simulate import simulate
 from epistemica.sim.store import ResultStore
+from epistemica.sim.trial import Trial
 
-__all__ = ["TrialSpec", "plan_sweep", "run_sweep", "run_trial"]
+__all__ = ["ProtocolWorld", "TrialSpec", "World", "plan_sweep", "run_sweep", "run_trial"]
 
 
 def _version() -> str:
@@ -45,34 +50,97 @@ def _version() -> str:
         return "unknown"
 
 
-@dataclass(frozen=True)
-class TrialSpec:
-    """One trial: published-protocol geometry from ``seed``, noise from ``seed``.
+class World(Protocol):
+    """What a trial is drawn from: the published protocol's cells, a mission file."""
 
-    ``options`` are further :class:`~epistemica.sim.Scenario` fields as a sorted tuple of
-    ``(name, value)`` pairs (e.g. ``(("sensing_range", 10.0),)``).
-    """
+    mission: str  # the mission kind (the results table's column)
+    robots: int
+    goals: int
+    options: tuple  # (name, value) pairs kept with the results
+
+    def trial_id(self, reasoning: str, seed: int) -> str:
+        """A stable 16-hex-digit id of a trial of this world."""
+
+    def scenario(self, seed: int) -> Scenario:
+        """The trial's scenario."""
+
+    def policies(self, seed: int) -> dict[int, str]:
+        """Robots that follow a level of their own (ad hoc teammates)."""
+
+    @property
+    def parameters(self) -> ActiveParameters:
+        """The active-inference levels' parameters."""
+
+
+def _digest(value) -> str:
+    text = json.dumps(value, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+class ProtocolWorld(NamedTuple):
+    """A cell of the published protocol: geometry and sensors drawn from each seed
+    (:meth:`Scenario.paper`), with further :class:`Scenario` fields as ``options``."""
 
     mission: str
     robots: int
     goals: int
+    options: tuple = ()
+
+    def trial_id(self, reasoning: str, seed: int) -> str:
+        return _digest([self.mission, self.robots, self.goals, reasoning, seed, list(self.options)])
+
+    def scenario(self, seed: int) -> Scenario:
+        return Scenario.paper(self.mission, self.robots, self.goals, seed, **dict(self.options))
+
+    def policies(self, seed: int) -> dict[int, str]:
+        return {}
+
+    @property
+    def parameters(self) -> ActiveParameters:
+        return ActiveParameters()
+
+
+@dataclass(frozen=True)
+class TrialSpec:
+    """One trial: a world, a reasoning level and a seed (noise and random draws)."""
+
+    world: World
     reasoning: str
     seed: int
-    options: tuple = ()
 
     @property
     def id(self) -> str:
-        """A stable 16-hex-digit id of the parameters and seed."""
-        text = json.dumps(
-            [self.mission, self.robots, self.goals, self.reasoning, self.seed, list(self.options)],
-            sort_keys=True,
-        )
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+        """A stable 16-hex-digit id: the same trial has the same id on every machine."""
+        return self.world.trial_id(self.reasoning, self.seed)
+
+    @property
+    def mission(self) -> str:
+        return self.world.mission
+
+    @property
+    def robots(self) -> int:
+        return self.world.robots
+
+    @property
+    def goals(self) -> int:
+        return self.world.goals
+
+    @property
+    def options(self) -> tuple:
+        return self.world.options
 
     def scenario(self) -> Scenario:
         """The trial's scenario."""
-        return Scenario.paper(
-            self.mission, self.robots, self.goals, self.seed, **dict(self.options)
+        return self.world.scenario(self.seed)
+
+    def simulate(self) -> Trial:
+        """Run the trial."""
+        return simulate(
+            self.scenario(),
+            self.reasoning,
+            seed=self.seed,
+            policies=self.world.policies(self.seed),
+            parameters=self.world.parameters,
         )
 
 
@@ -107,9 +175,8 @@ def plan_sweep(
                     continue  # not a valid allocation cell
                 Scenario.paper(mission, n, m, seed, **dict(opts))  # validates the cell
                 for level in reasoning:
-                    specs.extend(
-                        TrialSpec(mission, n, m, level, seed + t, opts) for t in range(trials)
-                    )
+                    world = ProtocolWorld(mission, n, m, opts)
+                    specs.extend(TrialSpec(world, level, seed + t) for t in range(trials))
     if not specs:
         raise InvalidArgumentError(
             "the sweep has no valid cell", hint="allocation needs at least as many goals as robots"
@@ -122,14 +189,9 @@ def _default_goals(mission: str, n: int) -> int:
 
 
 def run_trial(spec: TrialSpec) -> dict:
-    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`).
-
-    ``spec`` is a :class:`TrialSpec` or any object with the same attributes and methods
-    (a mission file's trials: :class:`epistemica.run.MissionTrial`).
-    """
+    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`)."""
     started = time.perf_counter()
-    policies = spec.policies() if hasattr(spec, "policies") else None
-    trial = simulate(spec.scenario(), spec.reasoning, seed=spec.seed, policies=policies)
+    trial = spec.simulate()
     return {
         "id": spec.id,
         "mission": spec.mission,

@@ -10,7 +10,8 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -52,10 +53,14 @@ class Trial:
     seed : int
         The trial seed.
     events : tuple
-        The observation events, in order: ``(step, kind, robot, goal, observers)`` with
-        ``kind`` ``"settle"`` (``robot`` settled at ``goal``) or ``"complete"`` (``robot``
-        completed task ``goal``), ``observers`` the robots that saw it (indices). Only
-        events that taught someone something are listed.
+        The observation events of the mission's rules, in order: ``(step, name,
+        *arguments, observers)``, the arguments the rule's parameters bound (robot or goal
+        indices: ``settle`` gives the robot and its goal, ``complete`` the task) and the
+        robots that observed it (indices). Only events that taught someone something are
+        listed.
+    knowledge : TeamKnowledge
+        The team's epistemic state at the end of the trial (every observation, goals
+        discovered included): what ``epistemica check --after`` checks claims on.
     """
 
     success: bool
@@ -72,6 +77,7 @@ class Trial:
     policies: tuple[str, ...]
     seed: int
     events: tuple = ()
+    knowledge: Any = field(default=None, repr=False)
 
     def summary(self) -> dict:
         """A JSON-ready dictionary of the outcome (no per-step arrays).

@@ -9,10 +9,11 @@ from pathlib import Path
 import pytest
 
 from epistemica.cli import main
-from epistemica.del_ import parse_formula
+from epistemica.del_ import Observation, parse_formula
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
-from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying
+from epistemica.sim.knowledge import TeamKnowledge
+from epistemica.sim.worlds import fact_mask
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -95,17 +96,19 @@ def test_check_after_steps_applies_the_trial_events(capsys):
     settles = [e for e in trial.events if e[1] == "settle"]
     assert settles, "the spec's first trial should show a settle event"
     step = max(e[0] for e in settles) + 1
-    # Independently: the chain (r1, r3) from TeamKnowledge after the same events.
-    knowledge = TeamKnowledge(3, 3)
+    # Independently: the chains (i, j) of a fresh state fed the recorded settles only.
+    knowledge = TeamKnowledge(mission.robots, mission.goals)
     for _, _, robot, goal, observers in settles:
-        knowledge.settle(robot, goal, [i in observers for i in range(3)])
+        names = {mission.robots[i] for i in observers}
+        fact = f"assigned({mission.robots[robot]}, {mission.goals[goal]})"
+        knowledge.observe(Observation("settle", full=names, suggests=fact))
     rows = mission.configurations()
     for i, j in [(0, 2), (2, 0), (0, 1)]:
         for r, g in [(0, 0), (1, 1), (2, 2)]:
             fact = f"assigned(r{r + 1}, g{g + 1})"
-            on = rows_satisfying(parse_formula(fact), rows, mission.robots, mission.goals)
+            on = fact_mask(parse_formula(fact), rows, mission.robots, mission.goals)
             expected = bool(on[knowledge.possible((i, j), rows)].all())
-            formula = f"K[r{j + 1}] {fact}"
+            formula = f"B[r{j + 1}] {fact}"
             args = ["check", str(path), "--after", str(step), "--seed", "0", "--json"]
             code = main([*args, "--robot", f"r{i + 1}", "--formula", formula])
             out = json.loads(capsys.readouterr().out)

@@ -35,7 +35,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import gc
-from collections.abc import Generator, Mapping
+from collections.abc import Callable, Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -73,7 +73,13 @@ from epistemica.del_.language.walk import fold_nodes
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
 
-__all__ = ["designated_truth", "evaluate", "evaluate_bits", "propositional_mask"]
+__all__ = [
+    "designated_truth",
+    "evaluate",
+    "evaluate_bits",
+    "propositional_mask",
+    "propositional_truth",
+]
 
 _CONNECTIVES = CONNECTIVES
 _BINARY = (And, Or, Implies, Iff)
@@ -451,12 +457,40 @@ def propositional_mask(
     >>> propositional_mask("p & ~q", val, {"p": 0, "q": 1}).tolist()
     [True, False]
     """
+
+    def atom_mask(key: str) -> np.ndarray:
+        if key not in column:
+            raise InvalidArgumentError(
+                f"unknown atom {key!r}", hint=f"declared atoms: {', '.join(column)}"
+            )
+        return val[:, column[key]]
+
+    return propositional_truth(formula, len(val), atom_mask)
+
+
+def propositional_truth(
+    formula: Formula | str, n_rows: int, atom_mask: Callable[[str], np.ndarray]
+) -> np.ndarray:
+    """Truth of a propositional formula on ``n_rows`` worlds whose atoms are read lazily.
+
+    The one propositional evaluator of the package: ``atom_mask(key)`` gives the boolean
+    truth of the atom named ``key`` (canonical text, as :attr:`Atom.key`) on every world,
+    so worlds stored in any form (a valuation matrix, rows of goal indices) are evaluated
+    without building a valuation matrix first.
+
+    Raises
+    ------
+    InvalidArgumentError
+        If the formula has a modality (or ``atom_mask`` rejects an atom).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> goal = np.array([0, 1, 1])
+    >>> propositional_truth("at_1 & ~at_0", 3, lambda key: goal == int(key[-1])).tolist()
+    [False, True, True]
+    """
     tree = as_formula(formula)
-    return _propositional(tree, val, column)
-
-
-def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) -> Any:
-    """A fold over the node objects (no recursion; each mask freed after its last use)."""
 
     def combine(f: Formula, values: list[np.ndarray]) -> np.ndarray:
         kind = type(f)
@@ -465,17 +499,13 @@ def _propositional(root: Formula, val: np.ndarray, column: Mapping[str, int]) ->
         if kind in _CONNECTIVES:
             return _CONNECTIVES[kind](*values)
         if kind is Atom:
-            if f.key not in column:
-                raise InvalidArgumentError(
-                    f"unknown atom {f.key!r}", hint=f"declared atoms: {', '.join(column)}"
-                )
-            return val[:, column[f.key]]
+            return np.asarray(atom_mask(f.key), dtype=bool)
         if kind is Top or kind is Bottom:
-            return np.full(len(val), kind is Top, dtype=bool)
+            return np.full(n_rows, kind is Top, dtype=bool)
         raise InvalidArgumentError(
             f"expected a propositional formula, found the modality in {_short(f)}",
-            hint="laws and postconditions evaluated on valuations alone cannot mention "
-            "K, B, C, ...",
+            hint="laws, postconditions and facts about worlds cannot mention K, B, C, ...",
         )
 
-    return fold_nodes(root, combine)
+    # A fold over the node objects: no recursion, each mask freed after its last use.
+    return fold_nodes(tree, combine)

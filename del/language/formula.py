@@ -64,6 +64,7 @@ __all__ = [
     "disjunction",
     "fold",
     "iter_postorder",
+    "map_atoms",
 ]
 
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
@@ -575,6 +576,31 @@ def fold(formula: Formula, combine: Callable[[Formula, tuple[_T, ...]], _T]) -> 
     for node in iter_postorder(formula, unique=True):
         values[node] = combine(node, tuple(values[child] for child in node.children()))
     return values[formula]
+
+
+def map_atoms(formula: Formula, replace: Callable[[Atom], Formula]) -> Formula:
+    """``formula`` with every atom replaced by ``replace(atom)`` (without recursion).
+
+    Examples
+    --------
+    >>> f = Know("a", Atom("p") & ~Atom("q"))
+    >>> print(map_atoms(f, lambda atom: Atom(atom.name.upper())))
+    K[a] (P & ~Q)
+    """
+
+    def rebuild(node: Formula, inner: tuple[Formula, ...]) -> Formula:
+        if isinstance(node, Atom):
+            return replace(node)
+        if not inner:
+            return node
+        children = iter(inner)
+        values = [
+            next(children) if isinstance(getattr(node, name), Formula) else getattr(node, name)
+            for name in _field_names(type(node))
+        ]
+        return type(node)(*values)
+
+    return fold(formula, rebuild)
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

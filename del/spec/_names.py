@@ -19,7 +19,7 @@ import difflib
 import itertools
 import math
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from lark import Token, Tree
@@ -38,6 +38,7 @@ __all__ = [
     "expand",
     "headers",
     "names_hint",
+    "range_names",
 ]
 
 # The limits below are checked before anything is allocated, so a typo in a bound cannot
@@ -85,6 +86,29 @@ def expand(comp: Any, item: Tree | Token, env: Mapping[str, str]) -> list[tuple[
     digits = head.group(2)
     low, high = _bound(comp, digits, first), _bound(comp, tail.group(2), last)
     return _range(comp, first, head.group(1), low, high, len(digits), last)
+
+
+class _Reporter:
+    """The one method of a compiler that :func:`expand` calls."""
+
+    def __init__(self, error: Callable[..., Exception]) -> None:
+        self.error = error
+
+
+def range_names(
+    first: Token, last: Token, error: Callable[..., Exception]
+) -> list[tuple[str, Token]]:
+    """The names of the range ``first..last``, each with the token to blame, as spec files
+    expand them (``r01..r03`` keeps its zero padding); ``error(message, token, hint)``
+    makes the located error of the caller's language.
+
+    Examples
+    --------
+    >>> from lark import Token
+    >>> [n for n, _ in range_names(Token("NAME", "r01"), Token("NAME", "r03"), ValueError)]
+    ['r01', 'r02', 'r03']
+    """
+    return expand(_Reporter(error), Tree("span", [first, last]), {})
 
 
 def _bound(comp: Any, digits: str, token: Token) -> int:

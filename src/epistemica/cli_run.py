@@ -126,7 +126,9 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     from epistemica.sim.simulate import simulate
 
     scenario = mission.scenario(seed)
-    trial = simulate(scenario, level, seed=seed, policies=mission.policies(seed))
+    trial = simulate(
+        scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
+    )
     animate_trial(scenario, trial, path)
 
 
@@ -147,7 +149,10 @@ def add_check_options(check) -> None:
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps.
 
-    ``text``: the file's text, already read (a pipe is read once)."""
+    A claim written ``check "..." after N steps [seed S] [level L]: F`` is checked after
+    those steps of that seeded trial (default: the study's first seed and last level).
+    ``text``: the file's text, already read (a pipe is read once).
+    """
     from epistemica.del_ import parse_formula
     from epistemica.del_.errors import InvalidArgumentError
     from epistemica.mission import load_mission, parse_mission
@@ -156,9 +161,21 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     if args.formula is None and not mission.checks and args.after is None:
         print(f"{args.file}: {mission.kind}, no claims; add 'check \"name\": FORMULA' lines")
         return EXIT_OK
-    model, where = mission.model, "initially"
+    if args.after is not None and args.after < 0:
+        raise InvalidArgumentError("--after must be >= 0", hint="a number of steps")
+    models: dict = {}
+
+    def model(after, seed, level):
+        key = (after, seed, level)
+        if key not in models:
+            models[key] = mission.model if after is None else mission.model_after(*key)
+        return models[key]
+
+    where = "initially"
     if args.after is not None:
-        model, where = _after(mission, args)
+        seed = mission.study.seed if args.seed is None else args.seed
+        level = args.reasoning or mission.study.levels[-1]
+        where = f"after {args.after} steps of trial {seed} ({level})"
     if args.formula is not None:
         formula = parse_formula(args.formula)
         if args.robot is not None:
@@ -167,50 +184,37 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
                     f"unknown robot {args.robot!r}", hint=f"robots: {', '.join(mission.robots)}"
                 )
             formula = parse_formula(f"K[{args.robot}] ({args.formula})")
-        claims = [("--formula", str(formula), True, model.holds(formula))]
+        chosen = model(args.after, args.seed, args.reasoning)
+        claims = [("--formula", str(formula), True, mission.holds(formula, chosen), where)]
     else:
-        claims = [(c.name, c.text, c.expected, model.holds(c.formula)) for c in mission.checks]
+        claims = []
+        for c in mission.checks:
+            after, seed, level = c.after, c.seed, c.level
+            if args.after is not None:  # --after overrides every claim's own moment
+                after, seed, level = args.after, args.seed, args.reasoning
+            label = (
+                where
+                if after is None or args.after is not None
+                else (
+                    f"after {after} steps of trial {mission.study.seed if seed is None else seed}"
+                )
+            )
+            holds = mission.holds(c.check.formula, model(after, seed, level))
+            claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
     failed = [c for c in claims if c[2] != c[3]]
     if args.json:
         out = [
-            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h}
-            for n, t, e, h in claims
+            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h, "when": w}
+            for n, t, e, h, w in claims
         ]
         print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
         return EXIT_FALSE if failed else EXIT_OK
-    print(f"{args.file}: {where}; {model.n_worlds} worlds, robots {', '.join(mission.robots)}")
-    for name, text, expected, holds in claims:
+    robots = ", ".join(mission.robots)
+    print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "
+          f"worlds, robots {robots}")  # fmt: skip
+    for name, text, expected, holds, label in claims:
         mark = "ok  " if expected == holds else "FAIL"
-        print(f"  {mark}  {'true ' if holds else 'false'}  {name}: {text}")
+        moment = "" if label == where else f" [{label}]"
+        print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
     print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK
-
-
-def _after(mission, args: argparse.Namespace):
-    """The model after the first ``args.after`` steps of a seeded trial, and a label."""
-    from epistemica.del_.errors import InvalidArgumentError
-    from epistemica.sim.simulate import simulate
-
-    if args.after < 0:
-        raise InvalidArgumentError("--after must be >= 0", hint="a number of steps")
-    seed = mission.study.seed if args.seed is None else args.seed
-    level = args.reasoning or mission.study.levels[-1]
-    scenario = mission.scenario(seed)
-    steps = min(args.after, scenario.max_steps)
-    short = scenario.replace(max_steps=max(steps, 1))
-    trial = simulate(short, level, seed=seed, policies=mission.policies(seed))
-    model = mission.model
-    count = ignored = 0
-    for step, kind, robot, goal, observers in trial.events:
-        if step >= steps:
-            continue
-        names = [mission.robots[i] for i in observers]
-        event = mission.event(kind, mission.robots[robot], mission.goals[goal], names)
-        if not model.applicable_in_some(event):  # contradicts what happened before: revised away
-            ignored += 1
-            continue
-        model = model.update(event)
-        count += 1
-    label = f"after {steps} steps of trial {seed} ({level}, {count} events"
-    label += f", {ignored} contradictory ignored)" if ignored else ")"
-    return model, label

@@ -15,7 +15,7 @@ import re
 from pathlib import Path
 
 from epistemica.del_.errors import SourceError
-from epistemica.del_.spec._source import read_source
+from epistemica.del_.spec import read_source
 
 __all__ = ["MISSION_ONLY", "file_kind", "read_input"]
 
@@ -63,7 +63,7 @@ def read_input(path: str | Path, command: str, accepts: tuple[str, ...] = ("spec
     Raises
     ------
     SourceError
-        The file cannot be read (see :func:`~epistemica.del_.spec._source.read_source`),
+        The file cannot be read (see :func:`~epistemica.del_.spec.read_source`),
         lacks its ``mission`` line, or is of a kind the command does not read.
     """
     what = " or ".join(f"{k} file" for k in accepts)

@@ -2,10 +2,13 @@
 
 A mission file (``.epi``, grammar ``mission.lark``) declares robots, goals or tasks, which
 goal configurations are valid, what each robot senses and knows at the start, the
-observation events that update what robots know, epistemic claims, and its Monte Carlo
-study. :func:`load_mission` compiles it into a :class:`Mission`: the Kripke model over the
-valid configurations, the simulator's :class:`~epistemica.sim.Scenario`, the events as
-action models, and the claims. ``docs/language.md`` ("Mission files") is the reference.
+observation events that update what robots know (action models with triggers), epistemic
+claims, and its Monte Carlo study. :func:`load_mission` compiles it into a
+:class:`Mission`: the simulator's :class:`~epistemica.sim.Scenario` of each trial, the
+epistemic state of the team at the start and after any number of steps of a seeded trial
+(the same :class:`~epistemica.del_.EpistemicState` the simulated robots act on), its Kripke
+model over the valid configurations, and the claims. ``docs/language.md`` ("Mission
+files") is the reference.
 
 Examples
 --------
@@ -19,7 +22,7 @@ Examples
 ... check "r1 knows where r2 goes": K[r1] assigned(r2, g2)
 ... check "r2 does not": K[r2] assigned(r2, g2) expect false
 ... ''')
->>> len(m.configurations()), [m.holds(c.formula) == c.expected for c in m.checks]
+>>> len(m.configurations()), [m.holds(c.check.formula) == c.check.expected for c in m.checks]
 (2, [True, True])
 >>> m.scenario().mission, m.scenario().sensors
 ('allocation', ('range', 'bearing'))
@@ -30,29 +33,73 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from epistemica._mission_compiler import compile_text
+from epistemica._mission_compiler import (
+    MissionCheck,
+    MissionParts,
+    compile_events,
+    compile_text,
+    everyone_observes,
+)
 from epistemica.aif.configurations import count_configurations, valid_configurations
-from epistemica.del_ import ActionModel, Check, Formula, KripkeModel, parse_formula
+from epistemica.del_ import Formula, KnowledgeStructure, KripkeModel, parse_formula
 from epistemica.del_.errors import InvalidArgumentError, SpecError
-from epistemica.del_.planning.configuration_model import (
+from epistemica.input_files import read_input
+from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
+from epistemica.sim.events import EventRule, expand
+from epistemica.sim.knowledge import TeamKnowledge, initial_knowledge
+from epistemica.sim.parameters import ActiveParameters
+from epistemica.sim.scenario import Scenario
+from epistemica.sim.simulate import simulate
+from epistemica.sim.trial import Trial
+from epistemica.sim.worlds import (
     MAX_CONFIGURATIONS,
     configuration_model,
-    observed,
+    configuration_structure,
+    fact_mask,
 )
-from epistemica.input_files import read_input
-from epistemica.sim._streams import trial_streams
-from epistemica.sim.knowledge import rows_satisfying
-from epistemica.sim.scenario import Scenario
-from epistemica.sim.simulate import REASONING
 
-__all__ = ["Mission", "Study", "load_mission", "parse_mission"]
+__all__ = [
+    "LIBRARY",
+    "Mission",
+    "Study",
+    "library_event",
+    "library_rules",
+    "load_mission",
+    "parse_mission",
+]
 
 #: Configurations beyond which a mission's valid set is not enumerated at compile time.
 ENUMERATION_LIMIT = 200_000
+#: The library of observation events (``event settle seen by nearby``).
+LIBRARY = Path(__file__).with_name("events.epi")
+
+
+@functools.cache
+def library_rules() -> dict[str, EventRule]:
+    """The events of the library (``events.epi``), by name."""
+    return compile_events(LIBRARY.read_text(encoding="utf-8"), str(LIBRARY))
+
+
+def library_event(name: str, seen_by: str = "nearby") -> EventRule:
+    """An event of the library, observed as written (``"nearby"``) or by every robot
+    (``"everyone"``).
+
+    Examples
+    --------
+    >>> rule = library_event("settle", "everyone")
+    >>> rule.trigger.kind, [o.who for o in rule.full], str(rule.full[0].condition)
+    ('settles', ['robots'], 'true')
+    """
+    rules = library_rules()
+    if name not in rules or seen_by not in ("nearby", "everyone"):
+        raise InvalidArgumentError(
+            f"no library event {name!r} seen by {seen_by!r}",
+            hint=f"events: {', '.join(rules)}; seen by nearby or everyone",
+        )
+    return everyone_observes(rules[name]) if seen_by == "everyone" else rules[name]
 
 
 @dataclass(frozen=True)
@@ -86,55 +133,45 @@ class Mission:
         ``"rendezvous"``, ``"allocation"``, ``"capacity"`` or ``"multitask"``.
     robots, goals : tuple of str
         Names, in declaration order (goals are the tasks of a multitask mission).
-    checks : tuple of Check
-        The epistemic claims (``check`` lines).
+    checks : tuple of MissionCheck
+        The epistemic claims (``check`` lines), each on the initial model or ``after``
+        some steps of a seeded trial.
     study : Study
     filename, source : str
+    parts : MissionParts
+        Everything the file declares.
     """
 
     name: str
     kind: str
     robots: tuple[str, ...]
     goals: tuple[str, ...]
-    checks: tuple[Check, ...]
+    checks: tuple[MissionCheck, ...]
     study: Study
     filename: str
     source: str = field(repr=False)
-    parts: dict[str, Any] = field(repr=False)
+    parts: MissionParts = field(repr=False)
 
     # -- the simulator's view ----------------------------------------------------------
 
     def scenario(self, seed: int | None = None) -> Scenario:
         """The :class:`~epistemica.sim.Scenario` of trial ``seed`` (default the study's
-        first seed): robots and goals placed ``at random`` are drawn from the seed's
-        geometry stream (starts uniform in the workspace, goals in it less 1 m borders),
-        the rest as written.
-        """
-        seed = self.study.seed if seed is None else seed
+        first seed): what is placed ``at random`` is drawn from the seed
+        (:mod:`epistemica.sim.draws`), the rest as written."""
+        seed = self.study.seed if seed is None else int(seed)
         p, n, m = self.parts, len(self.robots), len(self.goals)
-        options = dict(p["options"])
-        workspace = options.get("workspace", 30.0)
-        geometry = trial_streams(int(seed), n).geometry
-        goal_xy = geometry.uniform(1.0, workspace - 1.0, size=(m, 2))
-        start_xy = geometry.uniform(0.0, workspace, size=(n, 2))
-        goals = [
-            spec["place"][0] if spec["place"] else goal_xy[g].tolist()
-            for g, spec in enumerate(p["goal_specs"].values())
-        ]
+        options = dict(p.options)
+        layout = draw_layout(seed, n, m, workspace=options.get("workspace", 30.0))
+        goals = [g.place or layout.goals[j].tolist() for j, g in enumerate(p.goals)]
         starts = []
-        for i, spec in enumerate(p["robot_specs"].values()):
-            place = spec["place"]
-            pose = list(place[0]) if place else start_xy[i].tolist()
+        for i, robot in enumerate(p.robots):
+            pose = list(robot.place) if robot.place else layout.starts[i].tolist()
             starts.append(pose + [0.0] * (3 - len(pose)))
-        known = p["known_goals"]
+        known = p.known_goals
         if isinstance(known, str):  # "random": per goal, a non-empty subset of the robots
-            known = _random_knowledge(_mission_streams(int(seed), n)[0], n, m)
-        speeds = [spec.get("speed", 1.0) for spec in p["robot_specs"].values()]
-        turns = [spec.get("turn", np.pi) for spec in p["robot_specs"].values()]
-        drawn = trial_streams(int(seed), n).sensors.integers(0, 2, size=n)  # as Scenario.paper
+            known = draw_goal_knowledge(seed, n, m)
         sensors = [
-            ("range", "bearing")[drawn[i]] if spec["sensor"] == "random" else spec["sensor"]
-            for i, spec in enumerate(p["robot_specs"].values())
+            layout.sensors[i] if r.sensor == "random" else r.sensor for i, r in enumerate(p.robots)
         ]
         try:
             return Scenario(
@@ -142,14 +179,15 @@ class Mission:
                 starts,
                 goals,
                 sensors,
-                capacities=p["capacities"],
+                capacities=p.capacities,
                 known_goals=known,
-                max_speed=speeds,
-                max_turn=turns,
+                max_speed=[r.speed for r in p.robots],
+                max_turn=[r.turn for r in p.robots],
                 valid=self._table,
-                events=p["events"],
+                events=p.events,
+                closed=np.array([g.closed for g in p.goals]),
                 told=tuple(
-                    (tuple(r in names for r in self.robots), fact) for names, fact in p["learns"]
+                    (tuple(r in names for r in self.robots), fact) for names, fact in p.learns
                 ),
                 robot_names=self.robots,
                 goal_names=self.goals,
@@ -160,24 +198,22 @@ class Mission:
 
     def policies(self, seed: int | None = None) -> dict[int, str]:
         """The ad hoc teammate of trial ``seed`` (its ``teammate`` line): robot index to
-        level; ``teammate random`` draws the robot from the seed's mission stream."""
-        seed = self.study.seed if seed is None else seed
+        level; ``teammate random`` draws the robot from the seed."""
+        seed = self.study.seed if seed is None else int(seed)
         out = {}
-        for robot, level, _ in self.parts["teammates"]:
+        for robot, level, _ in self.parts.teammates:
             if robot == "random":
-                stream = _mission_streams(int(seed), len(self.robots))[1]
-                out[int(stream.integers(len(self.robots)))] = level
+                out[draw_adhoc_teammate(seed, len(self.robots))] = level
             else:
                 out[self.robots.index(robot)] = level
         return out
 
     def _located(self, exc: InvalidArgumentError) -> SpecError:
-        """A scenario error, located at the robot or setting it names when possible."""
+        """A scenario error, located at the robot it names when possible."""
         line, column = 1, 1
-        specs = self.parts["robot_specs"]
-        for index, spec in enumerate(specs.values()):
+        for index, robot in enumerate(self.parts.robots):
             if f"robot {index} " in exc.message:
-                line, column = spec["token"].line, spec["token"].column
+                line, column = robot.token.line, robot.token.column
         return SpecError(
             exc.message,
             line=line,
@@ -195,36 +231,27 @@ class Mission:
         if self.kind == "multitask":
             return None
         n, m = len(self.robots), len(self.goals)
-        constraints = p["valid"] + p["initially"]
-        total = count_configurations(self.kind, n, m, p["capacities"])
+        constraints = p.valid + p.initially
+        total = count_configurations(self.kind, n, m, p.capacities)
         if total == 0:
-            raise self._empty("the mission kind allows no configuration of these robots")
+            raise self._error("the mission kind allows no configuration of these robots")
         if not constraints:
             return None
         if total > ENUMERATION_LIMIT:
-            raise SpecError(
+            raise self._error(
                 f"{total} configurations are too many to constrain with 'valid'",
-                line=1,
-                column=1,
-                source=self.source,
-                filename=self.filename,
-                hint=f"at most {ENUMERATION_LIMIT}: fewer robots or goals",
+                f"at most {ENUMERATION_LIMIT}: fewer robots or goals",
             )
-        rows = valid_configurations(self.kind, n, m, p["capacities"])
+        rows = valid_configurations(self.kind, n, m, p.capacities)
         for fact in constraints:
-            rows = rows[rows_satisfying(fact, rows, self.robots, self.goals)]
+            rows = rows[fact_mask(fact, rows, self.robots, self.goals)]
         if rows.shape[0] == 0:
-            raise self._empty("no configuration satisfies the 'valid' and 'initially' lines")
+            raise self._error("no configuration satisfies the 'valid' and 'initially' lines")
         return rows
 
-    def _empty(self, message: str) -> SpecError:
+    def _error(self, message: str, hint: str = "relax a constraint, or add goals") -> SpecError:
         return SpecError(
-            message,
-            line=1,
-            column=1,
-            source=self.source,
-            filename=self.filename,
-            hint="relax a constraint, or add goals",
+            message, line=1, column=1, source=self.source, filename=self.filename, hint=hint
         )
 
     def configurations(self) -> np.ndarray:
@@ -238,60 +265,87 @@ class Mission:
         if table is not None:
             return table
         p = self.parts
-        return valid_configurations(self.kind, len(self.robots), len(self.goals), p["capacities"])
+        return valid_configurations(self.kind, len(self.robots), len(self.goals), p.capacities)
+
+    @functools.cached_property
+    def parameters(self) -> ActiveParameters:
+        """The active-inference levels' parameters: the defaults, changed by the file's
+        ``policy`` lines."""
+        out = ActiveParameters()
+        for name, text, token in self.parts.policy:
+            try:
+                out = out.replace(**{name: _policy_value(text)})
+            except (InvalidArgumentError, TypeError, ValueError) as exc:
+                message = getattr(exc, "message", str(exc))
+                raise SpecError(
+                    message,
+                    line=token.line,
+                    column=token.column,
+                    source=self.source,
+                    filename=self.filename,
+                    hint=getattr(exc, "hint", None) or "see docs/language.md, 'policy'",
+                ) from None
+        return out
 
     # -- the logic's view ----------------------------------------------------------------
 
-    @functools.cached_property
-    def model(self) -> KripkeModel:
-        """The Kripke model: one world per valid configuration, every robot uncertain of
-        which, every world designated, after the ``learns`` facts (private announcements
-        to the robots named)."""
+    def knowledge(self, seed: int | None = None) -> TeamKnowledge:
+        """The team's epistemic state at the start of trial ``seed``: the goals each robot
+        knows, the facts it was told (``learns``)."""
+        return initial_knowledge(self.scenario(seed))
+
+    def trial(self, steps: int, seed: int | None = None, level: str | None = None) -> Trial:
+        """The first ``steps`` steps of trial ``seed`` at ``level`` (default the study's
+        last level), its ad hoc teammate included; ``Trial.knowledge`` is the state the
+        robots acted on."""
+        if isinstance(steps, bool) or not isinstance(steps, int | np.integer) or steps < 0:
+            raise InvalidArgumentError(f"steps must be an integer >= 0, got {steps!r}", hint="20")
+        seed = self.study.seed if seed is None else int(seed)
+        level = self.study.levels[-1] if level is None else level
+        scenario = self.scenario(seed)
+        short = scenario.replace(max_steps=max(min(int(steps), scenario.max_steps), 1))
+        if steps == 0:
+            short = short.replace(max_steps=1)
+        return simulate(
+            short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
+        )
+
+    def model_of(self, knowledge: TeamKnowledge) -> KripkeModel | KnowledgeStructure:
+        """The model over the valid configurations after what ``knowledge`` holds (the
+        group semantics of :mod:`epistemica.del_.state`): a Kripke model, or a knowledge
+        structure on BDDs when the configurations are too many to list."""
         if self.kind == "multitask":
             raise InvalidArgumentError(
                 "a multitask mission has no explicit model over configurations",
                 hint="its configurations are chosen every step from the open tasks",
             )
         p, n, m = self.parts, len(self.robots), len(self.goals)
-        total = count_configurations(self.kind, n, m, p["capacities"])
-        if self._table is None and total > MAX_CONFIGURATIONS:  # refuse before enumerating
-            raise InvalidArgumentError(
-                f"{total} configurations exceed the explicit limit of {MAX_CONFIGURATIONS}",
-                hint="the simulator needs no model; check claims on a smaller mission",
+        total = count_configurations(self.kind, n, m, p.capacities)
+        if total > MAX_CONFIGURATIONS:  # symbolic: the configurations are never listed
+            constraints = p.valid + p.initially
+            return configuration_structure(
+                self.kind, self.robots, self.goals, knowledge.state, p.capacities, constraints
             )
-        model = configuration_model(self.robots, self.goals, self.configurations())
-        for names, fact in self.parts["learns"]:
-            model = model.update(observed(fact, names, self.robots))
-        return model
+        return configuration_model(self.robots, self.goals, self.configurations(), knowledge.state)
 
-    def event(self, kind: str, robot: str, goal: str, observers) -> ActionModel:
-        """The action model of an observation event: ``"settle"`` (``robot`` settles at
-        ``goal``) or ``"complete"`` (``goal``, a task, is done; ``robot`` did it),
-        observed by the robots ``observers`` (names), the others oblivious."""
-        for name, known in ((robot, self.robots), (goal, self.goals)):
-            if name not in known:
-                raise InvalidArgumentError(
-                    f"unknown name {name!r}", hint=f"declared: {', '.join(known)}"
-                )
-        for name in observers:
-            if name not in self.robots:
-                raise InvalidArgumentError(
-                    f"unknown observer {name!r}", hint=f"robots: {', '.join(self.robots)}"
-                )
-        if kind == "settle":
-            fact = f"assigned({robot}, {goal})"
-        elif kind == "complete":
-            fact = " & ".join(f"~assigned({r}, {goal})" for r in self.robots)
-        else:
-            raise InvalidArgumentError(f"unknown event {kind!r}", hint="settle or complete")
-        return observed(fact, observers, self.robots)
+    @functools.cached_property
+    def model(self) -> KripkeModel:
+        """The Kripke model at the start of the study's first trial: one world per valid
+        configuration, every robot uncertain of which, after the ``learns`` facts and with
+        the goals each robot knows of."""
+        return self.model_of(self.knowledge())
+
+    def model_after(self, steps: int, seed: int | None = None, level: str | None = None):
+        """The model after the first ``steps`` steps of a seeded trial (:meth:`trial`)."""
+        if steps == 0:
+            return self.model_of(self.knowledge(seed))
+        return self.model_of(self.trial(steps, seed, level).knowledge)
 
     def holds(self, formula: Formula | str, model: KripkeModel | None = None) -> bool:
-        """Whether ``formula`` holds at every designated world of ``model`` (default the
-        mission's initial model)."""
-        if isinstance(formula, str):
-            formula = parse_formula(formula)
-        return (self.model if model is None else model).holds(formula)
+        """Whether ``formula`` (``closed(GOAL)`` allowed) holds at every designated world of
+        ``model`` (default the mission's initial model)."""
+        tree = parse_formula(formula) if isinstance(formula, str) else formula
+        return (self.model if model is None else model).holds(expand(tree, self.robots))
 
 
 def parse_mission(text: str, filename: str = "<string>") -> Mission:
@@ -302,55 +356,35 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     ParseError, SpecError
         Located at the offending token, with a hint.
     """
-    parts = compile_text(text, filename)
-    study = parts.pop("study")
+    parts = compile_text(text, filename, library_rules())
+    defaults = Study()
     mission = Mission(
         name=Path(filename).stem if filename != "<string>" else "mission",
-        kind=parts["kind"],
-        robots=parts["robots"],
-        goals=parts["goals"],
-        checks=parts["checks"],
+        kind=parts.kind,
+        robots=parts.robot_names,
+        goals=parts.goal_names,
+        checks=parts.checks,
         study=Study(
-            trials=study.get("trials", Study.trials),
-            seed=study.get("seed", Study.seed),
-            levels=study.get("levels", Study.levels),
+            trials=defaults.trials if parts.trials is None else parts.trials,
+            seed=defaults.seed if parts.seed is None else parts.seed,
+            levels=defaults.levels if parts.levels is None else tuple(n for n, _ in parts.levels),
         ),
         filename=filename,
         source=text,
         parts=parts,
     )
-    _check_levels(mission, study)
     mission.scenario()  # validate the world now: a robot outside it, NaN, ...
+    _ = mission.parameters  # and its policy line
     return mission
 
 
-def _mission_streams(seed: int, n: int) -> list[np.random.Generator]:
-    """Two independent generators of trial ``seed``: who knows which goal, who is ad hoc."""
-    sequence = trial_streams(seed, n).mission.bit_generator.seed_seq
-    return [np.random.default_rng(child) for child in sequence.spawn(2)]
-
-
-def _random_knowledge(stream, n: int, m: int) -> np.ndarray:
-    """Per goal, each robot knows it with probability 1/2; nobody: one robot at random."""
-    known = stream.random((m, n)) < 0.5
-    nobody = ~known.any(axis=1)
-    known[np.flatnonzero(nobody), stream.integers(n, size=int(nobody.sum()))] = True
-    return known.T.copy()
-
-
-def _check_levels(mission: Mission, study: dict) -> None:
-    tokens = list(study["levels_token"].children) if "levels_token" in study else []
-    tokens += [token for _, _, token in mission.parts["teammates"]]
-    for token in tokens:
-        if str(token).replace("_", "-") not in REASONING:
-            raise SpecError(
-                f"unknown reasoning level '{token}'",
-                line=token.line,
-                column=token.column,
-                source=mission.source,
-                filename=mission.filename,
-                hint="levels: " + ", ".join(r.replace("-", "_") for r in REASONING),
-            )
+def _policy_value(text: str):
+    """A ``policy`` value: a number (whole numbers as int), true, false or none."""
+    words = {"true": True, "false": False, "none": None}
+    if text.lower() in words:
+        return words[text.lower()]
+    value = float(text)
+    return int(value) if value == int(value) and "." not in text else value
 
 
 def load_mission(path: str | Path) -> Mission:

@@ -1,7 +1,8 @@
 """Running a mission file's study: its trials, stored, summarised, drawn.
 
-A mission's trial is (mission text, level, seed): :class:`MissionTrial` hashes the three
-into its id, so a study interrupted at any moment resumes with the trials it misses, and
+A mission's trial is (mission text, level, seed): a
+:class:`~epistemica.sim.sweep.TrialSpec` over the file as a :class:`MissionWorld`, whose id
+hashes the three, so a study interrupted at any moment resumes with the trials it misses, and
 the same file gives the same trials on every machine. Trials run through the simulator's
 sweep machinery (:func:`epistemica.sim.sweep.run_sweep`: local processes, results in
 SQLite written by the driving process only).
@@ -26,12 +27,13 @@ from dataclasses import dataclass
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import Mission, parse_mission
+from epistemica.sim.levels import make_policy
+from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
-from epistemica.sim.simulate import make_policy
 from epistemica.sim.store import ResultStore
-from epistemica.sim.sweep import run_sweep
+from epistemica.sim.sweep import TrialSpec, run_sweep
 
-__all__ = ["MissionTrial", "mission_trials", "run_study"]
+__all__ = ["MissionWorld", "mission_trials", "run_study"]
 
 
 @functools.lru_cache(maxsize=8)
@@ -40,48 +42,48 @@ def _compiled(source: str, filename: str) -> Mission:
 
 
 @dataclass(frozen=True)
-class MissionTrial:
-    """One trial of a mission file: its text, a reasoning level and a seed."""
+class MissionWorld:
+    """A mission file as a :class:`~epistemica.sim.sweep.World`: its text (compiled once
+    per process), so a trial's id is its text, level and seed."""
 
     source: str
     filename: str
-    reasoning: str
-    seed: int
 
     @property
-    def _mission(self) -> Mission:
+    def compiled(self) -> Mission:
         return _compiled(self.source, self.filename)
 
     @property
     def mission(self) -> str:
         """The mission kind (the results table's ``mission`` column)."""
-        return self._mission.kind
+        return self.compiled.kind
 
     @property
     def robots(self) -> int:
-        return len(self._mission.robots)
+        return len(self.compiled.robots)
 
     @property
     def goals(self) -> int:
-        return len(self._mission.goals)
+        return len(self.compiled.goals)
 
     @property
     def options(self) -> tuple:
         """The file's name, so that reports keep studies of different files apart."""
-        return (("spec", self._mission.name),)
+        return (("spec", self.compiled.name),)
 
     @property
-    def id(self) -> str:
-        """A stable 16-hex-digit id of the text, level and seed."""
-        text = json.dumps([self.source, self.reasoning, self.seed])
+    def parameters(self) -> ActiveParameters:
+        return self.compiled.parameters
+
+    def trial_id(self, reasoning: str, seed: int) -> str:
+        text = json.dumps([self.source, reasoning, seed])
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
-    def scenario(self) -> Scenario:
-        return self._mission.scenario(self.seed)
+    def scenario(self, seed: int) -> Scenario:
+        return self.compiled.scenario(seed)
 
-    def policies(self) -> dict[int, str]:
-        """The ad hoc teammate of this trial, if the mission has one."""
-        return self._mission.policies(self.seed)
+    def policies(self, seed: int) -> dict[int, str]:
+        return self.compiled.policies(seed)
 
 
 def mission_trials(
@@ -89,7 +91,7 @@ def mission_trials(
     levels: Sequence[str] | None = None,
     trials: int | None = None,
     seed: int | None = None,
-) -> list[MissionTrial]:
+) -> list[TrialSpec]:
     """The trials of ``mission``'s study (its ``simulate`` line, or the arguments)."""
     levels = list(mission.study.levels if levels is None else levels)
     trials = mission.study.trials if trials is None else trials
@@ -100,15 +102,12 @@ def mission_trials(
     first = mission.study.seed if seed is None else seed
     if isinstance(first, bool) or not isinstance(first, int) or first < 0:
         raise InvalidArgumentError(f"seed must be an integer >= 0, got {first!r}", hint="0")
-    return [
-        MissionTrial(mission.source, mission.filename, level, first + t)
-        for level in levels
-        for t in range(trials)
-    ]
+    world = MissionWorld(mission.source, mission.filename)
+    return [TrialSpec(world, level, first + t) for level in levels for t in range(trials)]
 
 
 def run_study(
-    trials: Sequence[MissionTrial],
+    trials: Sequence[TrialSpec],
     store: ResultStore,
     *,
     workers: int | None = None,

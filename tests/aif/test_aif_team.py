@@ -197,8 +197,8 @@ def test_a_modelled_belief_certain_of_the_focal_configuration_adds_a_constant_ri
     xs = poses[0, :2] + np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.5, 0.5]])
     total = sum(v.weight for v in ctrl.perspectives(0))
     root = _root_risk(ctrl, poses, xs, prior)
-    certain = ctrl._evaluate(0, poses[:, :2], xs, prior, np.stack([onehot, onehot], axis=1))
-    plain = ctrl._evaluate(0, poses[:, :2], xs, prior)
+    certain = ctrl.evaluate_batch(0, poses[:, :2], xs, prior, np.stack([onehot, onehot], axis=1))
+    plain = ctrl.evaluate_batch(0, poses[:, :2], xs, prior)
     assert np.ptp(certain[0].belief_risk * total - root) < 1e-9
     assert np.ptp(plain[0].belief_risk * total - root) > 1e-6
 
@@ -211,7 +211,7 @@ def _root_risk(ctrl, poses, xs, prior):
     pos = poses[:, :2]
     batch = np.concatenate([pos[0][None], xs])
     log_p = log_softmax(ctrl._evidence(views[:1], 0, pos, batch), -1)
-    terms = ctrl._model._terms(log_p, np.array([views[0].weight]), 0, batch, prior)[0]
+    terms = ctrl.model.batch_terms(log_p, np.array([views[0].weight]), 0, batch, prior)[0]
     return terms.belief_risk[1:] * views[0].weight
 
 

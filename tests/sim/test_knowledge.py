@@ -1,9 +1,11 @@
 """TeamKnowledge: soundness of pruning, and agreement with the model checker.
 
-The chain sets of :class:`TeamKnowledge` are checked against the Kripke model over the
-valid configurations after the same events applied by product update
-(:func:`epistemica.del_.planning.configuration_model.observed`): ``K[i] K[j] f`` holds at the true
-world exactly when ``f`` holds on every configuration of the chain ``(i, j)``.
+The chain sets of :class:`TeamKnowledge` (the logic layer's epistemic state over
+configurations as worlds) are checked against the engine's product update: the same
+events, as action models (settles announced to their observers, the others oblivious),
+applied to the Kripke model over the valid configurations. When the events are true of
+one configuration (no revision needed), ``K[i] K[j] f`` and ``B[i] B[j] f`` hold at the
+true world exactly when ``f`` holds on every configuration the chain ``(i, j)`` keeps.
 """
 
 from __future__ import annotations
@@ -15,11 +17,20 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.aif.configurations import valid_configurations
-from epistemica.del_ import parse_formula
-from epistemica.del_.planning.configuration_model import configuration_model, observed
+from epistemica.del_ import KripkeModel, Observation, parse_formula
+from epistemica.mission import library_event
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.active import ActiveInference
-from epistemica.sim.knowledge import TeamKnowledge, rows_satisfying
+from epistemica.sim.knowledge import TeamKnowledge
+from epistemica.sim.worlds import fact_mask
+
+
+def settle(knowledge, robot, goal, observers):
+    """Robot ``robot`` seen settled at ``goal`` by ``observers`` (n booleans), as the
+    library's settle event teaches it."""
+    names = {knowledge.robots[i] for i, seen in enumerate(observers) if seen}
+    fact = f"assigned({knowledge.robots[robot]}, {knowledge.goals[goal]})"
+    return knowledge.observe(Observation("settle", full=names, suggests=fact))
 
 
 @st.composite
@@ -52,24 +63,29 @@ def _fact(kind, r, g, robots, goals):
     return atom if kind == "settle" else f"~{atom}"
 
 
-def _told(formula, robots, goals):
-    return lambda rows: rows_satisfying(formula, rows, robots, goals)
-
-
 def _replay(rows, robots, goals, events, truth):
-    knowledge = TeamKnowledge(len(robots), len(goals))
-    model = configuration_model(robots, goals, rows)
-    true_world = " ".join(goals[g] for g in truth)
-    model = model.repoint(true_world)
+    """The team's knowledge, and the reference: the Kripke model over the configurations
+    after the events' action models (each fact announced to its observers)."""
+    knowledge = TeamKnowledge(robots, goals)
+    val = {" ".join(goals[g] for g in row): [f"assigned({robots[i]}, {goals[g]})"
+           for i, g in enumerate(row)] for row in rows.tolist()}  # fmt: skip
+    worlds = list(val)
+    everything = [(u, v) for u in worlds for v in worlds]
+    model = KripkeModel(worlds, val, dict.fromkeys(robots, everything), worlds)
+    model = model.repoint(" ".join(goals[g] for g in truth))
     for kind, r, g, observers in events:
         fact = _fact(kind, r, g, robots, goals)
         if kind == "settle":
-            knowledge.settle(r, g, observers)
+            settle(knowledge, r, g, observers)
         else:
-            knowledge.tell(_told(parse_formula(fact), robots, goals), observers)
-        names = [robots[i] for i, seen in enumerate(observers) if seen]
-        model = model.update(observed(fact, names, robots))
+            knowledge.tell(parse_formula(fact), observers)
+        names = {robots[i] for i, seen in enumerate(observers) if seen}
+        model = model.update(Observation(kind, full=names, pre=fact).action_model(robots))
     return knowledge, model
+
+
+def rows_satisfying(formula, rows, robots, goals):
+    return fact_mask(formula, rows, robots, goals)
 
 
 @settings(max_examples=60, deadline=None)
@@ -141,8 +157,8 @@ def test_chains_with_one_signature_keep_one_set(history):
 def test_an_oblivious_teammate_keeps_the_larger_set():
     # Hand-worked: robot 0 sees robot 2 settle at goal 1; robot 1 is out of range.
     rows = valid_configurations("allocation", 3, 3)
-    k = TeamKnowledge(3, 3)
-    k.settle(2, 1, [True, False, True])
+    k = TeamKnowledge(["r1", "r2", "r3"], ["g1", "g2", "g3"])
+    settle(k, 2, 1, [True, False, True])
     assert k.possible((0,), rows).sum() == 2  # r3 at g2: r1 and r2 share g1, g3
     assert k.possible((1,), rows).sum() == 6
     assert k.possible((0, 1), rows).sum() == 6  # r1 knows r2 did not see it
@@ -151,9 +167,9 @@ def test_an_oblivious_teammate_keeps_the_larger_set():
 
 def test_a_contradictory_settle_is_ignored_not_an_empty_set():
     rows = valid_configurations("rendezvous", 2, 2)
-    k = TeamKnowledge(2, 2)
-    k.settle(0, 0, [True, True])
-    k.settle(1, 1, [True, True])  # cannot both hold in a rendezvous: the newest wins
+    k = TeamKnowledge(["r1", "r2"], ["g1", "g2"])
+    settle(k, 0, 0, [True, True])
+    settle(k, 1, 1, [True, True])  # cannot both hold in a rendezvous: the newest wins
     assert k.possible((0,), rows).tolist() == [False, True]
 
 
@@ -164,7 +180,7 @@ def test_settle_events_of_a_trial_are_recorded_with_their_observers():
         [[5, 8], [12, 4], [24, 22]],
         ["range", "range", "bearing"],
         sensing_range=8.0,
-        events=[("settle", "nearby")],
+        events=[library_event("settle")],
     )
     trial = simulate(s, "third", seed=0)
     assert trial.success
@@ -191,7 +207,8 @@ def test_nested_sets_that_prune_nothing_leave_the_trial_unchanged():
 
 def test_a_robot_models_a_teammate_over_the_goals_it_knows_the_teammate_knows():
     # Robot 0 alone knows goal 2; in its model of robot 1 (chain (0, 1)) goal 2 is absent.
-    k = TeamKnowledge(2, 3, known_goals=[[True, True, True], [True, True, False]])
+    known = [[True, True, True], [True, True, False]]
+    k = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"], known_goals=known)
     rows = valid_configurations("allocation", 2, 3)
     assert k.possible((0,), rows).sum() == 6
     assert k.possible((0, 1), rows).tolist() == [2 not in r for r in rows.tolist()]
@@ -244,9 +261,9 @@ def test_the_convention_pins_settled_robots_as_the_table_would(data):
     kind = data.draw(st.sampled_from(["allocation", "rendezvous"]))
     rng = np.random.default_rng(data.draw(st.integers(0, 10**6)))
     s = Scenario(kind, rng.uniform(0, 30, (n, 2)), rng.uniform(1, 29, (n, 2)), ["range"] * n)
-    k = TeamKnowledge(n, n)
+    k = TeamKnowledge(s.robot_names, s.goal_names)
     for _ in range(data.draw(st.integers(1, 3))):
-        k.settle(data.draw(st.integers(0, n - 1)), data.draw(st.integers(0, n - 1)), [True] * n)
+        settle(k, data.draw(st.integers(0, n - 1)), data.draw(st.integers(0, n - 1)), [True] * n)
     view = np.column_stack([rng.uniform(0, 30, (n, 2)), np.zeros(n)])
     goals = np.arange(n)
     pinned = Convention()
@@ -271,14 +288,13 @@ def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
         [[15.0, 15.0], [3.0, 27.0]],
         ["range", "range"],
         sensing_range=5.0,
-        events=[("settle", "nearby")],
+        events=[library_event("settle")],
         max_steps=150,
     )
     trial = simulate(s, "third", seed=0, policies={1: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 1 and 0 in e[4] for e in trial.events)
-    patient = ActiveInference(3)
-    patient.LONE_WAIT = 10**6
+    patient = ActiveInference(3, search=False)
     assert not simulate(s, patient, seed=0, policies={1: "zero"}).success
 
 
@@ -323,12 +339,11 @@ def test_a_group_waiting_for_the_rest_of_the_team_searches_for_it():
         [[5.0, 5.0], [25.0, 25.0]],
         ["range", "range", "range"],
         sensing_range=8.0,
-        events=[("settle", "nearby")],
+        events=[library_event("settle")],
         max_steps=150,
     )
     trial = simulate(s, "third", seed=0, policies={2: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 2 and {0, 1} & set(e[4]) for e in trial.events)
-    patient = ActiveInference(3)
-    patient.LONE_WAIT = 10**6
+    patient = ActiveInference(3, search=False)
     assert not simulate(s, patient, seed=0, policies={2: "zero"}).success

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from epistemica.aif import valid_configurations
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.mission import library_event
 from epistemica.sim import (
     FunctionPolicy,
     Policy,
@@ -252,10 +253,13 @@ def test_multitask_completion_and_witnesses():
     )
     t = simulate(s, "zero", seed=0)
     assert t.success and t.completion_step == t.tasks_done.max() == t.steps
-    sensing = Sensing(s, trial_streams(0, 2).observation)
-    poses = np.array(s.starts)
-    sensing.task_completed(poses, np.array([True, False]), [0])
-    assert sensing.known_done[0, 0] and not sensing.known_done[1, 0]  # out of range
+    # the library's complete event: witnessed by the robots that see the one that did it
+    witnessed = simulate(s.replace(events=(library_event("complete"),)), "zero", seed=0)
+    completes = [e for e in witnessed.events if e[1] == "complete"]
+    assert [e[2] for e in completes] == [0, 1]
+    for step, _, _, observers in completes:
+        here = witnessed.trajectory[step, :, :2]
+        assert observers == (0,) and np.hypot(*(here[1] - here[0])) > 5.0  # robot 1 far
 
 
 # ---- validation and policies ------------------------------------------------------------------

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
 import signal
 import sqlite3
 import subprocess
@@ -15,7 +17,7 @@ from epistemica.cli import main
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.report import summarise, wilson_interval
 from epistemica.sim.store import OUTCOME_COLUMNS, ResultStore, read_rows
-from epistemica.sim.sweep import TrialSpec, plan_sweep, run_sweep, run_trial
+from epistemica.sim.sweep import ProtocolWorld, TrialSpec, plan_sweep, run_sweep, run_trial
 
 GRID = dict(
     missions=["rendezvous", "allocation"],
@@ -30,16 +32,26 @@ def outcomes(rows):
     return sorted(tuple(r[c] for c in OUTCOME_COLUMNS) for r in rows)
 
 
+def _spec(mission, robots, goals, level, seed, options=()):
+    return TrialSpec(ProtocolWorld(mission, robots, goals, options), level, seed)
+
+
+def test_a_trial_id_is_the_documented_hash_so_old_results_files_resume():
+    spec = _spec("rendezvous", 2, 3, "zero", 4, (("sensing_range", 10.0),))
+    text = json.dumps(["rendezvous", 2, 3, "zero", 4, [["sensing_range", 10.0]]], sort_keys=True)
+    assert spec.id == hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def test_trial_id_depends_on_every_parameter_and_nothing_else():
-    base = TrialSpec("rendezvous", 2, 3, "zero", 4)
-    assert base.id == TrialSpec("rendezvous", 2, 3, "zero", 4).id
+    base = _spec("rendezvous", 2, 3, "zero", 4)
+    assert base.id == _spec("rendezvous", 2, 3, "zero", 4).id
     variants = [
-        TrialSpec("allocation", 2, 3, "zero", 4),
-        TrialSpec("rendezvous", 3, 3, "zero", 4),
-        TrialSpec("rendezvous", 2, 2, "zero", 4),
-        TrialSpec("rendezvous", 2, 3, "first", 4),
-        TrialSpec("rendezvous", 2, 3, "zero", 5),
-        TrialSpec("rendezvous", 2, 3, "zero", 4, (("sensing_range", 10.0),)),
+        _spec("allocation", 2, 3, "zero", 4),
+        _spec("rendezvous", 3, 3, "zero", 4),
+        _spec("rendezvous", 2, 2, "zero", 4),
+        _spec("rendezvous", 2, 3, "first", 4),
+        _spec("rendezvous", 2, 3, "zero", 5),
+        _spec("rendezvous", 2, 3, "zero", 4, (("sensing_range", 10.0),)),
     ]
     assert len({base.id, *(v.id for v in variants)}) == 1 + len(variants)
 
@@ -59,7 +71,7 @@ def test_plan_rejects_bad_input_before_running():
 
 
 def test_rows_match_a_direct_simulation(tmp_path):
-    spec = TrialSpec("allocation", 3, 3, "convention", 7)
+    spec = _spec("allocation", 3, 3, "convention", 7)
     row = run_trial(spec)
     from epistemica.sim import simulate
 

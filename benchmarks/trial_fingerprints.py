@@ -1,0 +1,108 @@
+"""Fingerprints of a fixed sample of simulated trials, to show a refactor changed nothing.
+
+Each trial (mission file, level, seed) is summarised by its outcome and a hash of its
+record (trajectory, focal configurations, configuration-set sizes, and each event's step,
+kind and observers). Write the
+fingerprints of one version, then compare another version against them:
+
+    python benchmarks/trial_fingerprints.py --write before.jsonl
+    python benchmarks/trial_fingerprints.py --compare before.jsonl
+
+``--sample`` chooses the set: ``stress`` (every stress-suite variant at 3 and 5 robots, four
+levels, seeds 0-1, and the 10-robot radius and hardest cells at seed 0) or ``shipped``
+(every mission file under specs/, its own levels, seeds 0-2).
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from epistemica.mission import load_mission
+from epistemica.run import mission_trials
+
+ROOT = Path(__file__).resolve().parents[1]
+STRESS_LEVELS = ("convention", "first", "third", "third-shared")
+
+
+def _cases(sample: str) -> list[tuple[Path, str, int]]:
+    stress = ROOT / "specs" / "stress"
+    if sample == "shipped":
+        files = sorted(ROOT.glob("specs/*.epi"))
+        return [(f, level, seed) for f in files for level in _levels(f) for seed in range(3)]
+    cases = [
+        (path, level, seed)
+        for path in sorted(stress.glob("*_[35].epi"))
+        for level in STRESS_LEVELS
+        for seed in (0, 1)
+    ]
+    for name in ("allocation_radius_10", "rendezvous_hardest_10"):
+        cases += [(stress / f"{name}.epi", level, 0) for level in ("convention", "third")]
+    return cases
+
+
+def _levels(path: Path) -> tuple[str, ...]:
+    return load_mission(path).study.levels
+
+
+def fingerprint(path: Path, level: str, seed: int) -> dict:
+    """The outcome of one trial and a hash of its record."""
+    mission = load_mission(path)
+    spec = mission_trials(mission, [level], 1, seed)[0]
+    trial = spec.simulate()
+    digest = hashlib.sha256()
+    for array in (trial.trajectory, trial.focal, trial.considered, trial.unpruned):
+        digest.update(np.ascontiguousarray(array).tobytes())
+    # step, kind and observers of every event (their other fields are free to change)
+    events = [[int(e[0]), str(e[1]), [int(i) for i in e[-1]]] for e in trial.events]
+    digest.update(json.dumps(events).encode())
+    return {
+        "trial": f"{path.stem}/{level}/{seed}",
+        "success": bool(trial.success),
+        "steps": int(trial.steps),
+        "hash": digest.hexdigest()[:16],
+    }
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sample", choices=("stress", "shipped"), default="stress")
+    group = parser.add_mutually_exclusive_group(required=True)
+    group.add_argument("--write", metavar="FILE", help="write the fingerprints (JSON lines)")
+    group.add_argument("--compare", metavar="FILE", help="compare against stored fingerprints")
+    args = parser.parse_args()
+    cases = _cases(args.sample)
+    if args.write:
+        with open(args.write, "w", encoding="utf-8") as out:
+            for case in cases:
+                out.write(json.dumps(fingerprint(*case)) + "\n")
+                out.flush()
+        print(f"{len(cases)} trials written to {args.write}")
+        return 0
+    stored = {}
+    with open(args.compare, encoding="utf-8") as handle:
+        for line in handle:
+            row = json.loads(line)
+            stored[row["trial"]] = row
+    same = differ = 0
+    for case in cases:
+        now = fingerprint(*case)
+        before = stored.get(now["trial"])
+        if before is None:
+            continue
+        if before == now:
+            same += 1
+        else:
+            differ += 1
+            print(f"differs: {now['trial']}: {before} -> {now}")
+    print(f"{same} identical, {differ} different, of {same + differ} compared")
+    return 1 if differ else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,161 @@
+"""The parameters of the active-inference levels: every rule and constant, in one place.
+
+:class:`ActiveParameters` is a frozen dataclass: the Python API builds one (or changes a
+default with :meth:`ActiveParameters.replace`), a mission file sets fields with its
+``policy`` line (``policy lone_wait 20 look 0.8``), and the levels of
+:mod:`epistemica.sim.levels` take it. Parameters of the expected-free-energy controller
+itself (:class:`epistemica.aif.Controller`: ``progress_weight``, ``horizon``, ...) pass
+through ``controller``. The defaults were chosen on tuning seeds 1000-1039 of the stress
+suite (docs/results.md); one set serves every scenario.
+
+Examples
+--------
+>>> p = ActiveParameters().replace(lone_wait=20, progress_weight=10.0)
+>>> p.lone_wait, dict(p.controller)
+(20, {'progress_weight': 10.0})
+>>> ActiveParameters().replace(lonewait=3)
+Traceback (most recent call last):
+...
+epistemica.del_.errors.InvalidArgumentError: unknown policy parameter 'lonewait'
+hint: did you mean 'lone_wait'? ...
+"""
+
+from __future__ import annotations
+
+import difflib
+import inspect
+import math
+from dataclasses import dataclass, field, fields, replace
+
+from epistemica.aif.controller import Controller
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__ = ["CONTROLLER_OPTIONS", "ActiveParameters", "names"]
+
+#: Controller arguments a policy may set (everything but the scene it is built for).
+CONTROLLER_OPTIONS = tuple(
+    name
+    for name in inspect.signature(Controller).parameters
+    if name not in ("goals", "sensors", "configurations", "order", "controls", "dt")
+)
+
+
+@dataclass(frozen=True)
+class ActiveParameters:
+    """Rules and constants of the active-inference levels.
+
+    Attributes
+    ----------
+    prior_scale : float or None
+        Metres of total distance per nat of the team prior (teammates are efficient,
+        :func:`epistemica.aif.prior.team_log_prior`); ``None``: a uniform prior.
+    tie_weight : float
+        Nats of the shared tie-breaking preference between equally good configurations.
+    memory : float
+        Exponent ``rho`` in ``[0, 1]`` of the previous posterior in the next prior: 0
+        forgets, 1 is a plain Bayes filter.
+    headings : int
+        Heading changes in the control grid.
+    pruning : bool
+        Reason only over the configurations a robot still believes possible after the
+        events it observed; ``False`` is the ablation (level ``*-unpruned``).
+    nested : bool
+        Model each teammate over the configurations the robot knows that teammate keeps;
+        ``False`` is the ablation (``*-shared``): every teammate is taken to have seen
+        what the robot saw.
+    anticipate : bool
+        At order 2 and above, where a teammate keeps other configurations than the robot
+        (it did not see what the robot saw, or knows other goals), predict its goal from
+        its set and take the configurations it will actually join
+        (:mod:`epistemica.sim.anticipation`). Off by default until measured against the
+        stress suite (docs/results.md).
+    common_view : bool
+        At order 2 and above, take the team prior from what is common knowledge: with a
+        teammate out of sight no position is, so every robot is placed at the workspace
+        centre (the shared default estimate) and the shared tie-break decides.
+    search : bool
+        Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
+        goal without the rest of the team searches for it.
+    lone_wait : int
+        Steps a group waits before its first search (each search doubles it).
+    look : float
+        A searcher counts a goal as looked at from this fraction of its sensing range.
+    prune_from : int
+        From this many valid configurations on, a robot reasons over the plausible ones
+        only: those within ``prior_scale * (n + plausible_margin)`` of the least total
+        distance (:func:`epistemica.aif.prior.plausible_configurations`).
+    plausible_margin : float
+        See ``prune_from``.
+    log_prior_floor : float
+        Nats below the best configuration at which the team prior is floored (keeps every
+        probability representable in float32).
+    controller : tuple of (str, value)
+        Arguments of :class:`epistemica.aif.Controller` (``progress_weight``,
+        ``horizon``, ...), as name-value pairs.
+    """
+
+    prior_scale: float | None = 1.0
+    tie_weight: float = 1.0
+    memory: float = 0.0
+    headings: int = 16
+    pruning: bool = True
+    nested: bool = True
+    anticipate: bool = False
+    common_view: bool = True
+    search: bool = True
+    lone_wait: int = 15
+    look: float = 0.8
+    prune_from: int = 2_000
+    plausible_margin: float = 10.0
+    log_prior_floor: float = -80.0
+    controller: tuple[tuple[str, object], ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= float(self.memory) <= 1.0:
+            raise InvalidArgumentError(
+                f"memory must lie in [0, 1], got {self.memory!r}", hint="0 forgets, 1 filters"
+            )
+        for name in ("headings", "lone_wait", "prune_from"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise InvalidArgumentError(
+                    f"{name} must be an integer >= 1, got {value!r}", hint=f"e.g. {name}=16"
+                )
+        for name in ("tie_weight", "look", "plausible_margin", "log_prior_floor"):
+            if not math.isfinite(float(getattr(self, name))):
+                raise InvalidArgumentError(f"{name} must be finite", hint="a number")
+        if self.prior_scale is not None and not float(self.prior_scale) > 0:
+            raise InvalidArgumentError(
+                f"prior_scale must be > 0 or None, got {self.prior_scale!r}", hint="e.g. 1.0"
+            )
+        for name, _ in self.controller:
+            if name not in CONTROLLER_OPTIONS:
+                raise _unknown(name)
+
+    def replace(self, **changes) -> ActiveParameters:
+        """A copy with some parameters (or controller arguments) changed, validated."""
+        own = {f.name for f in fields(self)} - {"controller"}
+        controller = dict(self.controller)
+        for name, value in changes.items():
+            if name in own:
+                continue
+            if name not in CONTROLLER_OPTIONS:
+                raise _unknown(name)
+            controller[name] = value
+        kept = {k: v for k, v in changes.items() if k in own}
+        return replace(self, **kept, controller=tuple(sorted(controller.items())))
+
+
+def names() -> list[str]:
+    """Every parameter a policy line may set."""
+    return [f.name for f in fields(ActiveParameters) if f.name != "controller"] + list(
+        CONTROLLER_OPTIONS
+    )
+
+
+def _unknown(name: str) -> InvalidArgumentError:
+    close = difflib.get_close_matches(name, names(), n=1)
+    hint = f"did you mean '{close[0]}'? " if close else ""
+    return InvalidArgumentError(
+        f"unknown policy parameter {name!r}", hint=hint + "parameters: " + ", ".join(names())
+    )

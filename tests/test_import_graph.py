@@ -1,0 +1,264 @@
+"""The structure of the package: imports point one way, and no module reaches into another's
+private parts.
+
+Every module of the four folders that make up ``epistemica`` (``del/``, ``aif/``, ``sim/``,
+``src/epistemica/``) is parsed with :mod:`ast` (nothing is imported), so the checks also run
+on another checkout: ``EPISTEMICA_SOURCE=/path/to/checkout pytest tests/test_import_graph.py``.
+
+- The graph of imports between project modules (``if TYPE_CHECKING:`` blocks left out, as
+  they never run) has no cycle. Importing ``a.b.c`` first runs ``a/__init__.py`` and
+  ``a/b/__init__.py``, so those edges are in the graph too. The command-line dispatcher's
+  table of command modules (``COMMANDS`` in ``cli.py``, loaded by name so that start-up
+  stays short) counts as imports.
+- Layers import only the layers before them: ``del_ <- aif <- sim <- root``.
+- No ``import`` of a project module sits inside a function: a deferred import hides an
+  edge of the graph (the usual way a cycle is papered over). Optional third-party
+  libraries (matplotlib, distributed, ...) may be imported lazily.
+- No module of ``del/`` imports names from the package ``epistemica.del_`` itself (its
+  ``__init__`` only re-exports).
+- No attribute ``x._name`` is read or written with ``x`` other than ``self`` or ``cls``
+  (named tuples' public API, ``_replace`` and the like, excepted), no module imports a
+  private name (``from m import _name``) of another module, and a private module
+  (``_name.py``) is imported only by modules of its own layer.
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+SOURCE = Path(os.environ.get("EPISTEMICA_SOURCE") or Path(__file__).resolve().parents[1])
+#: Package name -> folder, in layer order: a layer imports only the layers before it.
+LAYERS = (
+    ("epistemica.del_", SOURCE / "del"),
+    ("epistemica.aif", SOURCE / "aif"),
+    ("epistemica.sim", SOURCE / "sim"),
+    ("epistemica", SOURCE / "src" / "epistemica"),
+)
+#: Named tuples keep their public API underscore-prefixed, to keep field names free.
+NAMED_TUPLE_API = {"_replace", "_asdict", "_fields", "_make", "_field_defaults"}
+
+
+def _module_name(package: str, folder: Path, path: Path) -> str:
+    parts = list(path.relative_to(folder).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join([package, *parts])
+
+
+def _modules() -> dict[str, tuple[Path, ast.Module]]:
+    found = {}
+    for package, folder in LAYERS:
+        for path in sorted(folder.rglob("*.py")):
+            name = _module_name(package, folder, path)
+            found[name] = (path, ast.parse(path.read_text(), filename=str(path)))
+    return found
+
+
+MODULES = _modules()
+
+
+def _layer(module: str) -> int:
+    """The index in LAYERS of the package a module belongs to (the longest prefix)."""
+    best = -1
+    for index, (package, _) in enumerate(LAYERS):
+        if (module == package or module.startswith(package + ".")) and (
+            best < 0 or len(package) > len(LAYERS[best][0])
+        ):
+            best = index
+    return best
+
+
+def _is_package(name: str) -> bool:
+    return MODULES[name][0].name == "__init__.py"
+
+
+def _type_checking_block(node: ast.AST) -> bool:
+    test = getattr(node, "test", None)
+    return isinstance(node, ast.If) and (
+        (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING")
+        or (isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
+    )
+
+
+def _runtime_imports(tree: ast.Module):
+    """Every import statement that runs, skipping ``if TYPE_CHECKING:`` blocks."""
+    stack = list(tree.body)
+    while stack:
+        node = stack.pop()
+        if _type_checking_block(node):
+            stack.extend(node.orelse)
+            continue
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            yield node
+        stack.extend(ast.iter_child_nodes(node))
+
+
+def _absolute(module: str, node: ast.ImportFrom) -> str:
+    if not node.level:
+        return node.module or ""
+    base = module.split(".")
+    if not _is_package(module):
+        base.pop()
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _targets(module: str, node: ast.Import | ast.ImportFrom) -> list[tuple[str, list[str]]]:
+    """The project modules an import names, each with the names taken from it."""
+    if isinstance(node, ast.Import):
+        return [(alias.name, []) for alias in node.names if alias.name in MODULES]
+    source = _absolute(module, node)
+    if source not in MODULES:
+        return []
+    targets, names = [], []
+    for alias in node.names:
+        sub = f"{source}.{alias.name}"
+        if sub in MODULES:
+            targets.append((sub, []))
+        else:
+            names.append(alias.name)
+    if names:
+        targets.append((source, names))
+    return targets
+
+
+def _registry_targets(tree: ast.Module) -> list[str]:
+    """The modules named in a ``COMMANDS = {...}`` table (loaded by name)."""
+    found = []
+    for node in tree.body:
+        if isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names = [t.id for t in targets if isinstance(t, ast.Name)]
+            if "COMMANDS" in names and isinstance(node.value, ast.Dict):
+                found += [
+                    v.value
+                    for v in node.value.values
+                    if isinstance(v, ast.Constant) and v.value in MODULES
+                ]
+    return found
+
+
+def _ancestors(name: str) -> list[str]:
+    parts = name.split(".")
+    return [".".join(parts[:i]) for i in range(1, len(parts)) if ".".join(parts[:i]) in MODULES]
+
+
+def import_graph() -> tuple[nx.DiGraph, list[str]]:
+    """The import graph of the project and the imports of names from del/'s package root."""
+    graph = nx.DiGraph()
+    graph.add_nodes_from(MODULES)
+    from_root = []
+    for module, (_, tree) in MODULES.items():
+        edges = [edge for node in _runtime_imports(tree) for edge in _targets(module, node)]
+        edges += [(target, []) for target in _registry_targets(tree)]
+        for target, names in edges:
+            if target == "epistemica.del_" and names and _layer(module) == 0:
+                from_root.append(f"{module}: from epistemica.del_ import {', '.join(names)}")
+            # importing a submodule first runs its packages' __init__ (the importer's
+            # own packages have run already)
+            for package in [*_ancestors(target), target]:
+                if package != module and package not in _ancestors(module):
+                    graph.add_edge(module, package)
+    return graph, from_root
+
+
+def test_every_layer_is_found():
+    layers = {_layer(m) for m in MODULES}
+    assert layers == set(range(len(LAYERS)))
+    assert "epistemica.del_.errors" in MODULES and "epistemica.sim.simulate" in MODULES
+
+
+def test_no_import_cycle():
+    graph, _ = import_graph()
+    cycles = list(nx.simple_cycles(graph))
+    shortest = sorted(cycles, key=len)[:5]
+    assert not cycles, f"{len(cycles)} import cycles, e.g. " + "; ".join(
+        " -> ".join([*c, c[0]]) for c in shortest
+    )
+
+
+def test_layers_import_only_the_layers_before_them():
+    graph, _ = import_graph()
+    # every import of a subpackage first runs the root's __init__ (lazy re-exports only)
+    upward = [f"{a} -> {b}" for a, b in graph.edges if _layer(b) > _layer(a) and b != "epistemica"]
+    assert not upward, "imports against the layers:\n" + "\n".join(sorted(upward))
+
+
+def test_no_del_module_imports_from_its_package_root():
+    _, from_root = import_graph()
+    assert not from_root, "\n".join(from_root)
+
+
+@pytest.mark.parametrize(
+    "layer",
+    [
+        *(package for package, _ in LAYERS[:-1]),
+        pytest.param(
+            "epistemica",
+            marks=pytest.mark.xfail(strict=True, reason="the CLI defers imports (issue 17)"),
+        ),
+    ],
+)
+def test_no_project_import_inside_a_function(layer):
+    found = []
+    for module, (_, tree) in MODULES.items():
+        if LAYERS[_layer(module)][0] != layer:
+            continue
+        for function in ast.walk(tree):
+            if isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+                for node in ast.walk(function):
+                    if isinstance(node, (ast.Import, ast.ImportFrom)):
+                        if _targets(module, node) or _absolute_names(module, node):
+                            found.append(f"{module}:{node.lineno}")
+    assert not found, f"project imports inside functions: {', '.join(sorted(set(found)))}"
+
+
+def _absolute_names(module: str, node: ast.Import | ast.ImportFrom) -> bool:
+    """Whether an import names the project (``epistemica`` itself included)."""
+    if isinstance(node, ast.Import):
+        return any(a.name.split(".")[0] == "epistemica" for a in node.names)
+    return bool(node.level) or (node.module or "").split(".")[0] == "epistemica"
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def test_no_private_attribute_of_another_object():
+    found = []
+    for module, (_, tree) in MODULES.items():
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.Attribute) or not _private(node.attr):
+                continue
+            owner = node.value
+            if isinstance(owner, ast.Name) and owner.id in ("self", "cls"):
+                continue
+            if node.attr in NAMED_TUPLE_API:
+                continue
+            found.append(f"{module}:{node.lineno} {ast.unparse(owner)}.{node.attr}")
+    assert not found, f"{len(found)} private accesses:\n" + "\n".join(found)
+
+
+def test_no_private_import_from_another_module():
+    found = []
+    for module, (_, tree) in MODULES.items():
+        for node in _runtime_imports(tree):
+            for target, names in _targets(module, node):
+                private_module = _private(target.rsplit(".", 1)[-1])
+                if private_module and _layer(target) != _layer(module):
+                    found.append(f"{module}:{node.lineno} imports private module {target}")
+                for name in names:
+                    if _private(name):
+                        found.append(f"{module}:{node.lineno} imports {target}.{name}")
+    assert not found, f"{len(found)} private imports:\n" + "\n".join(found)
+
+
+def test_a_type_checking_block_is_not_a_runtime_import():
+    code = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\nelse:\n    import b"
+    names = [alias.name for node in _runtime_imports(ast.parse(code)) for alias in node.names]
+    assert sorted(names) == ["TYPE_CHECKING", "b"]
