@@ -117,7 +117,7 @@ def describe_structure(s: Any, limit: int = 16) -> str:
     n_atoms = len(s.atom_slots)
     head = (
         f"knowledge structure: {n_atoms} atom{'s' if n_atoms != 1 else ''}, "
-        f"{s.n_variables} variables, {s.n_worlds:,} states, "
+        f"{s.n_variables} variables, {s.n_worlds:,} state{'s' if s.n_worlds != 1 else ''}, "
         f"{s.count_designated():,} designated; agents {', '.join(s.agents)}"
     )
     vocabulary = list(s.atom_slots)
