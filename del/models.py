@@ -39,7 +39,7 @@ from epistemica.del_.explicit import bisimulation, checker, export
 from epistemica.del_.explicit._cube import Cube
 from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS, ExplicitModel, column_of
 from epistemica.del_.explicit.action import ActionModel, applicable_in_some, product_update
-from epistemica.del_.language.formula import Formula, canonical_atom
+from epistemica.del_.language.formula import Formula, atom_name
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.symbolic import convert
 from epistemica.del_.symbolic.structure import SymbolicModel
@@ -67,11 +67,21 @@ class KripkeModel(ExplicitModel):
         The actual world(s); :meth:`holds` checks truth at all of them.
     knowledge : mapping, optional
         Agent -> pairs: a separate knowledge relation for ``K[a]``.
+    atoms : iterable of str, optional
+        The model's vocabulary, declared: atoms that no world makes true are false
+        everywhere, and the valuation may name only these. By default the vocabulary is
+        the atoms the valuation names. A formula naming an atom outside the vocabulary is
+        refused (``InvalidArgumentError``: "unknown atom"), on this backend and on the
+        symbolic one alike.
 
     Raises
     ------
+    InvalidArgumentError
+        If an argument has the wrong type, or an atom name is not one a formula could
+        write (``"p q"``, ``""``).
     ModelError
-        If a pair, valuation entry or designated world names an unknown world.
+        If a pair, valuation entry or designated world names an unknown world, or the
+        valuation names an undeclared atom.
     """
 
     @classmethod
@@ -123,7 +133,7 @@ class KripkeModel(ExplicitModel):
         >>> m.holds("~Kw[c1] m1 & K[c3] (m1 & m2)")
         True
         """
-        atom_list = tuple(canonical_atom(a) for a in atoms)
+        atom_list = tuple(atom_name(a, "atoms") for a in atoms)
         if len(set(atom_list)) != len(atom_list):
             raise InvalidArgumentError("atoms must be distinct", hint="remove the repeated atom")
         if len(atom_list) > MAX_ENUMERATED_ATOMS:

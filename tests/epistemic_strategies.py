@@ -153,7 +153,21 @@ def models(draw, kind="s5", max_worlds=6, atoms=ATOMS, agents=AGENTS):
         relation = {"s5": partitions, "kd45": kd45_relations, "any": arbitrary_relations}[kind]
         relations = {a: draw(relation(n)) for a in agents}
     designated = draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=2, unique=True))
-    return KripkeModel(list(range(n)), valuation, relations, designated, knowledge=knowledge)
+    return KripkeModel(
+        list(range(n)), valuation, relations, designated, knowledge=knowledge, atoms=atoms
+    )
+
+
+def explicit_copy(model):
+    """The same model rebuilt from its worlds and pairs (no bitset cube), same vocabulary."""
+    worlds = list(model.worlds)
+    return KripkeModel(
+        worlds,
+        {w: model.valuation_of(w) for w in worlds},
+        {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
+        list(model.designated),
+        atoms=model.atoms,
+    )
 
 
 # -- the reference checker -------------------------------------------------------------

@@ -11,7 +11,8 @@ import pytest
 from epistemica.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
-PUZZLES = sorted((ROOT / "specs" / "puzzles").glob("*.epi"))
+# The puzzles small enough for both backends (the generated large ones are symbolic only).
+PUZZLES = sorted(p for p in (ROOT / "specs" / "puzzles").glob("*.epi") if p.stat().st_size < 20_000)
 
 
 def run(capsys, *argv):

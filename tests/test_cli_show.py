@@ -150,3 +150,104 @@ def test_reading_something_else_is_an_error():
         model_from_json({"worlds": []})
     with pytest.raises(InvalidArgumentError, match="malformed model object"):
         model_from_json({"format": "epistemica-kripke-1", "worlds": [{"atoms": []}]})
+
+
+# -- large models: linear output, --limit, the symbolic backend, --where (issue 22) -----
+
+
+def _muddy(tmp_path, n: int) -> str:
+    atoms = [f"m{i}" for i in range(1, n + 1)]
+    lines = [f"agents c1..c{n}", f"atoms m1..m{n}"]
+    for i in range(1, n + 1):
+        lines.append(f"observes c{i}: " + ", ".join(a for a in atoms if a != f"m{i}"))
+    lines.append("actual {m1, m2}")
+    path = tmp_path / f"muddy{n}.epi"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return str(path)
+
+
+def test_json_of_a_large_model_lists_blocks_and_reads_back(capsys, tmp_path):
+    """10 children, 1,024 worlds: each child's partition has 512 blocks of two worlds."""
+    code, out, _ = run(capsys, "show", _muddy(tmp_path, 10), "--json")
+    data = json.loads(out)
+    assert code == 0 and len(data["worlds"]) == 1024
+    for agent in data["agents"]:
+        blocks = data["relations"][agent]["belief"]["blocks"]
+        assert len(blocks) == 512 and {len(b) for b in blocks} == {2}
+    back = model_from_json(data)
+    assert back.n_worlds == 1024 and back.holds("~Kw[c1] m1 & K[c3] (m1 & m2)")
+
+
+def test_limit_keeps_the_designated_world_and_is_not_read_back(capsys, tmp_path):
+    code, out, _ = run(capsys, "show", _muddy(tmp_path, 10), "--json", "--limit", "5")
+    data = json.loads(out)
+    assert code == 0 and data["truncated"] and data["n_worlds"] == 1024
+    names = [w["name"] for w in data["worlds"]]
+    assert len(names) == 5 and data["designated"][0] in names
+    shown = set(names)
+    for relation in data["relations"].values():
+        assert all(set(b) <= shown for b in relation["belief"]["blocks"])
+    with pytest.raises(ValueError, match="truncated"):
+        model_from_json(data)
+
+
+def test_text_limit_lists_that_many_worlds(capsys, tmp_path):
+    code, out, _ = run(capsys, "show", _muddy(tmp_path, 10), "--limit", "3")
+    assert code == 0 and "1024 worlds" in out and "... 1023 more worlds not shown" in out
+
+
+def test_symbolic_show_prints_vocabulary_law_and_observables(capsys):
+    code, out, _ = run(capsys, "show", MUDDY, "--backend", "symbolic", "--after", "father")
+    assert code == 0
+    assert "knowledge structure: 3 atoms, 3 variables, 7 states, 1 designated" in out
+    assert "vocabulary: m1, m2, m3" in out
+    assert "c1: m2, m3" in out and "designated: {m1, m2, m3}" in out
+    # the law has 7 satisfying valuations of 8: every one but all-clean
+    law = next(line for line in out.splitlines() if "law:" in line)
+    assert "~m1 & ~m2 & ~m3" not in law
+
+
+def test_symbolic_show_of_forty_children_and_dot_refusal(capsys, tmp_path):
+    path = _muddy(tmp_path, 40)
+    code, out, _ = run(capsys, "show", path, "--json")
+    data = json.loads(out)
+    assert code == 0 and data["n_states"] == 2**40 and data["designated"] == [["m1", "m2"]]
+    assert data["observables"]["c1"] == [f"m{i}" for i in range(2, 41)]
+    code, _, err = run(capsys, "show", path, "--dot", str(tmp_path / "m.dot"))
+    assert code == 2 and "knowledge structure" in err
+
+
+@pytest.mark.parametrize("backend", ["explicit", "symbolic"])
+def test_where_lists_the_worlds_on_both_backends(capsys, backend):
+    code, out, _ = run(
+        capsys, "check", MUDDY, "--formula", "m1 & m2", "--where", "--backend", backend, "--json"
+    )
+    data = json.loads(out)
+    assert code == 0
+    if backend == "explicit":
+        listed = [set(w["atoms"]) for w in data["worlds"]]
+    else:
+        listed = [set(v) for v in data["valuations"]]
+    assert sorted(map(sorted, listed)) == [["m1", "m2"], ["m1", "m2", "m3"]]
+
+
+def test_where_is_capped_by_limit(capsys, tmp_path):
+    path = _muddy(tmp_path, 30)  # symbolic: 2^29 states where m1 holds
+    code, out, _ = run(capsys, "check", path, "--formula", "m1", "--where", "--limit", "4",
+                       "--json")  # fmt: skip
+    data = json.loads(out)
+    assert code == 0 and data["holds"] and data["n_true"] == 2**29  # m1 is actual
+    assert len(data["valuations"]) == 4 and data["truncated"]
+    assert all("m1" in v for v in data["valuations"])
+
+
+def test_dot_of_too_many_pairs_is_refused_and_limit_draws_a_part(capsys, tmp_path):
+    """b sees nothing of 65,536 worlds: 2^32 pairs to draw; --limit 50 draws 50 worlds."""
+    path = tmp_path / "blind.epi"
+    path.write_text("agents a, b\natoms m1..m16\nobserves a: m1\n", encoding="utf-8")
+    dot = tmp_path / "m.dot"
+    code, _, err = run(capsys, "show", str(path), "--dot", str(dot))
+    assert code == 2 and "more than 5,000,000 to draw" in err and "--limit" in err
+    code, out, _ = run(capsys, "show", str(path), "--dot", str(dot), "--limit", "50")
+    assert code == 0 and "(the first 50)" in out
+    assert dot.read_text().count("[label=") == 50 + 2 * 50 * 50  # worlds, then a's and b's pairs

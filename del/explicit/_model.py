@@ -34,9 +34,10 @@ import numpy as np
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError, ModelError
+from epistemica.del_.explicit._arguments import column_of, declared_atoms, require_mapping
 from epistemica.del_.explicit._cube import Cube
 from epistemica.del_.explicit.relations import Partition, Relation, relation_from_pairs
-from epistemica.del_.language.formula import canonical_atom
+from epistemica.del_.language.formula import atom_name
 
 __all__ = ["MAX_ENUMERATED_ATOMS", "ExplicitModel", "column_of"]
 
@@ -61,22 +62,47 @@ class ExplicitModel:
         relations: Mapping[str, Iterable[tuple[World, World]]],
         designated: World | Iterable[World],
         knowledge: Mapping[str, Iterable[tuple[World, World]]] | None = None,
+        *,
+        atoms: Iterable[str] | None = None,
     ) -> None:
+        require_mapping(valuation, "valuation", "world -> the atoms true there")
+        require_mapping(relations, "relations", "agent -> (world, world) pairs")
+        if knowledge is not None:
+            require_mapping(knowledge, "knowledge", "agent -> (world, world) pairs")
+        if isinstance(worlds, (str, bytes)) or not isinstance(worlds, Iterable):
+            raise InvalidArgumentError(
+                f"worlds must be a sequence of world names, not {type(worlds).__name__}",
+                hint='e.g. ["w1", "w2"]',
+            )
         names = tuple(worlds)
         index = {w: i for i, w in enumerate(names)}
         if len(index) != len(names):
             raise ModelError("world names must be distinct", hint="rename the repeated world")
-        atoms: dict[str, None] = {}
+        declared = None if atoms is None else declared_atoms(atoms)
+        found: dict[str, None] = dict.fromkeys(declared or ())
+        keys: dict[World, list[str]] = {}
         for w, true_atoms in valuation.items():
             _lookup(index, w, "valuation")
-            for a in true_atoms:
-                atoms.setdefault(canonical_atom(str(a)))
-        atom_list = tuple(atoms)
+            where = f"the valuation of {w!r}"
+            if isinstance(true_atoms, (str, bytes)) or not isinstance(true_atoms, Iterable):
+                raise InvalidArgumentError(
+                    f"{where} must be an iterable of atom names, not {true_atoms!r}",
+                    hint=f'e.g. {{{w!r}: ["p", "q"]}}',
+                )
+            keys[w] = [atom_name(a, where) for a in true_atoms]
+            for key in keys[w]:
+                if declared is not None and key not in declared:
+                    raise ModelError(
+                        f"atom {key!r} in {where} is not declared",
+                        hint=f"declared atoms: {', '.join(declared) or 'none'}",
+                    )
+                found.setdefault(key)
+        atom_list = tuple(found)
         column = {a: j for j, a in enumerate(atom_list)}
         val = np.zeros((len(names), len(atom_list)), dtype=bool)
-        for w, true_atoms in valuation.items():
-            for a in true_atoms:
-                val[index[w], column[canonical_atom(str(a))]] = True
+        for w, true_keys in keys.items():
+            for key in true_keys:
+                val[index[w], column[key]] = True
         agents = tuple(str(a) for a in relations)
         rel = {
             str(a): _relation(index, pairs, f"relation of {a}") for a, pairs in relations.items()
@@ -501,15 +527,6 @@ def _lookup(index: Mapping[World, int], world: World, where: str) -> int:
         raise ModelError(
             f"unknown world {world!r} in {where}", hint="every world must be listed in `worlds`"
         ) from None
-
-
-def column_of(column: Mapping[str, int], atom: str, where: str) -> int:
-    key = canonical_atom(str(atom))
-    if key not in column:
-        raise InvalidArgumentError(
-            f"unknown atom {atom!r} in {where}", hint=f"declared atoms: {', '.join(column)}"
-        )
-    return column[key]
 
 
 def _relation(index: Mapping[World, int], pairs: Iterable, where: str) -> Relation:

@@ -25,8 +25,9 @@ the memory budget (:mod:`~epistemica.del_.budget`) is allocated without first ra
 :class:`~epistemica.del_.budget.MemoryBudgetError`. Relations that are equivalences are
 evaluated through their partition; any other relation through its arrows.
 
-Atoms that the model does not know are false everywhere (a valuation lists true atoms
-only); spec files declare their atoms, which catches misspellings.
+An atom outside the model's vocabulary (its declared atoms, by default those its valuation
+names) is refused with "unknown atom", as on the symbolic backend; a declared atom that no
+world makes true is false everywhere.
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ import numpy as np
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._model import ExplicitModel, column_of
 from epistemica.del_.explicit._product import product_with_provenance
 from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
 from epistemica.del_.language.formula import (
@@ -67,6 +68,7 @@ from epistemica.del_.language.formula import (
     Top,
 )
 from epistemica.del_.language.parser import as_formula
+from epistemica.del_.language.walk import fold_nodes
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
@@ -387,9 +389,11 @@ class _Run:
 def _leaf(model: ExplicitModel, f: Atom | Top | Bottom, bits: bool) -> np.ndarray:
     """The read-only truth set of an atom, ``true`` or ``false``."""
     column = model.atom_column(f.key) if type(f) is Atom else None
+    if column is None and type(f) is Atom:
+        column_of(dict.fromkeys(model.atoms, 0), f.key, "the formula")  # raises: unknown
     if column is not None:  # a bitset built once per space, or a column of the valuation
         found = model.cube.atom(column) if bits else model.valuation[:, column]
-    elif bits:  # false, or an atom the model does not know (false everywhere), or true
+    elif bits:  # true or false
         found = model.cube.ones() if type(f) is Top else model.cube.zeros()
     else:
         found = np.full(model.n_worlds, type(f) is Top, dtype=bool)
@@ -487,36 +491,21 @@ def propositional_truth(
     [False, True, True]
     """
     tree = as_formula(formula)
-    done: dict[int, np.ndarray] = {}
-    uses: dict[int, int] = {}  # parents still to compute, per shared node
-    stack: list[tuple[Formula, bool]] = [(tree, False)]
-    while stack:  # post-order over an explicit stack: laws of any depth
-        f, expanded = stack.pop()
-        if id(f) in done:
-            continue
+
+    def combine(f: Formula, values: list[np.ndarray]) -> np.ndarray:
         kind = type(f)
-        if kind in _CONNECTIVES or kind is Not:
-            if not expanded:
-                stack.append((f, True))
-                for c in f.children():
-                    uses[id(c)] = uses.get(id(c), 0) + 1
-                    stack.append((c, False))
-                continue
-            values = [done[id(c)] for c in f.children()]
-            for c in f.children():
-                uses[id(c)] -= 1
-                if not uses[id(c)]:
-                    del done[id(c)]
-            done[id(f)] = ~values[0] if kind is Not else _CONNECTIVES[kind](*values)
-        elif kind is Atom:
-            done[id(f)] = np.asarray(atom_mask(f.key), dtype=bool)
-        elif kind is Top:
-            done[id(f)] = np.ones(n_rows, dtype=bool)
-        elif kind is Bottom:
-            done[id(f)] = np.zeros(n_rows, dtype=bool)
-        else:
-            raise InvalidArgumentError(
-                f"expected a propositional formula, found the modality in {_short(f)}",
-                hint="laws, postconditions and facts about worlds cannot mention K, B, C, ...",
-            )
-    return done[id(tree)]
+        if kind is Not:
+            return ~values[0]
+        if kind in _CONNECTIVES:
+            return _CONNECTIVES[kind](*values)
+        if kind is Atom:
+            return np.asarray(atom_mask(f.key), dtype=bool)
+        if kind is Top or kind is Bottom:
+            return np.full(n_rows, kind is Top, dtype=bool)
+        raise InvalidArgumentError(
+            f"expected a propositional formula, found the modality in {_short(f)}",
+            hint="laws, postconditions and facts about worlds cannot mention K, B, C, ...",
+        )
+
+    # A fold over the node objects: no recursion, each mask freed after its last use.
+    return fold_nodes(tree, combine)

@@ -17,12 +17,79 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Hashable
+import itertools
+from collections.abc import Hashable, Sequence
+
+import numpy as np
+from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit.relations import Partition, Relation
 
-__all__ = ["describe_model", "world_label", "world_labels"]
+__all__ = [
+    "describe_model",
+    "relation_blocks",
+    "same_relations",
+    "true_atoms",
+    "world_label",
+    "world_labels",
+]
+
+
+def relation_blocks(relation: Relation) -> list[list[int]] | None:
+    """The classes of an equivalence (lists of world positions, ordered by their first
+    world), or ``None`` if the relation is not one. Linear in the worlds and arrows.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"]})
+    >>> relation_blocks(m.relation("a"))
+    [[0, 1], [2, 3]]
+    """
+    if isinstance(relation, Partition):
+        labels = relation.labels
+    elif relation.is_equivalence():
+        labels = connected_components(relation.to_csr(), directed=False)[1]
+    else:
+        return None
+    if not len(labels):
+        return []
+    order = np.argsort(labels, kind="stable")
+    ordered = labels[order]
+    bounds = [0, *(np.flatnonzero(ordered[1:] != ordered[:-1]) + 1).tolist(), len(order)]
+    members = order.tolist()
+    blocks = [members[a:b] for a, b in itertools.pairwise(bounds)]
+    blocks.sort(key=lambda block: block[0])
+    return blocks
+
+
+def same_relations(model: ExplicitModel, agent: str) -> bool:
+    """Whether the agent's knowledge relation relates the same pairs as its belief relation."""
+    belief, knowledge = model.relation(agent, "belief"), model.relation(agent, "knowledge")
+    if belief is knowledge:
+        return True
+    first, second = relation_blocks(belief), relation_blocks(knowledge)
+    if first is not None and second is not None:
+        return first == second
+    if (first is None) != (second is None):
+        return False
+    return (belief.to_csr() != knowledge.to_csr()).nnz == 0
+
+
+def true_atoms(model: ExplicitModel, positions: Sequence[int], order: Sequence[str]) -> list:
+    """Per world position, the atoms true there in the order ``order`` (one matrix read)."""
+    columns = [model.atom_column(a) for a in order]
+    keep = [(a, c) for a, c in zip(order, columns, strict=True) if c is not None]
+    if not keep or not len(positions):
+        return [[] for _ in positions]
+    rows = model.valuation[np.asarray(positions, dtype=np.intp)][:, [c for _, c in keep]]
+    names = [a for a, _ in keep]
+    worlds, columns = np.nonzero(rows)  # row-major: each world's atoms in order
+    bounds = np.searchsorted(worlds, np.arange(len(rows) + 1)).tolist()
+    found = list(map(names.__getitem__, columns.tolist()))
+    return [found[a:b] for a, b in itertools.pairwise(bounds)]
 
 
 def world_labels(model: ExplicitModel) -> dict[Hashable, str]:
@@ -78,41 +145,25 @@ def _label(world: Hashable) -> str:
     return ".".join(parts)
 
 
-def _atoms(model: ExplicitModel, world: Hashable) -> str:
-    true = model.valuation_of(world)
-    return "{" + ", ".join(a for a in model.atoms if a in true) + "}"
+def _blocks(blocks: list[list[int]], labels: list[str]) -> str:
+    return " ".join("{" + ", ".join(labels[i] for i in block) + "}" for block in blocks)
 
 
-def _blocks(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
-    seen: set = set()
-    blocks = []
-    for w in model.worlds:
-        if w in seen:
-            continue
-        block = model.successors(agent, w, kind)
-        seen.update(block)
-        blocks.append("{" + ", ".join(labels[v] for v in block) + "}")
-    return " ".join(blocks)
-
-
-def _arrows(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
-    parts = []
-    for w in model.worlds:
-        targets = model.successors(agent, w, kind)
-        parts.append(f"{labels[w]} -> " + (", ".join(labels[v] for v in targets) or "nothing"))
-    return "; ".join(parts)
-
-
-def _relation(model: ExplicitModel, agent: str, kind: str, labels: dict) -> str:
-    if model.is_s5(agent, kind):
-        return _blocks(model, agent, kind, labels)
-    return _arrows(model, agent, kind, labels)
-
-
-def _same(model: ExplicitModel, agent: str) -> bool:
-    return all(
-        model.successors(agent, w) == model.successors(agent, w, "knowledge") for w in model.worlds
+def _arrows(relation: Relation, labels: list[str]) -> str:
+    rows, cols = relation.edges()
+    targets: list[list[int]] = [[] for _ in labels]
+    for w, v in zip(rows.tolist(), cols.tolist(), strict=True):
+        targets[w].append(v)
+    return "; ".join(
+        f"{labels[w]} -> " + (", ".join(labels[v] for v in sorted(t)) or "nothing")
+        for w, t in enumerate(targets)
     )
+
+
+def _relation(model: ExplicitModel, agent: str, kind: str, labels: list[str]) -> str:
+    relation = model.relation(agent, kind)
+    blocks = relation_blocks(relation)
+    return _arrows(relation, labels) if blocks is None else _blocks(blocks, labels)
 
 
 def describe_model(model: ExplicitModel, max_worlds: int = 16) -> str:
@@ -138,22 +189,24 @@ def describe_model(model: ExplicitModel, max_worlds: int = 16) -> str:
         raise InvalidArgumentError(
             f"max_worlds must be a positive integer, got {max_worlds!r}", hint="e.g. 16"
         )
-    labels = world_labels(model)
-    designated = set(model.designated)
+    names = world_labels(model)
+    labels = [names[w] for w in model.worlds] if model.n_worlds <= max_worlds else []
     n = model.n_worlds
+    points = model.designated_positions
     head = (
-        f"{n} world{'s' if n != 1 else ''}, {len(designated)} designated; "
+        f"{n} world{'s' if n != 1 else ''}, {len(points)} designated; "
         f"agents {', '.join(model.agents)}"
     )
     lines = [head]
-    width = max((len(labels[w]) for w in model.worlds), default=0)
-    if n <= max_worlds:
-        shown = list(model.worlds)
-    else:
-        shown = list(model.designated)[:max_worlds]
-    for w in shown:
-        mark = "*" if w in designated else " "
-        lines.append(f"  {mark} {labels[w]:<{width}}  {_atoms(model, w)}")
+    shown = np.arange(n) if n <= max_worlds else points[:max_worlds]
+    shown_names = model.worlds_at(shown)
+    width = max((len(names[w]) for w in shown_names), default=0)
+    marked = set(points.tolist())
+    for i, w, atoms in zip(
+        shown.tolist(), shown_names, true_atoms(model, shown, model.atoms), strict=True
+    ):
+        mark = "*" if i in marked else " "
+        lines.append(f"  {mark} {names[w]:<{width}}  {{{', '.join(atoms)}}}")
     if len(shown) < n:
         lines.append(f"    ... {n - len(shown)} more worlds not shown")
     for agent in model.agents:
@@ -163,7 +216,7 @@ def describe_model(model: ExplicitModel, max_worlds: int = 16) -> str:
                 kinds.append("knowledge S5" if model.is_s5(agent, "knowledge") else "knowledge K")
             lines.append(f"  {agent}: {', '.join(kinds)} relation (too large to list)")
             continue
-        if _same(model, agent):
+        if same_relations(model, agent):
             lines.append(f"  {agent}: {_relation(model, agent, 'belief', labels)}")
         else:
             lines.append(f"  {agent} believes: {_relation(model, agent, 'belief', labels)}")

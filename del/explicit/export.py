@@ -14,13 +14,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
-from epistemica.del_.explicit.describe import world_labels
+from epistemica.del_.explicit.describe import true_atoms, world_labels
+from epistemica.del_.explicit.relations import Partition, Relation
 
 if TYPE_CHECKING:
     import networkx as nx
 
-__all__ = ["to_dot", "to_networkx"]
+__all__ = ["MAX_DOT_EDGES", "to_dot", "to_networkx"]
 
 
 def _edges(model: ExplicitModel, agent: str, kind: str):
@@ -65,6 +67,18 @@ def to_networkx(model: ExplicitModel) -> nx.MultiDiGraph:
     return graph
 
 
+#: DOT draws every related pair: an agent who sees nothing of 65,536 worlds relates 2^32.
+MAX_DOT_EDGES = 5_000_000
+
+
+def _n_edges(relation: Relation) -> int:
+    """The number of related pairs, without listing them."""
+    if isinstance(relation, Partition):
+        sizes = np.bincount(relation.labels)
+        return int((sizes.astype(np.int64) ** 2).sum())
+    return len(relation.edges()[0])
+
+
 def _quote(text: object) -> str:
     return '"' + str(text).replace('"', '\\"') + '"'
 
@@ -74,7 +88,8 @@ def to_dot(model: ExplicitModel) -> str:
 
     Knowledge edges (when separate from belief) are dashed. Worlds are labelled with the
     names the user wrote (:func:`~epistemica.del_.explicit.describe.world_labels`: ``u``, ``u.tell``
-    after an update) and their true atoms.
+    after an update) and their true atoms. Linear in the worlds and related pairs (no
+    graph object is built).
 
     Examples
     --------
@@ -83,17 +98,31 @@ def to_dot(model: ExplicitModel) -> str:
     >>> print(to_dot(m).splitlines()[0])
     digraph kripke {
     """
-    graph = to_networkx(model)
-    # Node ids are internal; the labels carry the user's names.
-    ids = {name: f"w{i}" for i, name in enumerate(graph.nodes)}
+    edges = sum(_n_edges(r) for r in model.belief_relations.values())
+    if edges > MAX_DOT_EDGES:
+        raise InvalidArgumentError(
+            f"the model has {edges:,} related pairs, more than {MAX_DOT_EDGES:,} to draw",
+            hint="draw a part of it (epistemica show --dot F --limit N), or use --json, "
+            "which writes an equivalence as its blocks",
+        )
     names = world_labels(model)
+    designated = np.zeros(model.n_worlds, dtype=bool)
+    designated[model.designated_positions] = True
+    atoms = true_atoms(model, np.arange(model.n_worlds), sorted(model.atoms))
     lines = ["digraph kripke {", "  node [shape=circle];"]
-    for name, data in graph.nodes(data=True):
-        label = f"{names[name]}\\n{', '.join(data['atoms'])}"
-        shape = "doublecircle" if data["designated"] else "circle"
-        lines.append(f"  {ids[name]} [label={_quote(label)}, shape={shape}];")
-    for w, v, data in graph.edges(data=True):
-        style = ", style=dashed" if data["relation"] == "knowledge" else ""
-        lines.append(f"  {ids[w]} -> {ids[v]} [label={_quote(data['agent'])}{style}];")
+    for i, name in enumerate(model.worlds):
+        label = f"{names[name]}\\n{', '.join(atoms[i])}"
+        shape = "doublecircle" if designated[i] else "circle"
+        lines.append(f"  w{i} [label={_quote(label)}, shape={shape}];")
+    for agent in model.agents:
+        kinds = ["belief"]
+        if model.knowledge_relations[agent] is not model.belief_relations[agent]:
+            kinds.append("knowledge")
+        for kind in kinds:
+            style = ", style=dashed" if kind == "knowledge" else ""
+            quoted = _quote(agent)
+            lines.extend(
+                f"  w{w} -> w{v} [label={quoted}{style}];" for w, v in _edges(model, agent, kind)
+            )
     lines.append("}")
     return "\n".join(lines)

@@ -129,7 +129,9 @@ def _accepts(parser: InteractiveParser) -> set[str]:
     for name in parser.choices():
         if not _kind(name).isupper():
             continue  # a rule, not a terminal
-        cursor = parser.copy()
+        # A shallow copy of the values: a deep one recurses down a long formula's tree
+        # (a 2,400-term law), and feeding one token never changes the values below it.
+        cursor = parser.copy(deepcopy_values=False)
         try:
             cursor.feed_token(Token(name, ""))
         except Exception:  # rejected (UnexpectedToken) or a failing user callback

@@ -23,12 +23,18 @@ K[a] (p & ~q)
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
 from typing import TypeVar
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.language._atom_names import (
+    RESERVED_WORDS,
+    atom_name,
+    canonical_atom,
+    split_predicate,
+    valid_atom,
+)
 
 __all__ = [
     "RESERVED_WORDS",
@@ -52,6 +58,7 @@ __all__ = [
     "Not",
     "Or",
     "Top",
+    "atom_name",
     "canonical_atom",
     "conjunction",
     "disjunction",
@@ -63,36 +70,6 @@ __all__ = [
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
 # announcements, actions) all share the top level.
 _UNARY, _AND, _OR, _IMPLIES, _IFF = 5, 4, 3, 2, 1
-
-#: Words that the lexer reads as keywords, so they cannot name an atom.
-RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
-)
-
-_ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")
-
-
-def canonical_atom(text: str) -> str:
-    """Return the canonical spelling of an atom written as text.
-
-    Predicate atoms are spelled ``name(arg1, arg2)`` with one space after each comma, so
-    that ``"at(r1,g1)"`` and ``"at( r1 , g1 )"`` name the same atom.
-
-    Examples
-    --------
-    >>> canonical_atom("at(r1,g1)")
-    'at(r1, g1)'
-    >>> canonical_atom(" p ")
-    'p'
-    """
-    match = _ATOM_TEXT.match(text)
-    if match is None:
-        return text.strip()
-    name, args = match.groups()
-    if args is None:
-        return name
-    return f"{name}({', '.join(a.strip() for a in args.split(','))})"
-
 
 # A piece of printed text: literal text, or a subformula to print where it stands and the
 # binding strength below which it needs parentheses.
@@ -252,6 +229,18 @@ class Atom(Formula):
                 hint="rename the atom, e.g. to '" + self.name + "_'",
             )
         object.__setattr__(self, "args", tuple(str(a) for a in self.args))
+        if not self.args and "(" in self.name:  # Atom("at(r1, g1)") is the predicate atom
+            parts = split_predicate(self.name)
+            if parts is not None:
+                object.__setattr__(self, "name", parts[0])
+                object.__setattr__(self, "args", parts[1])
+        if not valid_atom(self.name, self.args):
+            # It would print as text that does not parse back to this atom.
+            raise InvalidArgumentError(
+                f"{str(self)!r} is not an atom name",
+                hint="an atom is a name (letters, digits, _) or name(arg, ...), e.g. 'p' or "
+                "'at(r1, g1)'",
+            )
         Formula.__post_init__(self)
 
     def __str__(self) -> str:
@@ -280,6 +269,12 @@ class _Binary(Formula):
     __slots__ = ()
     symbol = ""
     right_assoc = False
+
+    def __post_init__(self) -> None:
+        # Formula's hash, (type, left, right), without its generic walk over the fields:
+        # a generated spec builds hundreds of thousands of connectives.
+        left, right = self.left, self.right  # type: ignore[attr-defined]
+        object.__setattr__(self, "_hash", hash((type(self), left, right)))
 
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)  # type: ignore[attr-defined]

@@ -38,6 +38,7 @@ from lark.exceptions import UnexpectedInput
 from lark.visitors import merge_transformers
 
 from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
+from epistemica.del_.language._fast import read_formula, tokenize
 from epistemica.del_.language._syntax_errors import syntax_error
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,  # re-exported for the grammar users
@@ -61,6 +62,7 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
+    iter_postorder,
 )
 
 # syntax_error is re-exported for the spec grammar, which imports formula.lark.
@@ -71,6 +73,7 @@ __all__ = [
     "as_formula",
     "build_imported_formula",
     "parse_formula",
+    "read_whole_formula",
     "syntax_error",
     "transform_iteratively",
 ]
@@ -362,12 +365,40 @@ def parse_formula(
             filename=filename,
             hint="write a formula such as 'p & K[a] q'",
         )
+    fast = read_whole_formula(text, comments=False)
+    if fast is not None and _declared(fast, agents, actions):
+        return fast
+    # Anything the fast reader does not accept (an error, an undeclared name): lark, for
+    # the located message.
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:
         raise syntax_error(exc, text, filename, parser=_lark()) from None
     builder = FormulaBuilder(agents=agents, actions=actions, source=text, filename=filename)
     return builder.transform(tree)
+
+
+def read_whole_formula(text: str, comments: bool = True) -> Formula | None:
+    """``text`` read as one formula by the fast reader (:mod:`._fast`), or ``None`` if it
+    does not accept it (then lark parses it, and reports the error)."""
+    if not comments and "#" in text:  # formula.lark has no comments; specs do
+        return None
+    tokens = tokenize(text)
+    found = read_formula(tokens, 0)
+    if found is None or tokens.kinds[found[1]] != 0:
+        return None
+    return found[0]
+
+
+def _declared(f: Formula, agents: Collection[str] | None, actions: Collection[str] | None) -> bool:
+    if agents is not None and not f.agents() <= {str(a) for a in agents}:
+        return False
+    if actions is not None:
+        known = {str(a) for a in actions}
+        for node in iter_postorder(f, unique=True):
+            if type(node) is After and not {node.action, node.action.split("(")[0]} & known:
+                return False
+    return True
 
 
 @functools.lru_cache(maxsize=4096)

@@ -29,6 +29,7 @@ from lark import Token, Tree
 from epistemica.del_.errors import SpecError
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,
+    After,
     And,
     Atom,
     Bottom,
@@ -41,10 +42,12 @@ from epistemica.del_.language.formula import (
     conjunction,
 )
 from epistemica.del_.language.parser import build_imported_formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec import _actions as spec_actions
 from epistemica.del_.spec import _model as spec_model
 from epistemica.del_.spec import _names as spec_names
+from epistemica.del_.spec._fast_syntax import FastPathMiss
 from epistemica.del_.spec._names import names_hint
 from epistemica.del_.spec._syntax import parse, position
 
@@ -109,8 +112,11 @@ class Compiled(NamedTuple):
 
 def compile_formula(text: str, filename: str, names: Names) -> Formula:
     """Parse ``text`` as one formula over ``names``; errors are located in ``text``."""
-    tree = parse(text, filename, start="fml")
-    return Compiler(text, filename, names).formula(tree, {})
+    try:
+        return Compiler(text, filename, names).formula(parse(text, filename, "fml"), {})
+    except FastPathMiss:
+        tree = parse(text, filename, "fml", fast=False)
+        return Compiler(text, filename, names).formula(tree, {})
 
 
 class Compiler:
@@ -142,6 +148,7 @@ class Compiler:
         self.names = names or Names((), (), frozenset())
         self.params: dict[str, str] = {}  # parameter -> value, while compiling a schema
         self.action_name = ""
+        self.atom_set: frozenset[str] | None = None  # the declared atoms, for the fast path
 
     # -- errors ---------------------------------------------------------------------------
 
@@ -192,6 +199,8 @@ class Compiler:
     def formula(self, fml: Tree, env: Mapping[str, str]) -> Formula:
         """Check the names of a ``fml`` node, bind parameters and build the Formula."""
         tree = fml.children[0]
+        if isinstance(tree, Formula):  # read by the fast path: check the names only
+            return self.checked(tree)
         if env:
             tree = spec_names.bind(tree, env)
         for node in tree.iter_subtrees_topdown():
@@ -218,6 +227,28 @@ class Compiler:
         # Iteratively: lark's own transform recurses once per level of nesting.
         return build_imported_formula(tree)
 
+    def checked(self, f: Formula) -> Formula:
+        """``f`` if every name it uses is declared; else :class:`FastPathMiss` (the text
+        is then parsed again with lark, which locates the unknown name)."""
+        if self.atom_set is None:
+            self.atom_set = frozenset(self.names.atoms)
+        atoms, actions = self.atom_set, self.names.actions
+        agents = set(self.names.agents)
+        for node in iter_nodes(f):
+            kind = type(node)
+            if kind is Atom:
+                if node.key not in atoms:
+                    raise FastPathMiss
+            elif kind is After:
+                if node.action not in actions:
+                    raise FastPathMiss
+            elif hasattr(node, "agent"):
+                if node.agent not in agents:
+                    raise FastPathMiss
+            elif hasattr(node, "group") and not agents.issuperset(node.group):
+                raise FastPathMiss
+        return f
+
     def unbound_argument(self, args: list[Token]) -> None:
         """Inside a schema, an argument that no declared atom uses is an unbound parameter."""
         if not self.params:
@@ -240,7 +271,7 @@ class Compiler:
     def proposition(self, fml: Tree, what: str) -> Formula:
         """A formula that must be propositional (laws)."""
         f = self.formula(fml, {})
-        if not all(isinstance(g, _PROPOSITIONAL) for g in f.subformulas()):
+        if not all(isinstance(g, _PROPOSITIONAL) for g in iter_nodes(f)):
             raise self.error(
                 f"{what} must be propositional",
                 fml,
@@ -272,6 +303,7 @@ class Compiler:
                 raise self.error(f"'{key}' names both an agent and an atom", token, "rename one")
         headers = spec_names.headers(self, by_kind.get("action_decl", []), tuple(agents))
         self.names = Names(tuple(agents), tuple(atoms), frozenset(headers))
+        self.atom_set = None
         model = self.model(by_kind)
         actions = spec_actions.compile_actions(self, headers)
         owners = spec_actions.owners(self, headers)

@@ -31,7 +31,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,7 +40,10 @@ from epistemica.del_.errors import ParseError, SpecError
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
+from epistemica.del_.spec._fast_syntax import FastPathMiss
+from epistemica.del_.spec._source import read_source
 from epistemica.del_.spec._syntax import parse
+from epistemica.del_.spec.backend import check_backend, model_builder, on_backend
 
 __all__ = ["Check", "Spec", "load_spec", "parse_spec"]
 
@@ -143,9 +146,7 @@ class Spec:
         return compile_formula(text, filename, names)
 
 
-def parse_spec(
-    text: str, filename: str = "<string>", observables: Callable[..., Any] | None = None
-) -> Spec:
+def parse_spec(text: str, filename: str = "<string>", backend: str = "auto") -> Spec:
     """Compile the text of a spec file.
 
     Parameters
@@ -154,10 +155,12 @@ def parse_spec(
         The spec, in the language of ``docs/language.md``.
     filename : str
         Shown in error messages.
-    observables : callable, optional
-        Builds the model of an ``observes`` spec (see
-        :func:`epistemica.del_.spec.backend.load_spec`); default
-        :meth:`KripkeModel.from_observables`.
+    backend : {"auto", "explicit", "symbolic"}
+        The model's backend (see :mod:`epistemica.del_.spec.backend`): ``"auto"`` gives a
+        :class:`~epistemica.del_.KripkeModel` unless the spec is too large to enumerate
+        (an ``observes`` spec of more than 20 atoms, or more than 2^20 worlds), then a
+        :class:`~epistemica.del_.KnowledgeStructure`; ``"explicit"`` and ``"symbolic"``
+        force one.
 
     Raises
     ------
@@ -177,6 +180,8 @@ def parse_spec(
     ... ''')
     >>> spec.holds("~Kw[c1] m1 & K[c1] m2")
     True
+    >>> type(parse_spec("agents a\\natoms m1..m30\\nobserves a: m1").model).__name__
+    'KnowledgeStructure'
     >>> parse_spec("agents a\\natoms p\\ngoal K[b] p")
     Traceback (most recent call last):
     ...
@@ -185,27 +190,42 @@ def parse_spec(
                ^
     hint: declared agents: a
     """
-    tree = parse(text, filename, start="start")
-    parts = Compiler(text, filename, observables=observables).compile(tree)
-    return Spec(**parts._asdict(), filename=filename, source=text)
+    build = model_builder(backend)
+    try:
+        parts = Compiler(text, filename, observables=build).compile(parse(text, filename, "start"))
+    except FastPathMiss:  # a name the fast path cannot locate: lark's tree, lark's errors
+        tree = parse(text, filename, "start", fast=False)
+        parts = Compiler(text, filename, observables=build).compile(tree)
+    spec = Spec(**parts._asdict(), filename=filename, source=text)
+    model = on_backend(spec.model, spec.atoms, backend)
+    return spec if model is spec.model else dataclasses.replace(spec, model=model)
 
 
-def load_spec(path: str | Path, observables: Callable[..., Any] | None = None) -> Spec:
-    """Read and compile a spec file (``observables``: see :func:`parse_spec`).
+def load_spec(path: str | Path, backend: str = "auto") -> Spec:
+    """Read and compile a spec file: the one loader of the API and the command line.
+
+    The file is read once (a pipe works), at most
+    :data:`~epistemica.del_.spec._source.MAX_SOURCE_BYTES` bytes, as UTF-8 (a byte-order
+    mark is dropped). ``backend``: see :func:`parse_spec`.
 
     Raises
     ------
-    SpecError
-        The file cannot be read (no line number), or see :func:`parse_spec`.
+    SourceError
+        The file cannot be read, is too large, binary or not UTF-8 (see
+        :func:`~epistemica.del_.spec._source.read_source`).
+    ParseError, SpecError
+        See :func:`parse_spec`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> text = "agents " + ", ".join(f"c{i}" for i in range(30)) + "\\natoms m0..m29\\n"
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "big.epi"
+    >>> _ = path.write_text(text)
+    >>> type(load_spec(path).model).__name__
+    'KnowledgeStructure'
+    >>> load_spec(path, "symbolic").holds("~Kw[c1] m1")
+    True
     """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise SpecError(
-            f"cannot read the spec file: {reason}",
-            filename=str(path),
-            hint="check the path; spec files are UTF-8 text such as specs/puzzles/*.epi",
-        ) from None
-    return parse_spec(text, filename=str(path), observables=observables)
+    check_backend(backend)
+    return parse_spec(read_source(path, "spec file"), filename=str(path), backend=backend)

@@ -11,11 +11,14 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from lark import Token, Tree
 
 from epistemica.del_.errors import EpistemicaError
 from epistemica.del_.explicit._model import MAX_ENUMERATED_ATOMS
-from epistemica.del_.language.formula import Atom, Bottom, Formula, Iff, Implies, Not, Or, Top, fold
+from epistemica.del_.explicit.checker import propositional_mask
+from epistemica.del_.language.formula import Atom, Formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._actions import members, relations
 
@@ -44,20 +47,23 @@ def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -
     if len(actual) > 1:
         raise comp.error("a second 'actual' world", actual[1], "keep one 'actual' line")
     designated = None
+    true: set[str] = set()
     if actual:
         items = actual[0].children[0]
         true = {comp.atom(k, t) for k, t in comp.atom_items(items, {})} if items else set()
-        if not satisfies(law, true):
+        designated = sorted(true)
+    try:
+        return build(atoms, observes, law=law, designated=designated)
+    except EpistemicaError as exc:
+        # The builder checks the actual world against the law too (on the whole model,
+        # cheaply); only to locate its error is the law evaluated on that one world here.
+        if actual and not satisfies(law, true):
             raise comp.error(
                 "the actual world violates the law",
                 actual[0],
                 f"the law is {law}; the actual world makes true: "
                 f"{', '.join(sorted(true)) or 'no atom'}",
-            )
-        designated = sorted(true)
-    try:
-        return build(atoms, observes, law=law, designated=designated)
-    except EpistemicaError as exc:
+            ) from None
         laws = [s.children[0] for s in by_kind.get("law_decl", [])]
         where = (laws or by_kind.get("atoms_decl") or [None])[0]
         raise comp.error(exc.message, where, exc.hint) from None
@@ -95,26 +101,14 @@ def explicit_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> K
             "add a line such as 'designated w1' (the actual world)",
         )
     designated = members(comp, designated_decl, worlds, "world")
-    return KripkeModel(list(worlds), valuation, belief, designated, knowledge=knowledge)
+    return KripkeModel(
+        list(worlds), valuation, belief, designated, knowledge=knowledge, atoms=comp.names.atoms
+    )
 
 
 def satisfies(f: Formula, true: set[str]) -> bool:
-    """Truth of a propositional formula under the valuation making ``true`` true."""
-    return fold(f, lambda g, inner: _truth(g, inner, true))
-
-
-def _truth(f: Formula, inner: tuple[bool, ...], true: set[str]) -> bool:
-    if isinstance(f, Atom):
-        return f.key in true
-    if isinstance(f, (Top, Bottom)):
-        return isinstance(f, Top)
-    if isinstance(f, Not):
-        return not inner[0]
-    left, right = inner
-    if isinstance(f, Or):
-        return left or right
-    if isinstance(f, Implies):
-        return (not left) or right
-    if isinstance(f, Iff):
-        return left == right
-    return left and right
+    """Truth of a propositional formula under the valuation making ``true`` true (the
+    explicit checker's propositional evaluator, on one row: linear, no recursion)."""
+    names = list(dict.fromkeys([*(g.key for g in iter_nodes(f) if isinstance(g, Atom)), *true]))
+    row = np.array([[name in true for name in names]], dtype=bool)
+    return bool(propositional_mask(f, row, {name: j for j, name in enumerate(names)})[0])

@@ -33,6 +33,7 @@ from lark.exceptions import UnexpectedInput
 
 from epistemica.del_.errors import ParseError
 from epistemica.del_.language.parser import FORMULA_GRAMMAR, syntax_error
+from epistemica.del_.spec._fast_syntax import fast_formula, fast_parse
 
 __all__ = ["KEYWORDS", "SPEC_GRAMMAR", "parse", "position"]
 
@@ -53,14 +54,25 @@ _CONTEXT_HINTS = {
 }
 
 
-def parse(text: str, filename: str, start: str) -> Tree:
+def parse(text: str, filename: str, start: str, fast: bool = True) -> Tree:
     """Parse ``text`` from the rule ``start`` (``"start"``: a spec; ``"fml"``: a formula).
+
+    With ``fast``, valid formula-heavy text is read by the fast path
+    (:mod:`._fast_syntax`), whose ``fml`` nodes hold finished formulas; anything it does
+    not take is parsed by lark, which locates the errors.
 
     Raises
     ------
     ParseError
         Located at the offending token, with a hint.
     """
+    if fast:
+        try:
+            tree = fast_parse(text, _statement) if start == "start" else fast_formula(text)
+        except (UnexpectedInput, _SplitWord):
+            tree = None
+        if tree is not None:
+            return tree
     try:
         return _lark().parse(text, start=start)
     except _SplitWord as exc:
@@ -80,6 +92,10 @@ def parse(text: str, filename: str, start: str) -> Tree:
         elif error.hint is None:
             error.hint = _statement_hint(exc)
         raise error from None
+
+
+def _statement(padded: str) -> Tree:
+    return _lark().parse(padded, start="start")
 
 
 def position(item: Token | Tree) -> tuple[int | None, int | None]:

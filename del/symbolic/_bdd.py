@@ -21,6 +21,7 @@ __all__ = [
     "AND",
     "IMP",
     "BDDFunction",
+    "count",
     "cube",
     "false",
     "minterm",
@@ -68,6 +69,30 @@ def _ensure(slot: int) -> None:
     missing = 2 * (slot + 1) - m.num_vars()
     if missing > 0:
         m.add_vars(missing)
+
+
+def reserve(slots: Iterable[int]) -> None:
+    """Make the manager hold the variables (and primed copies) of ``slots``."""
+    top = max(slots, default=-1)
+    if top >= 0:
+        _ensure(top)
+
+
+def count(f: BDDFunction, slots: Sequence[int]) -> int:
+    """The number of assignments to ``slots`` satisfying ``f`` (whose support lies in them).
+
+    oxidd counts over the first ``n`` variables of the manager; every other variable
+    doubles the count, so the count over the manager's variables is shifted back by
+    their number. The slots' variables are created first, so the shift is never negative.
+
+    Examples
+    --------
+    >>> count(var(3) | var(5), [3, 5, 9])
+    6
+    """
+    reserve(slots)
+    n_vars = manager().num_vars()
+    return f.sat_count(n_vars) >> (n_vars - len(set(slots)))
 
 
 def var(slot: int) -> BDDFunction:

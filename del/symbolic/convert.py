@@ -18,7 +18,7 @@ import numpy as np
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit.relations import Partition
-from epistemica.del_.language.formula import canonical_atom
+from epistemica.del_.language.formula import atom_name
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation
@@ -47,7 +47,7 @@ def kripke_parts(model: ExplicitModel, atoms: Iterable[str] | None = None) -> tu
     """
     names = list(model.atoms)
     for a in atoms or ():
-        key = canonical_atom(str(a))
+        key = atom_name(a, "atoms")
         if key not in names:
             names.append(key)
     n = model.n_worlds
@@ -150,6 +150,7 @@ def to_kripke(
         {a: pairs(structure.belief_relations[a]) for a in agents},
         points,
         knowledge={a: pairs(structure.knowledge_relations[a]) for a in agents},
+        atoms=list(structure.atom_slots),
     )
 
 

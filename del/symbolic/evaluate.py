@@ -9,7 +9,8 @@ and subformula.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import gc
+from collections.abc import Callable, Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
@@ -35,6 +36,7 @@ from epistemica.del_.language.formula import (
     Or,
     Top,
 )
+from epistemica.del_.language.walk import fold_nodes
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import box, intersection
@@ -51,6 +53,9 @@ def evaluate(
 ) -> BDDFunction:
     """The BDD of the states of ``structure`` where ``formula`` holds.
 
+    Evaluation runs on an explicit stack (no recursion), so formulas nested 10,000 deep
+    or chains of 100,000 operands are fine, as on the explicit backend.
+
     Examples
     --------
     >>> from epistemica.del_ import KnowledgeStructure
@@ -59,22 +64,44 @@ def evaluate(
     True
     """
     with _bdd.node_limit():
-        return _Context(actions).eval(structure, formula)
+        return _Run(actions).value(structure, formula)
 
 
 def propositional(f: Formula, atom: Callable[[Atom], BDDFunction]) -> BDDFunction:
-    """The BDD of a formula without modalities, atoms given by ``atom``."""
-    kind = type(f)
-    if kind is Atom:
-        return atom(f)
-    if kind is Top:
-        return _bdd.true()
-    if kind is Bottom:
-        return _bdd.false()
-    if kind is Not:
-        return ~propositional(f.operand, atom)
-    left, right = propositional(f.left, atom), propositional(f.right, atom)
-    return _connective(kind, left, right)
+    """The BDD of a formula without modalities, atoms given by ``atom``.
+
+    A fold over the node objects (:func:`~epistemica.del_.language.formula.fold_nodes`):
+    no recursion, a shared node computed once, each BDD freed after its last use.
+
+    Examples
+    --------
+    >>> from epistemica.del_.language.parser import parse_formula
+    >>> p = _bdd.var(0)
+    >>> propositional(parse_formula("~~p | false"), lambda a: p) == p
+    True
+    """
+
+    def combine(node: Formula, values: list[BDDFunction]) -> BDDFunction:
+        kind = type(node)
+        if kind is Atom:
+            return atom(node)
+        if kind is Top:
+            return _bdd.true()
+        if kind is Bottom:
+            return _bdd.false()
+        if kind is Not:
+            return ~values[0]
+        if kind in _BINARY:
+            return _connective(kind, *values)
+        raise InvalidArgumentError(
+            f"expected a propositional formula, found {kind.__name__}",
+            hint="laws constrain valuations only; they cannot mention K, B, C, ...",
+        )
+
+    return fold_nodes(f, combine)
+
+
+_BINARY = (And, Or, Implies, Iff)
 
 
 def _connective(kind: type, left: BDDFunction, right: BDDFunction) -> BDDFunction:
@@ -87,21 +114,48 @@ def _connective(kind: type, left: BDDFunction, right: BDDFunction) -> BDDFunctio
     return left.equiv(right)
 
 
-class _Context:
-    """One evaluation: the named actions in force."""
+Node = Generator[tuple, BDDFunction, BDDFunction]
+
+
+class _Run:
+    """One evaluation: the named actions in force, and an explicit stack of nodes.
+
+    Every node that is not a leaf is a generator yielding requests ``(structure,
+    subformula)`` and receiving their BDDs, as in the explicit checker; results are
+    memoised per structure and subformula (and per actions, for formulas naming one).
+    """
 
     def __init__(self, actions: Mapping[str, ActionModel] | None) -> None:
         self.actions = dict(actions or {})
         self.key = frozenset((name, id(a)) for name, a in self.actions.items())
 
-    def eval(self, s: Any, f: Formula) -> BDDFunction:
-        key = (f, self.key)
-        found = s.memo.get(key)
-        if found is None:
-            found = s.memo[key] = self._compute(s, f)
-        return found
+    def value(self, s: Any, root: Formula) -> BDDFunction:
+        if not gc.isenabled():
+            return self._drive(s, root)
+        # One suspended generator per pending node: the cyclic garbage collector would
+        # rescan them all, over and over (quadratic time). Evaluation makes no cycles.
+        gc.disable()
+        try:
+            return self._drive(s, root)
+        finally:
+            gc.enable()
 
-    def _compute(self, s: Any, f: Formula) -> BDDFunction:
+    def _drive(self, s: Any, root: Formula) -> BDDFunction:
+        stack: list[tuple[Node, Any, tuple]] = []
+        result = self._open(stack, s, root)
+        while stack:
+            node, where, key = stack[-1]
+            try:
+                request = node.send(result)
+            except StopIteration as stop:
+                stack.pop()
+                result = where.memo[key] = stop.value
+                continue
+            result = self._open(stack, *request)
+        return result
+
+    def _open(self, stack: list, s: Any, f: Formula) -> BDDFunction | None:
+        """The memoised result, or ``None`` after pushing the node that computes it."""
         kind = type(f)
         if kind is Atom:
             return _bdd.var(s.atom_slot(f))
@@ -109,59 +163,78 @@ class _Context:
             return _bdd.true()
         if kind is Bottom:
             return _bdd.false()
+        key = (f, self.key)
+        found = s.memo.get(key)
+        if found is not None:
+            return found
+        stack.append((self._node(s, f), s, key))
+        return None
+
+    def _node(self, s: Any, f: Formula) -> Node:
+        """Evaluate one node of ``f`` (not a leaf), yielding requests for its subresults."""
+        kind = type(f)
         if kind is Not:
-            return ~self.eval(s, f.operand)
-        if kind in (And, Or, Implies, Iff):
-            return _connective(kind, self.eval(s, f.left), self.eval(s, f.right))
+            return ~(yield s, f.operand)
+        if kind in _BINARY:
+            left = yield s, f.left
+            return _connective(kind, left, (yield s, f.right))
         if kind is Know or kind is Believe:
             relation = s.relation(f.agent, "knowledge" if kind is Know else "belief")
-            return box(relation, s.law, self.eval(s, f.operand), s.slots)
+            return box(relation, s.law, (yield s, f.operand), s.slots)
         if kind is KnowWhether:
             relation = s.relation(f.agent, "knowledge")
-            inner = self.eval(s, f.operand)
+            inner = yield s, f.operand
             return box(relation, s.law, inner, s.slots) | box(relation, s.law, ~inner, s.slots)
         if kind is Everybody or kind is EverybodyBelieves:
             which = "knowledge" if kind is Everybody else "belief"
-            return _everybody(s, f.group, which, self.eval(s, f.operand))
+            return _everybody(s, f.group, which, (yield s, f.operand))
         if kind is Common or kind is CommonBelief:
             which = "knowledge" if kind is Common else "belief"
-            return _common(s, f.group, which, self.eval(s, f.operand))
+            return _common(s, f.group, which, (yield s, f.operand))
         if kind is Distributed:
             relation = intersection([s.relation(a, "knowledge") for a in f.group])
-            return box(relation, s.law, self.eval(s, f.operand), s.slots)
+            return box(relation, s.law, (yield s, f.operand), s.slots)
         if kind is Announce or kind is AnnounceDiamond:
-            return self._announcement(s, f)
+            return (yield from self._announcement(s, f))
         if kind is After:
-            return self._after(s, f)
-        raise InvalidArgumentError(f"cannot evaluate {type(f).__name__}")
+            return (yield from self._after(s, f))
+        raise InvalidArgumentError(f"cannot evaluate {kind.__name__}")
 
-    def _announcement(self, s: Any, f: Announce | AnnounceDiamond) -> BDDFunction:
-        announced = self.eval(s, f.announcement)
+    def _announcement(self, s: Any, f: Announce | AnnounceDiamond) -> Node:
+        announced = yield s, f.announcement
         key = ("announce", f.announcement, self.key)
         sub = s.derived.get(key)
         if sub is None:
             sub = s.derived[key] = s.restricted(announced, _bdd.false())
-        inside = announced & self.eval(sub, f.operand)
+        inside = announced & (yield sub, f.operand)
         if isinstance(f, Announce):
             return ~announced | inside
         return inside
 
-    def _after(self, s: Any, f: After) -> BDDFunction:
+    def _after(self, s: Any, f: After) -> Node:
         action = self.actions.get(f.action)
         if action is None:
             known = ", ".join(sorted(self.actions)) or "none"
             raise InvalidArgumentError(
-                f"unknown action {f.action!r} in {f}",
+                f"unknown action {f.action!r} in {_short(f)}",
                 hint=f"pass it in `actions`; known actions: {known}",
             )
-        result = product(s, action, lambda g: self.eval(s, g))
+        # Preconditions, postconditions and conditions are usually small: a run of their own.
+        result = product(s, action, lambda g: self.value(s, g))
         after = result.structure
-        inner = self.eval(after, f.operand)
-        fresh = [slot for slot in after.slots if slot not in set(s.slots)]
+        inner = yield after, f.operand
+        old = set(s.slots)
+        fresh = [slot for slot in after.slots if slot not in old]
         # g at every (s, e) of the product with e designated: quantify the new variables.
         return after.law.apply_forall(
             _bdd.IMP, result.designated_events.imp(inner), _bdd.cube(fresh)
         )
+
+
+def _short(f: Formula) -> str:
+    """A formula's text for a message, cut short (deep formulas print long)."""
+    text = str(f)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _everybody(s: Any, group: tuple[str, ...], which: str, inner: BDDFunction) -> BDDFunction:

@@ -32,12 +32,12 @@ True
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.explicit._model import column_of
 from epistemica.del_.language.formula import (
     And,
     Atom,
@@ -48,9 +48,10 @@ from epistemica.del_.language.formula import (
     Not,
     Or,
     Top,
-    canonical_atom,
+    atom_name,
 )
 from epistemica.del_.language.parser import as_formula
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import evaluate, propositional
@@ -100,6 +101,7 @@ class SymbolicModel:
     ) -> None:
         self._atoms = dict(atoms)
         self._slots = tuple(slots)
+        _bdd.reserve(self._slots)  # the structure's variables exist before it counts
         self._law = law
         self._agents = tuple(agents)
         self._belief = dict(belief)
@@ -138,7 +140,7 @@ class SymbolicModel:
         >>> s.holds("E[c1, c2] (m1 | m2) & ~C[c1, c2] (m1 | m2)")
         True
         """
-        names = tuple(canonical_atom(str(a)) for a in atoms)
+        names = tuple(atom_name(a, "atoms") for a in atoms)
         if len(set(names)) != len(names):
             raise InvalidArgumentError("atoms must be distinct", hint="remove the repeated atom")
         slot = {a: j for j, a in enumerate(names)}
@@ -332,8 +334,7 @@ class SymbolicModel:
     # -- internals ----------------------------------------------------------------------
 
     def _count(self, f: BDDFunction) -> int:
-        n_vars = _bdd.manager().num_vars()
-        return f.sat_count(n_vars) >> (n_vars - len(self._slots))
+        return _bdd.count(f, self._slots)
 
     def restricted(self, keep: BDDFunction, designated: BDDFunction) -> SymbolicModel:
         """The structure with the law narrowed to ``keep`` and these designated states."""
@@ -363,19 +364,11 @@ class SymbolicModel:
 
 
 def _slot_of(slots: Mapping[str, int], atom: str, where: str) -> int:
-    key = canonical_atom(str(atom))
-    if key not in slots:
-        close = difflib.get_close_matches(key, list(slots), n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        raise InvalidArgumentError(
-            f"unknown atom {atom!r} in {where}",
-            hint=f"{hint}declared atoms: {', '.join(slots) or 'none'}",
-        )
-    return slots[key]
+    return column_of(slots, atom, where)
 
 
 def _propositional(f: Formula, slots: Mapping[str, int], where: str) -> BDDFunction:
-    if not all(isinstance(g, _PROPOSITIONAL) for g in f.subformulas()):
+    if not all(isinstance(g, _PROPOSITIONAL) for g in iter_nodes(f)):
         raise InvalidArgumentError(
             f"expected a propositional formula in {where}, found {f}",
             hint="laws constrain valuations only; they cannot mention K, B, C, ...",

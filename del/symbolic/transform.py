@@ -69,6 +69,9 @@ def _product(s: Any, action: ActionModel, truth: Callable) -> Product:
             "the action model and the Kripke model must have the same agents",
             hint=f"missing in the action: {sorted(missing)}; unknown to the model: {sorted(extra)}",
         )
+    if _is_public(action):  # the submodel of the precondition: no new variable
+        pre = truth(action.pre[0])
+        return Product(s.restricted(pre, s.designated_states & pre), _bdd.true())
     start = max(s.slots, default=-1) + 1
     fresh = _Allocator(start)
     n_events = len(action.events)
@@ -114,6 +117,14 @@ def _product(s: Any, action: ActionModel, truth: Callable) -> Product:
         s.designated_states & designated_events,
     )
     return Product(structure, designated_events)
+
+
+def _is_public(action: ActionModel) -> bool:
+    """One event, no postcondition, seen by every agent as itself: a public announcement."""
+    if len(action.events) != 1 or action.post[0]:
+        return False
+    loop = ((0, 0, None),)
+    return all(action.edges[a] == loop and action.knowledge_edges[a] == loop for a in action.agents)
 
 
 class _Allocator:

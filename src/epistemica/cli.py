@@ -167,16 +167,38 @@ def _add_check(commands) -> None:
     check.add_argument("--formula", "-f", metavar="F", help="check this formula instead")
     check.add_argument("--json", action="store_true", help="print a JSON object")
     check.add_argument(
-        "--backend",
-        choices=("auto", "explicit", "symbolic"),
-        default="auto",
-        help="explicit Kripke model or BDD knowledge structure (default auto: symbolic "
-        "above 20 observed atoms)",
+        "--where",
+        action="store_true",
+        help="with --formula: list the worlds (states) where it holds, --limit of them",
     )
+    check.add_argument(
+        "--limit", type=_positive, metavar="N", help="with --where: list at most N (default 100)"
+    )
+    _add_backend(check)
     from epistemica.cli_run import add_check_options
 
     add_check_options(check)
     check.set_defaults(handler="epistemica.cli_check:run_check")
+
+
+def _add_backend(command) -> None:
+    command.add_argument(
+        "--backend",
+        choices=("auto", "explicit", "symbolic"),
+        default="auto",
+        help="explicit Kripke model or BDD knowledge structure (default auto: symbolic "
+        "above 20 observed atoms or 2^20 worlds)",
+    )
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if not 0 < value <= 10**9:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
 
 
 def _add_plan(commands) -> None:
@@ -263,6 +285,14 @@ def _add_show(commands) -> None:
     output = show.add_mutually_exclusive_group()
     output.add_argument("--dot", metavar="FILE", help="write the model as Graphviz DOT to FILE")
     output.add_argument("--json", action="store_true", help="print the model as JSON")
+    show.add_argument(
+        "--limit",
+        type=_positive,
+        metavar="N",
+        help="list at most N worlds (text, DOT, JSON) or states (symbolic); default 16 in "
+        "text, every world in DOT and JSON",
+    )
+    _add_backend(show)
     show.set_defaults(handler="epistemica.cli_show:run_show")
 
 

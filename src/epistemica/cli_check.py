@@ -7,21 +7,25 @@ every claim is as expected (or the formula holds at every designated world), 1 o
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 from typing import Any
 
 import numpy as np
 
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_inputs import load_input, where_lines
+from epistemica.cli_inputs import is_foreign, load_input, where_lines
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_label, world_labels
 from epistemica.del_.spec.backend import formula_summary
+from epistemica.del_.symbolic.describe import iter_valuations
+from epistemica.input_files import read_input
 
 __all__ = ["run_check"]
 
 # Worlds listed by `check --formula` before "... and N more" (text) / truncation (JSON).
 _LIST_TEXT, _LIST_JSON = 12, 1000
+_WHERE = 100  # worlds listed by --where without --limit
 # Up to this many worlds every label is made, so that clashes fall back to w<index>.
 _LABEL_ALL = 100_000
 
@@ -31,20 +35,39 @@ def _world(model: Any, world: Any, label) -> dict[str, Any]:
     return {"world": label(world), "atoms": [a for a in model.atoms if a in true]}
 
 
+def _count(n: int) -> str:
+    """A number of worlds for a line of text: 2^400 is not printed digit by digit."""
+    if n < 10**12:
+        return f"{n:,}"
+    if n & (n - 1) == 0:
+        return f"2^{n.bit_length() - 1}"
+    return f"about 2^{n.bit_length() - 1}"
+
+
+def _listing(names, shown: int = 10) -> str:
+    names = list(names)
+    if len(names) <= shown:
+        return ", ".join(names)
+    return ", ".join(names[:shown]) + f", ... ({len(names)} in all)"
+
+
 def _show(entry: dict[str, Any]) -> str:
     return f"{entry['world']} {{{', '.join(entry['atoms'])}}}"
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from epistemica.cli_run import check_mission, is_mission_file
+    from epistemica.cli_run import check_mission
 
-    if args.problem is None and is_mission_file(args.file):
-        return check_mission(args)
+    text = None
+    if not is_foreign(args):
+        kind, text = read_input(args.file, "check", ("spec", "mission"))
+        if kind == "mission":
+            return check_mission(args, text)
     if args.after is not None or args.robot is not None:
         raise InvalidArgumentError(
             "--after and --robot apply to mission files", hint="a file starting with 'mission'"
         )
-    spec, source = load_input(args, args.backend)
+    spec, source = load_input(args, args.backend, "check", text)
     if args.formula is not None:
         return _check_formula(spec, args)
     results = [(c, spec.holds(c.formula)) for c in spec.checks]
@@ -68,7 +91,7 @@ def run_check(args: argparse.Namespace) -> int:
     model = spec.model
     print(
         f"{args.file}: {len(results)} claim{'s' if len(results) != 1 else ''}; "
-        f"{model.n_worlds} worlds, agents {', '.join(spec.agents)}"
+        f"{_count(model.n_worlds)} worlds, agents {_listing(spec.agents)}"
     )
     if not results:
         print("no claims: add 'check \"name\": FORMULA' lines, or pass --formula")
@@ -88,6 +111,9 @@ def run_check(args: argparse.Namespace) -> int:
 
 def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     formula = spec.formula(args.formula)
+    text_cap, json_cap = _LIST_TEXT, _LIST_JSON
+    if args.where:  # list the worlds, as SMCDEL's WHERE? does, up to --limit
+        text_cap = json_cap = args.limit or _WHERE
     model = spec.model
     if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
         return _check_formula_symbolic(spec, formula, args)
@@ -100,16 +126,16 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
         labels = every.__getitem__
     else:
         labels = world_label
-    listed_points = points[:_LIST_JSON]
+    listed_points = points[:json_cap]
     designated = [
         {**_world(model, w, labels), "holds": bool(mask[p])}
         for p, w in zip(listed_points, model.worlds_at(listed_points), strict=True)
     ]
     holds = bool(mask[points].all())
     n_true = len(true_positions)
-    true_worlds = model.worlds_at(true_positions[:_LIST_JSON])
+    true_worlds = model.worlds_at(true_positions[:json_cap])
     if args.json:
-        listed = [_world(model, w, labels) for w in true_worlds[:_LIST_JSON]]
+        listed = [_world(model, w, labels) for w in true_worlds[:json_cap]]
         print(
             json.dumps(
                 {
@@ -133,10 +159,10 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     else:
         n_ok = int(mask[points].sum())
         print(f"s: holds at {n_ok} of {len(points)}")
-        for d in designated[:_LIST_TEXT]:
+        for d in designated[:text_cap]:
             print(f"    {'true ' if d['holds'] else 'false'}  {_show(d)}")
-    shown = ", ".join(_show(_world(model, w, labels)) for w in true_worlds[:_LIST_TEXT])
-    more = n_true - _LIST_TEXT
+    shown = ", ".join(_show(_world(model, w, labels)) for w in true_worlds[:text_cap])
+    more = n_true - text_cap
     tail = f", ... and {more} more" if more > 0 else ""
     print(f"  holds at {n_true} of {model.n_worlds} worlds" + (":" if shown else ""))
     if shown:
@@ -145,8 +171,15 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
 
 
 def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -> int:
-    """Counts instead of world lists: a knowledge structure does not list its states."""
+    """Counts, and with --where the valuations: a knowledge structure lists no worlds."""
     summary = formula_summary(spec, formula)
+    listed: list[list[str]] = []
+    if args.where:
+        limit = args.limit or _WHERE
+        truth = spec.model.truth(formula, spec.actions)
+        listed = list(itertools.islice(iter_valuations(spec.model, truth), limit + 1))
+        summary["truncated"] = len(listed) > limit
+        summary["valuations"] = listed = listed[:limit]
     if args.json:
         print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
         return EXIT_OK if summary["holds"] else EXIT_FALSE
@@ -156,4 +189,8 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         f"{summary['n_designated_true']} of {summary['n_designated']}"
     )
     print(f"  holds at {summary['n_true']} of {summary['n_worlds']} worlds (symbolic backend)")
+    if args.where:
+        more = " ..." if summary["truncated"] else ""
+        print("  where (true atoms of each valuation):")
+        print("    " + "  ".join("{" + ", ".join(v) + "}" for v in listed) + more)
     return EXIT_OK if summary["holds"] else EXIT_FALSE

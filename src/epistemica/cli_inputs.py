@@ -13,19 +13,22 @@ from epistemica.cli_coordination import split_plan
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formats.epddl import EpddlTask, is_epddl, load_epddl
 from epistemica.del_.formats.smcdel import SmcdelFile, is_smcdel, load_smcdel
-from epistemica.del_.spec import Spec
-from epistemica.del_.spec.backend import load_spec
+from epistemica.del_.spec import Spec, parse_spec
+from epistemica.input_files import read_input
 
-__all__ = ["load_input", "plank_line", "where_lines"]
+__all__ = ["is_foreign", "load_input", "plank_line", "where_lines"]
 
 
-def load_input(args: argparse.Namespace, backend: str = "explicit") -> tuple[Spec, Any]:
+def load_input(
+    args: argparse.Namespace, backend: str = "explicit", command: str = "check", text=None
+) -> tuple[Spec, Any]:
     """The spec named on the command line, and where it came from: the :class:`EpddlTask`
     of an EPDDL input, the :class:`SmcdelFile` of an SMCDEL one, ``None`` for a spec.
 
     ``args.file`` (with ``args.problem`` and ``args.library``) names a ``.epi`` spec, an
     EPDDL domain and problem, or an SMCDEL file. Plank's names of ground actions in
-    ``--verify`` and ``--after`` are translated to epistemica's.
+    ``--verify`` and ``--after`` are translated to epistemica's. A spec is read once,
+    bounded (:func:`epistemica.input_files.read_input`), unless its ``text`` is given.
     """
     problem = getattr(args, "problem", None)
     libraries = getattr(args, "library", None) or []
@@ -45,7 +48,14 @@ def load_input(args: argparse.Namespace, backend: str = "explicit") -> tuple[Spe
     if is_smcdel(args.file):
         found = load_smcdel(args.file, backend)
         return found.spec, found
-    return load_spec(args.file, backend), None
+    if text is None:
+        text = read_input(args.file, command)[1]
+    return parse_spec(text, args.file, backend), None
+
+
+def is_foreign(args: argparse.Namespace) -> bool:
+    """Whether the command line names an EPDDL task or an SMCDEL file."""
+    return getattr(args, "problem", None) is not None or is_epddl(args.file) or is_smcdel(args.file)
 
 
 def plank_line(task: EpddlTask, plan: list[str]) -> str:

@@ -18,11 +18,10 @@ from typing import Any
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_inputs import load_input, plank_line
-from epistemica.del_ import describe_model, plan_with_stats, validate
+from epistemica.cli_inputs import is_foreign, load_input, plank_line
+from epistemica.del_ import describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
-from epistemica.del_.formats.epddl import is_epddl
-from epistemica.del_.formats.smcdel import is_smcdel
+from epistemica.input_files import read_input
 
 __all__ = ["load_for_planning", "run_plan"]
 
@@ -33,23 +32,23 @@ def load_for_planning(path: str, backend: str = "auto") -> tuple[Any, str]:
     about the spec's atoms and agents."""
     from epistemica.del_ import KripkeModel
     from epistemica.del_.planning.symbolic_search import choose_backend
-    from epistemica.del_.spec.backend import load_spec
 
-    spec = load_spec(path, "symbolic" if backend == "symbolic" else "auto")
+    text = read_input(path, "plan")[1]  # read once, bounded
+    spec = parse_spec(text, path, "symbolic" if backend == "symbolic" else "auto")
     if backend == "symbolic":
         return spec, "symbolic"
     if isinstance(spec.model, KripkeModel):
         return spec, "explicit"
     if backend == "auto" and choose_backend(len(spec.atoms), len(spec.agents)) == "symbolic":
         return spec, "symbolic"
-    return load_spec(path, "explicit"), "explicit"
+    return parse_spec(text, path, "explicit"), "explicit"
 
 
 def run_plan(args: argparse.Namespace) -> int:
     """Run ``epistemica plan`` with parsed arguments; return the exit status."""
     task = None
-    if getattr(args, "problem", None) is not None or is_epddl(args.file) or is_smcdel(args.file):
-        spec, task = load_input(args)  # EPDDL and SMCDEL inputs plan on Kripke models
+    if is_foreign(args):
+        spec, task = load_input(args, "explicit", "plan")  # planned on Kripke models
         backend = "explicit"
     else:
         spec, backend = load_for_planning(args.file, getattr(args, "backend", "auto"))

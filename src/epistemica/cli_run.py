@@ -146,17 +146,18 @@ def add_check_options(check) -> None:
     check.add_argument("--reasoning", default=None, help="mission: level of that trial")
 
 
-def check_mission(args: argparse.Namespace) -> int:
+def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps.
 
     A claim written ``check "..." after N steps [seed S] [level L]: F`` is checked after
     those steps of that seeded trial (default: the study's first seed and last level).
+    ``text``: the file's text, already read (a pipe is read once).
     """
     from epistemica.del_ import parse_formula
     from epistemica.del_.errors import InvalidArgumentError
-    from epistemica.mission import load_mission
+    from epistemica.mission import load_mission, parse_mission
 
-    mission = load_mission(args.file)
+    mission = load_mission(args.file) if text is None else parse_mission(text, args.file)
     if args.formula is None and not mission.checks and args.after is None:
         print(f"{args.file}: {mission.kind}, no claims; add 'check \"name\": FORMULA' lines")
         return EXIT_OK

@@ -1,8 +1,11 @@
 """``epistemica show``: a spec's model, after some of its actions, as text, DOT or JSON.
 
-Helper of :mod:`epistemica.cli`, imported only when the command runs. The model is the
-explicit one (a Kripke model); ``--after`` applies the spec's actions one after the other
-by product update, without contracting the result, so every world of ``M ⊗ A`` is shown.
+Helper of :mod:`epistemica.cli`, imported only when the command runs. ``--after``
+applies the spec's actions one after the other by product update, without contracting
+the result, so every world of ``M ⊗ A`` is shown. On the explicit backend the worlds and
+relations are listed (``--limit N``: the designated and first worlds, N in all); on the
+symbolic one the knowledge structure is shown as SMCDEL prints one (vocabulary, law,
+observables). Every output is linear in the size of the model.
 """
 
 from __future__ import annotations
@@ -10,18 +13,21 @@ from __future__ import annotations
 import argparse
 import json
 
+import numpy as np
+
 from epistemica.cli_coordination import split_plan
 from epistemica.cli_exit import EXIT_OK
 from epistemica.cli_inputs import load_input
-from epistemica.del_ import KripkeModel, Spec, describe_model, to_dot
+from epistemica.del_ import KnowledgeStructure, KripkeModel, Spec, describe_model, to_dot
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import names_hint
-from epistemica.model_json import model_from_json, model_to_json
+from epistemica.del_.symbolic.describe import describe_structure, structure_to_json
+from epistemica.model_json import dumps, model_to_json
 
 __all__ = ["model_after", "run_show"]
 
 
-def model_after(spec: Spec, steps: list[str]) -> KripkeModel:
+def model_after(spec: Spec, steps: list[str]) -> KripkeModel | KnowledgeStructure:
     """The spec's model after the actions ``steps``, in order (product update).
 
     Raises
@@ -50,21 +56,58 @@ def model_after(spec: Spec, steps: list[str]) -> KripkeModel:
 
 def run_show(args: argparse.Namespace) -> int:
     """Run ``epistemica show`` with parsed arguments; return the exit status."""
-    spec, _task = load_input(args)
+    spec, _task = load_input(args, args.backend, "show")
     steps = split_plan(args.after) if args.after.strip() else []
     model = model_after(spec, steps)
-    # The atoms in the order the spec declares them (a model of explicit worlds may hold
-    # them in another), the worlds by their spec names: the JSON form has both, and the
-    # model read back from it is what the text and DOT outputs show.
-    data = model_to_json(model, spec.atoms)
+    title = f"{args.file}" + (f" after {', '.join(steps)}" if steps else "")
+    if isinstance(model, KnowledgeStructure):
+        return _show_structure(model, args, steps, title)
+    limit = args.limit
     if args.json:
-        print(json.dumps({"file": args.file, "after": steps, **data}, indent=2))
+        # The atoms in the order the spec declares them, the worlds by their spec names.
+        data = model_to_json(model, spec.atoms, limit)
+        print(dumps({"file": args.file, "after": steps, **data}))
     elif args.dot:
-        text = to_dot(model_from_json(data))
+        shown = _first_worlds(model, limit)
         with open(args.dot, "w", encoding="utf-8") as out:
-            out.write(text + "\n")
-        print(f"wrote {args.dot}: {model.n_worlds} worlds, agents {', '.join(model.agents)}")
+            out.write(to_dot(shown) + "\n")
+        part = f" (the first {shown.n_worlds})" if shown is not model else ""
+        print(f"wrote {args.dot}: {model.n_worlds} worlds{part}, agents {', '.join(model.agents)}")
     else:
-        print(f"{args.file}" + (f" after {', '.join(steps)}" if steps else ""))
-        print(describe_model(model_from_json(data)))
+        print(title)
+        print(describe_model(model, max_worlds=limit or _TEXT_WORLDS))
     return EXIT_OK
+
+
+_TEXT_WORLDS = 16
+
+
+def _first_worlds(model: KripkeModel, limit: int | None) -> KripkeModel:
+    """The designated worlds and then the first ones, ``limit`` in all (for DOT)."""
+    if limit is None or model.n_worlds <= limit:
+        return model
+    keep = np.zeros(model.n_worlds, dtype=bool)
+    keep[model.designated_positions[:limit]] = True
+    spare = limit - int(keep.sum())
+    keep[np.flatnonzero(~keep)[: max(spare, 0)]] = True
+    kept = model.designated_positions[keep[model.designated_positions]]
+    return model.restricted(keep, np.cumsum(keep)[kept] - 1)
+
+
+def _show_structure(s: KnowledgeStructure, args: argparse.Namespace, steps, title: str) -> int:
+    if args.dot:
+        raise InvalidArgumentError(
+            "--dot draws worlds, and this spec is on the symbolic backend (a knowledge "
+            "structure lists none)",
+            hint="use --json or the text output; --backend explicit for a small model",
+        )
+    if args.json:
+        data = structure_to_json(s, args.limit or _JSON_STATES)
+        print(json.dumps({"file": args.file, "after": steps, **data}, indent=2))
+    else:
+        print(title)
+        print(describe_structure(s, args.limit or _TEXT_WORLDS))
+    return EXIT_OK
+
+
+_JSON_STATES = 1000

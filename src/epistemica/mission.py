@@ -46,6 +46,7 @@ from epistemica._mission_compiler import (
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.del_ import Formula, KnowledgeStructure, KripkeModel, parse_formula
 from epistemica.del_.errors import InvalidArgumentError, SpecError
+from epistemica.input_files import read_input
 from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.events import EventRule, expand
 from epistemica.sim.knowledge import TeamKnowledge, initial_knowledge
@@ -398,11 +399,5 @@ def load_mission(path: str | Path) -> Mission:
     ...     load_mission(p).name
     'tiny'
     """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InvalidArgumentError(
-            f"cannot read mission file {str(path)!r}: {exc}", hint="check the path"
-        ) from None
+    _, text = read_input(path, "run", ("mission",))
     return parse_mission(text, str(path))

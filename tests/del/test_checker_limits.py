@@ -28,7 +28,7 @@ from epistemica.del_.budget import (
 )
 from epistemica.del_.explicit.checker import propositional_mask
 
-from epistemic_strategies import formulas
+from epistemic_strategies import explicit_copy, formulas
 
 DEEP = 10_000
 WIDE = 100_000
@@ -101,16 +101,6 @@ def test_deep_announcements_on_bitsets():
     assert cube.truth_mask(f).all() and plain.truth_mask(f).all()
 
 
-def _explicit_copy(model):
-    worlds = list(model.worlds)
-    return KripkeModel(
-        worlds,
-        {w: model.valuation_of(w) for w in worlds},
-        {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
-        list(model.designated),
-    )
-
-
 @st.composite
 def _observable_models(draw, atoms=("p", "q", "r")):
     observes = {a: draw(st.lists(st.sampled_from(atoms), unique=True)) for a in ("a", "b")}
@@ -123,7 +113,7 @@ def _observable_models(draw, atoms=("p", "q", "r")):
 def test_public_actions_on_bitsets_match_explicit_products(model, pre, f):
     """[tell] f on bitsets (an announcement) equals the product update on explicit worlds."""
     actions = {"tell": public_announcement(pre, ["a", "b"])}
-    reference = _explicit_copy(model)
+    reference = explicit_copy(model)
     g = After("tell", f)
     assert model.truth_set(g, actions) == reference.truth_set(g, actions)
     assert model.holds(g, actions) == reference.holds(g, actions)
@@ -135,7 +125,7 @@ def test_sparse_cube_is_checked_on_its_live_worlds():
     model = KripkeModel.from_observables(atoms, {"a": atoms[:5], "b": atoms[3:]}, designated=[])
     few = model.announce(" & ".join(f"~x{i}" for i in range(2, 12)))  # 4 of 4,096 codes
     assert few.n_worlds == 4 and few.cube.sparse()
-    reference = _explicit_copy(few)
+    reference = explicit_copy(few)
     for f in ("K[a] x0", "Kw[b] x1", "C[a, b] ~x5", "<!x0> K[b] x0", "D[a, b] x1"):
         assert few.truth_set(f) == reference.truth_set(f)
     assert few.announce("~x1").n_worlds == 2
@@ -215,4 +205,4 @@ def test_budget_counts_the_model_arrays_and_the_product_together():
         model.holds("[whisper] K[a] m0", actions, memory_budget=400_000)
     assert model.arrays_bytes() > 0  # refused before the arrays were built
     found = model.truth_set("[whisper] B[b] ~m0", actions, memory_budget=1_000_000)
-    assert found == _explicit_copy(model).truth_set("[whisper] B[b] ~m0", actions)
+    assert found == explicit_copy(model).truth_set("[whisper] B[b] ~m0", actions)

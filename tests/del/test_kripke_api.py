@@ -123,8 +123,8 @@ def test_update_names_worlds_by_world_and_event():
 
 def test_factual_change_reads_the_old_valuation():
     swap = ActionModel(["s"], {}, {"s": {"p": "q", "q": "p"}}, {"a": [("s", "s")]}, "s")
-    m = KripkeModel(["w"], {"w": {"p"}}, {"a": [("w", "w")]}, "w").update(swap)
-    assert m.holds("q & ~p")
+    m = KripkeModel(["w"], {"w": {"p"}}, {"a": [("w", "w")]}, "w", atoms=["p", "q"])
+    assert m.update(swap).holds("q & ~p")
 
 
 def test_to_networkx():

@@ -11,20 +11,9 @@ from hypothesis import strategies as st
 
 from epistemica.del_ import InvalidArgumentError, KripkeModel
 
-from epistemic_strategies import formulas
+from epistemic_strategies import explicit_copy, formulas
 
 ATOMS = ("p", "q", "r")
-
-
-def explicit_copy(model: KripkeModel) -> KripkeModel:
-    """The same model rebuilt from its worlds and pairs, with no bitset cube."""
-    worlds = list(model.worlds)
-    return KripkeModel(
-        worlds,
-        {w: model.valuation_of(w) for w in worlds},
-        {a: [(w, v) for w in worlds for v in model.successors(a, w)] for a in model.agents},
-        list(model.designated),
-    )
 
 
 @st.composite

@@ -143,6 +143,7 @@ def test_truth_is_invariant_under_renaming(model, f, rnd):
             for a in model.agents
         },
         [rename[w] for w in model.designated],
+        atoms=model.atoms,
     )
     assert renamed.truth_set(f) == {rename[w] for w in model.truth_set(f)}
 

@@ -189,8 +189,12 @@ def test_spec_formula_errors_are_located_in_the_formula_text():
 
 
 def test_too_many_atoms_for_observables():
-    err = error_of("agents a\natoms x1..x27\n")
+    """Explicitly refused; the default backend ('auto') takes the symbolic one instead."""
+    with pytest.raises(SpecError) as caught:
+        parse_spec("agents a\natoms x1..x27\n", "bad.epi", backend="explicit")
+    err = caught.value
     assert (err.line, err.column) == (2, 1) and "too many" in err.message
+    assert type(parse_spec("agents a\natoms x1..x27\n").model).__name__ == "KnowledgeStructure"
 
 
 def test_missing_file_is_a_spec_error(tmp_path):

@@ -25,6 +25,9 @@ def test_the_puzzles_are_shipped():
         "muddy_children_4.epi",
         "sally_anne.epi",
         "coin_toss.epi",
+        "dining_cryptographers_100.epi",
+        "drinking_logicians_400.epi",
+        "sum_and_product.epi",
     } <= names
 
 
@@ -92,3 +95,16 @@ def test_coin_toss_shown_to_b():
     shown = "[toss][show_b]"
     assert spec.holds(f"{shown} (Kw[b] heads & ~Kw[a] heads & K[a] Kw[b] heads)")
     assert spec.holds("[toss] ~Kw[b] heads")  # before looking, b does not know
+
+
+def test_sum_and_product_has_the_unique_solution_four_and_thirteen():
+    """Freudenthal's puzzle: after 'S: I knew you didn't know', 'P: now I know' and 'S: now
+    I know too', exactly one pair is left, x = 4 and y = 13 (of the 2,352 pairs)."""
+    spec = load_spec(PUZZLES / "sum_and_product.epi")
+    model = spec.model
+    assert model.n_worlds == 2352  # 2 <= x < y, x + y <= 100
+    for name in ("s_knew_it", "p_knows", "s_knows"):
+        model = model.update(spec.actions[name])
+    assert model.n_worlds == 1
+    four, thirteen = "~x1 & ~x2 & ~x3 & x4 & ~x5 & ~x6", "~y1 & ~y2 & ~y3 & y4 & y5 & ~y6 & y7"
+    assert model.holds(f"{four} & {thirteen}")

@@ -113,7 +113,7 @@ def _reference(worlds, observations):
     }
     names = list(val)
     everything = [(u, v) for u in names for v in names]
-    model = KripkeModel(names, val, dict.fromkeys(AGENTS, everything), names)
+    model = KripkeModel(names, val, dict.fromkeys(AGENTS, everything), names, atoms=ATOMS)
     for o in observations:
         if o.hard_fact(True) is not None:
             model = model.update(o.action_model(AGENTS))

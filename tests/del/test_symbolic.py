@@ -268,9 +268,13 @@ def test_observable_structures_stay_observational_under_s5_actions(model, steps)
 # -- shipped specs -----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("path", SPECS, ids=[p.name for p in SPECS])
+# The generated puzzles (tens of kB and more) are beyond the explicit backend.
+BOTH_BACKENDS = [p for p in SPECS if p.stat().st_size < 20_000]
+
+
+@pytest.mark.parametrize("path", BOTH_BACKENDS, ids=[p.name for p in BOTH_BACKENDS])
 def test_shipped_specs_give_the_same_answers(path):
-    spec = load_spec(path)
+    spec = load_spec(path, backend="explicit")
     s = spec.model.to_symbolic(spec.atoms)
     for check in spec.checks:
         assert s.holds(check.formula, spec.actions) == spec.holds(check.formula), check.name

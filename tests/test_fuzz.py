@@ -1,0 +1,29 @@
+"""The fuzz corpus in CI: mutated shipped specs and random command lines of check, show and
+plan exit with 0, 1 or 2 only, each within its time limit, in a worker whose memory is
+bounded (tests/fuzz_corpus.py; benchmarks/fuzz_cli.py runs the large corpus)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+CORPUS = Path(__file__).with_name("fuzz_corpus.py")
+
+
+def test_fuzzed_specs_and_parameters_exit_0_1_or_2_in_bounded_time_and_memory():
+    out = subprocess.run(
+        [sys.executable, str(CORPUS), "--cases", "500", "--seed", "2024", "--limit", "20",
+         "--memory-gib", "3"],
+        capture_output=True, text=True, timeout=110, check=False,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr[-2000:]
+    result = json.loads(out.stdout)
+    assert result["bad"] == [], result["bad"]
+    assert sum(result["counts"].values()) == 500
+    assert set(result["counts"]) <= {"0", "1", "2"}
+    assert result["slowest_seconds"] < 20
+    assert result["max_rss_mib"] < 3 * 1024
+    # The corpus is not all refusals: unmutated cases and harmless edits run through.
+    assert result["counts"].get("0", 0) + result["counts"].get("1", 0) >= 30
