@@ -24,6 +24,7 @@ from scipy.sparse.csgraph import connected_components
 __all__ = [
     "DENSE_LIMIT",
     "Arrows",
+    "ClassArrows",
     "DenseArrows",
     "Partition",
     "Relation",
@@ -284,6 +285,96 @@ class Arrows(Relation):
         m = self.matrix
         serial = bool((np.diff(m.indptr) > 0).all())
         return serial and _contains(m, m @ m) and _contains(m, m.T @ m)
+
+
+class ClassArrows(Relation):
+    """A relation in which every world of a class has the same successors: class ``c``
+    leads to the worlds of ``targets[c]`` (the group models of an epistemic state, whose
+    copies of the worlds are related block by block). Boxes and images cost one pass per
+    class, never one per edge; ``edges()`` lists them only when asked.
+
+    Parameters
+    ----------
+    labels : array of int
+        ``labels[w]``: the class of world ``w``.
+    targets : sequence of int arrays
+        ``targets[c]``: the successors of every world of class ``c``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = ClassArrows(np.array([0, 0, 1]), [np.array([2]), np.array([2])])
+    >>> r.box(np.array([False, False, True])).tolist(), r.is_kd45(), r.is_equivalence()
+    ([True, True, True], True, False)
+    """
+
+    def __init__(self, labels: np.ndarray, targets) -> None:
+        self.labels = np.asarray(labels, dtype=np.intp)
+        self.targets = [np.asarray(t, dtype=np.intp) for t in targets]
+        self.n = self.labels.size
+
+    def _per_class(self, mask: np.ndarray, test) -> np.ndarray:
+        return np.array([test(mask[t]) for t in self.targets], dtype=bool)
+
+    def box(self, mask: np.ndarray) -> np.ndarray:
+        return self._per_class(mask, np.all)[self.labels] if self.targets else np.ones(0, bool)
+
+    def restrict(self, keep: np.ndarray) -> ClassArrows:
+        index = np.cumsum(keep) - 1
+        targets = [index[t[keep[t]]] for t in self.targets]
+        return ClassArrows(self.labels[keep], targets)
+
+    def successors_of(self, mask: np.ndarray) -> np.ndarray:
+        hit = np.zeros(self.n, dtype=bool)
+        for c in np.unique(self.labels[mask]):
+            hit[self.targets[c]] = True
+        return hit
+
+    def predecessors_of(self, mask: np.ndarray) -> np.ndarray:
+        return self._per_class(mask, np.any)[self.labels]
+
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        sizes = np.array([self.targets[c].size for c in self.labels], dtype=np.intp)
+        sources = np.repeat(np.arange(self.n), sizes)
+        if not self.n:
+            return sources, np.zeros(0, dtype=np.intp)
+        return sources, np.concatenate([self.targets[c] for c in self.labels])
+
+    def to_dense(self) -> np.ndarray:
+        out = np.zeros((self.n, self.n), dtype=bool)
+        out[self.edges()] = True
+        return out
+
+    def contains(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        return np.array(
+            [
+                t in set(self.targets[self.labels[s]].tolist())
+                for s, t in zip(sources, targets, strict=True)
+            ],
+            dtype=bool,
+        )
+
+    def to_csr(self) -> sp.csr_matrix:
+        sources, targets = self.edges()
+        data = np.ones(sources.size, dtype=bool)
+        return sp.csr_matrix((data, (sources, targets)), shape=(self.n, self.n), dtype=bool)
+
+    def _class_sets(self) -> list[frozenset]:
+        return [frozenset(t.tolist()) for t in self.targets]
+
+    def is_kd45(self) -> bool:
+        """Serial, transitive and euclidean: every class leads to a nonempty set all of
+        whose worlds lead back to exactly that set."""
+        sets = self._class_sets()
+        for c, here in enumerate(sets):
+            if not here or any(sets[self.labels[w]] != here for w in self.targets[c]):
+                return False
+        return True
+
+    def is_equivalence(self) -> bool:
+        """KD45 and reflexive: every world is among its own successors."""
+        sets = self._class_sets()
+        return self.is_kd45() and all(w in sets[c] for w, c in enumerate(self.labels))
 
 
 def _contains(big: sp.csr_matrix, small: sp.spmatrix) -> bool:

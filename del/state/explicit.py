@@ -34,7 +34,7 @@ import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.checker import propositional_truth
-from epistemica.del_.explicit.relations import arrows_from_edges, as_compact
+from epistemica.del_.explicit.relations import ClassArrows, Partition
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.state.state import Chain, EpistemicState
@@ -225,25 +225,22 @@ def group_model(
     for k in keys:
         start[k] = total
         total += rows[k].size
+    copy_of = np.concatenate([np.full(rows[k].size, c) for c, k in enumerate(keys)])
+    position = {k: c for c, k in enumerate(keys)}
     belief_rel, knowledge_rel = {}, {}
     for i, agent in enumerate(agents):
-        edges = {"belief": ([], []), "knowledge": ([], [])}
-        alike: dict[tuple, list] = {}  # i's view of a history -> the copies with that view
-        for k in keys:
-            alike.setdefault(step[(k, i)], []).append(k)
-        for k in keys:
-            view = step[(k, i)]
-            ids = start[k] + np.arange(rows[k].size)
-            # B is within K: the target worlds are ids among the target copy's K worlds
-            believed = np.flatnonzero(believe[view][rows[view]]) + start[view]
-            known = np.concatenate([start[c] + np.arange(rows[c].size) for c in alike[view]])
-            for kind, where in (("belief", believed), ("knowledge", known)):
-                sources, targets = edges[kind]
-                sources.append(np.repeat(ids, where.size))
-                targets.append(np.tile(where, ids.size))
-        for kind, out in (("belief", belief_rel), ("knowledge", knowledge_rel)):
-            sources, targets = (np.concatenate(part) for part in edges[kind])
-            out[agent] = as_compact(arrows_from_edges(total, sources, targets))
+        # i's view of each copy's history: the copy of the history restricted to what i
+        # observed. K[i] relates the worlds of copies with one view (an equivalence); B[i]
+        # leads every world of them to the B set of that view's copy.
+        view = np.array([position[step[(k, i)]] for k in keys])[copy_of]
+        knowledge_rel[agent] = Partition(view, len(keys))
+        believed = [
+            np.flatnonzero(believe[k][rows[k]]) + start[k]
+            if position[k] in set(view)
+            else np.zeros(0, dtype=np.intp)
+            for k in keys
+        ]
+        belief_rel[agent] = ClassArrows(view, believed)
     val = np.concatenate([table.valuation()[rows[k]] for k in keys])
     base = table.world_names()
     names = tuple(f"{base[w]}@{c}" for c, k in enumerate(keys) for w in rows[k].tolist())
