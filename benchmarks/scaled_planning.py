@@ -176,7 +176,7 @@ INSTANCES = {
 
 _RUN = """
 import json, sys, time
-from epistemica.del_.spec.backend import load_spec
+from epistemica.del_ import load_spec
 from epistemica.del_.errors import EpistemicaError
 path, backend = sys.argv[1], sys.argv[2]
 start = time.perf_counter()
@@ -233,7 +233,7 @@ def describe(outcome: dict) -> str:
 
 def sizes(path: Path) -> tuple[int, int, int]:
     """Atoms, valuations the law allows, and states reachable from the actual world."""
-    from epistemica.del_.spec.backend import load_spec
+    from epistemica.del_ import load_spec
     from epistemica.del_.symbolic.normal_form import reachable
 
     spec = load_spec(path, "symbolic")

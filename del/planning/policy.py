@@ -34,7 +34,8 @@ From r2's perspective both worlds are possible; r1 goes to its task, whichever i
 r2, having watched, goes to the other spot:
 
 >>> from epistemica.del_ import KripkeModel, public_assignment
->>> s0 = KripkeModel.from_observables(["t"], {"r1": ["t"], "r2": []})   # both designated
+>>> s0 = KripkeModel.from_observables(["t", "at1", "at2", "b1", "b2"], {"r1": ["t"], "r2": []},
+...                                    law="~at1 & ~at2 & ~b1 & ~b2")    # t unknown to r2
 >>> agents = ["r1", "r2"]
 >>> acts = {"r1_g1": public_assignment({"at1": "true"}, agents, pre="t"),
 ...         "r1_g2": public_assignment({"at2": "true"}, agents, pre="~t"),

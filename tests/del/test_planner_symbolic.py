@@ -20,6 +20,7 @@ from epistemica.del_ import (
     public_assignment,
     semi_private_sensing,
 )
+from epistemica.del_ import load_spec as load_with_backend
 from epistemica.del_.explicit.action import private_announcement
 from epistemica.del_.planning.symbolic_search import (
     applicable_in_all_symbolic,
@@ -28,7 +29,6 @@ from epistemica.del_.planning.symbolic_search import (
     relevant_structure,
     validate_symbolic,
 )
-from epistemica.del_.spec.backend import load_spec as load_with_backend
 from epistemica.del_.symbolic.normal_form import normalise, state_key, without_free_atoms
 
 ROOT = Path(__file__).resolve().parents[2]
