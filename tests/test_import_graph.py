@@ -128,18 +128,16 @@ def _targets(module: str, node: ast.Import | ast.ImportFrom) -> list[tuple[str, 
 
 
 def _registry_targets(tree: ast.Module) -> list[str]:
-    """The modules named in a ``COMMANDS = {...}`` table (loaded by name)."""
+    """The modules named in a ``COMMANDS = {...}`` table (``"module:function"``, loaded by
+    name)."""
     found = []
     for node in tree.body:
         if isinstance(node, (ast.Assign, ast.AnnAssign)):
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
             names = [t.id for t in targets if isinstance(t, ast.Name)]
             if "COMMANDS" in names and isinstance(node.value, ast.Dict):
-                found += [
-                    v.value
-                    for v in node.value.values
-                    if isinstance(v, ast.Constant) and v.value in MODULES
-                ]
+                values = [v.value for v in node.value.values if isinstance(v, ast.Constant)]
+                found += [v.partition(":")[0] for v in values if v.partition(":")[0] in MODULES]
     return found
 
 
@@ -198,10 +196,7 @@ def test_no_del_module_imports_from_its_package_root():
     "layer",
     [
         *(package for package, _ in LAYERS[:-1]),
-        pytest.param(
-            "epistemica",
-            marks=pytest.mark.xfail(strict=True, reason="the CLI defers imports (issue 17)"),
-        ),
+        "epistemica",
     ],
 )
 def test_no_project_import_inside_a_function(layer):

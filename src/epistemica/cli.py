@@ -35,9 +35,30 @@ import importlib
 import sys
 from collections.abc import Sequence
 
+from epistemica.cli_arguments import (
+    add_check_options,
+    add_run_command,
+    add_simulate_command,
+    add_sweep_commands,
+)
 from epistemica.cli_exit import EXIT_USAGE, guarded
+from epistemica.cli_formats import add_export_command, add_input_options
+from epistemica.del_.budget import budget_scope
 
-__all__ = ["build_parser", "main"]
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+#: Each command's handler, ``"module:function"``: a module is imported when its command
+#: runs, so that start-up (and ``--help``) pays only for argparse.
+COMMANDS = {
+    "check": "epistemica.cli_check:run_check",
+    "plan": "epistemica.cli_plan:run_plan",
+    "show": "epistemica.cli_show:run_show",
+    "run": "epistemica.cli_run:run_mission",
+    "simulate": "epistemica.cli_simulate:run_simulate",
+    "sweep": "epistemica.cli_sweep:run_sweep_command",
+    "report": "epistemica.cli_sweep:run_report",
+    "export": "epistemica.cli_export:run_export",
+}
 
 _EPILOG = """\
 examples:
@@ -89,9 +110,13 @@ class _Version(argparse.Action):
         super().__init__(option_strings, dest=dest, default=default, nargs=0, **kw)
 
     def __call__(self, parser, namespace, values, option_string=None):
-        from epistemica import __version__
+        from importlib.metadata import PackageNotFoundError, version
 
-        print(f"epistemica {__version__}")  # on standard output, as argparse's own
+        try:
+            number = version("epistemica")  # one source of truth: pyproject.toml
+        except PackageNotFoundError:  # a source tree that was never installed
+            number = "0+unknown"
+        print(f"epistemica {number}")  # on standard output, as argparse's own
         parser.exit()
 
 
@@ -109,15 +134,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_check(commands)
     _add_plan(commands)
     _add_show(commands)
-    from epistemica.cli_run import add_command as add_run_command
-    from epistemica.cli_simulate import add_command as add_simulate_command
-    from epistemica.cli_sweep import add_commands as add_sweep_commands
-
     add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
-    from epistemica.cli_formats import add_export_command, add_input_options
-
     for name in ("check", "plan", "show"):
         add_input_options(commands.choices[name])
     add_export_command(commands)
@@ -175,10 +194,7 @@ def _add_check(commands) -> None:
         "--limit", type=_positive, metavar="N", help="with --where: list at most N (default 100)"
     )
     _add_backend(check)
-    from epistemica.cli_run import add_check_options
-
     add_check_options(check)
-    check.set_defaults(handler="epistemica.cli_check:run_check")
 
 
 def _add_backend(command) -> None:
@@ -258,7 +274,6 @@ def _add_plan(commands) -> None:
         help="with --implicit --policy: plan (or verify) from this agent's perspective on the "
         "initial state, every world it considers possible designated",
     )
-    plan.set_defaults(handler="epistemica.cli_plan:run_plan")
 
 
 def _add_show(commands) -> None:
@@ -293,7 +308,6 @@ def _add_show(commands) -> None:
         "text, every world in DOT and JSON",
     )
     _add_backend(show)
-    show.set_defaults(handler="epistemica.cli_show:run_show")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -303,26 +317,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
-    handler = getattr(args, "handler", None)
-    if handler is None:
+    if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    return guarded(_resolve(handler), args)
+    return guarded(_handler(COMMANDS[args.command]), args)
 
 
-def _resolve(handler):
-    """A handler given as ``"module:function"`` is imported only now, when it runs."""
-    if not isinstance(handler, str):
-        return handler
+def _handler(where: str):
+    """The handler ``"module:function"``, its module imported only now, when it runs."""
 
     def run(args: argparse.Namespace) -> int:
-        module, _, name = handler.partition(":")
+        module, _, name = where.partition(":")
         function = getattr(importlib.import_module(module), name)
         budget = getattr(args, "memory_budget", None)
         if budget is None:
             return function(args)
-        from epistemica.del_.budget import budget_scope
-
         with budget_scope(budget):
             return function(args)
 

@@ -7,6 +7,7 @@ every claim is as expected (or the formula holds at every designated world), 1 o
 from __future__ import annotations
 
 import argparse
+import importlib
 import itertools
 import json
 from typing import Any
@@ -21,7 +22,10 @@ from epistemica.del_.spec.backend import formula_summary
 from epistemica.del_.symbolic.describe import iter_valuations
 from epistemica.input_files import read_input
 
-__all__ = ["run_check"]
+__all__ = ["COMMANDS", "run_check"]
+
+#: Checking a mission file: loaded by name when the file is one.
+COMMANDS = {"mission": "epistemica.cli_run:check_mission"}
 
 # Worlds listed by `check --formula` before "... and N more" (text) / truncation (JSON).
 _LIST_TEXT, _LIST_JSON = 12, 1000
@@ -56,13 +60,13 @@ def _show(entry: dict[str, Any]) -> str:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from epistemica.cli_run import check_mission
 
     text = None
     if not is_foreign(args):
         kind, text = read_input(args.file, "check", ("spec", "mission"))
-        if kind == "mission":
-            return check_mission(args, text)
+        if kind == "mission":  # the simulator's modules load only for a mission file
+            module, _, name = COMMANDS["mission"].partition(":")
+            return getattr(importlib.import_module(module), name)(args, text)
     if args.after is not None or args.robot is not None:
         raise InvalidArgumentError(
             "--after and --robot apply to mission files", hint="a file starting with 'mission'"

@@ -22,7 +22,13 @@ import argparse
 import json
 from typing import Any
 
+from epistemica.del_ import describe_model, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
+from epistemica.del_.planning.coordination import (
+    check_implicit_coordination,
+    plan_implicitly_coordinated_with_stats,
+)
+from epistemica.del_.spec import names_hint
 
 __all__ = ["owners_of", "plan_implicit", "print_steps", "split_plan", "verify_plan"]
 
@@ -97,7 +103,6 @@ def owners_of(spec: Any, file: str) -> dict[str, str]:
 
 
 def _check_steps(spec: Any, steps: list[str]) -> None:
-    from epistemica.del_.spec import names_hint
 
     for name in steps:
         if name not in spec.actions:
@@ -108,7 +113,6 @@ def _check_steps(spec: Any, steps: list[str]) -> None:
 
 
 def _states(spec: Any, steps: list[str], validate_with: Any = None, describe: Any = None):
-    from epistemica.del_ import describe_model, validate
 
     run = (validate_with or validate)(spec.model, spec.actions, steps, spec.goal)
     return [(describe or describe_model)(s) for s in run.states]
@@ -142,10 +146,6 @@ def _report_json(report: Any) -> dict[str, Any]:
 
 def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
     """Search for the shortest implicitly coordinated plan (breadth-first)."""
-    from epistemica.del_.planning.coordination import (
-        check_implicit_coordination,
-        plan_implicitly_coordinated_with_stats,
-    )
 
     if args.search not in (None, "bfs"):
         raise InvalidArgumentError(
@@ -202,7 +202,6 @@ def verify_plan(
     """Check the plan given with ``--verify``: implicitly coordinated, or just valid
     (by ``validate_with``, default :func:`~epistemica.del_.validate`, its states printed
     by ``describe`` with ``--explain``)."""
-    from epistemica.del_ import check_implicit_coordination, describe_model, validate
 
     validate_with, describe = validate_with or validate, describe or describe_model
 

@@ -19,6 +19,8 @@ import sys
 import traceback
 from collections.abc import Callable
 
+from epistemica.del_.errors import EpistemicaError
+
 __all__ = [
     "EXIT_BUG",
     "EXIT_FALSE",
@@ -40,7 +42,6 @@ def guarded(handler: Callable[[argparse.Namespace], int], args: argparse.Namespa
 
     ``args.debug`` (``--debug``) adds the traceback to every error report.
     """
-    from epistemica.del_.errors import EpistemicaError
 
     debug = bool(getattr(args, "debug", False))
     try:

@@ -53,4 +53,3 @@ def add_export_command(commands) -> None:
     export.add_argument(
         "-o", "--output", default=".", metavar="DIR", help="directory to write to (default .)"
     )
-    export.set_defaults(handler="epistemica.cli_export:run_export")

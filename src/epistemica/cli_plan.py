@@ -19,8 +19,14 @@ from typing import Any
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli_inputs import is_foreign, load_input, plank_line
-from epistemica.del_ import describe_model, parse_spec, plan_with_stats, validate
+from epistemica.cli_policy import plan_policy_command, verify_policy_command
+from epistemica.del_ import KripkeModel, describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
+from epistemica.del_.planning.symbolic_search import (
+    choose_backend,
+    plan_symbolic_with_stats,
+    validate_symbolic,
+)
 from epistemica.input_files import read_input
 
 __all__ = ["load_for_planning", "run_plan"]
@@ -30,8 +36,6 @@ def load_for_planning(path: str, backend: str = "auto") -> tuple[Any, str]:
     """The spec with its model for ``backend``, and the backend chosen (``explicit`` or
     ``symbolic``); ``auto`` asks :func:`~epistemica.del_.planning.symbolic_search.choose_backend`
     about the spec's atoms and agents."""
-    from epistemica.del_ import KripkeModel
-    from epistemica.del_.planning.symbolic_search import choose_backend
 
     text = read_input(path, "plan")[1]  # read once, bounded
     spec = parse_spec(text, path, "symbolic" if backend == "symbolic" else "auto")
@@ -75,8 +79,6 @@ def run_plan(args: argparse.Namespace) -> int:
             hint="use --backend explicit (or a smaller spec, or a larger --memory-budget)",
         )
     if policy:
-        from epistemica.cli_policy import plan_policy_command, verify_policy_command
-
         if args.perspective is not None and args.perspective not in spec.agents:
             raise InvalidArgumentError(
                 f"unknown agent {args.perspective!r} for --perspective",
@@ -86,11 +88,6 @@ def run_plan(args: argparse.Namespace) -> int:
         return command(args, spec)
     plan_with, validate_with, describe = plan_with_stats, validate, describe_model
     if backend == "symbolic":
-        from epistemica.del_.planning.symbolic_search import (
-            plan_symbolic_with_stats,
-            validate_symbolic,
-        )
-
         plan_with, validate_with, describe = plan_symbolic_with_stats, validate_symbolic, summary
     if args.verify is not None:
         return verify_plan(args, spec, validate_with, describe)

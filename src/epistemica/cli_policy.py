@@ -23,14 +23,16 @@ from typing import Any
 
 from epistemica.cli_coordination import owners_of, split_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
+from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy
+from epistemica.del_.spec import names_hint
 
 __all__ = ["plan_policy_command", "verify_policy_command"]
 
 
 def plan_policy_command(args: argparse.Namespace, spec: Any) -> int:
     """Search for a least-depth implicitly coordinated policy and print it."""
-    from epistemica.del_.planning.policy import check_policy, plan_policy
 
     owners = owners_of(spec, args.file)
     depth = args.max_depth if args.max_depth is not None else 12
@@ -72,7 +74,6 @@ def plan_policy_command(args: argparse.Namespace, spec: Any) -> int:
 
 def verify_policy_command(args: argparse.Namespace, spec: Any) -> int:
     """Check the policy (or plan) given with ``--verify`` and say why it fails."""
-    from epistemica.del_.planning.policy import Decision, Policy, check_policy
 
     owners = owners_of(spec, args.file)
     policy = _read_policy(args.verify, spec, owners, Decision, Policy)
@@ -110,13 +111,10 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
     steps = split_plan(text)
     for name in steps:
         if name not in spec.actions:
-            from epistemica.del_.spec import names_hint
-
             raise InvalidArgumentError(
                 f"the plan names an unknown action '{name}'",
                 hint=names_hint(name, spec.actions, "action"),
             )
-    from epistemica.del_ import Top
 
     chain: tuple = ()
     for name in reversed(steps):

@@ -15,20 +15,18 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["add_command", "check_mission", "is_mission_file"]
+from epistemica.del_ import parse_formula
+from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.mission import load_mission, parse_mission
+from epistemica.run import mission_trials, run_study
+from epistemica.sim.figures import animate_trial
+from epistemica.sim.report import format_table, plot_levels, summarise
+from epistemica.sim.simulate import simulate
+from epistemica.sim.store import ResultStore
+
+__all__ = ["check_mission", "is_mission_file", "run_mission"]
 
 EXIT_OK, EXIT_FALSE = 0, 1
-
-_EXAMPLES = """\
-examples:
-  epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
-  epistemica run specs/task_allocation.epi --trials 50    # the published trial count
-  epistemica run specs/multi_task.epi --levels convention,third --no-gif
-  epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
-      --formula "K[r1] assigned(r2, g2)"
-
-exit status: 0 done, 2 bad input
-"""
 
 
 def is_mission_file(path: str) -> bool:
@@ -44,37 +42,7 @@ def is_mission_file(path: str) -> bool:
     return False
 
 
-def add_command(commands) -> None:
-    """Register ``run`` on an argparse subparsers object."""
-    cmd = commands.add_parser(
-        "run",
-        help="run a mission file's study: table, figure and an animated trial",
-        description="Compile a mission file, simulate its study (every level on the same "
-        "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
-        "success table and write runs/NAME.png and runs/NAME.gif.",
-        epilog=_EXAMPLES,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    cmd.add_argument("file", metavar="MISSION", help="a mission file (.epi)")
-    cmd.add_argument("--trials", type=int, default=None, help="trials per level (default: file)")
-    cmd.add_argument(
-        "--paper-scale", action="store_true", help="50 trials per level, as the published study"
-    )
-    cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
-    cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
-    cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
-    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
-    cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
-    cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
-    cmd.set_defaults(handler=_run)
-
-
-def _run(args: argparse.Namespace) -> int:
-    from epistemica.del_.errors import EpistemicaError
-    from epistemica.mission import load_mission
-    from epistemica.run import mission_trials, run_study
-    from epistemica.sim.report import format_table, plot_levels, summarise
-    from epistemica.sim.store import ResultStore
+def run_mission(args: argparse.Namespace) -> int:
 
     mission = load_mission(args.file)
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
@@ -122,28 +90,12 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:
-    from epistemica.sim.figures import animate_trial
-    from epistemica.sim.simulate import simulate
 
     scenario = mission.scenario(seed)
     trial = simulate(
         scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
     )
     animate_trial(scenario, trial, path)
-
-
-def add_check_options(check) -> None:
-    """The mission-only options of ``check``."""
-    check.add_argument(
-        "--after",
-        type=int,
-        default=None,
-        metavar="STEPS",
-        help="mission files: check after the first STEPS steps of a seeded trial",
-    )
-    check.add_argument("--seed", type=int, default=None, help="that trial's seed (mission)")
-    check.add_argument("--robot", default=None, help="mission: check K[ROBOT] of the formula")
-    check.add_argument("--reasoning", default=None, help="mission: level of that trial")
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
@@ -153,9 +105,6 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     those steps of that seeded trial (default: the study's first seed and last level).
     ``text``: the file's text, already read (a pipe is read once).
     """
-    from epistemica.del_ import parse_formula
-    from epistemica.del_.errors import InvalidArgumentError
-    from epistemica.mission import load_mission, parse_mission
 
     mission = load_mission(args.file) if text is None else parse_mission(text, args.file)
     if args.formula is None and not mission.checks and args.after is None:

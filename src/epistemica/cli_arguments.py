@@ -1,0 +1,200 @@
+"""The arguments of the simulator's commands (``run``, the mission options of ``check``,
+``simulate``, ``sweep``, ``report``): argparse only, so that building the parser (and
+``epistemica --help``) imports none of numpy, scipy or the simulator. Their handlers are
+in ``cli_run``, ``cli_simulate`` and ``cli_sweep``, loaded by :data:`epistemica.cli.COMMANDS`
+when a command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from epistemica.cli_options import add_scenario_options
+
+__all__ = [
+    "add_check_options",
+    "add_run_command",
+    "add_simulate_command",
+    "add_sweep_commands",
+    "parse_counts",
+]
+
+_RUN_EXAMPLES = """\
+examples:
+  epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
+  epistemica run specs/task_allocation.epi --trials 50    # the published trial count
+  epistemica run specs/multi_task.epi --levels convention,third --no-gif
+  epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
+      --formula "K[r1] assigned(r2, g2)"
+
+exit status: 0 done, 2 bad input
+"""
+
+
+_SIMULATE_EXAMPLES = """\
+examples:
+  epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third
+  epistemica simulate --mission rendezvous --robots 3 --goals 4 --reasoning convention --json
+  epistemica simulate --mission allocation --robots 5 --png trial.png --gif trial.gif
+  epistemica simulate --mission rendezvous --robots 3 --observation honest --sensing-range 10
+
+exit status: 0 the mission succeeded, 1 it failed, 2 bad input
+"""
+
+
+_SWEEP_EXAMPLES = """\
+examples:
+  epistemica sweep --mission rendezvous --robots 2..5 --goals 2..5 \\
+      --reasoning zero,convention,first,third --trials 50 --out results.sqlite
+  epistemica sweep ... --out results.sqlite --resume       # after an interruption
+  epistemica sweep ... --scheduler tcp://127.0.0.1:8786    # on a Dask cluster
+  epistemica report results.sqlite --markdown --png results.png
+"""
+
+
+def add_run_command(commands) -> None:
+    """Register ``run`` on an argparse subparsers object."""
+    cmd = commands.add_parser(
+        "run",
+        help="run a mission file's study: table, figure and an animated trial",
+        description="Compile a mission file, simulate its study (every level on the same "
+        "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
+        "success table and write runs/NAME.png and runs/NAME.gif.",
+        epilog=_RUN_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument("file", metavar="MISSION", help="a mission file (.epi)")
+    cmd.add_argument("--trials", type=int, default=None, help="trials per level (default: file)")
+    cmd.add_argument(
+        "--paper-scale", action="store_true", help="50 trials per level, as the published study"
+    )
+    cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
+    cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
+    cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
+    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
+    cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+
+
+def add_check_options(check) -> None:
+    """The mission-only options of ``check``."""
+    check.add_argument(
+        "--after",
+        type=int,
+        default=None,
+        metavar="STEPS",
+        help="mission files: check after the first STEPS steps of a seeded trial",
+    )
+    check.add_argument("--seed", type=int, default=None, help="that trial's seed (mission)")
+    check.add_argument("--robot", default=None, help="mission: check K[ROBOT] of the formula")
+    check.add_argument("--reasoning", default=None, help="mission: level of that trial")
+
+
+def add_simulate_command(commands) -> None:
+    """Register ``simulate`` on an argparse subparsers object."""
+    cmd = commands.add_parser(
+        "simulate",
+        help="simulate one trial of a multi-robot mission",
+        description="Simulate one trial of the published protocol (Scenario.paper) at a "
+        "reasoning level and report its outcome; optionally draw it.",
+        epilog=_SIMULATE_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument("--mission", default="rendezvous", help="rendezvous, allocation, multitask")
+    cmd.add_argument("--robots", type=int, default=3, help="team size (default 3)")
+    cmd.add_argument(
+        "--goals", type=int, default=None, help="goals (default: as many as robots; multitask 20)"
+    )
+    cmd.add_argument("--seed", type=int, default=0, help="trial seed (default 0)")
+    cmd.add_argument(
+        "--reasoning",
+        default="third",
+        help="zero, convention, first, second, third, paper-first, paper-higher, "
+        "paper-higher-fixed (default third)",
+    )
+    add_scenario_options(cmd)
+    cmd.add_argument("--json", action="store_true", help="print a JSON object")
+    cmd.add_argument("--png", metavar="FILE", help="write the trajectories as a PNG")
+    cmd.add_argument("--gif", metavar="FILE", help="write an animation with the beliefs")
+
+
+def parse_counts(text: str) -> list[int]:
+    """``"2,3,5"`` or ``"2..5"`` (or a mix, ``"2..4,8"``) as a list of integers.
+
+    Examples
+    --------
+    >>> parse_counts("2..4,8")
+    [2, 3, 4, 8]
+    """
+    out: list[int] = []
+    for part in text.split(","):
+        low, dots, high = part.strip().partition("..")
+        try:
+            a, b = int(low), int(high) if dots else int(low)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected numbers like 2,3,5 or 2..5, got {text!r}"
+            ) from None
+        if a < 1 or b < a or b - a > 1000:
+            raise argparse.ArgumentTypeError(f"expected an increasing range >= 1, got {part!r}")
+        out.extend(range(a, b + 1))
+    return out
+
+
+def _names(text: str) -> list[str]:
+    return [t.strip() for t in text.split(",") if t.strip()]
+
+
+def add_sweep_commands(commands) -> None:
+    """Register ``sweep`` and ``report`` on an argparse subparsers object."""
+    sweep = commands.add_parser(
+        "sweep",
+        help="run a Monte Carlo grid of simulated trials into an SQLite file",
+        description="Run every trial of a grid (paper-protocol scenarios) and store one row "
+        "per trial; interrupted sweeps resume with --resume.",
+        epilog=_SWEEP_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sweep.add_argument(
+        "--mission",
+        type=_names,
+        default=["rendezvous"],
+        help="rendezvous, allocation, multitask (comma-separated)",
+    )
+    sweep.add_argument("--robots", type=parse_counts, default=[2], help="e.g. 2..5 or 2,3,5")
+    sweep.add_argument(
+        "--goals",
+        type=parse_counts,
+        default=None,
+        help="goal counts (default: as many as robots; multitask 20)",
+    )
+    sweep.add_argument(
+        "--reasoning",
+        type=_names,
+        default=["zero", "convention", "third"],
+        help="levels, comma-separated",
+    )
+    sweep.add_argument("--trials", type=int, default=50, help="seeds per cell (default 50)")
+    sweep.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    sweep.add_argument("--out", required=True, help="results file (SQLite)")
+    sweep.add_argument("--resume", action="store_true", help="add the missing trials to --out")
+    sweep.add_argument(
+        "--workers", type=int, default=None, help="local processes (default: all cores)"
+    )
+    sweep.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="run on this Dask scheduler (needs epistemica[cluster])",
+    )
+    add_scenario_options(sweep)
+
+    report = commands.add_parser(
+        "report",
+        help="print the success table of a results file and write its figure",
+        description="Success rate with 95 %% Wilson intervals and mean steps per cell.",
+    )
+    report.add_argument("results", help="an SQLite file written by `epistemica sweep`")
+    report.add_argument("--markdown", action="store_true", help="a markdown table")
+    report.add_argument("--png", default=None, help="figure file (default: RESULTS.png)")
+    report.add_argument("--no-png", action="store_true", help="do not write the figure")
