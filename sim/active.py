@@ -163,6 +163,7 @@ class ActiveInference(Policy):
         out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
         out = out._replace(goal_belief=np.zeros((len(robots), m)))
         out = out._replace(unpruned=np.zeros(len(robots), dtype=int))
+        out = out._replace(modelled=np.zeros((len(robots), n), dtype=int))
         # Robots that share a controller (same goals, set and limits) decide in one team
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
@@ -280,6 +281,9 @@ class ActiveInference(Policy):
         out.unpruned[row] = rows.shape[0]
         self._record(out, row, robot, ctrl, choice.goals, d)
         out.considered[row] = int(sets.own.sum())
+        out.modelled[row] = out.considered[row]
+        for j, mask in sets.pairs.items():
+            out.modelled[row, j] = int(mask.sum())
 
     def _anticipates(self, sets) -> bool:
         """Whether to predict teammates from their sets: at order 2 and above, with nested
@@ -297,6 +301,7 @@ class ActiveInference(Policy):
         out.considered[row] = ctrl.configurations.shape[0]
         if out.unpruned[row] < 0:
             out.unpruned[row] = out.considered[row]
+        out.modelled[row] = out.considered[row]
         own = goals[ctrl.configurations[:, robot]]
         m = out.goal_belief.shape[1]
         out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)

@@ -51,6 +51,10 @@ class Decisions(NamedTuple):
     goal_belief : numpy.ndarray or None
         ``(r, m)``: each robot's belief about its own goal (the marginal of its belief over
         configurations); ``None``: certainty on its focal goal.
+    modelled : numpy.ndarray or None
+        ``(r, n)``: for each deciding robot, the size of the set of configurations it
+        models each teammate keeping (its own set's size on its own column); ``None``: as
+        ``considered`` throughout (no nested sets).
     unpruned : numpy.ndarray or None
         ``(r,)`` configurations each robot had before pruning by what it knows
         (:class:`~epistemica.sim.knowledge.TeamKnowledge`); ``None``: as ``considered``.
@@ -62,6 +66,7 @@ class Decisions(NamedTuple):
     considered: np.ndarray
     goal_belief: np.ndarray | None = None
     unpruned: np.ndarray | None = None
+    modelled: np.ndarray | None = None
 
     @classmethod
     def of(cls, controls, focal, entropy=None, considered=None) -> Decisions:

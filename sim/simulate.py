@@ -114,6 +114,10 @@ def simulate(
             run.considered[step, robots] = decisions.considered
             unpruned = decisions.unpruned
             run.unpruned[step, robots] = decisions.considered if unpruned is None else unpruned
+            modelled = decisions.modelled
+            if modelled is None:
+                modelled = np.repeat(np.asarray(decisions.considered)[:, None], n, axis=1)
+            run.modelled[step, robots] = modelled
             run.record_goal_belief(step, robots, decisions)
         run.time[step] = perf_counter() - started
         if run.advance(step, controls):
@@ -159,6 +163,7 @@ class _Run:
         self.entropy = np.full((steps, n), np.nan)
         self.considered = np.zeros((steps, n), dtype=int)
         self.unpruned = np.zeros((steps, n), dtype=int)
+        self.modelled = np.zeros((steps, n, n), dtype=int)
         self.knowledge = initial_knowledge(s)
         self.open = ~s.closed
         self.first_reached = np.full(s.n_goals, -1)
@@ -294,6 +299,7 @@ class _Run:
             entropy=self.entropy[:steps],
             considered=self.considered[:steps],
             unpruned=self.unpruned[:steps],
+            modelled=self.modelled[:steps],
             goal_belief=self.goal_belief[:steps],
             decision_time=self.time[:steps],
             policies=names,

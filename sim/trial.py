@@ -44,6 +44,10 @@ class Trial:
     unpruned : numpy.ndarray
         ``(steps, n)`` configurations each robot had before pruning by what it knows
         (equal to ``considered`` where nothing was pruned).
+    modelled : numpy.ndarray
+        ``(steps, n, n)``: the size of the set of configurations robot ``i`` models robot
+        ``j`` keeping (``B_ij``; its own set on the diagonal): where nested knowledge
+        differs, the sizes differ.
     goal_belief : numpy.ndarray
         ``(steps, n, m)``: each robot's belief about its own goal.
     decision_time : numpy.ndarray
@@ -72,6 +76,7 @@ class Trial:
     entropy: np.ndarray
     considered: np.ndarray
     unpruned: np.ndarray
+    modelled: np.ndarray
     goal_belief: np.ndarray
     decision_time: np.ndarray
     policies: tuple[str, ...]
