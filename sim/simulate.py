@@ -104,6 +104,7 @@ def simulate(
     run = _Run(s, streams)
     for step in range(s.max_steps):
         obs = run.perceive(step)
+        run.estimates[step] = obs.poses[..., :2]
         controls = np.empty((n, 2))
         started = perf_counter()
         for policy, robots in groups:
@@ -169,6 +170,7 @@ class _Run:
         self.first_reached = np.full(s.n_goals, -1)
         self.events: list[tuple] = []
         self.goal_belief = np.zeros((steps, n, s.n_goals))
+        self.estimates = np.zeros((steps, n, n, 2))
         self.time = np.zeros(steps)
 
     def record_goal_belief(self, step: int, robots: np.ndarray, decisions) -> None:
@@ -300,6 +302,7 @@ class _Run:
             considered=self.considered[:steps],
             unpruned=self.unpruned[:steps],
             modelled=self.modelled[:steps],
+            estimates=self.estimates[:steps],
             goal_belief=self.goal_belief[:steps],
             decision_time=self.time[:steps],
             policies=names,

@@ -24,6 +24,7 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 ``unpruned``        ``(T, n)``: before pruning by what it observed
 ``modelled``        ``(T, n, n)``: the size of the set robot ``i`` models ``j`` keeping
 ``focal``           ``(T, n, n)``: the configuration robot ``i`` acted on (-1: none)
+``estimates``       ``(T, n, n, 2)``: where robot ``i`` placed robot ``j`` (m, 1 decimal)
 ``events``          ``[step, name, [arguments], [observers]]``, robots and goals by index
 ==================  ==========================================================================
 
@@ -87,6 +88,7 @@ def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
         "unpruned": np.asarray(trial.unpruned).tolist(),
         "modelled": np.asarray(trial.modelled).tolist(),
         "focal": np.asarray(trial.focal).tolist(),
+        "estimates": _rounded(trial.estimates, 1),
         "events": events,
     }
 

@@ -48,6 +48,9 @@ class Trial:
         ``(steps, n, n)``: the size of the set of configurations robot ``i`` models robot
         ``j`` keeping (``B_ij``; its own set on the diagonal): where nested knowledge
         differs, the sizes differ.
+    estimates : numpy.ndarray
+        ``(steps, n, n, 2)``: where robot ``i`` placed robot ``j`` when it decided (its
+        own position exact).
     goal_belief : numpy.ndarray
         ``(steps, n, m)``: each robot's belief about its own goal.
     decision_time : numpy.ndarray
@@ -77,6 +80,7 @@ class Trial:
     considered: np.ndarray
     unpruned: np.ndarray
     modelled: np.ndarray
+    estimates: np.ndarray
     goal_belief: np.ndarray
     decision_time: np.ndarray
     policies: tuple[str, ...]
