@@ -2,7 +2,7 @@
 
 Four missions at 3 and 5 robots. In each, what a robot knows that a teammate does not
 know (and knows that the teammate does not know) decides where the team can meet or who
-takes which goal, and the robots see each other only within 6 m:
+takes which goal, and the robots see each other only within a few metres:
 they cannot read from motion what they cannot see.
 
     python benchmarks/nested_suite.py            # rewrites specs/nested/*.epi
@@ -27,27 +27,27 @@ HEADER = {
 # choice over the goals that teammate knows, and meets it there.""",
     "relocated": """\
 # False belief (a robots' Sally-Anne; rendezvous, {n} robots). The team's meeting place,
-# g4 at the centre, is moved at step 2 to g5 (closed until then, placed at random): g4
-# closes and g5 opens. Only robots within 6 m of either place see it; the others still
+# g4 at the centre, is moved at step 0 to g5 (closed until then, placed at random): g4
+# closes and g5 opens. Only robots within 10 m of either place see it; the others still
 # believe g4 open and do not know g5 exists, and those who saw it know that. A robot that
 # saw it and heads for g5 (first order, third_shared) waits for teammates who will go to
 # g4, find it shut and choose among the goals they know. Third order predicts that
 # choice and goes there.""",
     "new_goal": """\
-# Asymmetric observation (rendezvous, {n} robots). At step 2 a new goal opens at the centre
-# of the workspace, g4, the cheapest meeting place for most starts; only robots within 6 m
+# Asymmetric observation (rendezvous, {n} robots). At the start a new goal opens at the centre
+# of the workspace, g4, the cheapest meeting place for most starts; only robots within 10 m
 # see it open, and they know who else did. A robot that saw it and heads for it (first
 # order, or third_shared, which takes every teammate to have seen it) waits for teammates
 # who do not know it exists. Third order meets them at a goal they know.""",
     "commitment": """\
-# Commitment before motion reveals intent (allocation, {n} robots). The robots see each
-# other only within 6 m, so motion tells little. r1 alone knows of an extra goal g{extra},
-# at the centre;
-# the others allocate themselves the goals they know, and r1 knows they do. First order
-# (and third_shared) lets r1 compute the cheapest allocation over every goal it knows,
-# which may send a teammate to g{extra}, a goal that teammate will never take, and r1 to
-# the goal that teammate will take. Third order predicts each teammate's goal from the
-# goals it knows and takes what is left.""",
+# Commitment before motion reveals intent (rendezvous, {n} robots). The robots see each
+# other only within 4 m and nobody sees a teammate settle: each must commit to a goal from
+# what it knows of what the others know. Goals g1 and g2 are known to everyone (and
+# everyone knows it); goals g3 to g5 are each known to two robots, who do not know who
+# else knows them. A robot choosing from its own view (first order) or taking the others
+# to know what it knows (third_shared) goes to a goal some teammates have never heard of
+# whenever it is cheaper; third order predicts each teammate's choice over the goals it
+# knows the teammate knows, and meets the team at one of those.""",
 }
 
 
@@ -59,18 +59,20 @@ def mission(kind: str, n: int) -> str:
     """The text of one mission file."""
     lines = [HEADER[kind].format(n=n, extra=n + 1)]
     if kind == "commitment":
+        pairs = [(1, 2), (2, 3), (1, 3)] if n == 3 else [(1, 2), (3, 4), (2, 5)]
         lines += [
-            "mission allocation",
+            "mission rendezvous",
             "workspace 30",
             f"robot r1..r{n}: random at random",
-            f"goal g1..g{n} at random",
-            f"goal g{n + 1} at (15, 15)",
-            f"knows r1: {', '.join(f'g{g}' for g in range(1, n + 2))}",
-            f"knows {_robots(n)}: {', '.join(f'g{g}' for g in range(1, n + 1))}",
-            "sensing model paper noise 0.5 range 6 discovery 3",
-            "event settle seen by nearby",
-            f'check "r1 believes r2 does not conceive of going to g{n + 1}":',
-            f"    B[r1] B[r2] closed(g{n + 1})",
+            "goal g1..g5 at random",
+            "knows " + ", ".join(f"r{i}" for i in range(1, n + 1)) + ": g1, g2",
+        ]
+        for goal, pair in zip((3, 4, 5), pairs, strict=True):
+            lines.append(f"knows r{pair[0]}, r{pair[1]}: g{goal}")
+        lines += [
+            "sensing model paper noise 0.5 range 4 discovery 2",
+            f'check "r{pairs[0][0]} knows g3 but believes r3 does not conceive of it":',
+            f"    ~B[r{pairs[0][0]}] closed(g3) & B[r{pairs[0][0]}] B[r3] closed(g3)",
         ]
     else:
         lines += [
@@ -97,27 +99,26 @@ def mission(kind: str, n: int) -> str:
                 "knows "
                 + ", ".join(f"r{i}" for i in range(1, n + 1))
                 + (": g1, g2, g3" if kind == "new_goal" else ": g1, g2, g3, g4"),
-                "sensing model paper noise 0.5 range 6 discovery 3",
-                "event settle seen by nearby",
+                "sensing model paper noise 0.5 range 4 discovery 3",
             ]
             if kind == "relocated":
                 lines += [
                     "event relocate {",
-                    "    when step 2",
+                    "    when step 0",
                     "    closes g4",
                     "    opens g5",
                     "    announces closed(g4)",
                     "    reveals g5",
-                    "    full robots if near(g4, 6) | near(g5, 6)",
+                    "    full robots if near(g4, 10) | near(g5, 10)",
                     "}",
                 ]
             else:
                 lines += [
                     "event opening {",
-                    "    when step 2",
+                    "    when step 0",
                     "    opens g4",
                     "    reveals g4",
-                    "    full robots if near(g4, 6)",
+                    "    full robots if near(g4, 10)",
                     "}",
                 ]
             claim = (
