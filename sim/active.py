@@ -254,7 +254,8 @@ class ActiveInference(Policy):
             return p / total if total > 0 else base  # a chain with no set: no restriction
 
         own = restricted(sets.own)
-        if self._anticipates(sets):
+        unaware = self._unaware(sets)
+        if unaware:
             view = self._views(observations, (robot,))[0]
 
             def redecide(teammate: int, goal: int) -> np.ndarray:
@@ -268,7 +269,7 @@ class ActiveInference(Policy):
                 base / base.sum(),
                 robot,
                 sets.own[keep],
-                {j: m[keep] for j, m in sets.pairs.items()},
+                {j: m[keep] for j, m in unaware.items()},
                 {jk: m[keep] for jk, m in sets.triples.items()},
                 redecide,
             )
@@ -285,12 +286,12 @@ class ActiveInference(Policy):
         for j, mask in sets.pairs.items():
             out.modelled[row, j] = int(mask.sum())
 
-    def _anticipates(self, sets) -> bool:
-        """Whether to predict teammates from their sets: at order 2 and above, with nested
-        sets, where some teammate keeps another set than the robot."""
+    def _unaware(self, sets) -> dict:
+        """The teammates to predict from their sets (order 2 and above, with nested sets):
+        those that cannot conceive of some configuration the robot keeps."""
         if self.order < 2 or not self.parameters.anticipate or not self.parameters.nested:
-            return False
-        return any(not np.array_equal(m, sets.own) for m in sets.pairs.values())
+            return {}
+        return {j: m for j, m in sets.pairs.items() if (sets.own & ~m).any()}
 
     def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
         if self.parameters.memory > 0:
