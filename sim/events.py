@@ -16,7 +16,11 @@ Triggers (``R`` a robot, ``G`` a goal, ``X`` either; names or parameters):
 - ``R reaches G``: the step ``R`` comes within the success radius of ``G``;
 - ``R within D of X``: the step the distance from ``R`` to ``X`` drops to ``D`` m or less;
 - ``G is reached``: the first step a robot is within the success radius of the open goal
-  ``G``; the robots there are ``reachers``.
+  ``G``; the robots there are ``reachers`` (in a collaborative mission, the step enough
+  robots are there at once to do the task: :mod:`epistemica.sim.collaborative`);
+- ``R heads to G``: every step ``R`` moves towards ``G``, the place its policy steers it to
+  (a simulator that knows no such place, as :func:`~epistemica.sim.simulate`, never fires
+  it).
 
 World effects: ``closes G`` (``G`` no longer counts for success and is no longer
 discovered), ``opens G``. Content, as in the spec language's observability blocks: ``pre F``
@@ -75,6 +79,7 @@ TRIGGERS = {
     "reaches": (True, True, False),
     "within": (True, True, True),
     "reached": (False, True, False),
+    "heads": (True, True, False),
 }
 #: Observer predicates, with their arities.
 PREDICATES = {"sees": 1, "near": 2, "sensor": 1}
@@ -139,6 +144,7 @@ class World(NamedTuple):
     sensors: tuple[str, ...]
     robots: tuple[str, ...]
     goal_names: tuple[str, ...]
+    heading: np.ndarray | None = None  # (n,) goal each robot steers to, -1 none (optional)
 
 
 class Firing(NamedTuple):
@@ -202,7 +208,9 @@ def _bindings(rule: EventRule, world: World) -> list[tuple[dict, np.ndarray | No
     places = _places(world, t.target, names)
     spots = np.array([_position(world, x) for x in places]).reshape(-1, 2)
     now = distances(world.poses, spots)  # (n, targets)
-    if t.kind == "settles":
+    if t.kind == "heads":
+        hits = _heading_hits(world, places)
+    elif t.kind == "settles":
         hits = np.zeros_like(now, dtype=bool)
         if world.previous is not None:
             moved = np.hypot(*(world.poses[:, :2] - world.previous[:, :2]).T)
@@ -227,6 +235,18 @@ def _bindings(rule: EventRule, world: World) -> list[tuple[dict, np.ndarray | No
         binding = {t.robot: robots[i], t.target: places[k]}
         out.append(({key: v for key, v in binding.items() if key in names}, None))
     return out
+
+
+def _heading_hits(world: World, places: Sequence[str]) -> np.ndarray:
+    """``(n, targets)``: robot ``i`` moved (at least :data:`STILL`) towards goal ``k``."""
+    hits = np.zeros((len(world.robots), len(places)), dtype=bool)
+    if world.heading is None or world.previous is None:
+        return hits
+    moved = np.hypot(*(world.poses[:, :2] - world.previous[:, :2]).T) >= STILL
+    for k, name in enumerate(places):
+        if name in world.goal_names:
+            hits[:, k] = moved & (world.heading == world.goal_names.index(name))
+    return hits
 
 
 def _places(world: World, slot: str, names: Mapping[str, str]) -> list[str]:

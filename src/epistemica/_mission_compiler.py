@@ -23,6 +23,7 @@ from epistemica._mission_names import KEYWORDS, LIMITS, MAX_NUMBER, MissionScope
 from epistemica._mission_parts import GoalSpec, MissionCheck, MissionParts, RobotSpec, assemble
 from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula
 from epistemica.del_.language.parser import syntax_error
+from epistemica.sim.collaborative import COLLABORATIVE
 from epistemica.sim.events import EventRule, ObserverRule
 from epistemica.sim.scenario import MISSIONS, OBSERVATIONS
 
@@ -94,8 +95,8 @@ class MissionCompiler(MissionScope):
         token = node.children[0]
         if self.kind is not None:
             raise self.error("the mission is declared twice", token, "keep one 'mission' line")
-        if str(token) not in MISSIONS:
-            raise self.unknown("mission", token, MISSIONS)
+        if str(token) not in (*MISSIONS, COLLABORATIVE):
+            raise self.unknown("mission", token, (*MISSIONS, COLLABORATIVE))
         self.kind, self.kind_token = str(token), token
 
     def workspace_decl(self, node: Tree) -> None:
@@ -135,9 +136,9 @@ class MissionCompiler(MissionScope):
             self._goal(name, token, place, needs, closed is not None, tasks=False)
 
     def task_decl(self, node: Tree) -> None:
-        declared, place = node.children
+        declared, place, needs = node.children
         for name, token in self.expand_names(declared):
-            self._goal(name, token, place, None, False, tasks=True)
+            self._goal(name, token, place, needs, False, tasks=True)
 
     def _goal(self, name, token, place, needs, closed: bool, tasks: bool) -> None:
         self.new_name(name, token, "task" if tasks else "goal")

@@ -16,6 +16,8 @@ import numpy as np
 from lark import Token
 
 from epistemica.del_ import Check, Formula
+from epistemica.sim.collaborative import COLLABORATIVE
+from epistemica.sim.collaborative_levels import COLLABORATIVE_LEVELS
 from epistemica.sim.events import EventRule
 from epistemica.sim.levels import REASONING
 
@@ -123,15 +125,17 @@ def assemble(comp: Any) -> MissionParts:
 
 def _check_kind(comp: Any) -> None:
     kind = comp.kind
-    if (kind == "multitask") != comp.is_tasks:
-        want = "task" if kind == "multitask" else "goal"
+    if (kind in ("multitask", COLLABORATIVE)) != comp.is_tasks:
+        want = "task" if kind in ("multitask", COLLABORATIVE) else "goal"
         raise comp.error(
             f"a {kind} mission declares {want}s",
             comp.kind_token,
             f"declare its places with '{want} NAME at (x, y)'",
         )
     needs = [g for g in comp.goals.values() if g.needs is not None]
-    if kind == "capacity":
+    if kind == COLLABORATIVE:
+        _check_needs(comp)
+    elif kind == "capacity":
         missing = [g for g in comp.goals.values() if g.needs is None]
         if missing:
             raise comp.error(
@@ -153,6 +157,32 @@ def _check_kind(comp: Any) -> None:
         )
 
 
+def _check_needs(comp: Any) -> None:
+    """Every task of a collaborative mission needs 1..n robots; no claims (its model
+    would be over tasks found, not over configurations)."""
+    if comp.checks:
+        raise comp.error(
+            "a collaborative mission has no claims yet: its robots' knowledge is about "
+            "tasks found, not about goal configurations",
+            comp.kind_token,
+            "remove the 'check' lines; inspect CollaborativeTrial.knowledge instead",
+        )
+    for task in comp.goals.values():
+        if task.needs is None:
+            raise comp.error(
+                "every task of a collaborative mission says how many robots it needs",
+                task.token,
+                "write 'task NAME at random needs 2'",
+            )
+        if not 1 <= int(task.needs) <= len(comp.robots):
+            raise comp.error(
+                f"task '{task.name}' needs {int(task.needs)} robots, the team has "
+                f"{len(comp.robots)}",
+                task.needs_token,
+                f"a number from 1 to {len(comp.robots)}",
+            )
+
+
 def _check_steps(comp: Any) -> None:
     limit = comp.options.get("max_steps", DEFAULT_STEPS)
     for step, token in comp.step_triggers:
@@ -166,13 +196,14 @@ def _check_steps(comp: Any) -> None:
 
 def _check_levels(comp: Any) -> None:
     seen = set()
+    known = tuple(COLLABORATIVE_LEVELS) if comp.kind == COLLABORATIVE else REASONING
     for token in comp.level_tokens:
         name = str(token).replace("_", "-")
-        if name not in REASONING:
+        if name not in known:
             raise comp.error(
                 f"unknown reasoning level '{token}'",
                 token,
-                "levels: " + ", ".join(r.replace("-", "_") for r in REASONING),
+                "levels: " + ", ".join(r.replace("-", "_") for r in known),
             )
     for name, token in comp.study.get("levels", ()):
         if name in seen:
@@ -181,7 +212,8 @@ def _check_levels(comp: Any) -> None:
 
 
 def _capacities(comp: Any) -> tuple[int, ...] | None:
-    if comp.kind != "capacity":
+    """Robots each goal (capacity) or task (collaborative) needs."""
+    if comp.kind not in ("capacity", COLLABORATIVE):
         return None
     return tuple(int(g.needs) for g in comp.goals.values())
 

@@ -15,10 +15,12 @@ import sys
 import time
 from pathlib import Path
 
+from epistemica.cli_collaborative import run_collaborative
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials, run_study
+from epistemica.sim.collaborative import COLLABORATIVE
 from epistemica.sim.figures import animate_trial
 from epistemica.sim.report import format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
@@ -45,6 +47,8 @@ def is_mission_file(path: str) -> bool:
 def run_mission(args: argparse.Namespace) -> int:
 
     mission = load_mission(args.file)
+    if mission.kind == COLLABORATIVE:  # its own trials and table (cli_collaborative.py)
+        return run_collaborative(mission, args)
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
     trials = 50 if args.paper_scale else args.trials
     specs = mission_trials(mission, levels, trials, args.seed)

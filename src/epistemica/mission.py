@@ -36,6 +36,11 @@ from pathlib import Path
 
 import numpy as np
 
+from epistemica._mission_collaborative import (
+    COLLABORATIVE_STUDY_LEVELS,
+    collaborative_parameters,
+    collaborative_scenario,
+)
 from epistemica._mission_compiler import (
     MissionCheck,
     MissionParts,
@@ -47,6 +52,7 @@ from epistemica.aif.configurations import count_configurations, valid_configurat
 from epistemica.del_ import Formula, KnowledgeStructure, KripkeModel, parse_formula
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.input_files import read_input
+from epistemica.sim.collaborative import COLLABORATIVE, simulate_collaborative
 from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.events import EventRule, expand
 from epistemica.sim.knowledge import TeamKnowledge, initial_knowledge
@@ -159,6 +165,8 @@ class Mission:
         first seed): what is placed ``at random`` is drawn from the seed
         (:mod:`epistemica.sim.draws`), the rest as written."""
         seed = self.study.seed if seed is None else int(seed)
+        if self.kind == COLLABORATIVE:  # its own world: tasks that need several robots
+            return collaborative_scenario(self, seed)
         p, n, m = self.parts, len(self.robots), len(self.goals)
         options = dict(p.options)
         layout = draw_layout(seed, n, m, workspace=options.get("workspace", 30.0))
@@ -270,7 +278,9 @@ class Mission:
     @functools.cached_property
     def parameters(self) -> ActiveParameters:
         """The active-inference levels' parameters: the defaults, changed by the file's
-        ``policy`` lines."""
+        ``policy`` lines (a collaborative mission's: ``CollaborativeParameters``)."""
+        if self.kind == COLLABORATIVE:
+            return collaborative_parameters(self, _policy_value)
         out = ActiveParameters()
         for name, text, token in self.parts.policy:
             try:
@@ -306,6 +316,8 @@ class Mission:
         short = scenario.replace(max_steps=max(min(int(steps), scenario.max_steps), 1))
         if steps == 0:
             short = short.replace(max_steps=1)
+        if self.kind == COLLABORATIVE:
+            return simulate_collaborative(short, level, seed, self.parameters)
         return simulate(
             short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
         )
@@ -358,6 +370,7 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     """
     parts = compile_text(text, filename, library_rules())
     defaults = Study()
+    defaults_levels = COLLABORATIVE_STUDY_LEVELS if parts.kind == COLLABORATIVE else defaults.levels
     mission = Mission(
         name=Path(filename).stem if filename != "<string>" else "mission",
         kind=parts.kind,
@@ -367,7 +380,7 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
         study=Study(
             trials=defaults.trials if parts.trials is None else parts.trials,
             seed=defaults.seed if parts.seed is None else parts.seed,
-            levels=defaults.levels if parts.levels is None else tuple(n for n, _ in parts.levels),
+            levels=defaults_levels if parts.levels is None else tuple(n for n, _ in parts.levels),
         ),
         filename=filename,
         source=text,

@@ -1,0 +1,114 @@
+"""Collaborative tasks found while exploring: the levels on the same seeds, per team size.
+
+For each mission file (specs/collaborative/tasks_3.epi, tasks_5.epi, tasks_8.epi) and
+level, runs the trials of the given seeds and prints success (with a 95 % Wilson
+interval), the mean completion step of the successes, and the paired change of ``third``'s
+completion step against first, third-shared and the oracle on the trials both solve
+(the two mean completion steps over those trials, and their relative change). A level may carry
+parameter changes after a colon, as in benchmarks/level_study.py:
+``third:fetch_memory=40;seek=false`` (fields of
+:class:`epistemica.sim.collaborative_levels.CollaborativeParameters`).
+
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi --seeds 0-99
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \\
+        --seeds 1000-1029 --levels first,third,third:seek=false
+    python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from level_study import _level, _seeds, wilson
+
+from epistemica.mission import load_mission
+from epistemica.sim.collaborative import simulate_collaborative
+
+LEVELS = "convention,first,third-shared,third,oracle"
+PAIRS = ("first", "third-shared", "oracle")
+
+
+def run_one(job: tuple[str, str, int]) -> tuple[str, str, int, bool, int]:
+    path, spec, seed = job
+    mission = load_mission(path)
+    level, changes = _level(spec)
+    parameters = mission.parameters.replace(**changes) if changes else mission.parameters
+    trial = simulate_collaborative(mission.scenario(seed), level, seed, parameters)
+    return path, spec, seed, bool(trial.success), int(trial.steps)
+
+
+def speed(path: str, repeats: int = 5) -> None:
+    """Median wall time of a 5-robot trial run for exactly 200 steps, per level."""
+    mission = load_mission(path)
+    for level in LEVELS.split(","):
+        times = []
+        for seed in range(repeats):
+            scenario = mission.scenario(seed)
+            # tasks out of reach, so the trial runs its 200 steps whatever the level does
+            scenario = scenario.replace(
+                max_steps=200, needs=(len(mission.robots),) * len(scenario.needs)
+            )
+            started = time.perf_counter()
+            trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+            times.append(time.perf_counter() - started)
+        print(f"  {level}: median {statistics.median(times):.2f} s ({trial.steps} steps)")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("missions", nargs="*")
+    parser.add_argument("--seeds", default="0-99", help="first-last (inclusive)")
+    parser.add_argument("--levels", default=LEVELS)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--speed", action="store_true", help="time 5-robot 200-step trials")
+    args = parser.parse_args()
+    if args.speed:
+        speed(args.missions[0] if args.missions else "specs/collaborative/tasks_5.epi")
+        return
+    levels = args.levels.split(",")
+    seeds = _seeds(args.seeds)
+    jobs = [(str(p), lv, s) for p in args.missions for lv in levels for s in seeds]
+    with ProcessPoolExecutor(args.workers) as pool:
+        results = list(pool.map(run_one, jobs, chunksize=4))
+    table: dict[tuple[str, str], dict[int, tuple[bool, int]]] = {}
+    for path, spec, seed, success, steps in results:
+        table.setdefault((path, spec), {})[seed] = (success, steps)
+    print(f"seeds {args.seeds}\n")
+    print("| mission | " + " | ".join(levels) + " |")
+    print("|---|" + "---|" * len(levels))
+    for path in args.missions:
+        cells = []
+        for lv in levels:
+            rows = table[(path, lv)]
+            k = sum(s for s, _ in rows.values())
+            low, high = wilson(k, len(rows))
+            steps = [t for s, t in rows.values() if s]
+            mean = f", {statistics.mean(steps):.1f}" if steps else ""
+            cells.append(f"{100 * k / len(rows):.0f} % [{low:.0f}, {high:.0f}]{mean}")
+        print(f"| {Path(path).stem} | " + " | ".join(cells) + " |")
+    focus = next((lv for lv in levels if lv.startswith("third") and lv != "third-shared"), None)
+    if focus is None:
+        return
+    print(f"\npaired change of {focus}'s completion step (trials both solve):")
+    for path in args.missions:
+        parts = []
+        for other in [lv for lv in levels if lv in PAIRS or (lv != focus and ":" in lv)]:
+            a, b = table[(path, other)], table[(path, focus)]
+            both = [s for s in seeds if a[s][0] and b[s][0]]
+            if both:
+                mine = statistics.mean(b[s][1] for s in both)
+                theirs = statistics.mean(a[s][1] for s in both)
+                relative = (mine - theirs) / theirs
+                parts.append(
+                    f"vs {other}: {mine:.1f} against {theirs:.1f} steps, "
+                    f"{100 * relative:+.1f} % over {len(both)}"
+                )
+        print(f"  {Path(path).stem}: " + "; ".join(parts))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,358 @@
+"""The levels of a collaborative mission: who goes to which task, who explores, who fetches
+a teammate (:mod:`epistemica.sim.collaborative`).
+
+Every level sweeps the workspace in lanes (a boustrophedon, each robot starting at a lane
+of its own, a convention every robot knows) while it has nothing better to do, and waits at
+a task it goes to; after ``patience`` steps of waiting in vain it explores again for
+``hold`` steps before it may come back. They differ in what a robot does with what it
+knows:
+
+=================  ======================================================================
+``convention``     the nearest task it knows of, not known done
+``first``          its own knowledge: the known task it expects done soonest (nearest,
+                   less ``join_bonus`` m per teammate it sees waiting there)
+``third-shared``   takes every teammate to know what it knows: per task (in index order)
+                   the ``needs`` robots nearest it go; a robot not among them explores
+``third``          the same over the teammates it knows know the task (the chain
+                   ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
+                   done event); when those are too few, a knower fetches the nearest
+                   teammate that does not know (an intercept: it goes where it predicts
+                   that teammate on its sweep, and once in sight heads for the task, so the
+                   teammate observes the heading event), or waits at the task when that
+                   teammate's sweep passes within sight of it in ``wait_horizon`` steps
+``oracle``         ``third`` with full communication: every robot observes every event
+=================  ======================================================================
+
+Examples
+--------
+>>> make_collaborative_policy("third").name, make_collaborative_policy("oracle").shares_everything
+('third', True)
+>>> lanes(40.0, 8.0, 1.6)                      # at most 12.8 m apart: four lanes
+array([ 5., 15., 25., 35.])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import NamedTuple
+
+import numpy as np
+
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.knowledge import TeamKnowledge
+
+__all__ = [
+    "COLLABORATIVE_LEVELS",
+    "CollaborativeParameters",
+    "CollaborativePolicy",
+    "View",
+    "lanes",
+    "make_collaborative_policy",
+]
+
+#: Level name -> (style, full communication).
+COLLABORATIVE_LEVELS = {
+    "convention": ("convention", False),
+    "first": ("first", False),
+    "third-shared": ("shared", False),
+    "third": ("third", False),
+    "oracle": ("third", True),
+}
+EXPLORING, FETCHING, WAIT = -1, -2, -3
+
+
+@dataclass(frozen=True)
+class CollaborativeParameters:
+    """Every constant of the collaborative levels, one set for every mission (chosen on
+    tuning seeds 1000-1029: docs/results.md, "Collaborative tasks found while exploring").
+
+    Attributes
+    ----------
+    lane_factor : float
+        Lane spacing of the sweep, in sensing ranges (2 leaves no gap between lanes).
+    patience, hold : int
+        Steps a robot waits at a task before exploring again; steps before it may return.
+    join_bonus : float
+        ``first``: metres a task seems nearer per teammate seen waiting there.
+    intercept_limit : int
+        ``third``: steps a robot looks for a teammate it fetches before it gives up on it.
+    wait_horizon : int
+        ``third``: a teammate whose predicted sweep passes within sight of the task in this
+        many steps is waited for rather than fetched.
+    fetch_memory : int
+        ``third``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
+        others are is a guess).
+    seek : bool
+        ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
+        on (it meets teammates to fetch) rather than waiting at the task.
+    """
+
+    lane_factor: float = 1.6
+    patience: int = 60
+    hold: int = 40
+    join_bonus: float = 10.0
+    intercept_limit: int = 40
+    wait_horizon: int = 20
+    fetch_memory: int = 20
+    seek: bool = True
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+                raise InvalidArgumentError(
+                    f"{f.name} must be a finite number >= 0, got {value!r}",
+                    hint="see CollaborativeParameters",
+                )
+        if self.lane_factor <= 0:
+            raise InvalidArgumentError("lane_factor must be > 0", hint="1.6")
+
+    def replace(self, **changes) -> CollaborativeParameters:
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            raise InvalidArgumentError(
+                f"unknown collaborative parameter {sorted(unknown)[0]!r}",
+                hint=f"one of {', '.join(f.name for f in fields(self))}",
+            )
+        return replace(self, **changes)
+
+
+class View(NamedTuple):
+    """What the robots have at one step (each reads only its own rows)."""
+
+    step: int
+    poses: np.ndarray  # (n, 3) true poses (robot i reads row i only)
+    estimates: np.ndarray  # (n, n, 2) where robot i last saw robot j
+    last_seen: np.ndarray  # (n, n) step robot i last saw robot j (-1 never)
+    knowledge: TeamKnowledge
+
+
+def lanes(workspace: float, sensing_range: float, factor: float) -> np.ndarray:
+    """Centres of the sweep's lanes: as few as leave them at most ``factor`` sensing
+    ranges apart, evenly spaced."""
+    count = max(1, math.ceil(workspace / (factor * sensing_range) - 1e-9))
+    spacing = workspace / count
+    return spacing / 2 + spacing * np.arange(count)
+
+
+def _route(scenario, robot: int, p: CollaborativeParameters) -> np.ndarray:
+    """Robot ``robot``'s sweep: waypoints ``(k, 2)``, lanes in turn from its own, cyclic."""
+    w, r = scenario.workspace, scenario.sensing_range
+    xs = lanes(w, r, p.lane_factor)
+    low = min(w / (2 * len(xs)), w / 2)
+    count, n = len(xs), scenario.n_robots
+    first = (robot * count) // n
+    up = robot % 2 == 0
+    points = []
+    travel = scenario.max_steps * float(scenario.max_speed[robot])
+    laps = 2 + int(travel // max(count * w, 1.0))
+    for k in range(count * laps):
+        x = xs[(first + k) % count]
+        ends = [(x, low), (x, w - low)] if up else [(x, w - low), (x, low)]
+        points.extend(ends)
+        up = not up
+    return np.array(points)
+
+
+class _Route:
+    """A polyline with arc-length look-ups (a teammate's predicted sweep)."""
+
+    def __init__(self, points: np.ndarray) -> None:
+        self.points = points
+        seg = np.diff(points, axis=0)
+        self.lengths = np.hypot(seg[:, 0], seg[:, 1])
+        self.cumulative = np.concatenate([[0.0], np.cumsum(self.lengths)])
+
+    def at(self, s: float) -> np.ndarray:
+        s = float(np.clip(s, 0.0, self.cumulative[-1]))
+        return np.column_stack(
+            [
+                np.interp(s, self.cumulative, self.points[:, 0]),
+                np.interp(s, self.cumulative, self.points[:, 1]),
+            ]
+        )[0]
+
+    def project(self, point: np.ndarray) -> float:
+        """Arc length of the point of the route nearest ``point`` (first lap)."""
+        a, b = self.points[:-1], self.points[1:]
+        d = b - a
+        length2 = np.maximum((d**2).sum(axis=1), 1e-12)
+        u = np.clip(((point - a) * d).sum(axis=1) / length2, 0.0, 1.0)
+        gap = np.hypot(*(a + u[:, None] * d - point).T)
+        k = int(np.argmin(gap))
+        return float(self.cumulative[k] + u[k] * self.lengths[k])
+
+
+class CollaborativePolicy:
+    """One level of :data:`COLLABORATIVE_LEVELS` for the whole team (each robot decides
+    from its own view)."""
+
+    def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
+        self.name = name
+        self.style, self.shares_everything = COLLABORATIVE_LEVELS[name]
+        self.parameters = parameters
+
+    def start(self, scenario) -> None:
+        s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
+        self.s = s
+        self.routes = [_Route(_route(s, i, p)) for i in range(n)]
+        self.pointer = np.zeros(n, dtype=int)
+        self.waiting_since = np.full(n, -1)
+        self.company = np.zeros(n, dtype=int)
+        self.hold_until = np.zeros((n, m), dtype=int)
+        self.fetching = np.full(n, -1)
+        self.fetch_since = np.full(n, -1)
+        self.gave_up = np.zeros((n, m, n), dtype=bool)
+
+    # -- what a robot predicts ------------------------------------------------------------
+
+    def predicted(self, view: View, i: int, j: int, ahead: int = 0) -> np.ndarray:
+        """Where robot ``i`` expects robot ``j`` ``ahead`` steps from now."""
+        if i == j:
+            return view.poses[i, :2]
+        route, speed = self.routes[j], self.s.max_speed[j]
+        seen = view.last_seen[i, j]
+        if seen == view.step and ahead == 0:
+            return view.estimates[i, j]
+        if seen < 0:  # never seen: on its sweep since it could reach the start
+            lag = 0.5 * self.s.workspace / speed
+            return route.at((view.step + ahead - lag) * speed)
+        start = route.project(view.estimates[i, j])
+        return route.at(start + (view.step + ahead - seen) * speed)
+
+    # -- decisions --------------------------------------------------------------------------
+
+    def decide(self, view: View) -> tuple[np.ndarray, np.ndarray]:
+        """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
+        heads to (-1 exploring, -2 fetching a teammate)."""
+        n, k = self.s.n_robots, view.knowledge
+        targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
+        aware = None
+        if self.style in ("third",):
+            aware = np.array([[k.knows_goals((i, j)) for j in range(n)] for i in range(n)])
+        for i in range(n):
+            known = k.knows_goals((i,)) & ~k.knows_done((i,))
+            waiting = self._waiting(view, i)
+            full = waiting >= np.asarray(self.s.needs) - 1  # it would complete them: go
+            available = known & ((self.hold_until[i] <= view.step) | full)
+            choice = self._choose(view, i, available, aware, waiting)
+            targets[i], steer_to[i] = self._act(view, i, choice, waiting)
+        return targets, steer_to
+
+    def _waiting(self, view: View, i: int) -> np.ndarray:
+        """``(m,)`` teammates robot ``i`` sees standing at each task now."""
+        sees = view.last_seen[i] == view.step
+        sees[i] = False
+        gap = np.hypot(
+            *(view.estimates[i, sees][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1)
+        )
+        return (gap <= 2 * self.s.completion_radius).sum(axis=0)
+
+    def _choose(self, view: View, i: int, available: np.ndarray, aware, waiting) -> tuple:
+        """``("task", t)``, ``("fetch", t, j)``, or ``("explore",)``."""
+        tasks = np.flatnonzero(available)
+        if tasks.size == 0:
+            return ("explore",)
+        here = view.poses[i, :2]
+        gaps = np.hypot(*(self.s.tasks[tasks] - here).T)
+        if self.style == "convention":
+            return ("task", int(tasks[np.argmin(gaps)]))
+        if self.style == "first":
+            score = gaps - self.parameters.join_bonus * waiting[tasks]
+            return ("task", int(tasks[np.argmin(score)]))
+        return self._assign(view, i, tasks, aware)
+
+    def _assign(self, view: View, i: int, tasks: np.ndarray, aware) -> tuple:
+        """Robot ``i``'s view of who does what, task by task in index order."""
+        n, s = self.s.n_robots, self.s
+        where = np.array([self.predicted(view, i, j) for j in range(n)])
+        taken = np.zeros(n, dtype=bool)
+        for t in tasks:
+            if aware is None:  # third-shared: everyone knows what i knows
+                knowers = np.ones(n, dtype=bool)
+            else:
+                knowers = aware[i, :, t].copy()
+                knowers[i] = True
+            free = np.flatnonzero(knowers & ~taken)
+            gap = np.hypot(*(where[free] - s.tasks[t]).T)
+            order = free[np.argsort(gap, kind="stable")]
+            need = s.needs[t]
+            if order.size >= need or aware is None:
+                chosen = order[:need]
+                taken[chosen] = True
+                if i in chosen:
+                    return ("task", int(t))
+                continue
+            taken[order] = True  # too few know: they wait, or fetch those who do not
+            fetch = self._recruit(view, i, t, knowers | taken, where)
+            if i in order:
+                if fetch == WAIT or (order.size > 1 and i == order[0]):
+                    return ("task", int(t))
+                if fetch is None:  # nobody it knows where to find: look for helpers
+                    return ("explore",) if self.parameters.seek else ("task", int(t))
+                return ("fetch", int(t), fetch)
+            if fetch is not None and fetch != WAIT:
+                taken[fetch] = True
+        return ("explore",)
+
+    def _recruit(self, view: View, i: int, t: int, excluded: np.ndarray, where) -> int | None:
+        """The teammate robot ``i`` would fetch for task ``t`` (:data:`WAIT`: its sweep
+        brings it by; None: no teammate it knows where to find)."""
+        recent = view.last_seen[i] >= view.step - self.parameters.fetch_memory
+        candidates = np.flatnonzero(~excluded & ~self.gave_up[i, t] & recent)
+        if candidates.size == 0:
+            return None
+        gap = np.hypot(*(where[candidates] - self.s.tasks[t]).T)
+        j = int(candidates[np.argmin(gap)])
+        horizon, sight = self.parameters.wait_horizon, 0.8 * self.s.sensing_range
+        for ahead in range(0, horizon + 1, 5):
+            if np.hypot(*(self.predicted(view, i, j, ahead) - self.s.tasks[t])) <= sight:
+                return WAIT  # its sweep brings it by: wait at the task
+        return j
+
+    def _act(self, view: View, i: int, choice: tuple, waiting) -> tuple[np.ndarray, int]:
+        s, p, step = self.s, self.parameters, view.step
+        here = view.poses[i, :2]
+        if choice[0] != "fetch":
+            self.fetching[i], self.fetch_since[i] = -1, -1
+        if choice[0] == "task":
+            t = choice[1]
+            if np.hypot(*(here - s.tasks[t])) <= s.completion_radius:
+                if self.waiting_since[i] < 0 or waiting[t] > self.company[i]:
+                    self.waiting_since[i] = step  # a teammate joined: patience anew
+                self.company[i] = waiting[t]
+                if step - self.waiting_since[i] >= p.patience:
+                    self.hold_until[i, t] = step + p.hold
+                    self.waiting_since[i] = -1
+            else:
+                self.waiting_since[i] = -1
+            return s.tasks[t], t
+        self.waiting_since[i] = -1
+        if choice[0] == "fetch":
+            t, j = choice[1], choice[2]
+            if self.fetching[i] != j:
+                self.fetching[i], self.fetch_since[i] = j, step
+            if view.last_seen[i, j] == step:  # in sight: head for the task, it sees that
+                return s.tasks[t], t
+            if step - self.fetch_since[i] >= p.intercept_limit:
+                self.gave_up[i, t, j] = True
+            return self.predicted(view, i, j), FETCHING
+        route = self.routes[i]
+        while np.hypot(*(route.points[self.pointer[i]] - here)) < 1.0:
+            self.pointer[i] = (self.pointer[i] + 1) % len(route.points)
+        return route.points[self.pointer[i]], EXPLORING
+
+
+def make_collaborative_policy(
+    name: str, parameters: CollaborativeParameters | None = None
+) -> CollaborativePolicy:
+    """A fresh policy for a level of :data:`COLLABORATIVE_LEVELS`."""
+    if name not in COLLABORATIVE_LEVELS:
+        raise InvalidArgumentError(
+            f"unknown collaborative level {name!r}",
+            hint=f"use one of {', '.join(COLLABORATIVE_LEVELS)}",
+        )
+    return CollaborativePolicy(
+        name, CollaborativeParameters() if parameters is None else parameters
+    )

@@ -1,0 +1,210 @@
+"""Collaborative missions: the language (``mission collaborative``, ``task ... needs K``,
+``when R heads to T``), the simulator of tasks found while exploring, and its levels."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from epistemica import SpecError
+from epistemica.del_ import parse_formula
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.mission import load_mission, parse_mission
+from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim.collaborative_levels import (
+    COLLABORATIVE_LEVELS,
+    CollaborativeParameters,
+    lanes,
+)
+from epistemica.sim.events import EventRule, ObserverRule, Trigger, World, fire
+from epistemica.sim.missions import distances
+
+SPECS = ["specs/collaborative/tasks_3.epi", "specs/collaborative/tasks_5.epi",
+         "specs/collaborative/tasks_8.epi"]  # fmt: skip
+
+HEADER = """mission collaborative
+workspace 30
+robot r1..r3: range at random
+"""
+EVENTS = """
+event found(r in robots, t in tasks) {
+    when r within 7 of t
+    reveals t
+    full robots if sees(r)
+}
+event heading(r in robots, t in tasks) {
+    when r heads to t
+    reveals t
+    full robots if sees(r)
+}
+event done(t in tasks) {
+    when t is reached
+    closes t
+    announces closed(t)
+    full robots if sees(reachers)
+}
+"""
+
+
+def _events():
+    return parse_mission(
+        HEADER + "task t1 at random needs 2\nsensing range 7\n" + EVENTS
+    ).parts.events
+
+
+# -- the language ------------------------------------------------------------------------
+
+
+def test_shipped_missions_compile_with_their_needs():
+    needs = {3: (2, 3, 2), 5: (2, 3, 2, 3, 2), 8: (2, 3, 2, 3, 2, 3)}
+    for path in SPECS:
+        m = load_mission(path)
+        s = m.scenario(0)
+        assert m.kind == "collaborative"
+        assert s.needs == needs[len(m.robots)]
+        assert m.study.levels == tuple(COLLABORATIVE_LEVELS)
+        assert {r.trigger.kind for r in s.events} == {"within", "settles", "heads", "reached"}
+
+
+def test_tasks_at_random_come_from_the_seed():
+    m = load_mission(SPECS[0])
+    a, b, c = m.scenario(4), m.scenario(4), m.scenario(5)
+    assert np.array_equal(a.tasks, b.tasks) and np.array_equal(a.starts, b.starts)
+    assert not np.array_equal(a.tasks, c.tasks)
+    assert (a.tasks >= 1).all() and (a.tasks <= 29).all()  # 1 m borders of a 30 m square
+
+
+@pytest.mark.parametrize(
+    ("body", "line", "words"),
+    [
+        ("task t1 at random\n", 4, "says how many robots it needs"),
+        ("task t1 at random needs 4\n", 4, "needs 4 robots, the team has 3"),
+        ("task t1 at random needs 0\n", 4, "0 is outside [1"),
+        ("goal g1 at random\n", 1, "declares tasks"),
+        ("task t1 at random needs 2\nsimulate levels zero\n", 5, "unknown reasoning level"),
+        ("task t1 at random needs 2\npolicy patience -3\n", 5, "patience"),
+        ("task t1 at random needs 2\npolicy nonsense 3\n", 5, "unknown collaborative parameter"),
+        ('task t1 at random needs 2\ncheck "c": K[r1] closed(t1)\n', 1, "no claims"),
+    ],
+)
+def test_bad_collaborative_missions_are_located(body, line, words):
+    with pytest.raises(SpecError) as info:
+        parse_mission(HEADER + body, "bad.epi")
+    assert words in info.value.message
+    assert info.value.line == line
+
+
+def test_needs_stays_out_of_multitask_missions():
+    text = "mission multitask\nrobot r1: range at random\ntask t1 at random needs 2\n"
+    with pytest.raises(SpecError, match="'needs' in a multitask mission"):
+        parse_mission(text)
+
+
+def test_heads_to_compiles_to_its_trigger():
+    heading = next(r for r in _events() if r.name == "heading")
+    assert heading.trigger == Trigger("heads", "r", "t")
+    assert heading.reveals == ("t",)
+
+
+def test_policy_lines_set_collaborative_parameters():
+    m = parse_mission(HEADER + "task t1 at random needs 2\npolicy patience 30 seek false\n")
+    assert m.parameters == CollaborativeParameters(patience=30, seek=False)
+
+
+# -- the heading trigger ---------------------------------------------------------------
+
+
+def test_heading_is_seen_by_the_robots_in_sight_of_the_mover():
+    sees = (ObserverRule("robots", parse_formula("sees(r)")),)
+    rule = EventRule("heading", (("r", "robots"), ("t", "goals")), Trigger("heads", "r", "t"),
+                     reveals=("t",), full=sees)  # fmt: skip
+    before = np.array([[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
+    now = before.copy()
+    now[0, 0] += 1.0  # r1 moves towards t2; r2, r3 stand still
+    visible = distances(now, now[:, :2]) <= 7.0
+    world = World(1, now, before, np.array([[0.0, 20.0], [9.0, 0.0]]), np.ones(2, bool),
+                  np.zeros(2, bool), visible, 7.0, 1.5, ("range",) * 3, ("r1", "r2", "r3"),
+                  ("t1", "t2"), np.array([1, 1, -1]))  # fmt: skip
+    (firing,) = fire(rule, world)  # r2 "heads" to t2 too but did not move
+    assert firing.binding == {"r": "r1", "t": "t2"}
+    assert firing.observation.full == {"r1", "r2"}  # r3 is 19 m away
+    assert fire(rule, world._replace(heading=None)) == []  # no steering known: never fires
+
+
+# -- the simulator -----------------------------------------------------------------------
+
+
+def test_a_task_is_done_when_enough_robots_stand_at_it_at_once():
+    s = CollaborativeScenario([[5, 5], [5, 6], [25, 25]], [[5, 7], [24, 25]], (2, 3),
+                              workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
+    trial = simulate_collaborative(s, "convention", seed=0)
+    # t1: both robots start within 2 m and see it at once: done after the first step
+    assert trial.tasks_done[0] == 1
+    # t2 needs all three: never done before the step all three stand within 1.5 m of it
+    near = distances(trial.trajectory.reshape(-1, 3), s.tasks).reshape(
+        trial.trajectory.shape[0], 3, 2)[..., 1] <= s.completion_radius  # fmt: skip
+    if trial.tasks_done[1] >= 0:
+        assert near[trial.tasks_done[1]].all()
+        assert not near[: trial.tasks_done[1]].all(axis=1).any()
+
+
+def test_a_finder_seen_by_a_teammate_tells_it_and_one_out_of_sight_does_not():
+    tasks, needs = [[5, 5]], (2,)
+    seen = CollaborativeScenario([[5, 8], [5, 14.5], [28, 28]], tasks, needs,
+                                 workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
+    unseen = seen.replace(starts=np.array([[5, 8, 0], [5, 20, 0], [28, 28, 0]]))
+    a = simulate_collaborative(seen, "first", seed=0, parameters=None)
+    b = simulate_collaborative(unseen, "first", seed=0)
+    # r2 is 9.5 m from the task: it learns of it from the found event (it sees r1, 6.5 m)
+    assert a.knows[0, 1, 0] and not b.knows[0, 1, 0]
+    assert a.knowledge.knows_goals((0, 1))[0]  # r1 knows r2 saw it find the task
+    assert b.knows[0, 0, 0]
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from(sorted(COLLABORATIVE_LEVELS)))
+def test_what_a_robot_knows_comes_from_sight_or_an_observed_event(seed, level):
+    m = load_mission(SPECS[0])
+    s = m.scenario(seed).replace(max_steps=80)
+    trial = simulate_collaborative(s, level, seed, m.parameters)
+    first = trial.knows.argmax(axis=0)  # (n, m) first step robot i knew task t
+    gap = np.hypot(*(trial.trajectory[:, :, None, :2] - s.tasks[None, None]).transpose(3, 0, 1, 2))
+    for i, t in zip(*np.nonzero(trial.knows.any(axis=0)), strict=True):
+        step = first[i, t]
+        in_sight = gap[step, i, t] <= s.sensing_range
+        told = any(e[0] <= step and i in e[3] and s.task_names[t] in e[2] for e in trial.events)
+        assert in_sight or told or (level == "oracle" and trial.knows[step, :, t].all())
+    if level == "oracle":  # full communication: everyone knows the same tasks
+        assert (trial.knows == trial.knows[:, :1]).all()
+
+
+def test_every_level_sees_the_same_world_on_a_seed():
+    m = load_mission(SPECS[0])
+    s = m.scenario(7).replace(max_steps=30)
+    starts = {lv: simulate_collaborative(s, lv, 7).trajectory[0] for lv in COLLABORATIVE_LEVELS}
+    assert all(np.array_equal(v, starts["third"]) for v in starts.values())
+
+
+def test_bad_scenarios_and_parameters_are_refused():
+    with pytest.raises(InvalidArgumentError, match="needs"):
+        CollaborativeScenario([[0, 0], [1, 1]], [[5, 5]], (3,))
+    with pytest.raises(InvalidArgumentError, match="finite"):
+        CollaborativeScenario([[0, np.nan]], [[5, 5]], (1,))
+    with pytest.raises(InvalidArgumentError, match="sensing_range"):
+        CollaborativeScenario([[0, 0]], [[5, 5]], (1,), sensing_range=0.0)
+    with pytest.raises(InvalidArgumentError, match="unknown collaborative parameter"):
+        CollaborativeParameters().replace(speed=3)
+    with pytest.raises(InvalidArgumentError, match="unknown collaborative level"):
+        simulate_collaborative(CollaborativeScenario([[0, 0]], [[5, 5]], (1,)), "zero")
+
+
+def test_lanes_cover_the_workspace():
+    xs = lanes(40.0, 8.0, 2.0)  # at most 16 m apart: three lanes, 13.3 m apart
+    assert np.allclose(xs, [20 / 3, 20, 100 / 3])
+    assert lanes(10.0, 8.0, 2.0).tolist() == [5.0]
+    for w, r, f in [(30.0, 7.0, 1.6), (50.0, 10.0, 1.6), (40.0, 8.0, 1.0)]:
+        x = lanes(w, r, f)  # every point of [0, w] within f * r / 2 of a lane
+        grid = np.linspace(0, w, 101)
+        assert (np.abs(grid[:, None] - x[None]).min(axis=1) <= f * r / 2 + 1e-9).all()
