@@ -13,6 +13,8 @@ parameter changes after a colon, as in benchmarks/level_study.py:
     python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \\
         --seeds 1000-1029 --levels first,third,third:seek=false
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
+        --trace third --seeds 17                          # one trial, step by step
 """
 
 from __future__ import annotations
@@ -58,6 +60,41 @@ def speed(path: str, repeats: int = 5) -> None:
         print(f"  {level}: median {statistics.median(times):.2f} s ({trial.steps} steps)")
 
 
+def trace(path: str, level: str, seed: int, every: int = 10) -> None:
+    """Every ``every`` steps: each robot's place, what it steers to, the tasks it knows
+    and, per task, the teammates it knows know it; then the events with their observers."""
+    mission = load_mission(path)
+    scenario = mission.scenario(seed)
+    trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+    names, tasks = scenario.robot_names, scenario.task_names
+    print(f"{Path(path).stem} {level} seed {seed}: success {trial.success}, {trial.steps} steps")
+    print("tasks: " + ", ".join(
+        f"{t} at ({x:.0f}, {y:.0f}) needs {k}, done at {d}"
+        for t, (x, y), k, d in zip(tasks, scenario.tasks, scenario.needs, trial.tasks_done,
+                                   strict=True)))  # fmt: skip
+    steer = {-1: "explore", -2: "fetch"}
+    for step in range(0, trial.steps, every):
+        print(f"step {step}")
+        for i, name in enumerate(names):
+            x, y = trial.trajectory[step, i, :2]
+            target = int(trial.targets[step, i])
+            known = [tasks[t] for t in range(len(tasks)) if trial.knows[step, i, t]]
+            print(f"  {name} ({x:5.1f}, {y:5.1f}) {steer.get(target, tasks[target]):>8}  "
+                  f"knows {', '.join(known) or '-'}")  # fmt: skip
+    k = trial.knowledge
+    print("at the end, robot: task <- teammates it knows know it")
+    for i, name in enumerate(names):
+        parts = []
+        for t, task in enumerate(tasks):
+            who = [names[j] for j in range(len(names)) if j != i and k.knows_goals((i, j))[t]]
+            parts.append(f"{task} <- {', '.join(who) or '-'}")
+        print(f"  {name}: " + "; ".join(parts))
+    print("events (step, name, arguments, observers):")
+    for step, name, arguments, observers in trial.events:
+        print(f"  {step} {name}({', '.join(arguments)}) seen by "
+              f"{', '.join(names[o] for o in observers)}")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="*")
@@ -65,7 +102,11 @@ def main() -> None:
     parser.add_argument("--levels", default=LEVELS)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--speed", action="store_true", help="time 5-robot 200-step trials")
+    parser.add_argument("--trace", metavar="LEVEL", help="print one trial (the first seed)")
     args = parser.parse_args()
+    if args.trace:
+        trace(args.missions[0], args.trace, _seeds(args.seeds)[0])
+        return
     if args.speed:
         speed(args.missions[0] if args.missions else "specs/collaborative/tasks_5.epi")
         return

@@ -88,13 +88,13 @@ class CollaborativeParameters:
         on (it meets teammates to fetch) rather than waiting at the task.
     """
 
-    lane_factor: float = 1.6
+    lane_factor: float = 2.0
     patience: int = 60
     hold: int = 40
     join_bonus: float = 10.0
     intercept_limit: int = 40
     wait_horizon: int = 20
-    fetch_memory: int = 20
+    fetch_memory: int = 40
     seek: bool = True
 
     def __post_init__(self) -> None:
@@ -106,7 +106,7 @@ class CollaborativeParameters:
                     hint="see CollaborativeParameters",
                 )
         if self.lane_factor <= 0:
-            raise InvalidArgumentError("lane_factor must be > 0", hint="1.6")
+            raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}
