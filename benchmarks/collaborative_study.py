@@ -22,10 +22,9 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from level_study import _level, _seeds, wilson
+from level_study import _level, _seeds, print_table, run_table
 
 from epistemica.mission import load_mission
 from epistemica.sim.collaborative import simulate_collaborative
@@ -112,25 +111,9 @@ def main() -> None:
         return
     levels = args.levels.split(",")
     seeds = _seeds(args.seeds)
-    jobs = [(str(p), lv, s) for p in args.missions for lv in levels for s in seeds]
-    with ProcessPoolExecutor(args.workers) as pool:
-        results = list(pool.map(run_one, jobs, chunksize=4))
-    table: dict[tuple[str, str], dict[int, tuple[bool, int]]] = {}
-    for path, spec, seed, success, steps in results:
-        table.setdefault((path, spec), {})[seed] = (success, steps)
+    table = run_table(run_one, args.missions, levels, seeds, args.workers)
     print(f"seeds {args.seeds}\n")
-    print("| mission | " + " | ".join(levels) + " |")
-    print("|---|" + "---|" * len(levels))
-    for path in args.missions:
-        cells = []
-        for lv in levels:
-            rows = table[(path, lv)]
-            k = sum(s for s, _ in rows.values())
-            low, high = wilson(k, len(rows))
-            steps = [t for s, t in rows.values() if s]
-            mean = f", {statistics.mean(steps):.1f}" if steps else ""
-            cells.append(f"{100 * k / len(rows):.0f} % [{low:.0f}, {high:.0f}]{mean}")
-        print(f"| {Path(path).stem} | " + " | ".join(cells) + " |")
+    print_table(table, args.missions, levels, "")
     focus = next((lv for lv in levels if lv.startswith("third") and lv != "third-shared"), None)
     if focus is None:
         return

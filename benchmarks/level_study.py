@@ -71,6 +71,33 @@ def _seeds(text: str) -> list[int]:
     return list(range(int(first), int(last or first) + 1))
 
 
+def run_table(run, missions, levels, seeds, workers) -> dict:
+    """``(mission, level) -> {seed: (success, steps)}``, ``run`` on every job in parallel."""
+    jobs = [(str(p), lv, s) for p in missions for lv in levels for s in seeds]
+    with ProcessPoolExecutor(workers) as pool:
+        results = list(pool.map(run, jobs, chunksize=4))
+    table: dict[tuple[str, str], dict[int, tuple[bool, int]]] = {}
+    for path, spec, seed, success, steps in results:
+        table.setdefault((path, spec), {})[seed] = (success, steps)
+    return table
+
+
+def print_table(table: dict, missions, levels, unit: str) -> None:
+    """Success with its Wilson interval and the mean steps of the successes, as markdown."""
+    print("| mission | " + " | ".join(levels) + " |")
+    print("|---|" + "---|" * len(levels))
+    for path in missions:
+        cells = []
+        for lv in levels:
+            rows = table[(str(path), lv)]
+            k = sum(s for s, _ in rows.values())
+            low, high = wilson(k, len(rows))
+            steps = [t for s, t in rows.values() if s]
+            mean = f", {statistics.mean(steps):.1f}{unit}" if steps else ""
+            cells.append(f"{100 * k / len(rows):.0f} % [{low:.0f}, {high:.0f}]{mean}")
+        print(f"| {Path(path).stem} | " + " | ".join(cells) + " |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="+")
@@ -80,25 +107,9 @@ def main() -> None:
     args = parser.parse_args()
     levels = args.levels.split(",")
     seeds = _seeds(args.seeds)
-    jobs = [(str(p), lv, s) for p in args.missions for lv in levels for s in seeds]
-    with ProcessPoolExecutor(args.workers) as pool:
-        results = list(pool.map(run_one, jobs, chunksize=4))
-    table: dict[tuple[str, str], dict[int, tuple[bool, int]]] = {}
-    for path, spec, seed, success, steps in results:
-        table.setdefault((path, spec), {})[seed] = (success, steps)
+    table = run_table(run_one, args.missions, levels, seeds, args.workers)
     print(f"seeds {args.seeds}\n")
-    print("| mission | " + " | ".join(levels) + " |")
-    print("|---|" + "---|" * len(levels))
-    for path in args.missions:
-        cells = []
-        for lv in levels:
-            rows = table[(path, lv)]
-            k = sum(s for s, _ in rows.values())
-            low, high = wilson(k, len(rows))
-            steps = [t for s, t in rows.values() if s]
-            mean = f", {statistics.mean(steps):.1f} steps" if steps else ""
-            cells.append(f"{100 * k / len(rows):.0f} % [{low:.0f}, {high:.0f}]{mean}")
-        print(f"| {Path(path).stem} | " + " | ".join(cells) + " |")
+    print_table(table, args.missions, levels, " steps")
     print("\npaired change in steps, last level against each other (trials both solve):")
     last = levels[-1]
     for path in args.missions:
