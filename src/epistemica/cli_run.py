@@ -20,7 +20,7 @@ from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials, run_study
 from epistemica.sim.figures import animate_trial
-from epistemica.sim.report import format_table, plot_levels, summarise
+from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
 from epistemica.sim.store import ResultStore
 
@@ -81,12 +81,26 @@ def run_mission(args: argparse.Namespace) -> int:
         print(f"figure: {png}")
         if not args.no_gif:
             gif = out.with_suffix(".gif")
-            _animate(mission, specs[-1].reasoning, specs[0].seed, gif)
-            print(f"animation ({specs[-1].reasoning}, seed {specs[0].seed}): {gif}")
+            level, seed, why = _animated_trial(args.trial, rows, specs)
+            _animate(mission, level, seed, gif)
+            print(f"animation ({level}, seed {seed}{why}): {gif}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
     return EXIT_OK
+
+
+def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
+    """The level, seed and reason of the animated trial: the study's last (highest) level
+    at ``--trial``, else at the first seed where the levels disagree on success."""
+    level = specs[-1].reasoning
+    if chosen is not None:
+        return level, chosen, ""
+    levels = list(dict.fromkeys(s.reasoning for s in specs))
+    seed = disputed_seed(rows, levels)
+    if seed is None:
+        return level, specs[0].seed, ": the levels agree on every seed"
+    return level, seed, ": the first where the levels disagree"
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:
