@@ -20,8 +20,8 @@ from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.html_view import trial_page
 from epistemica.sim.trace import encode, trial_trace
+from epistemica.view import trial_page
 
 SPECS = Path(__file__).resolve().parents[1] / "specs"
 

@@ -60,7 +60,8 @@ def add_run_command(commands) -> None:
         help="run a mission file's study: table, figure and an animated trial",
         description="Compile a mission file, simulate its study (every level on the same "
         "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
-        "success table and write runs/NAME.png and runs/NAME.gif.",
+        "success table and write runs/NAME.png, and one trial as runs/NAME.gif and runs/NAME.html "
+        "(a page to replay in a browser).",
         epilog=_RUN_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -17,12 +17,15 @@ from pathlib import Path
 
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials, run_study
-from epistemica.sim.figures import animate_trial
+from epistemica.sim.figures import animate_trace
 from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
 from epistemica.sim.store import ResultStore
+from epistemica.sim.trace import trial_trace
+from epistemica.view import trial_page
 
 __all__ = ["check_mission", "is_mission_file", "run_mission"]
 
@@ -83,7 +86,7 @@ def run_mission(args: argparse.Namespace) -> int:
             gif = out.with_suffix(".gif")
             level, seed, why = _animated_trial(args.trial, rows, specs)
             _animate(mission, level, seed, gif)
-            print(f"animation ({level}, seed {seed}{why}): {gif}")
+            print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
@@ -109,7 +112,9 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     trial = simulate(
         scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
     )
-    animate_trial(scenario, trial, path)
+    trace = trial_trace(scenario, trial)
+    animate_trace(trace, path, mission=mission.name)
+    write_page(path.with_suffix(".html"), trial_page(trace, mission.name))
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:

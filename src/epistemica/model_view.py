@@ -1,6 +1,6 @@
 """``epistemica show SPEC --html OUT``: a spec's model as one self-contained HTML page.
 
-The page (:func:`epistemica.sim.html_view.model_page`) lists the worlds, each agent's
+The page (:func:`epistemica.html_view.model_page`) lists the worlds, each agent's
 relations and the designated worlds, draws the model, shows the spec's claims with the
 worlds where each holds (computed here by :func:`epistemica.del_.evaluate`), and has a box
 that evaluates static formulas in the page.
@@ -11,8 +11,8 @@ from __future__ import annotations
 import re
 
 from epistemica.del_ import KripkeModel, Spec, evaluate
+from epistemica.html_view import model_page, write_page
 from epistemica.model_json import model_to_json, world_names
-from epistemica.sim.html_view import model_page, write_page
 
 __all__ = ["write_model_view"]
 

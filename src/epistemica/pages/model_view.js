@@ -216,7 +216,9 @@
   });
 
   el("h2", {}, right, "Relations per agent");
-  const palette = page.colours;
+  // Agents take the robots' palette (epistemica.sim.palette.ROBOT_COLOURS).
+  const palette = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+    "#e377c2", "#17becf", "#bcbd22"];
   for (const [k, agent] of model.agents.entries()) {
     const entry = model.relations[agent] || {};
     for (const kind of ["knowledge", "belief"]) {

@@ -2,13 +2,13 @@
 
 Each page is one file with its script, style and data inline (the data as JSON in a
 ``<script type="application/json">`` element): it opens offline, from disk, with no server
-and no network. The assets are in ``sim/view/`` (``page.html``, ``view.css``,
-``trial_view.js``, ``model_view.js``), shipped as package data.
+and no network. The assets are in ``src/epistemica/pages/`` (``page.html``, ``view.css``,
+``trial_view.js``, ``model_view.js``), shipped as package data. This module imports no
+simulator code, so that ``show --html`` starts as fast as ``show``.
 
-- :func:`trial_page`: a trace (:mod:`epistemica.sim.trace`) replayed with the panels of
-  the animation (:mod:`epistemica.sim.figures`): the map with sensing radii, estimates and
-  events, each robot's belief, the configuration-set sizes (own and one robot's model of
-  each teammate's) and the events; a slider scrubs, a button plays and pauses.
+- :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.trace`) replayed with
+  the panels of the animation (:mod:`epistemica.sim.figures`); a slider scrubs, a button
+  plays and pauses.
 - :func:`model_page`: a model as ``epistemica show --json`` writes it (worlds, relations per
   agent, designated worlds), the spec's claims with their truth sets computed by
   epistemica, and a box that evaluates static formulas (propositional, ``K``, ``B``,
@@ -16,10 +16,9 @@ and no network. The assets are in ``sim/view/`` (``page.html``, ``view.css``,
 
 Examples
 --------
->>> from epistemica.sim import Scenario, simulate
->>> from epistemica.sim.trace import trial_trace
->>> s = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=5)
->>> html = trial_page(trial_trace(s, simulate(s, "third", seed=0)), "rendezvous")
+>>> html = model_page({"format": "epistemica-kripke-1", "agents": ["a"], "atoms": ["p"],
+...                    "worlds": [{"name": "w0", "atoms": ["p"]}], "designated": ["w0"],
+...                    "relations": {"a": {"belief": {"blocks": [["w0"]]}}}}, "one world")
 >>> html.startswith("<!DOCTYPE html>"), "<link" in html or " src=" in html
 (True, False)
 """
@@ -32,17 +31,12 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
 
-TRACE_FORMAT = "epistemica-trace"  # epistemica.sim.trace.FORMAT, without its imports
-
-__all__ = ["model_page", "trial_page", "write_page"]
-
-_FPS = 6
+__all__ = ["model_page", "page", "write_page"]
 
 
 def _asset(name: str) -> str:
-    return (resources.files("epistemica.sim") / "view" / name).read_text(encoding="utf-8")
+    return (resources.files("epistemica") / "pages" / name).read_text(encoding="utf-8")
 
 
 def _json(data: Any) -> str:
@@ -51,32 +45,14 @@ def _json(data: Any) -> str:
     return text.replace("</", "<\\/")
 
 
-def _page(title: str, script: str, data: dict[str, Any]) -> str:
+def page(title: str, script: str, data: dict[str, Any]) -> str:
+    """The page titled ``title`` running the asset ``script`` over ``data`` (embedded JSON)."""
     escaped = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
     parts = {"title": escaped, "style": _asset("view.css"), "script": _asset(script)}
     parts["data"] = _json(data)
     # Split on the markers once, so that no inserted text is searched for markers again.
     pieces = _asset("page.html").split("@@")
     return "".join(parts[p] if i % 2 else p for i, p in enumerate(pieces))
-
-
-def trial_page(trace: dict[str, Any], mission: str = "") -> str:
-    """The replay page of a trial's trace (``epistemica-trace`` v1) as HTML text."""
-    if not isinstance(trace, dict) or trace.get("format") != TRACE_FORMAT:
-        raise InvalidArgumentError(
-            "not an epistemica trace", hint="traces are written by epistemica.sim.trace"
-        )
-    levels = ", ".join(dict.fromkeys(trace["policies"]))
-    outcome = "success" if trace["success"] else "failure"
-    head = f"{mission}: " if mission else ""
-    title = f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']} ({outcome})"
-    data = {
-        "trace": trace,
-        "colours": list(ROBOT_COLOURS),
-        "focus": focus_robot(trace),
-        "fps": _FPS,
-    }
-    return _page(title, "trial_view.js", data)
 
 
 def model_page(
@@ -100,9 +76,8 @@ def model_page(
         "model": model,
         "claims": list(claims),
         "example": example,
-        "colours": list(ROBOT_COLOURS),
     }
-    return _page(title, "model_view.js", data)
+    return page(title, "model_view.js", data)
 
 
 def write_page(path, text: str) -> None:
