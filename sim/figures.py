@@ -248,9 +248,9 @@ class TraceFrame:
         self.map_axes.legend(
             handles=[*self.discs, *extra],
             fontsize=_FONT,
-            loc="upper center",
-            bbox_to_anchor=(0.5, -0.09),
-            ncol=4,
+            loc="upper left",
+            bbox_to_anchor=(-0.02, -0.08),
+            ncol=3,
             frameon=False,
         )
 
@@ -386,8 +386,12 @@ def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") 
             frame.draw(int(step), since)
             since = int(step)
             frame.fig.canvas.draw()  # one render per frame (FuncAnimation renders twice)
-            rgb = np.asarray(frame.fig.canvas.buffer_rgba())[:, :, :3]
-            images.append(Image.fromarray(rgb).quantize(colors=128, dither=Image.Dither.NONE))
+            rgb = Image.fromarray(np.asarray(frame.fig.canvas.buffer_rgba())[:, :, :3])
+            # One palette for every frame (the first frame's: every robot, goal and panel
+            # is drawn there): Pillow's frame differences compare palette indices, and
+            # per-frame palettes made unchanged parts of later frames lose their colours.
+            palette = images[0] if images else rgb.quantize(colors=255, dither=Image.Dither.NONE)
+            images.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
     finally:
         frame.close()
     images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)

@@ -109,23 +109,38 @@ def summarise(rows: Iterable[dict], step_limit_for_failures: int = 150) -> list[
 
 
 def disputed_seed(rows: Iterable[dict], levels: Sequence[str]) -> int | None:
-    """The first seed whose trials at ``levels`` disagree on success (None: they never do).
+    """The seed of the trial that shows what the highest level (the last of ``levels``)
+    adds; None when the levels agree on every seed.
+
+    In order of preference, the first seed where: the last level succeeds and the level
+    before it fails (the extra reasoning decided); the last level succeeds and some other
+    level fails; the levels disagree at all.
 
     Examples
     --------
     >>> rows = [{"seed": s, "reasoning": lv, "success": ok} for s, lv, ok in
-    ...         [(0, "first", 1), (0, "third", 1), (1, "first", 0), (1, "third", 1)]]
-    >>> disputed_seed(rows, ["first", "third"]), disputed_seed(rows[:2], ["first", "third"])
-    (1, None)
+    ...         [(0, "zero", 0), (0, "first", 1), (0, "third", 1),
+    ...          (1, "zero", 0), (1, "first", 0), (1, "third", 1)]]
+    >>> disputed_seed(rows, ["zero", "first", "third"])
+    1
+    >>> disputed_seed(rows[1:3], ["first", "third"]) is None
+    True
     """
     outcomes: dict[int, dict[str, bool]] = {}
     for row in rows:
         if row["reasoning"] in levels:
             outcomes.setdefault(int(row["seed"]), {})[row["reasoning"]] = bool(row["success"])
-    for seed in sorted(outcomes):
-        seen = outcomes[seed]
-        if len(seen) == len(set(levels)) and len(set(seen.values())) > 1:
-            return seed
+    complete = {s: o for s, o in sorted(outcomes.items()) if len(o) == len(set(levels))}
+    last, below = levels[-1], levels[-2] if len(levels) > 1 else None
+    rules = (
+        lambda o: o[last] and below is not None and not o[below],
+        lambda o: o[last] and not all(o.values()),
+        lambda o: len(set(o.values())) > 1,
+    )
+    for rule in rules:
+        for seed, seen in complete.items():
+            if rule(seen):
+                return seed
     return None
 
 

@@ -80,8 +80,9 @@ def add_run_command(commands) -> None:
         type=int,
         default=None,
         metavar="SEED",
-        help="the seed of the animated trial (default: the first seed where the levels "
-        "disagree on success, else the first seed); the study's last level is animated",
+        help="the seed of the animated trial (default: the first seed where the last level "
+        "succeeds and the one before it fails, else where the levels disagree, else the "
+        "first seed); the study's last level is animated",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
 

@@ -95,7 +95,9 @@ def run_mission(args: argparse.Namespace) -> int:
 
 def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
     """The level, seed and reason of the animated trial: the study's last (highest) level
-    at ``--trial``, else at the first seed where the levels disagree on success."""
+    at ``--trial``, else at the seed :func:`~epistemica.sim.report.disputed_seed` picks (the
+    first where the last level succeeds and the one before it fails, or else where the
+    levels disagree)."""
     level = specs[-1].reasoning
     if chosen is not None:
         return level, chosen, ""
@@ -103,7 +105,7 @@ def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, i
     seed = disputed_seed(rows, levels)
     if seed is None:
         return level, specs[0].seed, ": the levels agree on every seed"
-    return level, seed, ": the first where the levels disagree"
+    return level, seed, ": the first where the levels disagree, the last succeeding if it can"
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:
