@@ -245,7 +245,7 @@ def plot_results(cells: list[Cell], path, levels: Sequence[str] | None = None) -
     colours = plt.get_cmap("tab10")
     with plt.rc_context(_FONTS):
         fig, axes = plt.subplots(
-            1, len(missions), figsize=(5.4 * len(missions), 4.4), squeeze=False
+            1, len(missions), figsize=(1.6 + 5.0 * len(missions), 4.4), squeeze=False
         )
         for ax, mission in zip(axes[0], missions, strict=True):
             mine = [c for c in cells if c.mission == mission]
@@ -258,7 +258,16 @@ def plot_results(cells: list[Cell], path, levels: Sequence[str] | None = None) -
             ax.set_xticks(sorted({c.robots for c in mine}))
             ax.set_title(f"{mission} ({max(c.trials for c in mine)} trials per cell)")
             ax.grid(alpha=0.3)
-            ax.legend(title="level")
+        # One legend for every panel (a level keeps its look across missions), outside
+        # the data; its entries in study order.
+        shown = {h.get_label(): h for ax in axes[0] for h in ax.get_lines()}
+        axes[0][-1].legend(
+            [shown[lv] for lv in order if lv in shown],
+            [lv for lv in order if lv in shown],
+            title="level",
+            loc="upper left",
+            bbox_to_anchor=(1.02, 1.0),
+        )
         fig.tight_layout()
         fig.savefig(path, dpi=100)
     plt.close(fig)
