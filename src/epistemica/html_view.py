@@ -26,13 +26,14 @@ Examples
 from __future__ import annotations
 
 import json
+import os
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["model_page", "page", "write_page"]
+__all__ = ["check_writable", "model_page", "page", "write_page"]
 
 
 def _asset(name: str) -> str:
@@ -89,3 +90,13 @@ def write_page(path, text: str) -> None:
         raise InvalidArgumentError(
             f"cannot write {path}: {exc.strerror}", hint="choose a path in an existing folder"
         ) from None
+
+
+def check_writable(path) -> None:
+    """Fail now, before any work, if a page could not be written at ``path``."""
+    folder = Path(path).resolve().parent
+    if not folder.is_dir() or not os.access(folder, os.W_OK):
+        raise InvalidArgumentError(
+            f"cannot write {path}: no writable folder {folder}",
+            hint="choose a path in an existing folder",
+        )

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 
 from epistemica.del_ import KripkeModel, Spec, evaluate
-from epistemica.html_view import model_page, write_page
+from epistemica.html_view import check_writable, model_page, write_page
 from epistemica.model_json import model_to_json, world_names
 
 __all__ = ["write_model_view"]
@@ -23,7 +23,7 @@ _DYNAMIC = re.compile(r"(?<![A-Za-z])\[|<!")
 def write_model_view(spec: Spec, model: KripkeModel, path: str, title: str, limit=None) -> None:
     """Write the page of ``model`` (a model of ``spec``) with the spec's claims evaluated
     on it (truth sets by :func:`epistemica.del_.evaluate`)."""
-    write_page(path, "")  # a missing folder fails before any evaluation
+    check_writable(path)
     names = world_names(model)
     ordered = [names[w] for w in model.worlds]
     claims = []

@@ -22,7 +22,7 @@ from typing import Any
 
 from epistemica.cli_exit import EXIT_OK
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.html_view import page, write_page
+from epistemica.html_view import check_writable, page, write_page
 from epistemica.input_files import file_kind, read_input
 from epistemica.mission import parse_mission
 from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
@@ -98,7 +98,7 @@ def _stored_trace(path: str, seed: int | None, level: str | None) -> tuple[dict,
 def run_view(args: argparse.Namespace) -> int:
     """Run ``epistemica view``; return the exit status."""
     out = Path(args.out) if args.out else Path(Path(args.file).stem + ".html")
-    write_page(out, "")  # a missing folder fails now, before any simulation
+    check_writable(out)
     html = trial_page(*read_trace(args.file, args.trial, args.level))
     write_page(out, html)
     print(f"wrote {out} ({len(html.encode()) / 1024:.0f} kB): open it in a browser")
