@@ -103,6 +103,11 @@
   t.robots.forEach((r, i) => line(own.map((s) => s[i]), i, false));
   t.robots.forEach((r, j) => { if (j !== focus) line(nested.map((s) => s[focus][j]), j, true); });
   const cursor = el("svg:line", { y1: 10, y2: H - 24, stroke: "#555" }, chart);
+  const key = el("div", { class: "legend", id: "sets-legend" }, right);
+  t.robots.forEach((r, j) => {
+    el("span", { style: `color:${colour(j)}` }, key,
+      j === focus ? `━ ${r}` : `━ ${r}  ╌ ${t.robots[focus]}'s model of ${r}'s`);
+  });
 
   el("h2", {}, right, "Events observed (and by whom)");
   const events = el("div", { class: "events", id: "events" }, right);
