@@ -16,7 +16,9 @@ Commands:
   reads back);
 - ``epistemica run MISSION``: a mission file's study (table, figure, animation);
   ``check`` also reads mission files (``--after STEPS``: after a seeded trial's events);
-- ``epistemica simulate``, ``sweep``, ``report``: the multi-robot simulator.
+- ``epistemica simulate``, ``sweep``, ``report``: the multi-robot simulator;
+- ``epistemica view FILE``: a trial's replay as a self-contained HTML page
+  (``show --html`` writes one for a spec's model).
 
 Exit status (grep-like, so that shell scripts can branch on it; see
 :mod:`epistemica.cli_exit`): 0 on success, 1 when a claim or formula is false or no plan
@@ -40,6 +42,7 @@ from epistemica.cli_arguments import (
     add_run_command,
     add_simulate_command,
     add_sweep_commands,
+    add_view_command,
 )
 from epistemica.cli_exit import EXIT_USAGE, guarded
 from epistemica.cli_formats import add_export_command, add_input_options
@@ -58,6 +61,7 @@ COMMANDS = {
     "sweep": "epistemica.cli_sweep:run_sweep_command",
     "report": "epistemica.cli_sweep:run_report",
     "export": "epistemica.cli_export:run_export",
+    "view": "epistemica.view:run_view",
 }
 
 _EPILOG = """\
@@ -72,11 +76,13 @@ examples:
   epistemica plan specs/planning/two_robots_implicit.epi --implicit --verify go_r2_g2,go_r1_g1
   epistemica show specs/puzzles/muddy_children.epi --after father,nobody_knows
   epistemica show specs/puzzles/sally_anne.epi --after sally_leaves --dot sally.dot
+  epistemica show specs/puzzles/muddy_children.epi --html muddy.html
   epistemica plan DOMAIN.epddl PROBLEM.epddl -l LIBRARY.epddl
   epistemica export --epddl specs/planning/grapevine.epi -o out/
   epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third --gif t.gif
   epistemica sweep --mission rendezvous --robots 2..5 --trials 50 --out runs/study.sqlite
   epistemica report runs/study.sqlite --markdown
+  epistemica view specs/rendezvous.epi --trial 3 -o trial.html
 (the spec files named here are in the specs/ folder of the source distribution)
 
 exit status: 0 success, 1 a claim or formula is false, no plan exists or a simulated
@@ -137,6 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
+    add_view_command(commands)
     for name in ("check", "plan", "show"):
         add_input_options(commands.choices[name])
     add_export_command(commands)
@@ -300,6 +307,11 @@ def _add_show(commands) -> None:
     output = show.add_mutually_exclusive_group()
     output.add_argument("--dot", metavar="FILE", help="write the model as Graphviz DOT to FILE")
     output.add_argument("--json", action="store_true", help="print the model as JSON")
+    output.add_argument(
+        "--html",
+        metavar="FILE",
+        help="write a self-contained page: worlds, relations, claims, a formula box",
+    )
     show.add_argument(
         "--limit",
         type=_positive,

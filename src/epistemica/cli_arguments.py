@@ -16,6 +16,7 @@ __all__ = [
     "add_run_command",
     "add_simulate_command",
     "add_sweep_commands",
+    "add_view_command",
     "parse_counts",
 ]
 
@@ -60,7 +61,8 @@ def add_run_command(commands) -> None:
         help="run a mission file's study: table, figure and an animated trial",
         description="Compile a mission file, simulate its study (every level on the same "
         "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
-        "success table and write runs/NAME.png and runs/NAME.gif.",
+        "success table and write runs/NAME.png, and one trial as runs/NAME.gif and runs/NAME.html "
+        "(a page to replay in a browser).",
         epilog=_RUN_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -78,6 +80,15 @@ def add_run_command(commands) -> None:
     )
     cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
+    cmd.add_argument(
+        "--trial",
+        type=int,
+        default=None,
+        metavar="SEED",
+        help="the seed of the animated trial (default: the first seed where the last level "
+        "succeeds and the one before it fails, else where the levels disagree, else the "
+        "first seed); the study's last level is animated",
+    )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
 
 
@@ -197,9 +208,53 @@ def add_sweep_commands(commands) -> None:
     report = commands.add_parser(
         "report",
         help="print the success table of a results file and write its figure",
-        description="Success rate with 95 %% Wilson intervals and mean steps per cell.",
+        description="Success rate with 95 % Wilson intervals and mean steps per cell, and "
+        "a figure: success (multitask: completion) against team size, one line per level in "
+        "study order, each with its own colour, marker and line style. --png, --pdf and --svg "
+        "may be combined; without any, RESULTS.png is written.",
     )
     report.add_argument("results", help="an SQLite file written by `epistemica sweep`")
     report.add_argument("--markdown", action="store_true", help="a markdown table")
-    report.add_argument("--png", default=None, help="figure file (default: RESULTS.png)")
-    report.add_argument("--no-png", action="store_true", help="do not write the figure")
+    report.add_argument(
+        "--png", default=None, metavar="FILE", help="figure as PNG (default: RESULTS.png)"
+    )
+    report.add_argument(
+        "--pdf", default=None, metavar="FILE", help="figure as PDF (vector, for a paper)"
+    )
+    report.add_argument("--svg", default=None, metavar="FILE", help="figure as SVG (vector)")
+    report.add_argument("--no-png", action="store_true", help="do not write any figure")
+
+
+_VIEW_EXAMPLES = """\
+examples:
+  epistemica view specs/rendezvous.epi                  # simulate its first trial, last level
+  epistemica view specs/nested/relocated_3.epi --trial 4 --level first -o relocated.html
+  epistemica view trace.json                            # a trace (epistemica.sim.trace)
+  epistemica show specs/puzzles/muddy_children.epi --html muddy.html   # a model's page
+
+exit status: 0 written, 2 bad input
+"""
+
+
+def add_view_command(commands) -> None:
+    """Register ``view`` on an argparse subparsers object."""
+    cmd = commands.add_parser(
+        "view",
+        help="write a trial's replay as one self-contained HTML page",
+        description="Write one HTML page (script, style and data inline: no server, no "
+        "network) replaying a trial: the map with sensing radii, estimates and events, each "
+        "robot's belief, its configuration-set size and one robot's model of its teammates' "
+        "sets; a slider scrubs, a button plays and pauses.",
+        epilog=_VIEW_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument(
+        "file",
+        metavar="FILE",
+        help="a trace (JSON or compressed), a results file storing traces, or a mission file",
+    )
+    cmd.add_argument("--trial", type=int, default=None, metavar="SEED", help="the trial's seed")
+    cmd.add_argument(
+        "--level", default=None, help="the trial's level (mission file: default its last)"
+    )
+    cmd.add_argument("-o", "--out", default=None, help="the page (default: FILE's name .html)")

@@ -17,12 +17,15 @@ from pathlib import Path
 
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials, run_study
-from epistemica.sim.figures import animate_trial
-from epistemica.sim.report import format_table, plot_levels, summarise
+from epistemica.sim.figures import animate_trace
+from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
 from epistemica.sim.store import ResultStore
+from epistemica.sim.trace import trial_trace
+from epistemica.view import trial_page
 
 __all__ = ["check_mission", "is_mission_file", "run_mission"]
 
@@ -97,12 +100,28 @@ def _run_study(mission, args: argparse.Namespace) -> int:
         print(f"figure: {png}")
         if not args.no_gif:
             gif = out.with_suffix(".gif")
-            _animate(mission, specs[-1].reasoning, specs[0].seed, gif)
-            print(f"animation ({specs[-1].reasoning}, seed {specs[0].seed}): {gif}")
+            level, seed, why = _animated_trial(args.trial, rows, specs)
+            _animate(mission, level, seed, gif)
+            print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
     return EXIT_OK
+
+
+def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
+    """The level, seed and reason of the animated trial: the study's last (highest) level
+    at ``--trial``, else at the seed :func:`~epistemica.sim.report.disputed_seed` picks (the
+    first where the last level succeeds and the one before it fails, or else where the
+    levels disagree)."""
+    level = specs[-1].reasoning
+    if chosen is not None:
+        return level, chosen, ""
+    levels = list(dict.fromkeys(s.reasoning for s in specs))
+    seed = disputed_seed(rows, levels)
+    if seed is None:
+        return level, specs[0].seed, ": the levels agree on every seed"
+    return level, seed, ": the first where the levels disagree, the last succeeding if it can"
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:
@@ -111,7 +130,9 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     trial = simulate(
         scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
     )
-    animate_trial(scenario, trial, path)
+    trace = trial_trace(scenario, trial)
+    animate_trace(trace, path, mission=mission.name)
+    write_page(path.with_suffix(".html"), trial_page(trace, mission.name))
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:

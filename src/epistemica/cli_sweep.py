@@ -80,7 +80,8 @@ def run_report(args: argparse.Namespace) -> int:
     cells = summarise(read_rows(args.results))
     print(format_table(cells, markdown=args.markdown))
     if not args.no_png and cells:
-        path = args.png or os.path.splitext(args.results)[0] + ".png"
-        plot_results(cells, path)
-        print(f"figure: {path}")
+        paths = [p for p in (args.png, getattr(args, "pdf", None), getattr(args, "svg", None)) if p]
+        for path in paths or [os.path.splitext(args.results)[0] + ".png"]:
+            plot_results(cells, path)
+            print(f"figure: {path}")
     return 0
