@@ -325,6 +325,8 @@ class MissionEnv(ParallelEnv):
 
     def _current_potential(self) -> float:
         run = self._running()
+        if not self.shaping:
+            return 0.0
         return potential(self.scenario, run.poses, run.open)
 
     def _final_poses(self) -> np.ndarray:
