@@ -186,6 +186,8 @@ class MissionEnv(ParallelEnv):
         """Apply every live agent's ``(speed, heading change)``; the scripted teammates
         decide for themselves."""
         run, s, t = self._running(), self.scenario, self.step_count
+        if not self.agents:
+            raise InvalidArgumentError("the trial is over", hint="call reset() for another")
         controls = np.zeros((s.n_robots, 2))
         missing = [a for a in self.agents if a not in actions]
         if missing:

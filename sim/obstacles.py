@@ -130,16 +130,17 @@ def polygon_distance(p0: np.ndarray, p1: np.ndarray, poly: np.ndarray) -> float:
     )
 
 
-def line_of_sight(points: np.ndarray, obstacles) -> np.ndarray:
-    """``(n, n)`` booleans: the segment between points ``i`` and ``j`` crosses no obstacle
-    edge (every point sees itself)."""
-    n = points.shape[0]
-    clear = np.ones((n, n), dtype=bool)
-    p0, p1 = points[:, None, None, :], points[None, :, None, :]
+def line_of_sight(points: np.ndarray, obstacles, targets: np.ndarray | None = None):
+    """``(n, k)`` booleans: the segment from point ``i`` to target ``j`` crosses no obstacle
+    edge. Without ``targets``, the points see each other (``(n, n)``, each sees itself)."""
+    ends = points if targets is None else targets
+    clear = np.ones((points.shape[0], ends.shape[0]), dtype=bool)
+    p0, p1 = points[:, None, None, :], ends[None, :, None, :]
     for poly in obstacles:
         a, b = _edges(poly)
         clear &= ~_intersect(p0, p1, a[None, None], b[None, None]).any(axis=-1)
-    np.fill_diagonal(clear, True)
+    if targets is None:
+        np.fill_diagonal(clear, True)
     return clear
 
 

@@ -119,6 +119,8 @@ class Sensing:
         self.estimates[idx, idx] = poses  # own pose is exact
         self.last_seen[seen] = step
         near_goal = distances(poses[:, :2], s.goals) <= self.discovery_range
+        if s.obstacles:  # a goal behind an obstacle is not seen either
+            near_goal &= line_of_sight(poses[:, :2], s.obstacles, s.goals)
         closed = np.zeros(s.n_goals, dtype=bool) if closed is None else np.asarray(closed)
         self.known_goals |= near_goal & ~closed[None, :]
         if settled is not None and np.any(settled):

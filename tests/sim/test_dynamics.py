@@ -157,6 +157,23 @@ def test_disc_robots_of_a_trial_never_overlap():
         assert np.all(off >= np.minimum(1.2, first) - 1e-9)
 
 
+def test_an_obstacle_hides_goals():
+    s = Scenario(
+        "allocation",
+        [[15, 2], [3, 3]],
+        [[15, 9], [25, 25]],
+        ["range", "range"],
+        known_goals=np.array([[False, True], [False, True]]),
+        discovery_range=10.0,
+        obstacles=[WALL],
+        max_steps=1,
+    )
+    still = FunctionPolicy(lambda r, o, sc: (0.0, 0.0))
+    # robot 0 is 7 m from goal 0, within the discovery range, but the wall is between
+    assert not simulate(s, still, seed=0).knowledge.knows_goals((0,))[0]
+    assert simulate(s.replace(obstacles=()), still, seed=0).knowledge.knows_goals((0,))[0]
+
+
 def test_an_obstacle_hides_teammates():
     s = Scenario(
         "rendezvous",

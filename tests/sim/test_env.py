@@ -257,6 +257,10 @@ def test_bad_use_is_refused_clearly():
     env.reset(seed=0)
     with pytest.raises(InvalidArgumentError, match="no action for agent"):
         env.step({"r1": np.zeros(2)})
+    while env.agents:
+        env.step({a: np.zeros(2) for a in env.agents})
+    with pytest.raises(InvalidArgumentError, match="the trial is over"):
+        env.step({})
     with pytest.raises(InvalidArgumentError, match="no robot"):
         RobotEnv(s, robot="r7")
 
