@@ -108,6 +108,10 @@ class MissionEnv(ParallelEnv):
     seed : int, optional
         Seed of the first reset without one (default: the mission's first seed, or 0);
         each later reset without a seed takes the next one.
+
+    A mission's ``teammate`` line (an ad hoc teammate) is not applied: every robot is an
+    agent unless ``teammates`` says otherwise (``teammates=mission.policies(seed)`` scripts
+    the one of trial ``seed``).
     """
 
     metadata: ClassVar[dict] = {
@@ -195,7 +199,7 @@ class MissionEnv(ParallelEnv):
                 f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
             )
         for agent in self.agents:
-            controls[self._index[agent]] = np.asarray(actions[agent], dtype=float).reshape(2)
+            controls[self._index[agent]] = _action(agent, actions[agent])
         run.decide(t, self.observations, self.groups, controls)
         success = run.advance(t, controls)
         self.step_count = t + 1
@@ -336,6 +340,20 @@ class MissionEnv(ParallelEnv):
         index = np.arange(self.scenario.n_robots)
         poses[index, index] = self._running().poses
         return poses
+
+
+def _action(agent: str, value) -> np.ndarray:
+    """An agent's action as two finite floats, or a clear error."""
+    try:
+        action = np.asarray(value, dtype=float).reshape(2)
+    except (TypeError, ValueError):
+        action = None
+    if action is None or not np.all(np.isfinite(action)):
+        raise InvalidArgumentError(
+            f"the action of {agent} must be two finite numbers, got {value!r}",
+            hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
+        )
+    return action
 
 
 class RobotEnv(gymnasium.Env):

@@ -259,6 +259,9 @@ def test_bad_use_is_refused_clearly():
     env.reset(seed=0)
     with pytest.raises(InvalidArgumentError, match="no action for agent"):
         env.step({"r1": np.zeros(2)})
+    for bad in ([np.nan, 0.0], [1.0], "fast"):
+        with pytest.raises(InvalidArgumentError, match="action of r1 must be two finite"):
+            env.step({"r1": bad, "r2": np.zeros(2)})
     while env.agents:
         env.step({a: np.zeros(2) for a in env.agents})
     with pytest.raises(InvalidArgumentError, match="the trial is over"):
