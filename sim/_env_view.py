@@ -80,4 +80,4 @@ def potential(s: Scenario, poses: np.ndarray, open_goals: np.ndarray) -> float:
     if not open_goals.any():
         return 0.0
     d = distances(poses, s.goals[open_goals]).min(axis=1)
-    return -float(np.mean(np.maximum(d - s.success_radius, 0.0))) / s.workspace
+    return -float(np.maximum(d - s.success_radius, 0.0).sum()) / (len(d) * s.workspace)

@@ -198,8 +198,7 @@ class MissionEnv(ParallelEnv):
             raise InvalidArgumentError(
                 f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
             )
-        for agent in self.agents:
-            controls[self._index[agent]] = _action(agent, actions[agent])
+        controls[[self._index[a] for a in self.agents]] = _actions(self.agents, actions)
         run.decide(t, self.observations, self.groups, controls)
         success = run.advance(t, controls)
         self.step_count = t + 1
@@ -253,7 +252,7 @@ class MissionEnv(ParallelEnv):
         controls = np.zeros((self.scenario.n_robots, 2))
         for policy, robots in self._advisors[level]:
             controls[robots] = policy.decide(self.observations, robots).controls
-        return {a: controls[self._index[a]].copy() for a in self.agents}
+        return {a: controls[self._index[a]] for a in self.agents}
 
     def trial(self) -> Trial:
         """The record of the trial so far (a :class:`~epistemica.sim.Trial`)."""
@@ -342,18 +341,26 @@ class MissionEnv(ParallelEnv):
         return poses
 
 
-def _action(agent: str, value) -> np.ndarray:
-    """An agent's action as two finite floats, or a clear error."""
+def _actions(agents: list[str], actions: Mapping) -> np.ndarray:
+    """The agents' actions as ``(k, 2)`` finite floats, or an error naming the first bad one."""
     try:
-        action = np.asarray(value, dtype=float).reshape(2)
+        values = np.array([actions[a] for a in agents], dtype=float)
     except (TypeError, ValueError):
-        action = None
-    if action is None or not np.all(np.isfinite(action)):
-        raise InvalidArgumentError(
-            f"the action of {agent} must be two finite numbers, got {value!r}",
-            hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
-        )
-    return action
+        values = None
+    if values is not None and values.shape == (len(agents), 2) and np.isfinite(values).all():
+        return values
+    for agent in agents:
+        value = actions[agent]
+        try:
+            good = np.shape(value) == (2,) and bool(np.isfinite(np.asarray(value, float)).all())
+        except (TypeError, ValueError):
+            good = False
+        if not good:
+            raise InvalidArgumentError(
+                f"the action of {agent} must be two finite numbers, got {value!r}",
+                hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
+            )
+    raise AssertionError("unreachable: some action was malformed")  # pragma: no cover
 
 
 class RobotEnv(gymnasium.Env):
