@@ -329,14 +329,16 @@ class Scenario:
                 if polygon_distance(start, start, poly) < max(radii[i], CLEARANCE):
                     raise _fail(
                         f"robot {i} starts at {start.tolist()}, in obstacle {k}",
-                        "move the start out of the obstacle, or the obstacle away",
+                        "move the start (or the obstacle); a place drawn at random may fall "
+                        "in an obstacle: place robots explicitly when there are obstacles",
                     )
             hit = inside(goals, poly)
             if hit.any():
                 g = int(np.argmax(hit))
                 raise _fail(
                     f"goal {g} at {goals[g].tolist()} lies in obstacle {k}: no robot can reach it",
-                    "move the goal out of the obstacle",
+                    "move the goal (or the obstacle); a place drawn at random may fall in "
+                    "an obstacle: place goals explicitly when there are obstacles",
                 )
 
     @property
