@@ -80,6 +80,7 @@ class MissionCompiler(MissionScope):
         self.checks: list[MissionCheck] = []
         self.step_triggers: list[tuple[int, Token]] = []
         self.level_tokens: list[Token] = []  # every level a line names, checked at the end
+        self.obstacles: list[tuple[list[tuple[float, float]], Tree]] = []
 
     # -- walking -----------------------------------------------------------------------
 
@@ -119,7 +120,7 @@ class MissionCompiler(MissionScope):
         limits = {"speed": 1.0, "turn": math.pi}
         for option in options:
             value = option.children[0]
-            bounds = (0.0, MAX_NUMBER) if option.data == "speed" else (0.0, math.pi)
+            bounds = (0.0, math.pi) if option.data == "turn" else (0.0, MAX_NUMBER)
             limits[str(option.data)] = self.number(value, *bounds)
         for name, token in self.expand_names(declared):
             self.new_name(name, token, "robot")
@@ -128,6 +129,10 @@ class MissionCompiler(MissionScope):
                     f"more than {LIMITS['robots']} robots", token, "the simulator's limit"
                 )
             self.robots[name] = RobotSpec(name, token, str(sensor), self.place(place), **limits)
+
+    def obstacle_decl(self, node: Tree) -> None:
+        corners = [(self.number(c.children[0]), self.number(c.children[1])) for c in node.children]
+        self.obstacles.append((corners, node))
 
     def goal_decl(self, node: Tree) -> None:
         declared, place, needs, closed = node.children

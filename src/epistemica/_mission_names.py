@@ -23,7 +23,7 @@ __all__ = ["KEYWORDS", "LIMITS", "MAX_NUMBER", "MissionScope"]
 #: The keywords that start a statement.
 KEYWORDS = (
     "mission", "valid", "workspace", "robot", "goal", "task", "sensing", "knows", "learns",
-    "initially", "event", "teammate", "policy", "check", "simulate",
+    "initially", "event", "teammate", "policy", "check", "simulate", "obstacle",
 )  # fmt: skip
 #: Largest accepted magnitude of any number in a mission file.
 MAX_NUMBER = 1e6

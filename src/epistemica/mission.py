@@ -191,6 +191,8 @@ class Mission:
                 ),
                 robot_names=self.robots,
                 goal_names=self.goals,
+                robot_radius=_radii(p.robots),
+                obstacles=p.obstacles,
                 **options,
             )
         except InvalidArgumentError as exc:
@@ -376,6 +378,13 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     mission.scenario()  # validate the world now: a robot outside it, NaN, ...
     _ = mission.parameters  # and its policy line
     return mission
+
+
+def _radii(robots) -> list[float] | None:
+    """Each robot's ``radius`` (0 where none is given); None when no robot has one."""
+    if all(r.radius is None for r in robots):
+        return None
+    return [r.radius or 0.0 for r in robots]
 
 
 def _policy_value(text: str):
