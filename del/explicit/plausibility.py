@@ -188,7 +188,8 @@ class PlausibilityModel:
 
     def to_kripke(self) -> KripkeModel:
         """The Kripke model of knowledge (the cells) and plain belief (each world to the
-        most plausible worlds of its cell): ``B[a]`` means the same in both."""
+        most plausible worlds of its cell): ``B[a]`` means the same in both. A Kripke
+        model needs a designated world: with none, every world is designated."""
         worlds = range(self.n_worlds)
         valuation = {
             w: [a for a, t in zip(self.atoms, self.valuation[w], strict=True) if t] for w in worlds
@@ -200,7 +201,7 @@ class PlausibilityModel:
             same = cells[:, None] == cells[None, :]
             belief[agent] = list(zip(*np.nonzero(same & top[None, :]), strict=True))
             knowledge[agent] = list(zip(*np.nonzero(same), strict=True))
-        designated = np.flatnonzero(self.designated).tolist()
+        designated = np.flatnonzero(self.designated).tolist() or list(worlds)
         return KripkeModel(list(worlds), valuation, belief, designated, knowledge, atoms=self.atoms)
 
     # -- the operations evaluate_plausibility uses --------------------------------------
