@@ -71,6 +71,7 @@ __all__ = [
     "fold",
     "iter_postorder",
     "map_atoms",
+    "with_children",
 ]
 
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
@@ -670,18 +671,27 @@ def map_atoms(formula: Formula, replace: Callable[[Atom], Formula]) -> Formula:
     """
 
     def rebuild(node: Formula, inner: tuple[Formula, ...]) -> Formula:
-        if isinstance(node, Atom):
-            return replace(node)
-        if not inner:
-            return node
-        children = iter(inner)
-        values = [
-            next(children) if isinstance(getattr(node, name), Formula) else getattr(node, name)
-            for name in _field_names(type(node))
-        ]
-        return type(node)(*values)
+        return replace(node) if isinstance(node, Atom) else with_children(node, inner)
 
     return fold(formula, rebuild)
+
+
+def with_children(node: Formula, children: tuple[Formula, ...]) -> Formula:
+    """``node`` with its immediate subformulas replaced by ``children`` (same order).
+
+    Examples
+    --------
+    >>> print(with_children(Know("a", Atom("p")), (Atom("q"),)))
+    K[a] q
+    """
+    if children == node.children():
+        return node
+    parts = iter(children)
+    values = [
+        next(parts) if isinstance(getattr(node, name), Formula) else getattr(node, name)
+        for name in _field_names(type(node))
+    ]
+    return type(node)(*values)
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:
