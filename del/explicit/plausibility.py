@@ -32,11 +32,11 @@ from typing import Any
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError, ModelError
+from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit.checker import propositional_mask
 from epistemica.del_.language.formula import Atom, Formula, atom_name
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.language.plausibility_semantics import evaluate_plausibility
-from epistemica.del_.models import KripkeModel
 
 __all__ = ["PlausibilityModel", "dense_ranks"]
 
@@ -186,7 +186,7 @@ class PlausibilityModel:
         np.minimum.at(lowest, cells[condition], ranks[condition])
         return condition & (ranks == lowest[cells])
 
-    def to_kripke(self) -> KripkeModel:
+    def to_kripke(self) -> ExplicitModel:
         """The Kripke model of knowledge (the cells) and plain belief (each world to the
         most plausible worlds of its cell): ``B[a]`` means the same in both. A Kripke
         model needs a designated world: with none, every world is designated."""
@@ -202,7 +202,9 @@ class PlausibilityModel:
             belief[agent] = list(zip(*np.nonzero(same & top[None, :]), strict=True))
             knowledge[agent] = list(zip(*np.nonzero(same), strict=True))
         designated = np.flatnonzero(self.designated).tolist() or list(worlds)
-        return KripkeModel(list(worlds), valuation, belief, designated, knowledge, atoms=self.atoms)
+        return ExplicitModel(
+            list(worlds), valuation, belief, designated, knowledge, atoms=self.atoms
+        )
 
     # -- the operations evaluate_plausibility uses --------------------------------------
 

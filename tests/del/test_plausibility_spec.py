@@ -13,7 +13,7 @@ from epistemica.del_.explicit.plausibility import PlausibilityModel
 from epistemica.del_.spec import load_spec, parse_spec
 from epistemica.del_.symbolic.plausibility import PlausibilityStructure
 
-MARY = Path(__file__).resolve().parents[2] / "specs" / "puzzles" / "mary_and_john.epi"
+MARY = Path(__file__).resolve().parents[2] / "specs" / "belief" / "mary_and_john.epi"
 
 COIN = """
 agents alice, bob
