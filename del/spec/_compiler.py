@@ -54,6 +54,7 @@ from epistemica.del_.spec._plausibility import (
     compile_upgrades,
     declared_upgrades,
     plausibility_declaration,
+    refuse_uninterpreted,
 )
 from epistemica.del_.spec._syntax import parse, position
 
@@ -329,6 +330,8 @@ class Compiler:
             raise self.error("a second goal", goals[1], "join the goals with '&'")
         goal = self.formula(goals[0].children[0], {}) if goals else None
         checks = self.checks(by_kind.get("check_decl", []))
+        if plausibility is not None:
+            refuse_uninterpreted(self, checks, upgrades)
         return Compiled(
             model,
             actions,

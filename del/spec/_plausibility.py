@@ -18,15 +18,20 @@ from typing import Any
 
 from lark import Tree
 
+from epistemica.del_.errors import SpecError
 from epistemica.del_.explicit.plausibility import PlausibilityModel
 from epistemica.del_.language.formula import (
     After,
+    Common,
+    CommonBelief,
     ConservativeUpgrade,
+    Distributed,
     Formula,
     RadicalUpgrade,
     fold,
     with_children,
 )
+from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.spec._model import observations
 from epistemica.del_.symbolic.plausibility import PlausibilityStructure
 
@@ -35,6 +40,7 @@ __all__ = [
     "compile_upgrades",
     "declared_upgrades",
     "plausibility_declaration",
+    "refuse_uninterpreted",
     "resolve_upgrades",
 ]
 
@@ -123,3 +129,23 @@ def resolve_upgrades(formula: Formula, upgrades: dict[str, tuple[str, Formula]])
         return with_children(node, inner)
 
     return fold(formula, rebuild)
+
+
+def refuse_uninterpreted(comp: Any, checks: Any, upgrades: dict[str, tuple[str, Formula]]) -> None:
+    """A located error for a claim that a plausibility model does not interpret: a named
+    action (not an upgrade), common or distributed knowledge, common belief."""
+    for check in checks:
+        for node in iter_nodes(check.formula):
+            if isinstance(node, After) and node.action not in upgrades:
+                what = f"the action '{node.action}'"
+            elif isinstance(node, (Common, CommonBelief, Distributed)):
+                what = f"{node.keyword}[...]"
+            else:
+                continue
+            raise SpecError(
+                f"claim \"{check.name}\" uses {what}, which plausibility models do not interpret",
+                line=check.line, column=check.column, source=comp.source,
+                filename=comp.filename,
+                hint="claims of a spec with 'plausibility' use K, B, B[a | f], Sb, E, EB, "
+                "announcements and upgrades",
+            )  # fmt: skip

@@ -81,6 +81,17 @@ def test_levels_with_a_range_of_agents_and_a_law():
             "declared twice",
             "5:9",
         ),
+        (
+            "agents a\natoms p\naction tell: public p\nplausibility a: p\n"
+            'check "x": [tell] K[a] p\n',
+            "uses the action 'tell'",
+            "5:1",
+        ),
+        (
+            'agents a\natoms p\nplausibility a: p\ncheck "x": p\ncheck "y": C[a] p\n',
+            "uses C",
+            "5:1",
+        ),
     ],
 )
 def test_located_errors(text, message, where):
