@@ -76,3 +76,8 @@ def test_symbolic_needs_observed_cells():
     m = PlausibilityModel(["p"], np.array([[False], [True]]), cells, ranks)
     with pytest.raises(InvalidArgumentError, match="observed atoms"):
         PlausibilityStructure.from_explicit(m)
+
+
+@given(formulas)
+def test_printed_plausibility_formulas_parse_back(f):
+    assert parse_formula(str(f)) == f
