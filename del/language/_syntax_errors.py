@@ -54,6 +54,9 @@ _FORMULA_START = frozenset(
         "COMMON_BELIEF",
         "ANNOUNCE_OPEN",
         "DIAMOND_OPEN",
+        "SAFE_BELIEF",
+        "RADICAL_OPEN",
+        "CONSERVATIVE_OPEN",
         "LSQB",
         "LPAR",
     }
@@ -73,9 +76,10 @@ _READABLE = {
     "LSQB": "'['",
     "$END": "end of input",
 }
-_MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE"}
+_MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE", "SAFE_BELIEF"}
 _GROUP = {"EVERYBODY", "COMMON", "DISTRIBUTED", "EVERYBODY_BELIEVES", "COMMON_BELIEF"}
-_OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN"}
+_OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN",
+            "RADICAL_OPEN": "RSQB", "CONSERVATIVE_OPEN": "RSQB"}  # fmt: skip
 _CHARACTER_HINTS = {
     "-": "did you mean '->'?",
     "=": "did you mean '->' (implies) or '<->' (if and only if)?",

@@ -118,6 +118,13 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     text_cap, json_cap = _LIST_TEXT, _LIST_JSON
     if args.where:  # list the worlds, as SMCDEL's WHERE? does, up to --limit
         text_cap = json_cap = args.limit or _WHERE
+    if spec.plausibility is not None:  # claims are about the plausibility model
+        holds = spec.holds(formula)
+        if args.json:
+            print(json.dumps({"file": args.file, "formula": str(formula), "holds": holds}))
+        else:
+            print(f"{formula}\n  {'true' if holds else 'false'} at the designated worlds")
+        return EXIT_OK if holds else EXIT_FALSE
     model = spec.model
     if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
         return _check_formula_symbolic(spec, formula, args)
