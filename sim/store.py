@@ -169,6 +169,11 @@ class ResultStore:
         """Give up this process's claims and close the file."""
         try:
             self.release()
+            # leave one self-contained file (no -wal/-shm) that readers open read-only;
+            # another sweep still writing keeps the log (the switch fails: fine)
+            self._db.execute("PRAGMA journal_mode=DELETE")
+        except sqlite3.OperationalError:
+            pass
         finally:
             self._db.close()
 

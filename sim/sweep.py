@@ -250,7 +250,7 @@ def run_sweep(
     """
     if workers is not None and (isinstance(workers, bool) or workers < 1):
         raise InvalidArgumentError(f"workers must be >= 1, got {workers!r}", hint="e.g. 2")
-    specs = list(specs)
+    specs = list({s.id: s for s in specs}.values())  # a level named twice runs once
     claimed = (s for s in specs if store.claim(s.id))
     task = functools.partial(run_trial, traces=traces)
     if scheduler:

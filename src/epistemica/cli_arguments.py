@@ -71,9 +71,38 @@ def add_run_command(commands) -> None:
     cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
     cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
     cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
-    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    cmd.add_argument("--resume", action="store_true", help="add the missing trials to --out")
+    _add_execution_options(cmd)
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+
+
+def _add_execution_options(cmd) -> None:
+    """Where trials run and what is stored of them (``run`` and ``sweep``)."""
+    cmd.add_argument(
+        "--workers", type=_positive, default=None, help="local processes (default: all cores)"
+    )
+    cmd.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="run on this Dask scheduler (needs epistemica[cluster])",
+    )
+    cmd.add_argument(
+        "--no-traces",
+        action="store_true",
+        help="do not store each trial's per-step trace (about 2 kB a trial; huge sweeps)",
+    )
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
 
 
 def add_check_options(check) -> None:
@@ -178,21 +207,13 @@ def add_sweep_commands(commands) -> None:
     sweep.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
     sweep.add_argument("--out", required=True, help="results file (SQLite)")
     sweep.add_argument("--resume", action="store_true", help="add the missing trials to --out")
-    sweep.add_argument(
-        "--workers", type=int, default=None, help="local processes (default: all cores)"
-    )
-    sweep.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="tcp://HOST:PORT",
-        help="run on this Dask scheduler (needs epistemica[cluster])",
-    )
+    _add_execution_options(sweep)
     add_scenario_options(sweep)
 
     report = commands.add_parser(
         "report",
         help="print the success table of a results file and write its figure",
-        description="Success rate with 95 %% Wilson intervals and mean steps per cell.",
+        description="Success rate with 95 % Wilson intervals and mean steps per cell.",
     )
     report.add_argument("results", help="an SQLite file written by `epistemica sweep`")
     report.add_argument("--markdown", action="store_true", help="a markdown table")

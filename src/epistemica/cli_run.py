@@ -12,17 +12,17 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from pathlib import Path
 
+from epistemica.cli_exit import EXIT_INTERRUPTED
+from epistemica.cli_sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
-from epistemica.run import mission_trials, run_study
+from epistemica.run import mission_trials
 from epistemica.sim.figures import animate_trial
 from epistemica.sim.report import format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
-from epistemica.sim.store import ResultStore
 
 __all__ = ["check_mission", "is_mission_file", "run_mission"]
 
@@ -50,27 +50,17 @@ def run_mission(args: argparse.Namespace) -> int:
     specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
-    started = time.perf_counter()
+    print(
+        f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
+        f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
+        f"{len(specs)} trials into {out}"
+    )
     # The default file resumes: a trial's id is its text, level and seed, so a stored row
-    # is the same result; an explicit --out is never added to silently.
-    with ResultStore(out, resume=args.out is None) as store:
-        ids = {s.id for s in specs}
-        stored = len(store.done_ids() & ids)
-        print(
-            f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
-            f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
-            f"{len(specs)} trials ({stored} already in {out})"
-        )
-        try:
-            ran, _ = run_study(specs, store, workers=args.workers)
-        except KeyboardInterrupt:
-            print(
-                f"interrupted: {len(store.done_ids() & ids)} of {len(specs)} trials stored "
-                f"in {out}; run the same command again to finish",
-                file=sys.stderr,
-            )
-            return 130
-        rows = [r for r in store.rows() if r["id"] in ids]
+    # is the same result; an explicit --out is added to only with --resume.
+    done = store_trials(specs, out, args.out is None or args.resume, args)
+    if done is None:
+        return EXIT_INTERRUPTED
+    rows = done.rows
     cells = summarise(rows)
     order = {s.reasoning: i for i, s in enumerate(specs)}
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
@@ -85,7 +75,7 @@ def run_mission(args: argparse.Namespace) -> int:
             print(f"animation ({specs[-1].reasoning}, seed {specs[0].seed}): {gif}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
-    print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
+    print(done.summary())
     return EXIT_OK
 
 

@@ -12,13 +12,15 @@ import argparse
 import os
 import sys
 import time
+from dataclasses import dataclass
 
+from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_options import scenario_options
 from epistemica.sim.report import format_table, plot_results, summarise
 from epistemica.sim.store import ResultStore, read_rows
 from epistemica.sim.sweep import plan_sweep, run_sweep
 
-__all__ = ["run_report", "run_sweep_command"]
+__all__ = ["Stored", "run_report", "run_sweep_command", "store_trials"]
 
 
 def run_sweep_command(args: argparse.Namespace) -> int:
@@ -32,37 +34,62 @@ def run_sweep_command(args: argparse.Namespace) -> int:
         args.seed,
         scenario_options(args),
     )
+    done = store_trials(specs, args.out, args.resume, args)
+    if done is None:
+        return EXIT_INTERRUPTED
+    print(f"{done.summary()} ({sum(r['success'] for r in done.rows)} successes)")
+    return 0
+
+
+@dataclass
+class Stored:
+    """What :func:`store_trials` did: trials run, the rows of the study, the time taken."""
+
+    out: str
+    ran: int
+    rows: list[dict]
+    missing: int
+    seconds: float
+
+    def summary(self) -> str:
+        before = len(self.rows) - self.ran
+        elsewhere = f", {self.missing} still running in another sweep" if self.missing else ""
+        return (
+            f"{self.ran} trials run, {before} already stored, {len(self.rows)} of this study "
+            f"in {self.out}{elsewhere} in {self.seconds:.1f} s"
+        )
+
+
+def store_trials(specs, out, resume: bool, args: argparse.Namespace) -> Stored | None:
+    """Run the trials of ``specs`` that ``out`` lacks (``sweep`` and ``run``): locally or
+    on ``args.scheduler``, with traces unless ``args.no_traces``. None if interrupted
+    (Ctrl-C), after saying how many trials are stored."""
     started = time.perf_counter()
-    with ResultStore(args.out, resume=args.resume) as store:
-        missing = len(specs) - len(store.done_ids() & {s.id for s in specs})
-        bar = _progress(missing)
+    ids = {s.id for s in specs}
+    with ResultStore(out, resume=resume) as store:
+        bar = _progress(len(ids - store.done_ids()))
         try:
-            ran, skipped = run_sweep(
+            ran, _ = run_sweep(
                 specs,
                 store,
                 workers=args.workers,
                 scheduler=args.scheduler,
                 progress=lambda row: bar.update(1) if bar else None,
+                traces=not args.no_traces,
             )
         except KeyboardInterrupt:
-            if bar:
-                bar.close()
-            stored = len(store.done_ids() & {s.id for s in specs})
+            stored = len(store.done_ids() & ids)
             print(
-                f"interrupted: {stored} of {len(specs)} trials stored in {args.out}; "
+                f"\ninterrupted: {stored} of {len(ids)} trials stored in {out}; "
                 "run the same command with --resume to finish",
                 file=sys.stderr,
             )
-            return 130
-        if bar:
-            bar.close()
-        ok = sum(r["success"] for r in store.rows())
-        total = len(store.rows())
-    print(
-        f"{ran} trials run, {skipped} already stored, {total} in {args.out} "
-        f"({ok} successes) in {time.perf_counter() - started:.1f} s"
-    )
-    return 0
+            return None
+        finally:
+            if bar:
+                bar.close()
+        rows = [r for r in store.rows() if r["id"] in ids]
+    return Stored(str(out), ran, rows, len(ids) - len(rows), time.perf_counter() - started)
 
 
 def _progress(total: int):
