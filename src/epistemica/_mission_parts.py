@@ -79,6 +79,7 @@ class MissionParts:
     trials: int | None
     seed: int | None
     levels: tuple[tuple[str, Token], ...] | None
+    team: int | None = None  # the team size N of spans r1..rN (None: the file has none)
 
     @property
     def robot_names(self) -> tuple[str, ...]:
@@ -118,6 +119,7 @@ def assemble(comp: Any) -> MissionParts:
         trials=comp.study.get("trials"),
         seed=comp.study.get("seed"),
         levels=comp.study.get("levels"),
+        team=comp.team if comp.parametric else None,
     )
 
 

@@ -188,9 +188,15 @@ def add_sweep_commands(commands) -> None:
         "--mission",
         type=_names,
         default=["rendezvous"],
-        help="rendezvous, allocation, multitask (comma-separated)",
+        help="rendezvous, allocation, multitask (comma-separated), or mission files "
+        "(.epi) whose robots are r1..rN",
     )
-    sweep.add_argument("--robots", type=parse_counts, default=[2], help="e.g. 2..5 or 2,3,5")
+    sweep.add_argument(
+        "--robots",
+        type=parse_counts,
+        default=None,
+        help="team sizes, e.g. 2..5 or 2,3,5 (default 2; a mission file: its N)",
+    )
     sweep.add_argument(
         "--goals",
         type=parse_counts,
@@ -200,11 +206,15 @@ def add_sweep_commands(commands) -> None:
     sweep.add_argument(
         "--reasoning",
         type=_names,
-        default=["zero", "convention", "third"],
-        help="levels, comma-separated",
+        default=None,
+        help="levels, comma-separated (default zero,convention,third; a mission file: its own)",
     )
-    sweep.add_argument("--trials", type=int, default=50, help="seeds per cell (default 50)")
-    sweep.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    sweep.add_argument(
+        "--trials", type=int, default=None, help="seeds per cell (default 50; a file: its own)"
+    )
+    sweep.add_argument(
+        "--seed", type=int, default=None, help="first seed (default 0; a file: its own)"
+    )
     sweep.add_argument("--out", required=True, help="results file (SQLite)")
     sweep.add_argument("--resume", action="store_true", help="add the missing trials to --out")
     _add_execution_options(sweep)

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_options import scenario_options
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.run import team_trials
 from epistemica.sim.report import format_table, plot_results, summarise
 from epistemica.sim.store import ResultStore, read_rows
 from epistemica.sim.sweep import plan_sweep, run_sweep
@@ -25,20 +27,43 @@ __all__ = ["Stored", "run_report", "run_sweep_command", "store_trials"]
 
 def run_sweep_command(args: argparse.Namespace) -> int:
 
-    specs = plan_sweep(
-        args.mission,
-        args.robots,
-        args.goals,
-        args.reasoning,
-        args.trials,
-        args.seed,
-        scenario_options(args),
-    )
+    files = [m for m in args.mission if m.endswith(".epi") or os.path.exists(m)]
+    if files:
+        specs = _mission_file_trials(files, args)
+    else:
+        specs = plan_sweep(
+            args.mission,
+            args.robots or [2],
+            args.goals,
+            args.reasoning or ["zero", "convention", "third"],
+            50 if args.trials is None else args.trials,
+            0 if args.seed is None else args.seed,
+            scenario_options(args),
+        )
     done = store_trials(specs, args.out, args.resume, args)
     if done is None:
         return EXIT_INTERRUPTED
     print(f"{done.summary()} ({sum(r['success'] for r in done.rows)} successes)")
     return 0
+
+
+def _mission_file_trials(files: list[str], args: argparse.Namespace) -> list:
+    """``sweep --mission FILE``: the file's study at each team size of ``--robots``."""
+    if len(files) != len(args.mission):
+        raise InvalidArgumentError(
+            "--mission takes either mission files or built-in missions, not both",
+            hint="run one sweep per kind, into two --out files",
+        )
+    given = (["goals"] if args.goals is not None else []) + list(scenario_options(args))
+    if given:
+        raise InvalidArgumentError(
+            f"--{given[0].replace('_', '-')} applies to the built-in missions",
+            hint="a mission file sets its goals, sensing and steps itself",
+        )
+    specs = []
+    for path in files:
+        specs.extend(team_trials(path, args.robots, args.reasoning, args.trials, args.seed))
+    return specs
 
 
 @dataclass

@@ -152,6 +152,11 @@ class Mission:
     source: str = field(repr=False)
     parts: MissionParts = field(repr=False)
 
+    @property
+    def team(self) -> int | None:
+        """N of the spans ``r1..rN`` this mission was compiled with (None: it has none)."""
+        return self.parts.team
+
     # -- the simulator's view ----------------------------------------------------------
 
     def scenario(self, seed: int | None = None) -> Scenario:
@@ -348,15 +353,16 @@ class Mission:
         return (self.model if model is None else model).holds(expand(tree, self.robots))
 
 
-def parse_mission(text: str, filename: str = "<string>") -> Mission:
-    """Compile the mission written in ``text``.
+def parse_mission(text: str, filename: str = "<string>", team: int | None = None) -> Mission:
+    """Compile the mission written in ``text``; ``team`` is the team size N of its robots
+    and goals declared as spans ``r1..rN`` (default: its ``simulate robots N``).
 
     Raises
     ------
     ParseError, SpecError
         Located at the offending token, with a hint.
     """
-    parts = compile_text(text, filename, library_rules())
+    parts = compile_text(text, filename, library_rules(), team)
     defaults = Study()
     mission = Mission(
         name=Path(filename).stem if filename != "<string>" else "mission",
@@ -387,8 +393,8 @@ def _policy_value(text: str):
     return int(value) if value == int(value) and "." not in text else value
 
 
-def load_mission(path: str | Path) -> Mission:
-    """Compile the mission file at ``path``.
+def load_mission(path: str | Path, team: int | None = None) -> Mission:
+    """Compile the mission file at ``path`` (``team``: see :func:`parse_mission`).
 
     Examples
     --------
@@ -400,4 +406,4 @@ def load_mission(path: str | Path) -> Mission:
     'tiny'
     """
     _, text = read_input(path, "run", ("mission",))
-    return parse_mission(text, str(path))
+    return parse_mission(text, str(path), team)
