@@ -1,7 +1,8 @@
 """``epistemica check``: the claims of a spec file, or one formula (``--formula``).
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs. Exit status 0 when
-every claim is as expected (or the formula holds at every designated world), 1 otherwise.
+every claim is as expected, 1 otherwise; ``--formula`` is a question (exit 0 whatever the
+answer) unless ``--expect true|false`` makes it a claim.
 """
 
 from __future__ import annotations
@@ -113,6 +114,15 @@ def run_check(args: argparse.Namespace) -> int:
     return EXIT_FALSE if failed else EXIT_OK
 
 
+def answer_status(holds: bool, args: argparse.Namespace) -> int:
+    """The exit status of ``--formula``: a question (0 either way), or with ``--expect``
+    a claim (1 when the answer differs)."""
+    expected = getattr(args, "expect", None)
+    if expected is None:
+        return EXIT_OK
+    return EXIT_OK if holds == (expected == "true") else EXIT_FALSE
+
+
 def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     formula = spec.formula(args.formula)
     text_cap, json_cap = _LIST_TEXT, _LIST_JSON
@@ -155,7 +165,7 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
                 indent=2,
             )
         )
-        return EXIT_OK if holds else EXIT_FALSE
+        return answer_status(holds, args)
     print(f"{formula}")
     print(f"  {'true' if holds else 'false'} at the designated world", end="")
     if len(points) == 1:
@@ -171,7 +181,7 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     print(f"  holds at {n_true} of {model.n_worlds} worlds" + (":" if shown else ""))
     if shown:
         print(f"    {shown}{tail}")
-    return EXIT_OK if holds else EXIT_FALSE
+    return answer_status(holds, args)
 
 
 def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -> int:
@@ -186,7 +196,7 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         summary["valuations"] = listed = listed[:limit]
     if args.json:
         print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
-        return EXIT_OK if summary["holds"] else EXIT_FALSE
+        return answer_status(summary["holds"], args)
     print(f"{formula}")
     print(
         f"  {'true' if summary['holds'] else 'false'} at the designated worlds: holds at "
@@ -197,4 +207,4 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         more = " ..." if summary["truncated"] else ""
         print("  where (true atoms of each valuation):")
         print("    " + "  ".join("{" + ", ".join(v) + "}" for v in listed) + more)
-    return EXIT_OK if summary["holds"] else EXIT_FALSE
+    return answer_status(summary["holds"], args)

@@ -124,7 +124,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
                 )
             formula = parse_formula(f"K[{args.robot}] ({args.formula})")
         chosen = model(args.after, args.seed, args.reasoning)
-        claims = [("--formula", str(formula), True, mission.holds(formula, chosen), where)]
+        expected = None if args.expect is None else args.expect == "true"  # None: a question
+        claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
     else:
         claims = []
         for c in mission.checks:
@@ -140,10 +141,17 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             )
             holds = mission.holds(c.check.formula, model(after, seed, level))
             claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
-    failed = [c for c in claims if c[2] != c[3]]
+    failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
     if args.json:
         out = [
-            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h, "when": w}
+            {
+                "name": n,
+                "formula": t,
+                "expected": e,
+                "holds": h,
+                "ok": None if e is None else e == h,
+                "when": w,
+            }
             for n, t, e, h, w in claims
         ]
         print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
@@ -152,8 +160,9 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "
           f"worlds, robots {robots}")  # fmt: skip
     for name, text, expected, holds, label in claims:
-        mark = "ok  " if expected == holds else "FAIL"
+        mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
         moment = "" if label == where else f" [{label}]"
         print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
-    print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
+    if args.formula is None or args.expect is not None:
+        print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK
