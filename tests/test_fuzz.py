@@ -27,3 +27,23 @@ def test_fuzzed_specs_and_parameters_exit_0_1_or_2_in_bounded_time_and_memory():
     assert result["max_rss_mib"] < 3 * 1024
     # The corpus is not all refusals: unmutated cases and harmless edits run through.
     assert result["counts"].get("0", 0) + result["counts"].get("1", 0) >= 30
+
+
+MISSIONS = Path(__file__).with_name("fuzz_missions.py")
+
+
+def test_fuzzed_missions_and_simulator_parameters_exit_0_1_or_2_in_bounded_time():
+    out = subprocess.run(
+        [sys.executable, str(MISSIONS), "--cases", "200", "--seed", "2024", "--limit", "20",
+         "--memory-gib", "3"],
+        capture_output=True, text=True, timeout=110, check=False,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr[-2000:]
+    result = json.loads(out.stdout)
+    assert result["bad"] == [], result["bad"]
+    assert sum(result["counts"].values()) == 200
+    assert set(result["counts"]) <= {"0", "1", "2"}
+    assert result["slowest_seconds"] < 20
+    assert result["max_rss_mib"] < 3 * 1024
+    assert result["missions"] >= 90  # every shipped mission file is a seed of the corpus
+    assert result["counts"].get("0", 0) + result["counts"].get("1", 0) >= 30
