@@ -91,26 +91,52 @@ def run_cluster(task: Callable, specs: Iterable, address: str, window: int = 0) 
             f"cannot reach the Dask scheduler at {address} ({exc})",
             hint="start one with `dask scheduler` and pass its tcp://HOST:PORT",
         ) from None
-    window = window or 2 * max(1, sum(client.nthreads().values()))
-    pending = iter(specs)
-    running = distributed.as_completed(with_results=True)
-    lost = False
+    quiet = _Quiet()  # a lost scheduler: our one-line error, not the client's tracebacks
     try:
+        window = window or 2 * max(1, sum(client.nthreads().values()))
+        pending = iter(specs)
+        running = distributed.as_completed()
         for spec in _take(pending, window):
             running.add(client.submit(task, spec, pure=False))
-        for _, row in running:
+        for future in running:
+            row = future.result()
             yield row
             for spec in _take(pending, 1):
                 running.add(client.submit(task, spec, pure=False))
-    except (OSError, TimeoutError, distributed.CancelledError) as exc:
-        lost = True
+    except Exception as exc:
+        if client.status == "running" and not isinstance(
+            exc, (OSError, TimeoutError, distributed.CancelledError)
+        ):
+            raise  # a trial failed: a bug, shown as one
         raise SchedulerLost(
             f"lost the Dask scheduler at {address} ({type(exc).__name__})",
             hint="the finished trials are stored: restart the scheduler and run again "
             "with --resume",
         ) from None
     finally:
-        _close(client, quiet=lost)
+        try:
+            client.close(timeout=2)
+        except Exception:  # closing a client whose scheduler died: nothing to add
+            pass
+        quiet.restore()
+
+
+class _Quiet:
+    """Silence Dask's loggers (reconnection tracebacks) until :meth:`restore`."""
+
+    ROOTS = ("distributed", "asyncio", "tornado")
+
+    def __init__(self) -> None:
+        names = [n for n in list(logging.root.manager.loggerDict) if n.split(".")[0] in self.ROOTS]
+        # each configured child logger has a level of its own (distributed.client: ...)
+        self.loggers = [logging.getLogger(name) for name in {*self.ROOTS, *names}]
+        self.levels = [lg.level for lg in self.loggers]
+        for lg in self.loggers:
+            lg.setLevel(logging.CRITICAL + 1)
+
+    def restore(self) -> None:
+        for lg, level in zip(self.loggers, self.levels, strict=True):
+            lg.setLevel(level)
 
 
 def _take(items: Iterator, count: int) -> list:
@@ -120,18 +146,3 @@ def _take(items: Iterator, count: int) -> list:
         if len(out) == count:
             break
     return out
-
-
-def _close(client, quiet: bool) -> None:
-    loggers = [logging.getLogger(n) for n in ("distributed", "asyncio", "tornado")]
-    levels = [lg.level for lg in loggers]
-    if quiet:  # a dead scheduler: no reconnection tracebacks on the way out
-        for lg in loggers:
-            lg.setLevel(logging.CRITICAL + 1)
-    try:
-        client.close(timeout=2)
-    except Exception:
-        pass
-    finally:
-        for lg, level in zip(loggers, levels, strict=True):
-            lg.setLevel(level)
