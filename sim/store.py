@@ -35,6 +35,7 @@ import os
 import socket
 import sqlite3
 import time
+import uuid
 from pathlib import Path
 
 from epistemica.del_.errors import InvalidArgumentError
@@ -93,11 +94,12 @@ def _not_results(path: str, why: str) -> InvalidArgumentError:
 
 
 def _owner() -> str:
-    return f"{socket.gethostname()}:{os.getpid()}"
+    """HOST:PID:TOKEN, one per open store (two stores of one process are two owners)."""
+    return f"{socket.gethostname()}:{os.getpid()}:{uuid.uuid4().hex[:8]}"
 
 
 def _alive(owner: str, claimed: float, now: float) -> bool:
-    host, _, pid = owner.rpartition(":")
+    host, pid, _ = ["", "", "", *owner.rsplit(":", 2)][-3:]
     if host != socket.gethostname() or not pid.isdigit():
         return now - claimed < CLAIM_LIFETIME
     try:
