@@ -34,6 +34,8 @@ __all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
 MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
+#: The longest trial a scenario may ask for (steps): what a mission file accepts too.
+MAX_STEPS = 100_000
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -213,6 +215,8 @@ class Scenario:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=5")
+            if value > MAX_STEPS:  # a trial's arrays are preallocated per step
+                raise _fail(f"{name} must be at most {MAX_STEPS:,}, got {value!r}", "e.g. 150")
             set_(self, name, int(value))
         self._check_goal_knowledge(n, m)
         self._check_mission(n, m)
