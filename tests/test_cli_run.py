@@ -110,8 +110,9 @@ def test_check_after_steps_applies_the_trial_events(capsys):
             expected = bool(on[knowledge.possible((i, j), rows)].all())
             formula = f"B[r{j + 1}] {fact}"
             args = ["check", str(path), "--after", str(step), "--seed", "0", "--json"]
-            code = main([*args, "--robot", f"r{i + 1}", "--formula", formula])
+            code = main([*args, "--robot", f"r{i + 1}", "--formula", formula, "--expect", "true"])
             out = json.loads(capsys.readouterr().out)
+            assert out["format"] == "epistemica-mission-check" and out["version"] == 1
             assert out["claims"][0]["holds"] == expected
             assert code == (0 if expected else 1)
 

@@ -10,13 +10,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import itertools
-import json
 from typing import Any
 
 import numpy as np
 
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli_inputs import is_foreign, load_input, where_lines
+from epistemica.cli_json import print_json
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_label, world_labels
 from epistemica.del_.spec.backend import formula_summary
@@ -91,7 +91,7 @@ def run_check(args: argparse.Namespace) -> int:
             for c, value in results
         ]
         out = {"file": args.file, "claims": claims, "passed": len(results) - len(failed)}
-        print(json.dumps({**out, "failed": len(failed)}, indent=2))
+        print_json("check", {**out, "failed": len(failed)})
         return EXIT_FALSE if failed else EXIT_OK
     model = spec.model
     print(
@@ -150,20 +150,18 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     true_worlds = model.worlds_at(true_positions[:json_cap])
     if args.json:
         listed = [_world(model, w, labels) for w in true_worlds[:json_cap]]
-        print(
-            json.dumps(
-                {
-                    "file": args.file,
-                    "formula": str(formula),
-                    "holds": holds,
-                    "designated": designated,
-                    "n_worlds": model.n_worlds,
-                    "n_true": n_true,
-                    "worlds": listed,
-                    "truncated": n_true > len(listed),
-                },
-                indent=2,
-            )
+        print_json(
+            "check-formula",
+            {
+                "file": args.file,
+                "formula": str(formula),
+                "holds": holds,
+                "designated": designated,
+                "n_worlds": model.n_worlds,
+                "n_true": n_true,
+                "worlds": listed,
+                "truncated": n_true > len(listed),
+            },
         )
         return answer_status(holds, args)
     print(f"{formula}")
@@ -195,7 +193,7 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         summary["truncated"] = len(listed) > limit
         summary["valuations"] = listed = listed[:limit]
     if args.json:
-        print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
+        print_json("check-formula", {"file": args.file, "formula": str(formula), **summary})
         return answer_status(summary["holds"], args)
     print(f"{formula}")
     print(

@@ -10,11 +10,11 @@ after the first steps of a seeded trial (each observation event applied by produ
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
 from epistemica.cli_exit import EXIT_INTERRUPTED
+from epistemica.cli_json import print_json
 from epistemica.cli_sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
@@ -154,7 +154,7 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             }
             for n, t, e, h, w in claims
         ]
-        print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
+        print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
     robots = ", ".join(mission.robots)
     print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "

@@ -7,9 +7,9 @@ turned out false), 2 on bad input.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 
+from epistemica.cli_json import print_json
 from epistemica.cli_options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim import Scenario, simulate
@@ -53,7 +53,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             "sensing_range": scenario.sensing_range,
             **trial.summary(),
         }
-        print(json.dumps(record, indent=2))
+        print_json("simulate", record)
     else:
         print(_describe(scenario, trial))
     return 0 if trial.success else 1
