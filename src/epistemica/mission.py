@@ -31,7 +31,7 @@ Examples
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -288,7 +288,7 @@ class Mission:
                     column=token.column,
                     source=self.source,
                     filename=self.filename,
-                    hint=getattr(exc, "hint", None) or "see docs/language.md, 'policy'",
+                    hint=getattr(exc, "hint", None) or _POLICY_HINT,
                 ) from None
         return out
 
@@ -382,6 +382,9 @@ def parse_mission(text: str, filename: str = "<string>", team: int | None = None
     mission.scenario()  # validate the world now: a robot outside it, NaN, ...
     _ = mission.parameters  # and its policy line
     return mission
+
+
+_POLICY_HINT = "policy options: " + ", ".join(f.name for f in fields(ActiveParameters))
 
 
 def _policy_value(text: str):
