@@ -16,9 +16,6 @@ prints one JSON object (counts by status, the slowest case, every bad case).
 
 from __future__ import annotations
 
-import argparse
-import json
-import resource
 import sys
 import tempfile
 from pathlib import Path
@@ -26,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from fuzz_corpus import mutate, run_case  # a script beside this one
+from fuzz_corpus import main, mutate, run_case  # a script beside this one
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -177,19 +174,5 @@ def run_corpus(cases: int, seed: int, limit: float) -> dict:
             "bad": bad, "slowest_seconds": round(slowest[0], 3), "slowest": slowest[1]}  # fmt: skip
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, default=120)
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--limit", type=float, default=20.0, help="seconds per case")
-    parser.add_argument("--memory-gib", type=float, default=4.0, help="address space limit")
-    args = parser.parse_args()
-    gib = int(args.memory_gib * 2**30)
-    resource.setrlimit(resource.RLIMIT_AS, (gib, gib))
-    result = run_corpus(args.cases, args.seed, args.limit)
-    result["max_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
-    print(json.dumps(result))
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(run_corpus, __doc__, cases=120))
