@@ -36,6 +36,8 @@ MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 OBSERVATIONS = ("paper", "honest")
 #: The longest trial a scenario may ask for (steps): what a mission file accepts too.
 MAX_STEPS = 100_000
+#: The largest team and goal count of the published protocol's scenarios (as mission files).
+MAX_ROBOTS, MAX_GOALS = 12, 64
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -374,8 +376,12 @@ class Scenario:
                 f"the paper protocol has no {mission!r} mission",
                 "use rendezvous, allocation or multitask",
             )
-        n = _count(robots, "robots")
-        m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
+        n = _count(robots, "robots", MAX_ROBOTS)
+        m = _count(
+            goals if goals is not None else (20 if mission == "multitask" else n),
+            "goals",
+            MAX_GOALS,
+        )
         layout = draw_layout(seed, n, m, clustered=mission == "multitask")
         if mission == "multitask":
             defaults = {"max_steps": 150, "max_turn": math.pi / 4}
@@ -386,7 +392,9 @@ class Scenario:
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
 
 
-def _count(value, name: str) -> int:
+def _count(value, name: str, limit: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=3")
+    if value > limit:  # the levels' sets of configurations grow as goals^robots
+        raise _fail(f"{name} must be at most {limit}, got {value!r}", "the simulator's limit")
     return int(value)

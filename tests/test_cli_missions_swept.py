@@ -9,10 +9,12 @@ from pathlib import Path
 
 import pytest
 
+from epistemica.aif.configurations import valid_configurations
 from epistemica.cli import main
-from epistemica.del_.errors import SpecError
+from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import MissionWorld, team_trials
+from epistemica.sim import Scenario
 from epistemica.sim.store import read_rows
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -185,3 +187,20 @@ def test_seeds_and_trial_counts_a_results_file_cannot_hold_are_refused(tmp_path,
     assert usage.value.code == 2
     assert main(["sweep", "--scheduler", "bogus", "--trials", "1", "--out", out]) == 2
     assert "Traceback" not in capsys.readouterr().err
+
+
+def test_teams_and_configuration_sets_too_large_to_list_are_refused(capsys):
+    # found by the mission fuzz corpus: 13-robot protocol scenarios and the paper-first
+    # level on 12 robots ran out of memory (exit 3) or for minutes
+    with pytest.raises(InvalidArgumentError, match="at most 12"):
+        Scenario.paper("rendezvous", 1000)
+    with pytest.raises(InvalidArgumentError, match="479,001,600 configurations"):
+        valid_configurations("allocation", 12, 12)  # 12! rows
+    with pytest.raises(InvalidArgumentError, match="too many to list"):
+        valid_configurations("allocation", 12, 64)  # was a 13.6 GiB allocation
+    assert len(valid_configurations("allocation", 5, 7)) == 7 * 6 * 5 * 4 * 3
+    assert len(valid_configurations("capacity", 4, 2, [2, 2])) == 6  # 4! / (2! 2!)
+    assert main(["simulate", "--robots", "13"]) == 2
+    assert main(["simulate", "--mission", "multitask", "--robots", "12",
+                 "--reasoning", "paper-first"]) == 2  # fmt: skip
+    assert "too many to list" in capsys.readouterr().err
