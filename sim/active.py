@@ -24,6 +24,7 @@ import weakref
 import numpy as np
 
 from epistemica.aif.controller import Controller
+from epistemica.aif.decision import Decision
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
 from epistemica.aif.prior import shared_rank, team_log_prior
@@ -83,6 +84,8 @@ class ActiveInference(Policy):
             self.name += "-unpruned"
         elif not self.parameters.nested:
             self.name += "-shared"
+        if not self.parameters.free_energy:
+            self.name += "-priormode"
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
@@ -192,7 +195,13 @@ class ActiveInference(Policy):
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
             priors = self._priors(ctrl, self._views(observations, team), team)
-            decisions = ctrl.decide_team(observations.poses, team, priors)
+            if self.parameters.free_energy:
+                decisions = ctrl.decide_team(observations.poses, team, priors)
+            else:
+                decisions = [
+                    self._prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
+                    for robot, prior in zip(team, priors, strict=True)
+                ]
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         return out
@@ -209,6 +218,19 @@ class ActiveInference(Policy):
             return
         if target is not None:
             self._steer(out, row, robot, pose, target)
+
+    def _prior_mode(self, ctrl: Controller, robot: int, pose, prior) -> Decision:
+        """The ablation of expected free energy: straight for the robot's own goal in the
+        prior's most probable configuration (the first on ties; uniform when ``None``)."""
+        k = ctrl.configurations.shape[0]
+        belief = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
+        focal = int(np.argmax(belief))
+        target = ctrl.goals[ctrl.configurations[focal, robot]]
+        s = self.scenario
+        control = steer(pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt)
+        empty = np.zeros(0)
+        return Decision((float(control[0, 0]), float(control[0, 1])), -1, empty, empty, belief,
+                        focal)  # fmt: skip
 
     def _steer(self, out: Decisions, row: int, robot: int, pose, target) -> None:
         """Drive ``robot`` straight for ``target`` (exploring and searching)."""
@@ -254,7 +276,8 @@ class ActiveInference(Policy):
             return p / total if total > 0 else base  # a chain with no set: no restriction
 
         own = restricted(sets.own)
-        if self._anticipates(sets):
+        unaware = self._unaware(sets)
+        if unaware:
             view = self._views(observations, (robot,))[0]
 
             def redecide(teammate: int, goal: int) -> np.ndarray:
@@ -268,16 +291,19 @@ class ActiveInference(Policy):
                 base / base.sum(),
                 robot,
                 sets.own[keep],
-                {j: m[keep] for j, m in sets.pairs.items()},
+                {j: m[keep] for j, m in unaware.items()},
                 {jk: m[keep] for jk, m in sets.triples.items()},
                 redecide,
             )
-        d = ctrl.decide(
-            robot,
-            observations.poses[robot],
-            prior=own,
-            modelled_priors=[restricted(m) for m in sets.modelled] or None,
-        )
+        if self.parameters.free_energy:
+            d = ctrl.decide(
+                robot,
+                observations.poses[robot],
+                prior=own,
+                modelled_priors=[restricted(m) for m in sets.modelled] or None,
+            )
+        else:
+            d = self._prior_mode(ctrl, robot, observations.poses[robot, robot], own)
         out.unpruned[row] = rows.shape[0]
         self._record(out, row, robot, ctrl, choice.goals, d)
         out.considered[row] = int(sets.own.sum())
@@ -285,12 +311,12 @@ class ActiveInference(Policy):
         for j, mask in sets.pairs.items():
             out.modelled[row, j] = int(mask.sum())
 
-    def _anticipates(self, sets) -> bool:
-        """Whether to predict teammates from their sets: at order 2 and above, with nested
-        sets, where some teammate keeps another set than the robot."""
+    def _unaware(self, sets) -> dict:
+        """The teammates to predict from their sets (order 2 and above, with nested sets):
+        those that cannot conceive of some configuration the robot keeps."""
         if self.order < 2 or not self.parameters.anticipate or not self.parameters.nested:
-            return False
-        return any(not np.array_equal(m, sets.own) for m in sets.pairs.values())
+            return {}
+        return {j: m for j, m in sets.pairs.items() if (sets.own & ~m).any()}
 
     def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
         if self.parameters.memory > 0:

@@ -64,15 +64,21 @@ class ActiveParameters:
         ``False`` is the ablation (``*-shared``): every teammate is taken to have seen
         what the robot saw.
     anticipate : bool
-        At order 2 and above, where a teammate keeps other configurations than the robot
-        (it did not see what the robot saw, or knows other goals), predict its goal from
-        its set and take the configurations it will actually join
-        (:mod:`epistemica.sim.anticipation`). Off by default until measured against the
-        stress suite (docs/results.md).
+        At order 2 and above, where a teammate cannot conceive of configurations the robot
+        keeps (it did not see a goal, or saw it elsewhere), predict its goal from its set
+        and take the configurations it will actually join
+        (:mod:`epistemica.sim.anticipation`). A teammate that only keeps *more* (it missed
+        a settle the robot saw) is not anticipated: it will see for itself. Chosen on
+        tuning seeds 1000-1029 (docs/results.md §7); ``False`` is the ablation.
     common_view : bool
         At order 2 and above, take the team prior from what is common knowledge: with a
         teammate out of sight no position is, so every robot is placed at the workspace
         centre (the shared default estimate) and the shared tie-break decides.
+    free_energy : bool
+        Choose each move by expected free energy (:class:`epistemica.aif.Controller`);
+        ``False`` is the ablation (level ``*-priormode``, and ``convention+rules``): drive
+        straight to the robot's own goal in the most probable configuration of the prior
+        it was handed, every other rule kept.
     search : bool
         Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
         goal without the rest of the team searches for it.
@@ -100,8 +106,9 @@ class ActiveParameters:
     headings: int = 16
     pruning: bool = True
     nested: bool = True
-    anticipate: bool = False
+    anticipate: bool = True
     common_view: bool = True
+    free_energy: bool = True
     search: bool = True
     lone_wait: int = 15
     look: float = 0.8

@@ -76,6 +76,30 @@ def test_the_stored_rows_are_the_simulator_outcomes(tiny):
         assert (bool(success), steps) == (trial.success, trial.steps)
 
 
+def test_several_missions_run_in_turn_each_to_its_own_file(tiny, capsys):
+    other = tiny.with_name("other.epi")
+    other.write_text(TINY.replace("levels zero, convention, third", "levels zero"))
+    assert main(["run", str(tiny), str(other), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    assert out.index("tiny.epi") < out.index("other.epi")
+    for name, count in (("tiny", 9), ("other", 3)):
+        db = sqlite3.connect(f"runs/{name}.sqlite")
+        assert db.execute("SELECT COUNT(*) FROM trials").fetchone()[0] == count
+
+
+def test_a_bad_second_mission_stops_before_any_trial(tiny, capsys):
+    bad = tiny.with_name("bad.epi")
+    bad.write_text(TINY.replace("goal y at random", "goal y at randm"))
+    assert main(["run", str(tiny), str(bad), "--no-gif"]) == 2
+    assert f"{bad}:5:" in capsys.readouterr().err
+    assert not Path("runs/tiny.sqlite").exists()
+
+
+def test_one_out_file_for_several_missions_is_refused(tiny, capsys):
+    assert main(["run", str(tiny), str(tiny), "--out", "x.sqlite"]) == 2
+    assert "--out" in capsys.readouterr().err
+
+
 def test_bad_mission_exits_2_with_location(tmp_path, capsys):
     path = tmp_path / "bad.epi"
     path.write_text(TINY.replace("goal y at random", "goal y at randm"))

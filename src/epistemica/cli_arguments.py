@@ -22,6 +22,7 @@ __all__ = [
 _RUN_EXAMPLES = """\
 examples:
   epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
+  epistemica run specs/rendezvous.epi specs/nested/private_goal_3.epi   # one after another
   epistemica run specs/task_allocation.epi --trials 50    # the published trial count
   epistemica run specs/multi_task.epi --levels convention,third --no-gif
   epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
@@ -63,14 +64,18 @@ def add_run_command(commands) -> None:
         epilog=_RUN_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    cmd.add_argument("file", metavar="MISSION", help="a mission file (.epi)")
+    cmd.add_argument(
+        "files", nargs="+", metavar="MISSION", help="mission files (.epi), run one after another"
+    )
     cmd.add_argument("--trials", type=int, default=None, help="trials per level (default: file)")
     cmd.add_argument(
         "--paper-scale", action="store_true", help="50 trials per level, as the published study"
     )
     cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
     cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
-    cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
+    cmd.add_argument(
+        "--out", default=None, help="results file (default runs/NAME.sqlite; one mission only)"
+    )
     cmd.add_argument("--resume", action="store_true", help="add the missing trials to --out")
     _add_execution_options(cmd)
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")

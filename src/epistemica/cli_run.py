@@ -43,8 +43,24 @@ def is_mission_file(path: str) -> bool:
 
 
 def run_mission(args: argparse.Namespace) -> int:
+    """``run``: each mission file's study in turn (all are compiled first, so a typo in
+    the last file is reported before any trial runs)."""
+    if args.out is not None and len(args.files) > 1:
+        raise InvalidArgumentError(
+            "--out names one results file, and several mission files were given",
+            hint="drop --out (each mission goes to runs/NAME.sqlite) or run them one by one",
+        )
+    missions = [load_mission(path) for path in args.files]
+    for i, mission in enumerate(missions):
+        if i:
+            print()
+        status = _run_study(mission, args)
+        if status != EXIT_OK:
+            return status
+    return EXIT_OK
 
-    mission = load_mission(args.file)
+
+def _run_study(mission, args: argparse.Namespace) -> int:
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
     trials = 50 if args.paper_scale else args.trials
     specs = mission_trials(mission, levels, trials, args.seed)
