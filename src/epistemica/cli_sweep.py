@@ -1,9 +1,11 @@
 """``epistemica sweep`` and ``epistemica report``: Monte Carlo studies of the simulator.
 
-``sweep`` runs every (mission, robots, goals, level, seed) trial of a grid, on local
-processes or a Dask cluster, into an SQLite file; ``--resume`` runs only the trials the
-file does not hold. ``report`` prints the success table with 95 % Wilson intervals and
-writes the figure.
+``sweep`` runs every (mission, robots, goals, level, seed) trial of a grid, or a mission
+file's study at each team size of ``--robots`` (files whose robots are ``r1..rN``), on local
+processes or a Dask cluster, into an SQLite file (docs/formats.md); ``--resume`` runs only
+the trials the file does not hold. :func:`store_trials` is the storing path ``run`` shares.
+``report`` reads the file (read-only), prints the success table with 95 % Wilson intervals
+and writes the figure.
 """
 
 from __future__ import annotations
