@@ -36,6 +36,10 @@ __all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
 MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
+#: The longest trial a scenario may ask for (steps): what a mission file accepts too.
+MAX_STEPS = 100_000
+#: The largest team and goal count of the published protocol's scenarios (as mission files).
+MAX_ROBOTS, MAX_GOALS = 12, 64
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -228,6 +232,8 @@ class Scenario:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=5")
+            if value > MAX_STEPS:  # a trial's arrays are preallocated per step
+                raise _fail(f"{name} must be at most {MAX_STEPS:,}, got {value!r}", "e.g. 150")
             set_(self, name, int(value))
         self._check_goal_knowledge(n, m)
         self._check_mission(n, m)
@@ -432,8 +438,12 @@ class Scenario:
                 f"the paper protocol has no {mission!r} mission",
                 "use rendezvous, allocation or multitask",
             )
-        n = _count(robots, "robots")
-        m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
+        n = _count(robots, "robots", MAX_ROBOTS)
+        m = _count(
+            goals if goals is not None else (20 if mission == "multitask" else n),
+            "goals",
+            MAX_GOALS,
+        )
         layout = draw_layout(seed, n, m, clustered=mission == "multitask")
         if mission == "multitask":
             defaults = {"max_steps": 150, "max_turn": math.pi / 4}
@@ -444,7 +454,9 @@ class Scenario:
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
 
 
-def _count(value, name: str) -> int:
+def _count(value, name: str, limit: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=3")
+    if value > limit:  # the levels' sets of configurations grow as goals^robots
+        raise _fail(f"{name} must be at most {limit}, got {value!r}", "the simulator's limit")
     return int(value)

@@ -40,7 +40,7 @@ def test_verify_and_show_take_plank_s_names(capsys):
 
 def test_check_a_formula_on_an_epddl_task(capsys):
     assert main(["check", *TASK, "--formula", "B[a] looking(a) & ~B[a] heads"]) == 0
-    assert main(["check", *TASK, "--formula", "B[a] heads"]) == 1
+    assert main(["check", *TASK, "--formula", "B[a] heads", "--expect", "true"]) == 1
 
 
 def test_epddl_errors_exit_2_located(capsys):

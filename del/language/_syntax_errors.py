@@ -92,6 +92,13 @@ _CHARACTER_HINTS = {
     '"': "atoms are written without quotes",
 }
 
+# What a hint says when nothing more specific fits: the syntax itself, not a path to a page
+# that an installed package does not have.
+_FORMULA_SYNTAX = (
+    "formulas are built from atoms with ~ & | -> <->, K[a] F, B[a] F, E[a, b] F, C[a, b] F, "
+    "[!F] G and [ACTION] G; names use ASCII letters, digits and '_'"
+)
+
 
 def _position(text: str, index: int) -> tuple[int, int]:
     line = text.count("\n", 0, index) + 1
@@ -235,7 +242,7 @@ def syntax_error(
             column=exc.column,
             source=text,
             filename=filename,
-            hint=hint or "see docs/language.md for the syntax of formulas",
+            hint=hint or _FORMULA_SYNTAX,
         )
     if not isinstance(exc, UnexpectedToken):  # pragma: no cover - LALR raises only these
         return ParseError(str(exc), source=text, filename=filename)

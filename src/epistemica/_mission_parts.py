@@ -83,6 +83,7 @@ class MissionParts:
     seed: int | None
     levels: tuple[tuple[str, Token], ...] | None
     obstacles: tuple[np.ndarray, ...] = ()
+    team: int | None = None  # the team size N of spans r1..rN (None: the file has none)
 
     @property
     def robot_names(self) -> tuple[str, ...]:
@@ -123,6 +124,7 @@ def assemble(comp: Any) -> MissionParts:
         seed=comp.study.get("seed"),
         levels=comp.study.get("levels"),
         obstacles=_obstacles(comp),
+        team=comp.team if comp.parametric else None,
     )
 
 

@@ -21,7 +21,7 @@ Commands:
   (``show --html`` writes one for a spec's model).
 
 Exit status (grep-like, so that shell scripts can branch on it; see
-:mod:`epistemica.cli_exit`): 0 on success, 1 when a claim or formula is false or no plan
+:mod:`epistemica.cli_exit`): 0 on success, 1 when a claim (or --expect) is false or no plan
 exists, 2 on bad input, printed as ``FILE:LINE:COL: error: ...`` plus a hint, 3 on an
 internal error (a bug: one line, the traceback only with ``--debug``). ``--json`` prints
 one JSON object on standard output instead of text.
@@ -85,7 +85,7 @@ examples:
   epistemica view specs/rendezvous.epi --trial 3 -o trial.html
 (the spec files named here are in the specs/ folder of the source distribution)
 
-exit status: 0 success, 1 a claim or formula is false, no plan exists or a simulated
+exit status: 0 success, 1 a claim (or --expect) is false, no plan exists or a simulated
 mission failed, 2 bad input, 3 an internal error (a bug; --debug shows the traceback),
 130 interrupted
 """
@@ -183,7 +183,8 @@ def _add_check(commands) -> None:
         "check",
         help="evaluate the claims of a spec or mission file, or one formula",
         description="Evaluate every 'check' claim of a spec file (exit 1 if one fails), or, "
-        "with --formula, whether a formula holds at the designated worlds (exit 1 if not).",
+        "with --formula, whether a formula holds at the designated worlds (exit 0 either "
+        "way; with --expect, exit 1 if the answer differs).",
         epilog="examples:\n"
         "  epistemica check specs/puzzles/muddy_children.epi\n"
         '  epistemica check specs/puzzles/coin_toss.epi --formula "[toss][show_b] Kw[b] heads"\n',
@@ -191,6 +192,11 @@ def _add_check(commands) -> None:
     )
     check.add_argument("file", metavar="FILE", help="a spec file or a mission file (.epi)")
     check.add_argument("--formula", "-f", metavar="F", help="check this formula instead")
+    check.add_argument(
+        "--expect",
+        choices=("true", "false"),
+        help="with --formula: exit 1 unless the formula is true (false) as expected",
+    )
     check.add_argument("--json", action="store_true", help="print a JSON object")
     check.add_argument(
         "--where",

@@ -78,7 +78,8 @@ def add_run_command(commands) -> None:
     cmd.add_argument(
         "--out", default=None, help="results file (default runs/NAME.sqlite; one mission only)"
     )
-    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    cmd.add_argument("--resume", action="store_true", help="add the missing trials to --out")
+    _add_execution_options(cmd)
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
     cmd.add_argument(
         "--trial",
@@ -90,6 +91,34 @@ def add_run_command(commands) -> None:
         "first seed); the study's last level is animated",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+
+
+def _add_execution_options(cmd) -> None:
+    """Where trials run and what is stored of them (``run`` and ``sweep``)."""
+    cmd.add_argument(
+        "--workers", type=_positive, default=None, help="local processes (default: all cores)"
+    )
+    cmd.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="run on this Dask scheduler (needs epistemica[cluster])",
+    )
+    cmd.add_argument(
+        "--no-traces",
+        action="store_true",
+        help="do not store each trial's per-step trace (about 2 kB a trial; huge sweeps)",
+    )
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
 
 
 def add_check_options(check) -> None:
@@ -175,9 +204,15 @@ def add_sweep_commands(commands) -> None:
         "--mission",
         type=_names,
         default=["rendezvous"],
-        help="rendezvous, allocation, multitask (comma-separated)",
+        help="rendezvous, allocation, multitask (comma-separated), or mission files "
+        "(.epi) whose robots are r1..rN",
     )
-    sweep.add_argument("--robots", type=parse_counts, default=[2], help="e.g. 2..5 or 2,3,5")
+    sweep.add_argument(
+        "--robots",
+        type=parse_counts,
+        default=None,
+        help="team sizes, e.g. 2..5 or 2,3,5 (default 2; a mission file: its N)",
+    )
     sweep.add_argument(
         "--goals",
         type=parse_counts,
@@ -187,22 +222,18 @@ def add_sweep_commands(commands) -> None:
     sweep.add_argument(
         "--reasoning",
         type=_names,
-        default=["zero", "convention", "third"],
-        help="levels, comma-separated",
+        default=None,
+        help="levels, comma-separated (default zero,convention,third; a mission file: its own)",
     )
-    sweep.add_argument("--trials", type=int, default=50, help="seeds per cell (default 50)")
-    sweep.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    sweep.add_argument(
+        "--trials", type=int, default=None, help="seeds per cell (default 50; a file: its own)"
+    )
+    sweep.add_argument(
+        "--seed", type=int, default=None, help="first seed (default 0; a file: its own)"
+    )
     sweep.add_argument("--out", required=True, help="results file (SQLite)")
     sweep.add_argument("--resume", action="store_true", help="add the missing trials to --out")
-    sweep.add_argument(
-        "--workers", type=int, default=None, help="local processes (default: all cores)"
-    )
-    sweep.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="tcp://HOST:PORT",
-        help="run on this Dask scheduler (needs epistemica[cluster])",
-    )
+    _add_execution_options(sweep)
     add_scenario_options(sweep)
 
     report = commands.add_parser(

@@ -10,20 +10,20 @@ after the first steps of a seeded trial (each observation event applied by produ
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-import time
 from pathlib import Path
 
+from epistemica.cli_exit import EXIT_INTERRUPTED
+from epistemica.cli_json import print_json
+from epistemica.cli_sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
-from epistemica.run import mission_trials, run_study
+from epistemica.run import mission_trials
 from epistemica.sim.figures import animate_trace
 from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
-from epistemica.sim.store import ResultStore
 from epistemica.sim.trace import trial_trace
 from epistemica.view import trial_page
 
@@ -69,27 +69,17 @@ def _run_study(mission, args: argparse.Namespace) -> int:
     specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
-    started = time.perf_counter()
+    print(
+        f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
+        f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
+        f"{len(specs)} trials into {out}"
+    )
     # The default file resumes: a trial's id is its text, level and seed, so a stored row
-    # is the same result; an explicit --out is never added to silently.
-    with ResultStore(out, resume=args.out is None) as store:
-        ids = {s.id for s in specs}
-        stored = len(store.done_ids() & ids)
-        print(
-            f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
-            f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
-            f"{len(specs)} trials ({stored} already in {out})"
-        )
-        try:
-            ran, _ = run_study(specs, store, workers=args.workers)
-        except KeyboardInterrupt:
-            print(
-                f"interrupted: {len(store.done_ids() & ids)} of {len(specs)} trials stored "
-                f"in {out}; run the same command again to finish",
-                file=sys.stderr,
-            )
-            return 130
-        rows = [r for r in store.rows() if r["id"] in ids]
+    # is the same result; an explicit --out is added to only with --resume.
+    done = store_trials(specs, out, args.out is None or args.resume, args)
+    if done is None:
+        return EXIT_INTERRUPTED
+    rows = done.rows
     cells = summarise(rows)
     order = {s.reasoning: i for i, s in enumerate(specs)}
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
@@ -105,7 +95,7 @@ def _run_study(mission, args: argparse.Namespace) -> int:
             print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
-    print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
+    print(done.summary())
     return EXIT_OK
 
 
@@ -171,7 +161,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
                 )
             formula = parse_formula(f"K[{args.robot}] ({args.formula})")
         chosen = model(args.after, args.seed, args.reasoning)
-        claims = [("--formula", str(formula), True, mission.holds(formula, chosen), where)]
+        expected = None if args.expect is None else args.expect == "true"  # None: a question
+        claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
     else:
         claims = []
         for c in mission.checks:
@@ -187,20 +178,28 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             )
             holds = mission.holds(c.check.formula, model(after, seed, level))
             claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
-    failed = [c for c in claims if c[2] != c[3]]
+    failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
     if args.json:
         out = [
-            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h, "when": w}
+            {
+                "name": n,
+                "formula": t,
+                "expected": e,
+                "holds": h,
+                "ok": None if e is None else e == h,
+                "when": w,
+            }
             for n, t, e, h, w in claims
         ]
-        print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
+        print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
     robots = ", ".join(mission.robots)
     print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "
           f"worlds, robots {robots}")  # fmt: skip
     for name, text, expected, holds, label in claims:
-        mark = "ok  " if expected == holds else "FAIL"
+        mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
         moment = "" if label == where else f" [{label}]"
         print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
-    print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
+    if args.formula is None or args.expect is not None:
+        print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK

@@ -105,7 +105,12 @@ def test_cli_checks_and_single_formulas(capsys):
     assert "12 passed, 0 failed" in capsys.readouterr().out
     # --formula is evaluated in the plausibility model too (B is plausibility belief)
     assert main(["check", str(MARY), "-f", "B[mary] ~c"]) == 0
-    assert main(["check", str(MARY), "-f", "[colleague_says_late] [^^c] B[mary] ~c"]) == 1
+    capsys.readouterr()
+    # a question exits 0 and prints its answer; with --expect it is a claim
+    assert main(["check", str(MARY), "-f", "[colleague_says_late] [^^c] B[mary] ~c"]) == 0
+    assert "false" in capsys.readouterr().out
+    after = "[colleague_says_late] [^^c] B[mary] ~c"
+    assert main(["check", str(MARY), "-f", after, "--expect", "true"]) == 1
     capsys.readouterr()
     assert main(["check", str(MARY), "-f", "B[mary | ] c"]) == 2
     assert "expected a formula" in capsys.readouterr().err
