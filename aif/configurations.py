@@ -18,6 +18,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from functools import lru_cache
 from math import factorial, prod
@@ -114,6 +115,7 @@ def _allocation(n: int, m: int) -> np.ndarray:
             f"allocation needs pairwise distinct goals, but {n} robots > {m} goals",
             hint="use n_robots <= n_goals, or mission='capacity' to share goals",
         )
+    _check_rows(math.perm(m, n), f"allocation of {n} robots to {m} goals")
     dtype = index_dtype(m)
     rows = np.empty((1, 0), dtype=dtype)
     used = np.zeros((1, m), dtype=bool)
@@ -124,7 +126,21 @@ def _allocation(n: int, m: int) -> np.ndarray:
     return rows
 
 
+def _check_rows(count: int, what: str) -> None:
+    """Refuse a set of configurations too large to list (before listing any of it)."""
+    if count > _MAX_ROWS:
+        raise InvalidArgumentError(
+            f"{what} has {count:,} configurations, too many to list (at most {_MAX_ROWS:,})",
+            hint="a smaller team or fewer goals; the active-inference levels of the simulator "
+            "reason over a plausible subset instead (aif: prune_from)",
+        )
+
+
 def _capacity(n: int, m: int, caps: np.ndarray) -> np.ndarray:
+    count = math.factorial(n)
+    for c in caps.tolist():
+        count //= math.factorial(int(c))
+    _check_rows(count, f"capacity mission of {n} robots")
     dtype = index_dtype(m)
     rows = np.empty((1, 0), dtype=dtype)
     remaining = caps[None, :].astype(np.int64)

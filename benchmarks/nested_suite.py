@@ -128,6 +128,17 @@ def mission(kind: str, n: int) -> str:
             )
             nested = "B[r2] B[r1] closed(g4)" if kind == "new_goal" else "~B[r2] B[r1] closed(g4)"
             lines += [f'check "at the start {claim[0]}":', f"    {claim[1]} & {nested}"]
+            # A trial where r1 saw the event and r2 did not, and r1 knows it: the case in
+            # which acting on its own view (first order, third_shared) splits the team.
+            after = (
+                ("r1 saw g4 open and believes r2 did not", 0,
+                 "~B[r1] closed(g4) & B[r1] B[r2] closed(g4)")
+                if kind == "new_goal"
+                else ("r1 saw the move and believes r2 still heads for g4", 1,
+                      "B[r1] closed(g4) & ~B[r1] closed(g5) & B[r1] B[r2] closed(g5)"
+                      " & B[r1] ~B[r2] closed(g4)")
+            )  # fmt: skip
+            lines += [f'check "{after[0]}" after 1 steps seed {after[1]}:', f"    {after[2]}"]
     lines.append(f"simulate trials 100 seed 0 steps 60 levels {LEVELS}")
     return "\n".join(lines) + "\n"
 

@@ -24,6 +24,7 @@ import weakref
 import numpy as np
 
 from epistemica.aif.controller import Controller
+from epistemica.aif.decision import Decision
 from epistemica.aif.information import entropy
 from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
 from epistemica.aif.prior import shared_rank, team_log_prior
@@ -83,6 +84,8 @@ class ActiveInference(Policy):
             self.name += "-unpruned"
         elif not self.parameters.nested:
             self.name += "-shared"
+        if not self.parameters.free_energy:
+            self.name += "-priormode"
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
@@ -192,7 +195,13 @@ class ActiveInference(Policy):
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
             priors = self._priors(ctrl, self._views(observations, team), team)
-            decisions = ctrl.decide_team(observations.poses, team, priors)
+            if self.parameters.free_energy:
+                decisions = ctrl.decide_team(observations.poses, team, priors)
+            else:
+                decisions = [
+                    self._prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
+                    for robot, prior in zip(team, priors, strict=True)
+                ]
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         return out
@@ -209,6 +218,19 @@ class ActiveInference(Policy):
             return
         if target is not None:
             self._steer(out, row, robot, pose, target)
+
+    def _prior_mode(self, ctrl: Controller, robot: int, pose, prior) -> Decision:
+        """The ablation of expected free energy: straight for the robot's own goal in the
+        prior's most probable configuration (the first on ties; uniform when ``None``)."""
+        k = ctrl.configurations.shape[0]
+        belief = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
+        focal = int(np.argmax(belief))
+        target = ctrl.goals[ctrl.configurations[focal, robot]]
+        s = self.scenario
+        control = steer(pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt)
+        empty = np.zeros(0)
+        return Decision((float(control[0, 0]), float(control[0, 1])), -1, empty, empty, belief,
+                        focal)  # fmt: skip
 
     def _steer(self, out: Decisions, row: int, robot: int, pose, target) -> None:
         """Drive ``robot`` straight for ``target`` (exploring and searching)."""
@@ -273,12 +295,15 @@ class ActiveInference(Policy):
                 {jk: m[keep] for jk, m in sets.triples.items()},
                 redecide,
             )
-        d = ctrl.decide(
-            robot,
-            observations.poses[robot],
-            prior=own,
-            modelled_priors=[restricted(m) for m in sets.modelled] or None,
-        )
+        if self.parameters.free_energy:
+            d = ctrl.decide(
+                robot,
+                observations.poses[robot],
+                prior=own,
+                modelled_priors=[restricted(m) for m in sets.modelled] or None,
+            )
+        else:
+            d = self._prior_mode(ctrl, robot, observations.poses[robot, robot], own)
         out.unpruned[row] = rows.shape[0]
         self._record(out, row, robot, ctrl, choice.goals, d)
         out.considered[row] = int(sets.own.sum())

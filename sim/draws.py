@@ -47,7 +47,9 @@ def draw_layout(
     """
     streams = trial_streams(seed, robots)
     geometry = streams.geometry
-    goal_xy = geometry.uniform(1.0, workspace - 1.0, size=(goals, 2))
+    # a workspace of 2 m or less has no room for goals at random (missions place them all
+    # there, and refuse otherwise); drawn anyway so that the streams stay in step
+    goal_xy = geometry.uniform(1.0, max(workspace - 1.0, 1.0), size=(goals, 2))
     if clustered:
         start_xy = np.clip((robots - 1) + geometry.normal(0.0, 1.0, (robots, 2)), 0.0, workspace)
     else:

@@ -1,28 +1,48 @@
-"""Pictures of a trial: trajectories (PNG) and an animation with each robot's belief (GIF).
+"""Pictures of a trial: trajectories (PNG) and an animation of what each robot knows (GIF).
 
 matplotlib is imported only here, with the Agg backend (no display needed); without it
 the functions raise an :class:`~epistemica.del_.errors.EpistemicaError` naming the extra
 to install (``pip install 'epistemica[plot]'``). GIFs are written by Pillow.
 
-In the animation, the map shows every robot (a disc, an arrow for its heading, a fading
-trail) and every goal (a star with its success radius); beside it, one row of bars per
-robot shows that robot's belief about its own goal (the marginal of its belief over
-configurations, one bar per goal, coloured like the goal). A bar chart at 1.0 on one goal
-is certainty; flat bars are indifference.
+The animation is drawn from a trial's trace (:mod:`epistemica.sim.trace`), so a stored
+trace draws the same picture as the trial itself. Goals and robots cannot be confused:
+goals are black stars (their success radius a grey disc), labelled with the mission's
+names; robots take a qualitative palette without grey. The map shows each robot (disc,
+heading, trail), its sensing radius (dashed circle), where it places each teammate (a
+cross in the estimating robot's colour, joined to the teammate's true position) and
+rings around the robots that observed an event at that moment. Beside the map: each
+robot's belief about its own goal (a grey-scale table, robots by goals), the size of each
+robot's configuration set over time (solid) with one robot's model of each teammate's set
+(dashed, the teammate's colour; the robot whose model differs most from the truth), and
+the events observed so far with their observers.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from epistemica.del_.errors import EpistemicaError
+from epistemica.sim.palette import ROBOT_COLOURS, focus_robot, robot_colour
 from epistemica.sim.scenario import Scenario
+from epistemica.sim.trace import trial_trace
 from epistemica.sim.trial import Trial
 
-__all__ = ["animate_trial", "plot_trial", "pyplot"]
+__all__ = [
+    "ROBOT_COLOURS",
+    "TraceFrame",
+    "animate_trace",
+    "animate_trial",
+    "focus_robot",
+    "plot_trial",
+    "pyplot",
+]
 
-_ROBOT_COLOURS = "tab10"
 _MAX_FRAMES = 60
+_FONT = 10
+_EVENT_LINES = 6
+_GIF_DPI = 72
 
 
 def pyplot():
@@ -46,37 +66,41 @@ def _title(scenario: Scenario, trial: Trial) -> str:
     return f"{scenario.mission}, {scenario.n_robots} robots, {levels}, seed {trial.seed}: {outcome}"
 
 
-def _draw_goals(ax, scenario: Scenario, goal_colours) -> None:
-    for g, (x, y) in enumerate(scenario.goals):
-        ax.add_patch(_circle((x, y), scenario.success_radius, goal_colours[g], alpha=0.15))
-        ax.plot(x, y, marker="*", markersize=14, color=goal_colours[g], markeredgecolor="k")
-        ax.annotate(f"g{g}", (x, y), textcoords="offset points", xytext=(6, 6), fontsize=8)
+def _trace_title(trace: dict[str, Any], mission: str = "") -> str:
+    steps = trace["steps"]
+    outcome = f"success at step {steps}" if trace["success"] else f"failed ({steps} steps)"
+    levels = ", ".join(dict.fromkeys(trace["policies"]))
+    head = f"{mission}, " if mission else ""
+    return f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']}: {outcome}"
 
 
-def _circle(centre, radius, colour, alpha):
+def _draw_goals(ax, goals: np.ndarray, names, radius: float) -> None:
     from matplotlib.patches import Circle
 
-    return Circle(centre, radius, color=colour, alpha=alpha, linewidth=0)
+    for (x, y), name in zip(goals, names, strict=True):
+        ax.add_patch(Circle((x, y), radius, color="0.8", alpha=0.5, linewidth=0, gid="goal-area"))
+        ax.plot(x, y, marker="*", markersize=15, color="k", markeredgecolor="w", gid=f"goal:{name}")
+        ax.annotate(
+            name, (x, y), textcoords="offset points", xytext=(7, 5), fontsize=_FONT, weight="bold"
+        )
 
 
-def _limits(ax, scenario: Scenario, trial: Trial) -> None:
-    pts = np.concatenate([trial.trajectory[:, :, :2].reshape(-1, 2), scenario.goals])
+def _limits(ax, positions: np.ndarray, goals: np.ndarray, workspace: float) -> None:
+    pts = np.concatenate([positions.reshape(-1, 2), goals.reshape(-1, 2)])
+    pts = pts[np.isfinite(pts).all(axis=1)]
     low = np.minimum(pts.min(axis=0), 0.0) - 1
-    high = np.maximum(pts.max(axis=0), scenario.workspace) + 1
+    high = np.maximum(pts.max(axis=0), workspace) + 1
     ax.set_xlim(low[0], high[0])
     ax.set_ylim(low[1], high[1])
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-
-
-def _colours(plt, count: int):
-    cmap = plt.get_cmap(_ROBOT_COLOURS)
-    return [cmap(i % 10) for i in range(count)]
+    ax.set_xlabel("x (m)", fontsize=_FONT)
+    ax.set_ylabel("y (m)", fontsize=_FONT)
+    ax.tick_params(labelsize=_FONT)
 
 
 def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
-    """Write the trajectories of ``trial`` in ``scenario`` as a PNG at ``path``.
+    """Write the trajectories of ``trial`` in ``scenario`` as a figure at ``path`` (the
+    extension picks the format: ``.png``, ``.pdf``, ``.svg``).
 
     Examples
     --------
@@ -89,28 +113,293 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     True
     """
     plt = pyplot()
-    robots, goals = _colours(plt, scenario.n_robots), _colours(plt, scenario.n_goals)
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
-    _draw_goals(ax, scenario, ["0.45"] * scenario.n_goals if scenario.n_goals > 10 else goals)
-    for i in range(scenario.n_robots):
+    _draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius)
+    for i, name in enumerate(scenario.robot_names):
         path_i = trial.trajectory[:, i]
-        label = f"r{i} ({scenario.sensors[i]}, {trial.policies[i]})"
-        ax.plot(path_i[:, 0], path_i[:, 1], "-", color=robots[i], linewidth=1.6, label=label)
-        ax.plot(*path_i[0, :2], "o", color=robots[i], markeredgecolor="k")
-        ax.plot(*path_i[-1, :2], "s", color=robots[i], markeredgecolor="k")
-    _limits(ax, scenario, trial)
-    ax.set_title(_title(scenario, trial), fontsize=9)
-    ax.legend(fontsize=7, loc="upper right", title="o start, ■ end", title_fontsize=7)
+        colour = robot_colour(i)
+        label = f"{name} ({scenario.sensors[i]}, {trial.policies[i]})"
+        ax.plot(path_i[:, 0], path_i[:, 1], "-", color=colour, linewidth=1.6, label=label)
+        ax.plot(*path_i[0, :2], "o", color=colour, markeredgecolor="k")
+        ax.plot(*path_i[-1, :2], "s", color=colour, markeredgecolor="k")
+    _limits(ax, trial.trajectory[:, :, :2], scenario.goals, scenario.workspace)
+    ax.set_title(_title(scenario, trial), fontsize=_FONT)
+    ax.legend(fontsize=_FONT, loc="upper right", title="o start, ■ end", title_fontsize=_FONT)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def animate_trial(scenario: Scenario, trial: Trial, path, fps: int = 6) -> int:
-    """Write an animated GIF of ``trial``: the map and each robot's belief as bars.
+def _event_text(event: list, robots: list[str]) -> str:
+    # The trace gives an event's arguments as indices without saying whether each is a
+    # robot or a goal, so only its name and observers are written.
+    step, name, _arguments, observers = event
+    seen = ", ".join(robots[o] for o in observers) or "nobody"
+    return f"step {step}: {name}, seen by {seen}"
 
-    At most 60 frames (steps are subsampled evenly, the last one always shown). Returns
-    the number of frames.
+
+class TraceFrame:
+    """The animation's figure over a trace; :meth:`draw` shows one step.
+
+    Artists carry ``gid`` tags (``robot:NAME``, ``sensing:NAME``, ``goal:NAME``,
+    ``estimate:A->B``, ``event:NAME``) so that tests and tools can find them.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario, simulate
+    >>> from epistemica.sim.trace import trial_trace
+    >>> s = Scenario.paper("rendezvous", 3, seed=0, max_steps=5, sensing_range=8.0)
+    >>> frame = TraceFrame(trial_trace(s, simulate(s, "third", seed=0)))
+    >>> len(frame.sensing), frame.belief_axes.get_xticklabels()[0].get_text()
+    (3, 'g1')
+    >>> frame.close()
+    """
+
+    def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
+        self.plt = plt = pyplot()
+        self.trace = trace
+        self.robots, self.goals = list(trace["robots"]), list(trace["goals"])
+        self.poses = np.asarray(trace["poses"], dtype=float)
+        self.belief = np.asarray(trace["goal_belief"], dtype=float)
+        self.considered = np.asarray(trace["considered"], dtype=float)
+        self.modelled = np.asarray(trace["modelled"], dtype=float)
+        self.estimates = np.asarray(trace["estimates"], dtype=float)
+        self.focus = focus_robot(trace) if focus is None else focus
+        self.title = _trace_title(trace, mission)
+        n = len(self.robots)
+        self.fig = fig = plt.figure(figsize=(13.0, 7.0))
+        grid = fig.add_gridspec(
+            3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.15, 0.75), wspace=0.28
+        )
+        self.map_axes = fig.add_subplot(grid[:, 0])
+        self.belief_axes = fig.add_subplot(grid[0, 1])
+        self.sets_axes = fig.add_subplot(grid[1, 1])
+        self.events_axes = fig.add_subplot(grid[2, 1])
+        goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        _draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
+        _limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
+        self.sensing = self._sensing_circles()
+        ax = self.map_axes
+        colours = [robot_colour(i) for i in range(n)]
+        self.trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
+        self.discs = [
+            ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
+            for name, c in zip(self.robots, colours, strict=True)
+        ]
+        self.estimate_marks = [
+            [
+                ax.plot(
+                    [],
+                    [],
+                    "x-",
+                    color=colours[i],
+                    ms=7,
+                    lw=0.8,
+                    alpha=0.6,
+                    gid=f"estimate:{a}->{b}",
+                )[0]
+                for j, b in enumerate(self.robots)
+                if j != i
+            ]
+            for i, a in enumerate(self.robots)
+        ]
+        self.transient: list = []
+        self._map_legend()
+        self._belief_panel()
+        self._sets_panel()
+        self.events_axes.axis("off")
+        self.events_axes.set_title("events observed (and by whom)", fontsize=_FONT, loc="left")
+        self.event_lines = self.events_axes.text(
+            0.0, 1.0, "", va="top", ha="left", fontsize=_FONT, family="monospace"
+        )
+        self.heading = fig.suptitle("", fontsize=_FONT + 1)
+        fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
+
+    def _sensing_circles(self) -> list:
+        from matplotlib.patches import Circle
+
+        radius = self.trace.get("sensing_range")
+        if radius is None:
+            return []
+        circles = []
+        for i, name in enumerate(self.robots):
+            circle = Circle(
+                tuple(self.poses[0, i, :2]),
+                radius,
+                fill=False,
+                ls="--",
+                lw=1.0,
+                ec=robot_colour(i),
+                gid=f"sensing:{name}",
+            )
+            self.map_axes.add_patch(circle)
+            circles.append(circle)
+        return circles
+
+    def _map_legend(self) -> None:
+        from matplotlib.lines import Line2D
+
+        extra = [
+            Line2D([], [], marker="*", color="k", ls="", ms=12, label="goal"),
+            Line2D([], [], marker="x", color="0.3", ls="", label="where a robot places a teammate"),
+        ]
+        if self.sensing:
+            extra.append(Line2D([], [], ls="--", color="0.3", label="sensing radius"))
+        self.map_axes.legend(
+            handles=[*self.discs, *extra],
+            fontsize=_FONT,
+            loc="upper left",
+            bbox_to_anchor=(-0.02, -0.08),
+            ncol=3,
+            frameon=False,
+        )
+
+    def _belief_panel(self) -> None:
+        ax, n, m = self.belief_axes, len(self.robots), len(self.goals)
+        self.belief_image = ax.imshow(
+            np.zeros((n, m)), cmap="Greys", vmin=0, vmax=1, aspect="auto", interpolation="nearest"
+        )
+        ax.set_xticks(np.arange(m), self.goals if m <= 12 else [""] * m, fontsize=_FONT)
+        ax.set_yticks(np.arange(n), self.robots, fontsize=_FONT)
+        for i, label in enumerate(ax.get_yticklabels()):
+            label.set_color(robot_colour(i))
+            label.set_fontweight("bold")
+        ax.set_title("each robot's belief that a goal is its own", fontsize=_FONT, loc="left")
+        small = n * m <= 48
+        self.belief_numbers = [
+            [ax.text(g, i, "", ha="center", va="center", fontsize=_FONT) for g in range(m)]
+            for i in range(n)
+        ] if small else []  # fmt: skip
+
+    def _sets_panel(self) -> None:
+        ax, f = self.sets_axes, self.focus
+        steps = np.arange(len(self.considered))
+        for i, name in enumerate(self.robots):
+            ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
+        for j, name in enumerate(self.robots):
+            if j != f and len(self.modelled):
+                ax.plot(
+                    steps,
+                    self.modelled[:, f, j],
+                    "--",
+                    color=robot_colour(j),
+                    lw=1.4,
+                    label=f"{self.robots[f]}'s model of {name}'s",
+                )
+        if len(self.considered) and np.nanmax(self.considered) > 20:
+            ax.set_yscale("log")
+        else:
+            ax.set_ylim(bottom=0)
+        ax.set_ylabel("configurations", fontsize=_FONT)
+        ax.set_xlabel("step", fontsize=_FONT)
+        ax.tick_params(labelsize=_FONT)
+        ax.set_title("configuration sets: own (solid), nested (dashed)", fontsize=_FONT, loc="left")
+        ax.legend(fontsize=_FONT, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
+        self.cursor = ax.axvline(0, color="0.4", lw=0.8)
+
+    def draw(self, step: int, since: int | None = None) -> list:
+        """Show ``step`` (events of steps after ``since`` ringed on the map); the artists."""
+        for artist in self.transient:
+            artist.remove()
+        self.transient.clear()
+        pose, ax = self.poses[step], self.map_axes
+        decided = min(step, len(self.belief) - 1)
+        for i in range(len(self.robots)):
+            self.trails[i].set_data(self.poses[: step + 1, i, 0], self.poses[: step + 1, i, 1])
+            self.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
+            dx, dy = 1.2 * np.cos(pose[i, 2]), 1.2 * np.sin(pose[i, 2])
+            self.transient.append(
+                ax.arrow(pose[i, 0], pose[i, 1], dx, dy, width=0.12, color=robot_colour(i))
+            )
+            if self.sensing:
+                self.sensing[i].center = (pose[i, 0], pose[i, 1])
+        if decided >= 0:
+            self._draw_estimates(decided, pose)
+            self._draw_belief(decided)
+        self._draw_events(step, step - 1 if since is None else since)
+        self.cursor.set_xdata([decided, decided])
+        self.heading.set_text(f"{self.title}   step {step}")
+        return [*self.trails, *self.discs, *self.transient, self.heading]
+
+    def _draw_estimates(self, step: int, pose: np.ndarray) -> None:
+        for i, marks in enumerate(self.estimate_marks):
+            others = [j for j in range(len(self.robots)) if j != i]
+            for mark, j in zip(marks, others, strict=True):
+                x, y = self.estimates[step, i, j]
+                if np.isfinite(x) and np.isfinite(y):
+                    mark.set_data([x, pose[j, 0]], [y, pose[j, 1]])
+                    mark.set_markevery([0])
+                else:
+                    mark.set_data([], [])
+
+    def _draw_belief(self, step: int) -> None:
+        values = self.belief[step]
+        self.belief_image.set_data(np.nan_to_num(values))
+        for i, row in enumerate(self.belief_numbers):
+            for g, text in enumerate(row):
+                value = values[i, g]
+                text.set_text("" if not np.isfinite(value) else f"{value:.2f}")
+                text.set_color("w" if np.isfinite(value) and value > 0.55 else "k")
+
+    def _draw_events(self, step: int, since: int) -> None:
+        events = [e for e in self.trace["events"] if e[0] <= step]
+        lines = [_event_text(e, self.robots) for e in events[-_EVENT_LINES:]]
+        more = len(events) - len(lines)
+        head = [f"... {more} earlier"] if more > 0 else []
+        self.event_lines.set_text("\n".join(head + lines) if events else "(none yet)")
+        for event in events:
+            if event[0] > since:
+                for o in event[3]:
+                    self.transient.append(
+                        self.map_axes.plot(
+                            *self.poses[step, o, :2],
+                            "o",
+                            ms=22,
+                            mfc="none",
+                            mec=robot_colour(o),
+                            mew=2.5,
+                            gid=f"event:{event[1]}",
+                        )[0]
+                    )
+
+    def close(self) -> None:
+        """Release the figure."""
+        self.plt.close(self.fig)
+
+
+def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") -> int:
+    """Write an animated GIF of a trial's trace (see the module docstring); the frame count.
+
+    At most 60 frames (steps subsampled evenly, the first and last always shown); an event
+    is ringed in the frame that first shows its step.
+    """
+    from PIL import Image
+
+    steps = int(trace["steps"])
+    frames = np.unique(np.linspace(0, steps, min(steps + 1, _MAX_FRAMES)).astype(int))
+    frame = TraceFrame(trace, mission)
+    images = []
+    try:
+        frame.fig.set_dpi(_GIF_DPI)
+        since = -1
+        for step in frames:
+            frame.draw(int(step), since)
+            since = int(step)
+            frame.fig.canvas.draw()  # one render per frame (FuncAnimation renders twice)
+            rgb = Image.fromarray(np.asarray(frame.fig.canvas.buffer_rgba())[:, :, :3])
+            # One palette for every frame (the first frame's: every robot, goal and panel
+            # is drawn there): Pillow's frame differences compare palette indices, and
+            # per-frame palettes made unchanged parts of later frames lose their colours.
+            palette = images[0] if images else rgb.quantize(colors=255, dither=Image.Dither.NONE)
+            images.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
+    finally:
+        frame.close()
+    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    return len(frames)
+
+
+def animate_trial(scenario: Scenario, trial: Trial, path, fps: int = 6) -> int:
+    """Write an animated GIF of ``trial`` (see :func:`animate_trace`); the frame count.
 
     Examples
     --------
@@ -120,63 +409,5 @@ def animate_trial(scenario: Scenario, trial: Trial, path, fps: int = 6) -> int:
     >>> animate_trial(s, simulate(s, "third", seed=0), os.path.join(tempfile.mkdtemp(), "t.gif"))
     7
     """
-    plt = pyplot()
-    from matplotlib.animation import FuncAnimation, PillowWriter
-
-    n, m = scenario.n_robots, scenario.n_goals
-    robots, goals = _colours(plt, n), _colours(plt, m)
-    frames = np.unique(np.linspace(0, trial.steps, min(trial.steps + 1, _MAX_FRAMES)).astype(int))
-    fig = plt.figure(figsize=(9.6, 5.0))
-    grid = fig.add_gridspec(n, 2, width_ratios=(1.25, 1.0), wspace=0.25, hspace=0.6)
-    ax = fig.add_subplot(grid[:, 0])
-    bars_axes = [fig.add_subplot(grid[i, 1]) for i in range(n)]
-    _draw_goals(ax, scenario, goals if m <= 10 else ["0.45"] * m)
-    _limits(ax, scenario, trial)
-    trails = [ax.plot([], [], "-", color=robots[i], linewidth=1.2, alpha=0.7)[0] for i in range(n)]
-    discs = [
-        ax.plot([], [], "o", color=robots[i], markeredgecolor="k", markersize=9)[0]
-        for i in range(n)
-    ]
-    arrows = []
-    bars = []
-    for i, bax in enumerate(bars_axes):
-        bars.append(bax.bar(np.arange(m), np.zeros(m), color=goals if m <= 10 else "0.45"))
-        bax.set_ylim(0, 1)
-        bax.set_yticks([0, 1])
-        bax.set_xticks(np.arange(m) if m <= 10 else [])
-        bax.set_xticklabels([f"g{g}" for g in range(m)] if m <= 10 else [], fontsize=7)
-        bax.tick_params(labelsize=7)
-        bax.set_ylabel(f"r{i}", color=robots[i], rotation=0, labelpad=12, fontsize=9)
-    bars_axes[0].set_title("each robot's belief about its own goal", fontsize=9)
-    title = ax.set_title("", fontsize=9)
-
-    def draw(step: int):
-        for arrow in arrows:
-            arrow.remove()
-        arrows.clear()
-        pose = trial.trajectory[step]
-        for i in range(n):
-            trails[i].set_data(
-                trial.trajectory[: step + 1, i, 0], trial.trajectory[: step + 1, i, 1]
-            )
-            discs[i].set_data([pose[i, 0]], [pose[i, 1]])
-            arrows.append(
-                ax.arrow(
-                    pose[i, 0],
-                    pose[i, 1],
-                    1.2 * np.cos(pose[i, 2]),
-                    1.2 * np.sin(pose[i, 2]),
-                    width=0.12,
-                    color=robots[i],
-                )
-            )
-            belief = trial.goal_belief[min(step, trial.steps - 1), i] if trial.steps else ()
-            for bar, height in zip(bars[i], belief, strict=False):
-                bar.set_height(height)
-        title.set_text(f"{_title(scenario, trial)}\nstep {step}")
-        return [*trails, *discs, *arrows, title]
-
-    animation = FuncAnimation(fig, draw, frames=frames, blit=False)
-    animation.save(path, writer=PillowWriter(fps=fps), dpi=80)
-    plt.close(fig)
-    return len(frames)
+    pyplot()  # the clear error before any work
+    return animate_trace(trial_trace(scenario, trial), path, fps, scenario.mission)

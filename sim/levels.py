@@ -43,6 +43,17 @@ def _active(order: int, **settings) -> Callable[[ActiveParameters], Policy]:
     return lambda parameters: ActiveInference(order, parameters.replace(**settings))
 
 
+def _named(name: str, build: Callable[[ActiveParameters], Policy]):
+    """``build`` with the policy renamed (a level defined by its settings)."""
+
+    def named(parameters: ActiveParameters) -> Policy:
+        policy = build(parameters)
+        policy.name = name
+        return policy
+
+    return named
+
+
 def _table() -> dict[str, Level]:
     levels = {
         "zero": Level("greedy: the nearest goal it knows", lambda p: Greedy()),
@@ -62,6 +73,17 @@ def _table() -> dict[str, Level]:
             f"order {order}, every teammate taken to have seen what it saw (ablation)",
             _active(order, nested=False),
         )
+    for name, order in ORDERS.items():
+        levels[f"{name}-priormode"] = Level(
+            f"order {order}, straight to the prior's most probable configuration (ablation "
+            "of expected free energy)",
+            _active(order, free_energy=False),
+        )
+    levels["convention+rules"] = Level(
+        "the convention on the common view with every rule of the active levels (search, "
+        "exploration, pruning), no inference",
+        _named("convention+rules", _active(2, free_energy=False, nested=False, anticipate=False)),
+    )
     levels["convention-reverse"] = Level(
         "the convention with the opposite tie-break (an ad hoc teammate)",
         lambda p: Convention(tie_break="reverse"),

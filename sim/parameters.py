@@ -74,6 +74,11 @@ class ActiveParameters:
         At order 2 and above, take the team prior from what is common knowledge: with a
         teammate out of sight no position is, so every robot is placed at the workspace
         centre (the shared default estimate) and the shared tie-break decides.
+    free_energy : bool
+        Choose each move by expected free energy (:class:`epistemica.aif.Controller`);
+        ``False`` is the ablation (level ``*-priormode``, and ``convention+rules``): drive
+        straight to the robot's own goal in the most probable configuration of the prior
+        it was handed, every other rule kept.
     search : bool
         Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
         goal without the rest of the team searches for it.
@@ -103,6 +108,7 @@ class ActiveParameters:
     nested: bool = True
     anticipate: bool = True
     common_view: bool = True
+    free_energy: bool = True
     search: bool = True
     lone_wait: int = 15
     look: float = 0.8

@@ -17,14 +17,24 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 import numpy as np
 
 from epistemica.sim.figures import pyplot
+from epistemica.sim.levels import REASONING
 
-__all__ = ["Cell", "format_table", "plot_levels", "plot_results", "summarise", "wilson_interval"]
+__all__ = [
+    "Cell",
+    "disputed_seed",
+    "format_table",
+    "plot_levels",
+    "plot_results",
+    "study_order",
+    "summarise",
+    "wilson_interval",
+]
 
 _Z95 = 1.959963984540054
 
@@ -98,6 +108,56 @@ def summarise(rows: Iterable[dict], step_limit_for_failures: int = 150) -> list[
     return cells
 
 
+def disputed_seed(rows: Iterable[dict], levels: Sequence[str]) -> int | None:
+    """The seed of the trial that shows what the highest level (the last of ``levels``)
+    adds; None when the levels agree on every seed.
+
+    In order of preference, the first seed where: the last level succeeds and the level
+    before it fails (the extra reasoning decided); the last level succeeds and some other
+    level fails; the levels disagree at all.
+
+    Examples
+    --------
+    >>> rows = [{"seed": s, "reasoning": lv, "success": ok} for s, lv, ok in
+    ...         [(0, "zero", 0), (0, "first", 1), (0, "third", 1),
+    ...          (1, "zero", 0), (1, "first", 0), (1, "third", 1)]]
+    >>> disputed_seed(rows, ["zero", "first", "third"])
+    1
+    >>> disputed_seed(rows[1:3], ["first", "third"]) is None
+    True
+    """
+    outcomes: dict[int, dict[str, bool]] = {}
+    for row in rows:
+        if row["reasoning"] in levels:
+            outcomes.setdefault(int(row["seed"]), {})[row["reasoning"]] = bool(row["success"])
+    complete = {s: o for s, o in sorted(outcomes.items()) if len(o) == len(set(levels))}
+    last, below = levels[-1], levels[-2] if len(levels) > 1 else None
+    rules = (
+        lambda o: o[last] and below is not None and not o[below],
+        lambda o: o[last] and not all(o.values()),
+        lambda o: len(set(o.values())) > 1,
+    )
+    for rule in rules:
+        for seed, seen in complete.items():
+            if rule(seen):
+                return seed
+    return None
+
+
+def study_order(levels: Iterable[str]) -> list[str]:
+    """Level names in the order of the study (:data:`~epistemica.sim.levels.REASONING`:
+    from no reasoning to the highest order), unknown names last in their given order.
+
+    Examples
+    --------
+    >>> study_order(["third", "convention", "zero", "first"])
+    ['zero', 'convention', 'first', 'third']
+    """
+    rank = {name: i for i, name in enumerate(REASONING)}
+    names = list(dict.fromkeys(levels))
+    return sorted(names, key=lambda name: (rank.get(name, len(rank)), names.index(name)))
+
+
 def _mean_unpruned(rows: list[dict]) -> float:
     values = [r["unpruned"] for r in rows if r.get("unpruned") is not None]
     return float(np.mean(values)) if values else math.nan
@@ -155,48 +215,94 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
     return "\n".join([fmt.format(*head), *(fmt.format(*line) for line in lines)])
 
 
-def plot_results(cells: list[Cell], path) -> None:
+#: Line style and marker of the level at each position of the study order (colour-blind
+#: and greyscale readers tell the levels apart by these alone).
+LEVEL_STYLES = (
+    ("-", "o"),
+    ("--", "s"),
+    ("-.", "^"),
+    (":", "D"),
+    ("-", "v"),
+    ("--", "P"),
+    ("-.", "X"),
+    (":", "*"),
+)
+_FONTS = {"font.size": 11, "legend.fontsize": 10, "axes.titlesize": 11}
+
+
+def plot_results(cells: list[Cell], path, levels: Sequence[str] | None = None) -> None:
     """The paper-style figure: per mission, success rate (multitask: mean completion step)
-    against team size, one line per level, 95 % bands; written as PNG to ``path``."""
+    against team size, one line per level (its own colour, marker and line style), 95 %
+    bands, the legend in study order (``levels``, default :func:`study_order`).
+
+    The extension of ``path`` picks the format: ``.png`` (100 dpi), ``.pdf`` or ``.svg``
+    (vector, for a paper).
+    """
     plt = pyplot()
     missions = sorted({c.mission for c in cells})
-    fig, axes = plt.subplots(1, len(missions), figsize=(5.2 * len(missions), 4.2), squeeze=False)
-    for ax, mission in zip(axes[0], missions, strict=True):
-        mine = [c for c in cells if c.mission == mission]
-        for level in dict.fromkeys(c.reasoning for c in mine):
-            _plot_level(ax, [c for c in mine if c.reasoning == level], level, mission)
-        ax.set_xlabel("robots")
-        ax.set_xticks(sorted({c.robots for c in mine}))
-        ax.set_title(f"{mission} ({max(c.trials for c in mine)} trials per cell)")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    order = list(levels) if levels is not None else study_order(c.reasoning for c in cells)
+    order += [lv for lv in study_order(c.reasoning for c in cells) if lv not in order]
+    colours = plt.get_cmap("tab10")
+    with plt.rc_context(_FONTS):
+        fig, axes = plt.subplots(
+            1, len(missions), figsize=(1.6 + 5.0 * len(missions), 4.4), squeeze=False
+        )
+        for ax, mission in zip(axes[0], missions, strict=True):
+            mine = [c for c in cells if c.mission == mission]
+            for k, level in enumerate(order):
+                chosen = [c for c in mine if c.reasoning == level]
+                if chosen:
+                    style = (colours(k % 10), *LEVEL_STYLES[k % len(LEVEL_STYLES)])
+                    _plot_level(ax, chosen, level, mission, style)
+            ax.set_xlabel("robots")
+            ax.set_xticks(sorted({c.robots for c in mine}))
+            ax.set_title(f"{mission} ({max(c.trials for c in mine)} trials per cell)")
+            ax.grid(alpha=0.3)
+        # One legend for every panel (a level keeps its look across missions), outside
+        # the data; its entries in study order.
+        shown = {h.get_label(): h for ax in axes[0] for h in ax.get_lines()}
+        axes[0][-1].legend(
+            [shown[lv] for lv in order if lv in shown],
+            [lv for lv in order if lv in shown],
+            title="level",
+            loc="upper left",
+            bbox_to_anchor=(1.02, 1.0),
+        )
+        fig.tight_layout()
+        fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def _plot_level(ax, cells: list[Cell], level: str, mission: str) -> None:
+def _plot_level(ax, cells: list[Cell], level: str, mission: str, style: tuple) -> None:
+    colour, line, marker = style
     sizes = sorted({c.robots for c in cells})
+    look = {"color": colour, "linestyle": line, "marker": marker, "markersize": 7, "label": level}
     if mission == "multitask":
         means = [np.mean([c.mean_completion for c in cells if c.robots == n]) for n in sizes]
-        ax.plot(sizes, means, marker="o", label=level)
+        ax.plot(sizes, means, **look)
         ax.set_ylabel("mean completion step (failures = limit)")
         return
     # Pool the goal counts of one team size, as the paper's per-team-size figure does.
     ok = np.array([sum(c.successes for c in cells if c.robots == n) for n in sizes])
     total = np.array([sum(c.trials for c in cells if c.robots == n) for n in sizes])
     bands = np.array([wilson_interval(k, t) for k, t in zip(ok, total, strict=True)])
-    (line,) = ax.plot(sizes, 100 * ok / total, marker="o", label=level)
-    ax.fill_between(sizes, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.2, color=line.get_color())
+    ax.plot(sizes, 100 * ok / total, **look)
+    ax.fill_between(sizes, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.15, color=colour)
     ax.set_ylabel("success rate (%) with 95 % interval")
     ax.set_ylim(-2, 102)
 
 
 def plot_levels(cells: list[Cell], path, title: str) -> None:
     """One study's levels side by side: success rate with its 95 % interval (multitask:
-    mean completion step), mean steps of the successes written on each bar; PNG."""
+    mean completion step), mean steps of the successes written on each bar, the levels in
+    the order given; the extension of ``path`` picks the format (PNG, PDF, SVG)."""
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(1.2 + 1.3 * len(cells), 4.2))
+    with plt.rc_context(_FONTS):
+        _level_bars(plt, cells, path, title)
+
+
+def _level_bars(plt, cells: list[Cell], path, title: str) -> None:
+    fig, ax = plt.subplots(figsize=(1.6 + 1.4 * len(cells), 4.4))
     names = [c.reasoning for c in cells]
     x = np.arange(len(cells))
     if cells and cells[0].mission == "multitask":
@@ -212,7 +318,7 @@ def plot_levels(cells: list[Cell], path, title: str) -> None:
         ax.set_ylim(0, 105)
         for i, c in enumerate(cells):
             if not math.isnan(c.mean_steps):
-                ax.text(i, 3, f"{c.mean_steps:.0f} steps", ha="center", fontsize=8, color="white")
+                ax.text(i, 3, f"{c.mean_steps:.0f} steps", ha="center", fontsize=10, color="white")
     ax.set_xticks(x, names, rotation=20)
     ax.set_title(f"{title} ({max((c.trials for c in cells), default=0)} trials per level)")
     ax.grid(axis="y", alpha=0.3)

@@ -26,7 +26,9 @@ from epistemica.aif.configurations import count_configurations, valid_configurat
 from epistemica.aif.evidence import SENSORS
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.draws import draw_layout
+from epistemica.sim.dynamics import SENSOR_MODELS, Dynamics, Sensor, Unicycle
 from epistemica.sim.events import EventRule
+from epistemica.sim.obstacles import CLEARANCE, inside, polygon, polygon_distance
 
 __all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
 
@@ -34,6 +36,10 @@ __all__ = ["MISSIONS", "OBSERVATIONS", "Scenario"]
 MISSIONS = ("rendezvous", "allocation", "capacity", "multitask")
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
+#: The longest trial a scenario may ask for (steps): what a mission file accepts too.
+MAX_STEPS = 100_000
+#: The largest team and goal count of the published protocol's scenarios (as mission files).
+MAX_ROBOTS, MAX_GOALS = 12, 64
 
 
 def _fail(message: str, hint: str) -> InvalidArgumentError:
@@ -91,11 +97,11 @@ class Scenario:
         Side of the square workspace ``[0, workspace]²`` (m).
     bounded : bool
         Keep robots inside the workspace (positions are clipped after each move).
-    observation : {"paper", "honest"}
+    observation : {"paper", "honest"} or Sensor
         ``"paper"``: every robot receives the others' positions with ``N(0,
         position_noise)`` per axis. ``"honest"``: a bearing robot measures angles only
         (``N(0, angle_noise)``); a range robot measures range (``N(0, position_noise)``)
-        and angle.
+        and angle. Or a sensor of your own (:class:`~epistemica.sim.dynamics.Sensor`).
     position_noise, angle_noise : float
         Variances (m², rad²) of the observation noise.
     process_noise : float
@@ -142,6 +148,16 @@ class Scenario:
     robot_names, goal_names : sequence of str, optional
         Names used by ``told`` formulas and in reports; default ``r1, r2, ...`` and
         ``g1, g2, ...``.
+    dynamics : Dynamics, optional
+        How robots move (:class:`~epistemica.sim.dynamics.Dynamics`); default the
+        unicycle (:class:`~epistemica.sim.dynamics.Unicycle`).
+    robot_radius : float or array_like, optional
+        Disc robots of this radius (m, per robot) that cannot overlap
+        (:mod:`epistemica.sim.obstacles`); ``None``: point robots that pass through each
+        other.
+    obstacles : sequence of array_like
+        Polygons (``(k, 2)`` corners each) that block motion and sight; no start and no
+        goal may lie in one.
     """
 
     mission: str
@@ -171,12 +187,15 @@ class Scenario:
     told: tuple = ()
     robot_names: tuple[str, ...] | None = None
     goal_names: tuple[str, ...] | None = None
+    dynamics: Dynamics | None = None
+    robot_radius: np.ndarray | None = None
+    obstacles: tuple[np.ndarray, ...] = ()
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         if self.mission not in MISSIONS:
             raise _fail(f"unknown mission {self.mission!r}", f"use one of {', '.join(MISSIONS)}")
-        if self.observation not in OBSERVATIONS:
+        if not isinstance(self.observation, Sensor) and self.observation not in OBSERVATIONS:
             raise _fail(
                 f"unknown observation model {self.observation!r}",
                 f"use one of {', '.join(OBSERVATIONS)}",
@@ -213,10 +232,13 @@ class Scenario:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=5")
+            if value > MAX_STEPS:  # a trial's arrays are preallocated per step
+                raise _fail(f"{name} must be at most {MAX_STEPS:,}, got {value!r}", "e.g. 150")
             set_(self, name, int(value))
         self._check_goal_knowledge(n, m)
         self._check_mission(n, m)
         self._check_epistemics(n, m)
+        self._check_contacts(starts, goals)
         for name, value in (("starts", starts), ("goals", goals)):
             value.setflags(write=False)
             set_(self, name, value)
@@ -290,6 +312,52 @@ class Scenario:
             raise _fail(f"valid must hold goal indices 0..{m - 1}", "one row per configuration")
         rows.setflags(write=False)
         set_(self, "valid", rows)
+
+    def _check_contacts(self, starts: np.ndarray, goals: np.ndarray) -> None:
+        set_ = object.__setattr__
+        if self.dynamics is None:
+            set_(self, "dynamics", Unicycle())
+        elif not isinstance(self.dynamics, Dynamics):
+            raise _fail(
+                f"dynamics must have a step(poses, controls, dt) method, got {self.dynamics!r}",
+                "use epistemica.sim.dynamics.Unicycle(), or an object of your own",
+            )
+        n = starts.shape[0]
+        if self.robot_radius is not None:
+            radius = _per_robot(self.robot_radius, "robot_radius", n, 0.0, self.workspace)
+            radius.setflags(write=False)
+            set_(self, "robot_radius", radius)
+        obstacles = tuple(polygon(p) for p in self.obstacles)
+        set_(self, "obstacles", obstacles)
+        radii = np.zeros(n) if self.robot_radius is None else self.robot_radius
+        for k, poly in enumerate(obstacles):
+            for i, start in enumerate(starts[:, :2]):
+                if polygon_distance(start, start, poly) < max(radii[i], CLEARANCE):
+                    raise _fail(
+                        f"robot {i} starts at {start.tolist()}, in obstacle {k}",
+                        "move the start (or the obstacle); a place drawn at random may fall "
+                        "in an obstacle: place robots explicitly when there are obstacles",
+                    )
+            hit = inside(goals, poly)
+            if hit.any():
+                g = int(np.argmax(hit))
+                raise _fail(
+                    f"goal {g} at {goals[g].tolist()} lies in obstacle {k}: no robot can reach it",
+                    "move the goal (or the obstacle); a place drawn at random may fall in "
+                    "an obstacle: place goals explicitly when there are obstacles",
+                )
+
+    @property
+    def sensor(self) -> Sensor:
+        """The observation model as a :class:`~epistemica.sim.dynamics.Sensor`."""
+        if isinstance(self.observation, str):
+            return SENSOR_MODELS[self.observation]
+        return self.observation
+
+    @property
+    def contacts(self) -> bool:
+        """Whether robots are discs or there are obstacles (moves may be cut short)."""
+        return self.robot_radius is not None or bool(self.obstacles)
 
     @property
     def n_robots(self) -> int:
@@ -370,8 +438,12 @@ class Scenario:
                 f"the paper protocol has no {mission!r} mission",
                 "use rendezvous, allocation or multitask",
             )
-        n = _count(robots, "robots")
-        m = _count(goals if goals is not None else (20 if mission == "multitask" else n), "goals")
+        n = _count(robots, "robots", MAX_ROBOTS)
+        m = _count(
+            goals if goals is not None else (20 if mission == "multitask" else n),
+            "goals",
+            MAX_GOALS,
+        )
         layout = draw_layout(seed, n, m, clustered=mission == "multitask")
         if mission == "multitask":
             defaults = {"max_steps": 150, "max_turn": math.pi / 4}
@@ -382,7 +454,9 @@ class Scenario:
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
 
 
-def _count(value, name: str) -> int:
+def _count(value, name: str, limit: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=3")
+    if value > limit:  # the levels' sets of configurations grow as goals^robots
+        raise _fail(f"{name} must be at most {limit}, got {value!r}", "the simulator's limit")
     return int(value)

@@ -13,8 +13,11 @@ Observation models (``Scenario.observation``):
   (a bearing-only tracker: the angle is what was measured, the range is a remembered
   guess, a quarter of the workspace until anything better is known).
 
-A teammate beyond ``sensing_range`` is not observed: its estimate stays where it was last
-seen (the workspace centre if never), and ``seen`` says so.
+Both are :class:`~epistemica.sim.dynamics.Sensor` implementations
+(:mod:`epistemica.sim.dynamics`); a scenario may bring its own.
+
+A teammate beyond ``sensing_range``, or hidden behind an obstacle, is not observed: its
+estimate stays where it was last seen (the workspace centre if never), and ``seen`` says so.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ import numpy as np
 
 from epistemica.sim.knowledge import TeamKnowledge
 from epistemica.sim.missions import distances
+from epistemica.sim.obstacles import line_of_sight
 from epistemica.sim.scenario import Scenario
 
 __all__ = ["Observations", "Sensing"]
@@ -89,11 +93,13 @@ class Sensing:
             else np.array(scenario.known_goals, dtype=bool)
         )
         self.known_done = np.zeros((n, m), dtype=bool)
-        self._bearing = np.array([s == "bearing" for s in scenario.sensors])
+        self.sensor = scenario.sensor
 
     def visible(self, poses: np.ndarray) -> np.ndarray:
         """``(n, n)`` booleans: ``j`` is within ``i``'s sensing range (``i`` sees itself)."""
         d = distances(poses[:, :2], poses[:, :2])
+        if self.scenario.obstacles:
+            return (d <= self.sensing_range) & line_of_sight(poses[:, :2], self.scenario.obstacles)
         return d <= self.sensing_range
 
     def observe(self, poses: np.ndarray, step: int, settled=None, closed=None) -> Observations:
@@ -113,6 +119,8 @@ class Sensing:
         self.estimates[idx, idx] = poses  # own pose is exact
         self.last_seen[seen] = step
         near_goal = distances(poses[:, :2], s.goals) <= self.discovery_range
+        if s.obstacles:  # a goal behind an obstacle is not seen either
+            near_goal &= line_of_sight(poses[:, :2], s.obstacles, s.goals)
         closed = np.zeros(s.n_goals, dtype=bool) if closed is None else np.asarray(closed)
         self.known_goals |= near_goal & ~closed[None, :]
         if settled is not None and np.any(settled):
@@ -130,21 +138,4 @@ class Sensing:
         )
 
     def _measure(self, poses: np.ndarray, noise: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        truth = np.broadcast_to(poses, (poses.shape[0], *poses.shape)).copy()  # (n, n, 3)
-        if s.observation == "paper":
-            truth[..., :2] += np.sqrt(s.position_noise) * noise
-            return truth
-        own = poses[:, None, :2]
-        rel = truth[..., :2] - own
-        angle = np.arctan2(rel[..., 1], rel[..., 0]) + np.sqrt(s.angle_noise) * noise[..., 1]
-        measured_range = (
-            np.hypot(rel[..., 0], rel[..., 1]) + np.sqrt(s.position_noise) * noise[..., 0]
-        )
-        remembered = np.hypot(*(self.estimates[..., :2] - own).transpose(2, 0, 1))
-        guess = np.where(remembered > 1e-9, remembered, s.workspace / 4)
-        r = np.where(self._bearing[:, None], guess, np.abs(measured_range))
-        truth[..., 0] = own[..., 0] + r * np.cos(angle)
-        truth[..., 1] = own[..., 1] + r * np.sin(angle)
-        truth[..., 2] = 0.0  # headings of others are not measured
-        return truth
+        return self.sensor.measure(poses, self.estimates, noise, self.scenario)

@@ -18,23 +18,23 @@ from time import perf_counter
 
 import numpy as np
 
-from epistemica.aif.motion import move
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.events import STILL, World, fire
 from epistemica.sim.knowledge import initial_knowledge
 from epistemica.sim.levels import make_policy
 from epistemica.sim.missions import distances, mission_holds, realises
+from epistemica.sim.obstacles import resolve_contacts
 from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Policy
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.sensing import Sensing
 from epistemica.sim.trial import Trial
 
-__all__ = ["simulate"]
+__all__ = ["TrialRun", "policy_groups", "simulate"]
 
 
-def _groups(
+def policy_groups(
     n: int, reasoning, policies: Mapping | None, parameters: ActiveParameters | None
 ) -> list[tuple[Policy, np.ndarray]]:
     chosen: dict[int, object] = dict.fromkeys(range(n), reasoning)
@@ -45,6 +45,8 @@ def _groups(
                 hint="keys are robot indices",
             )
         chosen[int(robot)] = value
+    """The policies of a team, each with the robots it drives (``reasoning`` for every
+    robot, ``policies`` overriding it per robot; one instance per distinct level)."""
     instances: dict[object, Policy] = {}
     members: dict[int, list[int]] = {}
     for robot in range(n):
@@ -95,31 +97,18 @@ def simulate(
         )
     s, n = scenario, scenario.n_robots
     streams = trial_streams(seed, n)
-    groups = _groups(n, reasoning, policies, parameters)
+    groups = policy_groups(n, reasoning, policies, parameters)
     names = [""] * n
     for policy, robots in groups:
         policy.start(s, robots, [streams.policy[r] for r in robots])
         for r in robots:
             names[r] = policy.name
-    run = _Run(s, streams)
+    run = TrialRun(s, streams)
     for step in range(s.max_steps):
         obs = run.perceive(step)
-        run.estimates[step] = obs.poses[..., :2]
         controls = np.empty((n, 2))
         started = perf_counter()
-        for policy, robots in groups:
-            decisions = policy.decide(obs, robots)
-            controls[robots] = _checked(decisions.controls, policy, len(robots))
-            run.focal[step, robots] = decisions.focal
-            run.entropy[step, robots] = decisions.entropy
-            run.considered[step, robots] = decisions.considered
-            unpruned = decisions.unpruned
-            run.unpruned[step, robots] = decisions.considered if unpruned is None else unpruned
-            modelled = decisions.modelled
-            if modelled is None:
-                modelled = np.repeat(np.asarray(decisions.considered)[:, None], n, axis=1)
-            run.modelled[step, robots] = modelled
-            run.record_goal_belief(step, robots, decisions)
+        run.decide(step, obs, groups, controls)
         run.time[step] = perf_counter() - started
         if run.advance(step, controls):
             break
@@ -147,8 +136,14 @@ def _record(step: int, rule, firing, s: Scenario) -> tuple:
     return (step, rule.name, *arguments, observers)
 
 
-class _Run:
-    """The mutable state of one trial (true poses, counters, records)."""
+class TrialRun:
+    """The mutable state of one trial (true poses, counters, records): :func:`simulate`
+    and the environment of :mod:`epistemica.sim.env` step the same one, so a trial run
+    either way is the same trial.
+
+    Each step: :meth:`perceive`, :meth:`decide` (for the robots a policy drives),
+    :meth:`advance`; :meth:`trial` is the record so far.
+    """
 
     def __init__(self, s: Scenario, streams) -> None:
         n, steps = s.n_robots, s.max_steps
@@ -172,6 +167,24 @@ class _Run:
         self.goal_belief = np.zeros((steps, n, s.n_goals))
         self.estimates = np.zeros((steps, n, n, 2))
         self.time = np.zeros(steps)
+
+    def decide(self, step: int, obs, groups, controls: np.ndarray) -> None:
+        """Each group's controls at ``step`` into ``controls`` (rows of its robots), its
+        decisions into the record."""
+        n = self.s.n_robots
+        for policy, robots in groups:
+            decisions = policy.decide(obs, robots)
+            controls[robots] = _checked(decisions.controls, policy, len(robots))
+            self.focal[step, robots] = decisions.focal
+            self.entropy[step, robots] = decisions.entropy
+            self.considered[step, robots] = decisions.considered
+            unpruned = decisions.unpruned
+            self.unpruned[step, robots] = decisions.considered if unpruned is None else unpruned
+            modelled = decisions.modelled
+            if modelled is None:
+                modelled = np.repeat(np.asarray(decisions.considered)[:, None], n, axis=1)
+            self.modelled[step, robots] = modelled
+            self.record_goal_belief(step, robots, decisions)
 
     def record_goal_belief(self, step: int, robots: np.ndarray, decisions) -> None:
         if decisions.goal_belief is not None:
@@ -197,6 +210,7 @@ class _Run:
             for i in range(self.s.n_robots):
                 known_goals[i] |= self.knowledge.knows_goals((i,))
                 known_done[i] |= self.knowledge.knows_done((i,))
+        self.estimates[step] = obs.poses[..., :2]
         return obs._replace(knowledge=self.knowledge)
 
     def _events(self, step: int, arrivals: bool) -> None:
@@ -240,11 +254,14 @@ class _Run:
         s = self.s
         controls[:, 0] = np.clip(controls[:, 0], 0.0, s.max_speed)
         controls[:, 1] = np.clip(controls[:, 1], -s.max_turn, s.max_turn)
-        poses = move(self.poses, controls, s.dt)
+        poses = np.array(s.dynamics.step(self.poses, controls, s.dt), dtype=float)
         jitter = np.stack([g.standard_normal(2) for g in self.streams.process])
         poses[:, :2] += np.sqrt(s.process_noise) * jitter
         if s.bounded:
             poses[:, :2] = np.clip(poses[:, :2], 0.0, s.workspace)
+        if s.contacts:
+            radii = np.zeros(s.n_robots) if s.robot_radius is None else s.robot_radius
+            poses = resolve_contacts(self.poses, poses, radii, s.obstacles)
         self.poses = poses
         self.path.append(poses.copy())
         near = distances(poses, s.goals) <= s.success_radius  # (n, m)

@@ -19,35 +19,38 @@ True
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import hashlib
 import json
-import os
 import time
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim._executors import run_cluster, run_local
 from epistemica.sim.levels import make_policy
 from epistemica.sim.parameters import ActiveParameters
+from epistemica.sim.provenance import code_version
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.simulate import simulate
 from epistemica.sim.store import ResultStore
+from epistemica.sim.trace import encode, trial_trace
 from epistemica.sim.trial import Trial
 
-__all__ = ["ProtocolWorld", "TrialSpec", "World", "plan_sweep", "run_sweep", "run_trial"]
-
-
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-
-        return version("epistemica")
-    except Exception:  # not installed (source tree): still record something honest
-        return "unknown"
+__all__ = [
+    "MAX_TRIALS",
+    "ProtocolWorld",
+    "TrialSpec",
+    "World",
+    "check_trials",
+    "plan_sweep",
+    "run_sweep",
+    "run_trial",
+]
 
 
 class World(Protocol):
@@ -133,10 +136,10 @@ class TrialSpec:
         """The trial's scenario."""
         return self.world.scenario(self.seed)
 
-    def simulate(self) -> Trial:
-        """Run the trial."""
+    def simulate(self, scenario: Scenario | None = None) -> Trial:
+        """Run the trial (on ``scenario``, if it was built already)."""
         return simulate(
-            self.scenario(),
+            self.scenario() if scenario is None else scenario,
             self.reasoning,
             seed=self.seed,
             policies=self.world.policies(self.seed),
@@ -159,10 +162,7 @@ def plan_sweep(
     rendezvous as many goals as robots. Trial ``t`` of every cell uses seed ``seed + t``,
     so every level and every cell of one team size share geometry and noise per seed.
     """
-    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
-        raise InvalidArgumentError(
-            f"trials must be an integer >= 1, got {trials!r}", hint="e.g. 50"
-        )
+    check_trials(trials, seed)
     for level in reasoning:
         make_policy(level)  # unknown names fail here, not in a worker
     opts = tuple(sorted((options or {}).items()))
@@ -184,14 +184,34 @@ def plan_sweep(
     return specs
 
 
+#: The most trials per cell (or per level of a mission) a sweep plans.
+MAX_TRIALS = 1_000_000
+
+
+def check_trials(trials, seed) -> None:
+    """Refuse a trial count or first seed that a results file cannot hold."""
+    if isinstance(trials, bool) or not isinstance(trials, int) or not 1 <= trials <= MAX_TRIALS:
+        raise InvalidArgumentError(
+            f"trials must be an integer in 1..{MAX_TRIALS:,}, got {trials!r}", hint="e.g. 50"
+        )
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**62:
+        raise InvalidArgumentError(
+            f"seed must be an integer in 0..2**62, got {seed!r}", hint="e.g. 0"
+        )
+
+
 def _default_goals(mission: str, n: int) -> int:
     return 20 if mission == "multitask" else n
 
 
-def run_trial(spec: TrialSpec) -> dict:
-    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`)."""
+def run_trial(spec: TrialSpec, traces: bool = True) -> dict:
+    """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`),
+    with its per-step trace (:mod:`epistemica.sim.trace`, compressed) unless ``traces`` is
+    False."""
     started = time.perf_counter()
-    trial = spec.simulate()
+    scenario = spec.scenario()
+    trial = spec.simulate(scenario)
+    elapsed = time.perf_counter() - started
     return {
         "id": spec.id,
         "mission": spec.mission,
@@ -203,48 +223,13 @@ def run_trial(spec: TrialSpec) -> dict:
         "success": int(trial.success),
         "steps": trial.steps,
         "completion_step": trial.completion_step,
-        "wall_time": time.perf_counter() - started,
+        "wall_time": elapsed,
         "decision_ms": float(np.mean(trial.decision_time) * 1e3) if trial.steps else 0.0,
         "considered": float(np.mean(trial.considered)) if trial.steps else 0.0,
         "unpruned": float(np.mean(trial.unpruned)) if trial.steps else 0.0,
-        "version": _version(),
+        "version": code_version(),
+        "trace": encode(trial_trace(scenario, trial)) if traces else None,
     }
-
-
-def _local(specs: list[TrialSpec], workers: int | None) -> Iterator[dict]:
-    if workers == 1:  # in process: no pickling, easy to debug and profile
-        yield from map(run_trial, specs)
-        return
-    pool = ProcessPoolExecutor(max_workers=workers or os.cpu_count())
-    futures = [pool.submit(run_trial, spec) for spec in specs]
-    try:
-        for future in as_completed(futures):
-            yield future.result()
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
-
-
-def _cluster(specs: list[TrialSpec], address: str) -> Iterator[dict]:
-    try:
-        import distributed
-    except ImportError as exc:
-        raise InvalidArgumentError(
-            "running on a cluster needs Dask's distributed package",
-            hint="install the cluster extra: pip install 'epistemica[cluster]'",
-        ) from exc
-    try:
-        client = distributed.Client(address, timeout="10s")
-    except (OSError, TimeoutError) as exc:
-        raise InvalidArgumentError(
-            f"cannot reach the Dask scheduler at {address} ({exc})",
-            hint="start one with `dask scheduler` and pass its tcp://HOST:PORT",
-        ) from exc
-    try:
-        futures = client.map(run_trial, specs, pure=False)
-        for _, row in distributed.as_completed(futures, with_results=True):
-            yield row
-    finally:
-        client.close()
 
 
 def run_sweep(
@@ -254,20 +239,29 @@ def run_sweep(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: Callable[[dict], None] | None = None,
+    traces: bool = True,
 ) -> tuple[int, int]:
     """Run the trials ``store`` does not hold yet; store each row as it arrives.
 
-    Returns ``(ran, skipped)``. An interruption (Ctrl-C) leaves every finished trial
-    stored; running again with the same store runs only what is missing.
+    Returns ``(ran, skipped)``: skipped trials were stored already or run by another sweep
+    on the same file (each trial is claimed just before it is started). An interruption
+    (Ctrl-C) stops the workers at once and leaves every finished trial stored; running
+    again with the same store runs only what is missing.
     """
-    specs = list(specs)
-    done = store.done_ids()
-    pending = [s for s in specs if s.id not in done]
-    rows = _cluster(pending, scheduler) if scheduler else _local(pending, workers)
+    if workers is not None and (isinstance(workers, bool) or workers < 1):
+        raise InvalidArgumentError(f"workers must be >= 1, got {workers!r}", hint="e.g. 2")
+    specs = list({s.id: s for s in specs}.values())  # a level named twice runs once
+    claimed = (s for s in specs if store.claim(s.id))
+    task = functools.partial(run_trial, traces=traces)
+    if scheduler:
+        rows = run_cluster(task, claimed, scheduler)
+    else:
+        rows = run_local(task, claimed, workers)
     ran = 0
-    for row in rows:
-        store.add(row)
-        ran += 1
-        if progress is not None:
-            progress(row)
-    return ran, len(specs) - len(pending)
+    with contextlib.closing(rows):
+        for row in rows:
+            store.add(row)
+            ran += 1
+            if progress is not None:
+                progress(row)
+    return ran, len(specs) - ran

@@ -194,16 +194,17 @@ def run_corpus(cases: int, seed: int, limit: float) -> dict:
             "slowest_seconds": round(slowest[0], 3), "slowest": slowest[1]}  # fmt: skip
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, default=200)
+def main(corpus=run_corpus, description: str = __doc__, cases: int = 200) -> None:
+    """Run ``corpus(cases, seed, limit)`` under the address-space limit; print its JSON."""
+    parser = argparse.ArgumentParser(description=description.splitlines()[0])
+    parser.add_argument("--cases", type=int, default=cases)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--limit", type=float, default=20.0, help="seconds per case")
     parser.add_argument("--memory-gib", type=float, default=4.0, help="address space limit")
     args = parser.parse_args()
     gib = int(args.memory_gib * 2**30)
     resource.setrlimit(resource.RLIMIT_AS, (gib, gib))
-    result = run_corpus(args.cases, args.seed, args.limit)
+    result = corpus(args.cases, args.seed, args.limit)
     result["max_rss_mib"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
     print(json.dumps(result))
 

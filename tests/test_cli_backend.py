@@ -52,10 +52,12 @@ def test_thirty_children_need_the_symbolic_backend(capsys, tmp_path):
     code, out, _ = run(capsys, "check", str(path), "-f", know)
     assert code == 0 and "holds at 1 of 1" in out
     code, out, _ = run(
-        capsys, "check", str(path), "--json", "-f", "[father][nobody_knows] K[c1] m1"
-    )
+        capsys, "check", str(path), "--json", "-f", "[father][nobody_knows] K[c1] m1",
+        "--expect", "true",
+    )  # fmt: skip
     summary = json.loads(out)
     assert code == 1 and summary["holds"] is False
+    assert (summary["format"], summary["version"]) == ("epistemica-check-formula", 1)
     assert summary["n_worlds"] == 2**30
 
 

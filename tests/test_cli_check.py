@@ -62,10 +62,13 @@ def test_formula_that_holds_exits_0_and_lists_the_worlds(capsys):
     assert "holds at 8 of 8 worlds" in out
 
 
-def test_formula_that_fails_exits_1(capsys):
+def test_a_false_formula_is_answered_and_exits_1_only_when_expected_true(capsys):
     # With all three muddy, after the father and one round nobody knows yet.
     formula = "[!m1 | m2 | m3] [!~Kw[c1] m1 & ~Kw[c2] m2 & ~Kw[c3] m3] (K[c1] m1 & K[c2] m2)"
     code, out, _ = run(capsys, "check", MUDDY, "--formula", formula)
+    assert code == 0  # a question, answered
+    assert "false at the designated world" in out
+    code, out, _ = run(capsys, "check", MUDDY, "--formula", formula, "--expect", "true")
     assert code == 1
     assert "false at the designated world" in out
 

@@ -1,6 +1,6 @@
 """The exit-status contract of every command, ``--debug``, and a lean start-up.
 
-0 success, 1 a false claim / formula or no plan, 2 bad input, 3 an internal error (one
+0 success, 1 a false claim (or --expect) or no plan, 2 bad input, 3 an internal error (one
 line saying it is a bug, where to report it and that ``--debug`` shows the traceback),
 130 interrupted. No traceback without ``--debug``.
 """
@@ -34,7 +34,8 @@ def epistemica(*argv: str) -> subprocess.CompletedProcess:
     ("argv", "status"),
     [
         (["check", MUDDY], 0),
-        (["check", MUDDY, "--formula", "[father] K[c1] m1"], 1),  # c1 cannot know yet
+        (["check", MUDDY, "--formula", "[father] K[c1] m1"], 0),  # a question: answered
+        (["check", MUDDY, "--formula", "[father] K[c1] m1", "--expect", "true"], 1),  # no
         (["check", MUDDY, "--formula", "K[c9] m1"], 2),  # no agent c9
         (["plan", MUDDY, "--max-depth", "1"], 1),  # three rounds are needed
         (["show", MUDDY, "--after", "father"], 0),

@@ -40,7 +40,7 @@ def test_verify_and_show_take_plank_s_names(capsys):
 
 def test_check_a_formula_on_an_epddl_task(capsys):
     assert main(["check", *TASK, "--formula", "B[a] looking(a) & ~B[a] heads"]) == 0
-    assert main(["check", *TASK, "--formula", "B[a] heads"]) == 1
+    assert main(["check", *TASK, "--formula", "B[a] heads", "--expect", "true"]) == 1
 
 
 def test_epddl_errors_exit_2_located(capsys):
@@ -90,3 +90,10 @@ def test_export_refuses_what_the_format_cannot_say(tmp_path, capsys):
     assert main(["export", "--smcdel", str(spec_file), "-o", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert "coin_toss.epi:" in err and "not a public announcement" in err
+
+
+def test_export_of_a_plausibility_spec_is_refused_not_silently_lossy(tmp_path, capsys):
+    spec = Path(__file__).resolve().parents[1] / "specs" / "belief" / "mary_and_john.epi"
+    assert main(["export", "--epddl", str(spec), "-o", str(tmp_path)]) == 2
+    assert "plausibility" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())

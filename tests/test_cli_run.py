@@ -56,7 +56,7 @@ def test_run_again_resumes_and_runs_nothing(tiny, capsys):
     capsys.readouterr()
     assert main(["run", str(tiny), "--no-gif"]) == 0
     out = capsys.readouterr().out
-    assert "9 trials (9 already in" in out and "0 trials run" in out
+    assert "0 trials run, 9 already stored" in out
 
 
 def test_an_explicit_out_is_never_added_to_silently(tiny, capsys):
@@ -74,6 +74,30 @@ def test_the_stored_rows_are_the_simulator_outcomes(tiny):
     ):
         trial = simulate(mission.scenario(seed), level, seed=seed)
         assert (bool(success), steps) == (trial.success, trial.steps)
+
+
+def test_several_missions_run_in_turn_each_to_its_own_file(tiny, capsys):
+    other = tiny.with_name("other.epi")
+    other.write_text(TINY.replace("levels zero, convention, third", "levels zero"))
+    assert main(["run", str(tiny), str(other), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    assert out.index("tiny.epi") < out.index("other.epi")
+    for name, count in (("tiny", 9), ("other", 3)):
+        db = sqlite3.connect(f"runs/{name}.sqlite")
+        assert db.execute("SELECT COUNT(*) FROM trials").fetchone()[0] == count
+
+
+def test_a_bad_second_mission_stops_before_any_trial(tiny, capsys):
+    bad = tiny.with_name("bad.epi")
+    bad.write_text(TINY.replace("goal y at random", "goal y at randm"))
+    assert main(["run", str(tiny), str(bad), "--no-gif"]) == 2
+    assert f"{bad}:5:" in capsys.readouterr().err
+    assert not Path("runs/tiny.sqlite").exists()
+
+
+def test_one_out_file_for_several_missions_is_refused(tiny, capsys):
+    assert main(["run", str(tiny), str(tiny), "--out", "x.sqlite"]) == 2
+    assert "--out" in capsys.readouterr().err
 
 
 def test_bad_mission_exits_2_with_location(tmp_path, capsys):
@@ -110,8 +134,9 @@ def test_check_after_steps_applies_the_trial_events(capsys):
             expected = bool(on[knowledge.possible((i, j), rows)].all())
             formula = f"B[r{j + 1}] {fact}"
             args = ["check", str(path), "--after", str(step), "--seed", "0", "--json"]
-            code = main([*args, "--robot", f"r{i + 1}", "--formula", formula])
+            code = main([*args, "--robot", f"r{i + 1}", "--formula", formula, "--expect", "true"])
             out = json.loads(capsys.readouterr().out)
+            assert out["format"] == "epistemica-mission-check" and out["version"] == 1
             assert out["claims"][0]["holds"] == expected
             assert code == (0 if expected else 1)
 

@@ -49,13 +49,24 @@ def test_every_source_package_is_listed():
     assert not missing, f"add {missing} to [tool.setuptools] packages in pyproject.toml"
 
 
+_DATA = {".lark", ".epi", ".js", ".css", ".html"}
+
+
+def _data_files(folder: Path) -> list[Path]:
+    """The data files of a package: in its folder and in subfolders that are no package."""
+    files = [p for p in folder.iterdir() if p.suffix in _DATA]
+    for sub in folder.iterdir():
+        if sub.is_dir() and not (sub / "__init__.py").exists():
+            files += [p for p in sub.rglob("*") if p.suffix in _DATA]
+    return files
+
+
 def test_every_data_file_is_declared():
     data = _config().get("package-data", {})
     for dotted, folder in _source_packages().items():
         patterns = data.get(dotted, [])
-        for path in folder.iterdir():
-            if path.suffix == ".lark":
-                assert any(path.match(p) for p in patterns), f"{path} not in package-data"
+        for path in _data_files(folder):
+            assert any(path.match(p) for p in patterns), f"{path} not in package-data"
 
 
 def _installed_record() -> set[str] | None:
@@ -79,9 +90,9 @@ def test_installed_files_cover_the_sources():
         pytest.skip("editable install: the modules are not copied, nothing to compare")
     for dotted, folder in _source_packages().items():
         prefix = dotted.replace(".", "/")
-        for path in folder.iterdir():
-            if path.suffix in {".py", ".lark"}:
-                assert f"{prefix}/{path.name}" in files, f"{prefix}/{path.name} not installed"
+        for path in [*folder.glob("*.py"), *_data_files(folder)]:
+            name = path.relative_to(folder).as_posix()
+            assert f"{prefix}/{name}" in files, f"{prefix}/{name} not installed"
 
 
 def test_every_module_imports():

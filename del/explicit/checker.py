@@ -350,7 +350,11 @@ class _Run:
             return (yield from self._announce(model, pre, f.operand, True, bits))
         if kind is After:
             return (yield from self._after(model, f))
-        raise InvalidArgumentError(f"cannot evaluate {kind.__name__}")
+        raise InvalidArgumentError(
+            f"cannot evaluate {kind.__name__}",
+            hint="B[a | f], Sb[a], [^^f] and [^f] need a plausibility model: a spec with a "
+            "'plausibility' line, or epistemica.del_.explicit.plausibility.PlausibilityModel",
+        )
 
     def _announce(
         self, model: ExplicitModel, announcement: Formula, operand: Formula, box: bool, bits: bool

@@ -161,8 +161,8 @@ def _spelling(name: str) -> str:
 
 def _expected_hint(expected: list[str]) -> str:
     if expected == ["RPAR"]:
-        return "close the parenthesis here; see docs/epddl.md for the syntax"
-    return "see docs/epddl.md for the EPDDL syntax that epistemica reads"
+        return "close the parenthesis here"
+    return "epistemica reads the EPDDL of plank's benchmark set (PDDL-like s-expressions)"
 
 
 def _depth(text: str) -> int:

@@ -95,6 +95,12 @@ def to_epddl(spec: Spec, name: str = "task") -> dict[str, str]:
         The spec uses what EPDDL cannot say (see the module docstring); the message names
         it.
     """
+    if spec.plausibility is not None:
+        raise InvalidArgumentError(
+            "EPDDL has no plausibility orders: exporting this spec would drop its "
+            "'plausibility' lines and change what its claims mean",
+            hint="remove the plausibility and upgrade lines to export the hard part",
+        )
     writer = _Writer(spec, _identifier(name, set()))
     return {"domain": writer.domain(), "problem": writer.problem(), "library": writer.library()}
 

@@ -21,7 +21,7 @@ __all__ = [
 
 #: Words that the lexer reads as keywords, so they cannot name an atom.
 RESERVED_WORDS = frozenset(
-    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB"}
+    {"true", "false", "not", "and", "or", "K", "B", "Kw", "M", "E", "C", "D", "EB", "CB", "Sb"}
 )
 
 _ATOM_TEXT = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*$")

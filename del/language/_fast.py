@@ -36,6 +36,7 @@ from epistemica.del_.language.formula import (
     KnowWhether,
     Not,
     Or,
+    SafeBelief,
     Top,
 )
 
@@ -85,7 +86,7 @@ def _kind(value: str) -> int:
 
 
 _WORD_KIND = {"not": _NOT, "and": _AND, "or": _OR, "true": _TOP, "false": _BOTTOM}
-_AGENT_MODALITIES = {"K": Know, "B": Believe, "Kw": KnowWhether}
+_AGENT_MODALITIES = {"K": Know, "B": Believe, "Kw": KnowWhether, "Sb": SafeBelief}
 _GROUP_MODALITIES = {
     "E": Everybody,
     "C": Common,

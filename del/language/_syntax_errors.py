@@ -54,6 +54,9 @@ _FORMULA_START = frozenset(
         "COMMON_BELIEF",
         "ANNOUNCE_OPEN",
         "DIAMOND_OPEN",
+        "SAFE_BELIEF",
+        "RADICAL_OPEN",
+        "CONSERVATIVE_OPEN",
         "LSQB",
         "LPAR",
     }
@@ -73,9 +76,10 @@ _READABLE = {
     "LSQB": "'['",
     "$END": "end of input",
 }
-_MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE"}
+_MODAL = {"KNOW", "BELIEVE", "KNOW_WHETHER", "POSSIBLE", "SAFE_BELIEF"}
 _GROUP = {"EVERYBODY", "COMMON", "DISTRIBUTED", "EVERYBODY_BELIEVES", "COMMON_BELIEF"}
-_OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN"}
+_OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "ANNOUNCE_OPEN": "RSQB", "DIAMOND_OPEN": "MORETHAN",
+            "RADICAL_OPEN": "RSQB", "CONSERVATIVE_OPEN": "RSQB"}  # fmt: skip
 _CHARACTER_HINTS = {
     "-": "did you mean '->'?",
     "=": "did you mean '->' (implies) or '<->' (if and only if)?",
@@ -87,6 +91,13 @@ _CHARACTER_HINTS = {
     "'": "atoms are written without quotes",
     '"': "atoms are written without quotes",
 }
+
+# What a hint says when nothing more specific fits: the syntax itself, not a path to a page
+# that an installed package does not have.
+_FORMULA_SYNTAX = (
+    "formulas are built from atoms with ~ & | -> <->, K[a] F, B[a] F, E[a, b] F, C[a, b] F, "
+    "[!F] G and [ACTION] G; names use ASCII letters, digits and '_'"
+)
 
 
 def _position(text: str, index: int) -> tuple[int, int]:
@@ -231,7 +242,7 @@ def syntax_error(
             column=exc.column,
             source=text,
             filename=filename,
-            hint=hint or "see docs/language.md for the syntax of formulas",
+            hint=hint or _FORMULA_SYNTAX,
         )
     if not isinstance(exc, UnexpectedToken):  # pragma: no cover - LALR raises only these
         return ParseError(str(exc), source=text, filename=filename)

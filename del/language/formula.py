@@ -4,7 +4,9 @@ The classes mirror the grammar in ``formula.lark``: atoms, the Boolean connectiv
 individual modalities ``K`` (knowledge), ``B`` (belief) and ``Kw`` (knowing whether), the
 group modalities ``E`` (everybody knows), ``C`` (common knowledge), ``D`` (distributed
 knowledge), ``EB`` (everybody believes) and ``CB`` (common belief), public announcements
-``[!f] g`` and ``<!f> g``, and named actions ``[ACT] g``.
+``[!f] g`` and ``<!f> g``, and named actions ``[ACT] g``; for plausibility models,
+conditional belief ``B[a | f] g``, safe belief ``Sb[a] f`` and the public soft upgrades
+``[^^f] g`` (radical) and ``[^f] g`` (conservative).
 
 ``str(formula)`` prints the formula in the concrete syntax with as few parentheses as the
 precedence rules allow, so that ``parse_formula(str(f)) == f``.
@@ -47,6 +49,8 @@ __all__ = [
     "Bottom",
     "Common",
     "CommonBelief",
+    "ConditionalBelief",
+    "ConservativeUpgrade",
     "Distributed",
     "Everybody",
     "EverybodyBelieves",
@@ -57,6 +61,8 @@ __all__ = [
     "KnowWhether",
     "Not",
     "Or",
+    "RadicalUpgrade",
+    "SafeBelief",
     "Top",
     "atom_name",
     "canonical_atom",
@@ -65,6 +71,7 @@ __all__ = [
     "fold",
     "iter_postorder",
     "map_atoms",
+    "with_children",
 ]
 
 # Binding strength: higher binds tighter. Unary operators (negation, modalities,
@@ -368,6 +375,40 @@ class KnowWhether(_Individual):
     keyword = "Kw"
 
 
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
+class ConditionalBelief(_Individual):
+    """``B[a | c] f``: ``f`` holds at the most plausible worlds of a's cell where ``c`` holds.
+
+    Interpreted in plausibility models only (:mod:`~epistemica.del_.explicit.plausibility`);
+    ``B[a | true] f`` is ``B[a] f`` there. ``|`` separates the agent from the condition so
+    that ``B[a] (f | g)`` keeps meaning belief in a disjunction.
+    """
+
+    agent: str
+    condition: Formula
+    operand: Formula
+    keyword = "B"
+
+    def children(self) -> tuple[Formula, ...]:
+        return (self.condition, self.operand)
+
+    def text_parts(self) -> tuple[_Part, ...]:
+        return (f"B[{self.agent} | ", (self.condition, 0), "] ", (self.operand, _UNARY))
+
+
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
+class SafeBelief(_Individual):
+    """``Sb[a] f``: ``f`` holds at every world of a's cell at least as plausible as this one.
+
+    Baltag and Smets' safe belief (the box of the plausibility preorder): it survives every
+    truthful revision. Interpreted in plausibility models only.
+    """
+
+    agent: str
+    operand: Formula
+    keyword = "Sb"
+
+
 class _Group(Formula):
     """A modality of a group of agents: ``OP[a, b] operand``."""
 
@@ -464,6 +505,47 @@ class AnnounceDiamond(Formula):
 
     def text_parts(self) -> tuple[_Part, ...]:
         return ("<!", (self.announcement, 0), "> ", (self.operand, _UNARY))
+
+
+class _Upgrade(Formula):
+    """A public soft announcement ``[OPEN f] g``: the operand holds after the upgrade."""
+
+    __slots__ = ()
+    opener = ""
+
+    def children(self) -> tuple[Formula, ...]:
+        return (self.upgrade, self.operand)  # type: ignore[attr-defined]
+
+    def text_parts(self) -> tuple[_Part, ...]:
+        upgrade, operand = self.upgrade, self.operand  # type: ignore[attr-defined]
+        return (f"[{self.opener}", (upgrade, 0), "] ", (operand, _UNARY))
+
+
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
+class RadicalUpgrade(_Upgrade):
+    """``[^^f] g`` (also ``[⇑f] g``): after the radical upgrade with ``f``, ``g`` holds.
+
+    In every information cell the ``f``-worlds become more plausible than all the others,
+    the order within each of the two zones kept (van Benthem's ⇑, Baltag and Smets'
+    lexicographic upgrade). Always executable.
+    """
+
+    upgrade: Formula
+    operand: Formula
+    opener = "^^"
+
+
+@dataclass(frozen=True, slots=True, eq=False, repr=False)
+class ConservativeUpgrade(_Upgrade):
+    """``[^f] g`` (also ``[↑f] g``): after the conservative upgrade with ``f``, ``g`` holds.
+
+    In every information cell only the most plausible ``f``-worlds move to the top; the
+    rest of the order is kept (van Benthem's ↑). Always executable.
+    """
+
+    upgrade: Formula
+    operand: Formula
+    opener = "^"
 
 
 @dataclass(frozen=True, slots=True, eq=False, repr=False)
@@ -589,18 +671,27 @@ def map_atoms(formula: Formula, replace: Callable[[Atom], Formula]) -> Formula:
     """
 
     def rebuild(node: Formula, inner: tuple[Formula, ...]) -> Formula:
-        if isinstance(node, Atom):
-            return replace(node)
-        if not inner:
-            return node
-        children = iter(inner)
-        values = [
-            next(children) if isinstance(getattr(node, name), Formula) else getattr(node, name)
-            for name in _field_names(type(node))
-        ]
-        return type(node)(*values)
+        return replace(node) if isinstance(node, Atom) else with_children(node, inner)
 
     return fold(formula, rebuild)
+
+
+def with_children(node: Formula, children: tuple[Formula, ...]) -> Formula:
+    """``node`` with its immediate subformulas replaced by ``children`` (same order).
+
+    Examples
+    --------
+    >>> print(with_children(Know("a", Atom("p")), (Atom("q"),)))
+    K[a] q
+    """
+    if children == node.children():
+        return node
+    parts = iter(children)
+    values = [
+        next(parts) if isinstance(getattr(node, name), Formula) else getattr(node, name)
+        for name in _field_names(type(node))
+    ]
+    return type(node)(*values)
 
 
 def conjunction(formulas: Iterable[Formula]) -> Formula:

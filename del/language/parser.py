@@ -51,6 +51,8 @@ from epistemica.del_.language.formula import (
     Bottom,
     Common,
     CommonBelief,
+    ConditionalBelief,
+    ConservativeUpgrade,
     Distributed,
     Everybody,
     EverybodyBelieves,
@@ -61,6 +63,8 @@ from epistemica.del_.language.formula import (
     KnowWhether,
     Not,
     Or,
+    RadicalUpgrade,
+    SafeBelief,
     Top,
     iter_postorder,
 )
@@ -270,6 +274,13 @@ class FormulaBuilder(Transformer):
     def believe(self, children: list) -> Formula:
         return Believe(self._agent(children[1]), children[2])
 
+    def conditional_belief(self, children: list) -> Formula:
+        # [B, agent, |, condition, operand]
+        return ConditionalBelief(self._agent(children[1]), children[3], children[4])
+
+    def safe_belief(self, children: list) -> Formula:
+        return SafeBelief(self._agent(children[1]), children[2])
+
     def know_whether(self, children: list) -> Formula:
         return KnowWhether(self._agent(children[1]), children[2])
 
@@ -301,6 +312,12 @@ class FormulaBuilder(Transformer):
 
     def announce_diamond(self, children: list) -> Formula:
         return AnnounceDiamond(children[1], children[2])
+
+    def radical_upgrade(self, children: list) -> Formula:
+        return RadicalUpgrade(children[1], children[2])
+
+    def conservative_upgrade(self, children: list) -> Formula:
+        return ConservativeUpgrade(children[1], children[2])
 
     def after(self, children: list) -> Formula:
         return After(children[0], children[1])

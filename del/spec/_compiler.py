@@ -49,6 +49,13 @@ from epistemica.del_.spec import _model as spec_model
 from epistemica.del_.spec import _names as spec_names
 from epistemica.del_.spec._fast_syntax import FastPathMiss
 from epistemica.del_.spec._names import names_hint
+from epistemica.del_.spec._plausibility import (
+    PlausibilityDeclaration,
+    compile_upgrades,
+    declared_upgrades,
+    plausibility_declaration,
+    refuse_uninterpreted,
+)
 from epistemica.del_.spec._syntax import parse, position
 
 __all__ = ["Check", "Compiled", "Compiler", "Names", "compile_formula"]
@@ -108,6 +115,8 @@ class Compiled(NamedTuple):
     agents: tuple[str, ...]
     atoms: tuple[str, ...]
     owners: dict[str, str]
+    plausibility: PlausibilityDeclaration | None = None
+    upgrades: dict[str, tuple[str, Formula]] = {}  # noqa: RUF012 (a NamedTuple default)
 
 
 def compile_formula(text: str, filename: str, names: Names) -> Formula:
@@ -302,9 +311,18 @@ class Compiler:
             if key in agents:
                 raise self.error(f"'{key}' names both an agent and an atom", token, "rename one")
         headers = spec_names.headers(self, by_kind.get("action_decl", []), tuple(agents))
-        self.names = Names(tuple(agents), tuple(atoms), frozenset(headers))
+        upgrade_decls = declared_upgrades(self, by_kind.get("upgrade_decl", []), set(headers))
+        self.names = Names(tuple(agents), tuple(atoms), frozenset(headers) | set(upgrade_decls))
         self.atom_set = None
         model = self.model(by_kind)
+        plausibility = plausibility_declaration(self, by_kind, self.law(by_kind))
+        upgrades = compile_upgrades(self, upgrade_decls)
+        if upgrades and plausibility is None:
+            raise self.error(
+                "an upgrade needs a plausibility order",
+                by_kind["upgrade_decl"][0],
+                "add a line such as 'plausibility a: p, ~p' (most plausible first)",
+            )
         actions = spec_actions.compile_actions(self, headers)
         owners = spec_actions.owners(self, headers)
         goals = by_kind.get("goal_decl", [])
@@ -312,7 +330,19 @@ class Compiler:
             raise self.error("a second goal", goals[1], "join the goals with '&'")
         goal = self.formula(goals[0].children[0], {}) if goals else None
         checks = self.checks(by_kind.get("check_decl", []))
-        return Compiled(model, actions, goal, checks, tuple(agents), tuple(atoms), owners)
+        if plausibility is not None:
+            refuse_uninterpreted(self, checks, upgrades)
+        return Compiled(
+            model,
+            actions,
+            goal,
+            checks,
+            tuple(agents),
+            tuple(atoms),
+            owners,
+            plausibility,
+            upgrades,
+        )
 
     def declare(self, statements: list[Tree], kind: str, expand) -> dict[str, Token]:
         """Names declared by ``statements`` (in order), each at most once."""
@@ -351,6 +381,12 @@ class Compiler:
             found.append(Check(name, text, formula, expected, self.filename, line, column))
         return tuple(found)
 
+    def law(self, by_kind: dict[str, list[Tree]]) -> Formula:
+        """The conjunction of the ``law`` lines."""
+        return conjunction(
+            self.proposition(s.children[0], "a law") for s in by_kind.get("law_decl", [])
+        )
+
     def model(self, by_kind: dict[str, list[Tree]]) -> KripkeModel:
         """The initial model, by observation or explicit worlds (not both)."""
         explicit = by_kind.get("world_decl", []) + by_kind.get("relation_decl", [])
@@ -363,9 +399,7 @@ class Compiler:
                 "describe the model either by what each agent observes or by 'world' and "
                 "'relation' lines",
             )
-        law = conjunction(
-            self.proposition(s.children[0], "a law") for s in by_kind.get("law_decl", [])
-        )
+        law = self.law(by_kind)
         if explicit or by_kind.get("designated_decl"):
             return spec_model.explicit_model(self, by_kind, law)
         return spec_model.observables_model(self, by_kind, law)

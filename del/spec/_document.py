@@ -41,6 +41,7 @@ from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
 from epistemica.del_.spec._fast_syntax import FastPathMiss
+from epistemica.del_.spec._plausibility import resolve_upgrades
 from epistemica.del_.spec._source import read_source
 from epistemica.del_.spec._syntax import parse
 from epistemica.del_.spec.backend import check_backend, model_builder, on_backend
@@ -70,6 +71,11 @@ class Spec:
     owners : dict
         Action name -> the agent that executes it, for the actions declared with
         ``by AGENT`` (used for implicit coordination).
+    plausibility : PlausibilityModel, PlausibilityStructure or None
+        The plausibility model of the ``plausibility`` lines (on the model's backend);
+        when present, :meth:`holds` evaluates claims there.
+    upgrades : dict
+        Upgrade name -> (``"radical"`` or ``"conservative"``, its formula).
     """
 
     model: KripkeModel
@@ -81,6 +87,8 @@ class Spec:
     filename: str
     source: str = field(repr=False)
     owners: dict[str, str] = field(default_factory=dict)
+    plausibility: Any = None
+    upgrades: dict[str, tuple[str, Formula]] = field(default_factory=dict)
 
     def __repr__(self) -> str:
         return (
@@ -92,6 +100,8 @@ class Spec:
         """Whether ``formula`` holds at the designated worlds, resolving ``[ACT]`` here."""
         if isinstance(formula, str):
             formula = self.formula(formula)
+        if self.plausibility is not None:
+            return self.plausibility.holds(resolve_upgrades(formula, self.upgrades))
         return self.model.holds(formula, actions=self.actions)
 
     def require_goal(self) -> Formula:
@@ -142,7 +152,7 @@ class Spec:
                 "empty formula", line=1, column=1, source=text, filename=filename,
                 hint="write a formula such as 'K[a] p'",
             )  # fmt: skip
-        names = Names(self.agents, self.atoms, frozenset(self.actions))
+        names = Names(self.agents, self.atoms, frozenset(self.actions) | set(self.upgrades))
         return compile_formula(text, filename, names)
 
 
@@ -196,8 +206,12 @@ def parse_spec(text: str, filename: str = "<string>", backend: str = "auto") -> 
     except FastPathMiss:  # a name the fast path cannot locate: lark's tree, lark's errors
         tree = parse(text, filename, "start", fast=False)
         parts = Compiler(text, filename, observables=build).compile(tree)
+    declared = parts.plausibility
     spec = Spec(**parts._asdict(), filename=filename, source=text)
     model = on_backend(spec.model, spec.atoms, backend)
+    if declared is not None:
+        plausibility = declared.build(symbolic=not isinstance(model, KripkeModel))
+        return dataclasses.replace(spec, model=model, plausibility=plausibility)
     return spec if model is spec.model else dataclasses.replace(spec, model=model)
 
 

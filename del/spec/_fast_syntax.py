@@ -26,7 +26,8 @@ __all__ = ["FastPathMiss", "fast_formula", "fast_parse"]
 
 _SIMPLE = frozenset(("agents", "atoms", "observes", "actual", "designated"))
 _FORMULA = frozenset(("law", "goal", "check", "action"))
-_OTHER = frozenset(("world", "relation", "knowledge", "partition"))  # left to lark
+# left to lark
+_OTHER = frozenset(("world", "relation", "knowledge", "partition", "plausibility", "upgrade"))
 _WORD, _STRING = 2, 4
 
 

@@ -22,7 +22,7 @@ from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._actions import members, relations
 
-__all__ = ["explicit_model", "observables_model", "satisfies"]
+__all__ = ["explicit_model", "observables_model", "observations", "satisfies"]
 
 
 def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> Any:
@@ -37,21 +37,9 @@ def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -
             f"use at most {MAX_ENUMERATED_ATOMS} atoms with 'observes', explicit worlds, or "
             "the symbolic backend (epistemica check --backend symbolic)",
         )
-    observes: dict[str, list[str]] = {a: [] for a in comp.names.agents}
-    for stmt in by_kind.get("observes_decl", []):
-        who, what = stmt.children
-        seen = [comp.atom(k, t) for k, t in comp.atom_items(what, {})]
-        for name, token in comp.expand(who, {}):
-            observes[comp.agent(name, token)].extend(seen)
+    observes, designated = observations(comp, by_kind)
     actual = by_kind.get("actual_decl", [])
-    if len(actual) > 1:
-        raise comp.error("a second 'actual' world", actual[1], "keep one 'actual' line")
-    designated = None
-    true: set[str] = set()
-    if actual:
-        items = actual[0].children[0]
-        true = {comp.atom(k, t) for k, t in comp.atom_items(items, {})} if items else set()
-        designated = sorted(true)
+    true = set(designated or ())
     try:
         return build(atoms, observes, law=law, designated=designated)
     except EpistemicaError as exc:
@@ -67,6 +55,27 @@ def observables_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -
         laws = [s.children[0] for s in by_kind.get("law_decl", [])]
         where = (laws or by_kind.get("atoms_decl") or [None])[0]
         raise comp.error(exc.message, where, exc.hint) from None
+
+
+def observations(
+    comp: Any, by_kind: dict[str, list[Tree]]
+) -> tuple[dict[str, list[str]], list[str] | None]:
+    """What each agent observes, and the atoms true in the ``actual`` world (``None``: no
+    ``actual`` line, every world designated)."""
+    observes: dict[str, list[str]] = {a: [] for a in comp.names.agents}
+    for stmt in by_kind.get("observes_decl", []):
+        who, what = stmt.children
+        seen = [comp.atom(k, t) for k, t in comp.atom_items(what, {})]
+        for name, token in comp.expand(who, {}):
+            observes[comp.agent(name, token)].extend(seen)
+    actual = by_kind.get("actual_decl", [])
+    if len(actual) > 1:
+        raise comp.error("a second 'actual' world", actual[1], "keep one 'actual' line")
+    if not actual:
+        return observes, None
+    items = actual[0].children[0]
+    true = {comp.atom(k, t) for k, t in comp.atom_items(items, {})} if items else set()
+    return observes, sorted(true)
 
 
 def explicit_model(comp: Any, by_kind: dict[str, list[Tree]], law: Formula) -> KripkeModel:

@@ -198,7 +198,11 @@ class _Run:
             return (yield from self._announcement(s, f))
         if kind is After:
             return (yield from self._after(s, f))
-        raise InvalidArgumentError(f"cannot evaluate {kind.__name__}")
+        raise InvalidArgumentError(
+            f"cannot evaluate {kind.__name__}",
+            hint="B[a | f], Sb[a], [^^f] and [^f] need a plausibility model: a spec with a "
+            "'plausibility' line, or epistemica.del_.explicit.plausibility.PlausibilityModel",
+        )
 
     def _announcement(self, s: Any, f: Announce | AnnounceDiamond) -> Node:
         announced = yield s, f.announcement

@@ -62,8 +62,11 @@ def parse_tree(text: str, filename: str) -> Tree:
 class MissionCompiler(MissionScope):
     """Walks the statements of one mission text and collects its parts."""
 
-    def __init__(self, source: str, filename: str, library: dict[str, EventRule]) -> None:
+    def __init__(
+        self, source: str, filename: str, library: dict[str, EventRule], team: int | None = None
+    ) -> None:
         super().__init__(source, filename)
+        self.team = team
         self.library = library
         self.kind: str | None = None
         self.kind_token: Any = None
@@ -81,15 +84,28 @@ class MissionCompiler(MissionScope):
         self.checks: list[MissionCheck] = []
         self.step_triggers: list[tuple[int, Token]] = []
         self.level_tokens: list[Token] = []  # every level a line names, checked at the end
+        self.obstacles: list[tuple[list[tuple[float, float]], Tree]] = []
 
     # -- walking -----------------------------------------------------------------------
 
     def compile(self, tree: Tree) -> MissionParts:
         first = ("mission_decl", "robot_decl", "goal_decl", "task_decl", "workspace_decl")
         statements = sorted(tree.children, key=lambda t: t.data not in first)  # declarations
+        if self.team is None:
+            self.team = self._default_team(tree)
         for statement in statements:
             getattr(self, str(statement.data))(statement)
         return self.finish()
+
+    def _default_team(self, tree: Tree) -> int | None:
+        """N of ``simulate robots N`` (the last one), the team size of spans r1..rN."""
+        team = None
+        for statement in tree.children:
+            if statement.data == "simulate_decl":
+                for option in statement.children:
+                    if option.data == "team_size":
+                        team = self.count(option.children[0], "robots")
+        return team
 
     def mission_decl(self, node: Tree) -> None:
         token = node.children[0]
@@ -120,7 +136,7 @@ class MissionCompiler(MissionScope):
         limits = {"speed": 1.0, "turn": math.pi}
         for option in options:
             value = option.children[0]
-            bounds = (0.0, MAX_NUMBER) if option.data == "speed" else (0.0, math.pi)
+            bounds = (0.0, math.pi) if option.data == "turn" else (0.0, MAX_NUMBER)
             limits[str(option.data)] = self.number(value, *bounds)
         for name, token in self.expand_names(declared):
             self.new_name(name, token, "robot")
@@ -129,6 +145,10 @@ class MissionCompiler(MissionScope):
                     f"more than {LIMITS['robots']} robots", token, "the simulator's limit"
                 )
             self.robots[name] = RobotSpec(name, token, str(sensor), self.place(place), **limits)
+
+    def obstacle_decl(self, node: Tree) -> None:
+        corners = [(self.number(c.children[0]), self.number(c.children[1])) for c in node.children]
+        self.obstacles.append((corners, node))
 
     def goal_decl(self, node: Tree) -> None:
         declared, place, needs, closed = node.children
@@ -245,6 +265,8 @@ class MissionCompiler(MissionScope):
     def simulate_decl(self, node: Tree) -> None:
         for option in node.children:
             key, value = str(option.data), option.children[0]
+            if key == "team_size":
+                continue  # read before the declarations (_default_team)
             if key == "levels":
                 self.study["levels"] = tuple((str(t).replace("_", "-"), t) for t in value.children)
                 self.level_tokens.extend(value.children)
@@ -270,10 +292,11 @@ def everyone_observes(rule: EventRule) -> EventRule:
 
 
 def compile_text(
-    text: str, filename: str, library: dict[str, EventRule] | None = None
+    text: str, filename: str, library: dict[str, EventRule] | None = None, team: int | None = None
 ) -> MissionParts:
-    """The parts of the mission written in ``text``."""
-    return MissionCompiler(text, filename, library or {}).compile(parse_tree(text, filename))
+    """The parts of the mission written in ``text`` (``team``: N of its spans r1..rN)."""
+    compiler = MissionCompiler(text, filename, library or {}, team)
+    return compiler.compile(parse_tree(text, filename))
 
 
 def compile_events(text: str, filename: str) -> dict[str, EventRule]:

@@ -23,7 +23,7 @@ __all__ = ["KEYWORDS", "LIMITS", "MAX_NUMBER", "MissionScope"]
 #: The keywords that start a statement.
 KEYWORDS = (
     "mission", "valid", "workspace", "robot", "goal", "task", "sensing", "knows", "learns",
-    "initially", "event", "teammate", "policy", "check", "simulate",
+    "initially", "event", "teammate", "policy", "check", "simulate", "obstacle",
 )  # fmt: skip
 #: Largest accepted magnitude of any number in a mission file.
 MAX_NUMBER = 1e6
@@ -38,6 +38,8 @@ class MissionScope:
         self.source, self.filename = source, filename
         self.robots: dict[str, RobotSpec] = {}
         self.goals: dict[str, GoalSpec] = {}
+        self.team: int | None = None  # the value of N in spans r1..rN
+        self.parametric = False  # whether a span uses N
 
     # -- errors ------------------------------------------------------------------------
 
@@ -120,7 +122,18 @@ class MissionScope:
         keeps its zeros), expanded as spec files expand them."""
         if node.data != "span":
             return [(str(node.children[0]), node.children[0])]
-        return range_names(*node.children, self.error)
+        first, last = node.children
+        if str(last) == str(first).rstrip("0123456789") + "N":  # r1..rN: N robots
+            if self.team is None:
+                raise self.error(
+                    f"{first}..{last} needs the team size N",
+                    last,
+                    "add 'simulate robots 3' (the default N), or sweep it: "
+                    "epistemica sweep --mission FILE --robots 2..8",
+                )
+            self.parametric = True
+            last = last.update(value=f"{str(last)[:-1]}{self.team}")
+        return range_names(first, last, self.error)
 
     # -- formulas ------------------------------------------------------------------------
 

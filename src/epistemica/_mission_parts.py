@@ -16,10 +16,12 @@ import numpy as np
 from lark import Token
 
 from epistemica.del_ import Check, Formula
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.collaborative import COLLABORATIVE
 from epistemica.sim.collaborative_levels import COLLABORATIVE_LEVELS
 from epistemica.sim.events import EventRule
 from epistemica.sim.levels import REASONING
+from epistemica.sim.obstacles import CLEARANCE, polygon, polygon_distance
 
 __all__ = ["DEFAULT_STEPS", "GoalSpec", "MissionCheck", "MissionParts", "RobotSpec", "assemble"]
 
@@ -37,6 +39,7 @@ class RobotSpec:
     place: tuple[float, ...] | None
     speed: float = 1.0
     turn: float = math.pi
+    radius: float | None = None
 
 
 @dataclass(frozen=True)
@@ -81,6 +84,8 @@ class MissionParts:
     trials: int | None
     seed: int | None
     levels: tuple[tuple[str, Token], ...] | None
+    obstacles: tuple[np.ndarray, ...] = ()
+    team: int | None = None  # the team size N of spans r1..rN (None: the file has none)
 
     @property
     def robot_names(self) -> tuple[str, ...]:
@@ -120,6 +125,8 @@ def assemble(comp: Any) -> MissionParts:
         trials=comp.study.get("trials"),
         seed=comp.study.get("seed"),
         levels=comp.study.get("levels"),
+        obstacles=_obstacles(comp),
+        team=comp.team if comp.parametric else None,
     )
 
 
@@ -230,3 +237,26 @@ def _known(comp: Any, end: Token) -> np.ndarray | str | None:
     if not comp.knows:
         return None
     return np.array([[g in comp.knows.get(r, set()) for g in comp.goals] for r in comp.robots])
+
+
+def _obstacles(comp: Any) -> tuple[np.ndarray, ...]:
+    """The obstacles, each clear of every robot and goal placed in the file."""
+    out = []
+    for corners, node in comp.obstacles:
+        try:
+            poly = polygon(corners)
+        except InvalidArgumentError as exc:
+            raise comp.error(exc.message, node, exc.hint) from None
+        for spec in (*comp.robots.values(), *comp.goals.values()):
+            if spec.place is None:
+                continue
+            point = np.array(spec.place[:2], dtype=float)
+            radius = getattr(spec, "radius", None) or CLEARANCE
+            if polygon_distance(point, point, poly) < radius:
+                raise comp.error(
+                    f"'{spec.name}' at {list(spec.place[:2])} lies in this obstacle",
+                    node,
+                    f"move '{spec.name}' or the obstacle",
+                )
+        out.append(poly)
+    return tuple(out)

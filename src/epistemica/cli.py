@@ -16,10 +16,12 @@ Commands:
   reads back);
 - ``epistemica run MISSION``: a mission file's study (table, figure, animation);
   ``check`` also reads mission files (``--after STEPS``: after a seeded trial's events);
-- ``epistemica simulate``, ``sweep``, ``report``: the multi-robot simulator.
+- ``epistemica simulate``, ``sweep``, ``report``: the multi-robot simulator;
+- ``epistemica view FILE``: a trial's replay as a self-contained HTML page
+  (``show --html`` writes one for a spec's model).
 
 Exit status (grep-like, so that shell scripts can branch on it; see
-:mod:`epistemica.cli_exit`): 0 on success, 1 when a claim or formula is false or no plan
+:mod:`epistemica.cli_exit`): 0 on success, 1 when a claim (or --expect) is false or no plan
 exists, 2 on bad input, printed as ``FILE:LINE:COL: error: ...`` plus a hint, 3 on an
 internal error (a bug: one line, the traceback only with ``--debug``). ``--json`` prints
 one JSON object on standard output instead of text.
@@ -40,6 +42,7 @@ from epistemica.cli_arguments import (
     add_run_command,
     add_simulate_command,
     add_sweep_commands,
+    add_view_command,
 )
 from epistemica.cli_exit import EXIT_USAGE, guarded
 from epistemica.cli_formats import add_export_command, add_input_options
@@ -58,6 +61,7 @@ COMMANDS = {
     "sweep": "epistemica.cli_sweep:run_sweep_command",
     "report": "epistemica.cli_sweep:run_report",
     "export": "epistemica.cli_export:run_export",
+    "view": "epistemica.view:run_view",
 }
 
 _EPILOG = """\
@@ -72,14 +76,16 @@ examples:
   epistemica plan specs/planning/two_robots_implicit.epi --implicit --verify go_r2_g2,go_r1_g1
   epistemica show specs/puzzles/muddy_children.epi --after father,nobody_knows
   epistemica show specs/puzzles/sally_anne.epi --after sally_leaves --dot sally.dot
+  epistemica show specs/puzzles/muddy_children.epi --html muddy.html
   epistemica plan DOMAIN.epddl PROBLEM.epddl -l LIBRARY.epddl
   epistemica export --epddl specs/planning/grapevine.epi -o out/
   epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third --gif t.gif
   epistemica sweep --mission rendezvous --robots 2..5 --trials 50 --out runs/study.sqlite
   epistemica report runs/study.sqlite --markdown
+  epistemica view specs/rendezvous.epi --trial 3 -o trial.html
 (the spec files named here are in the specs/ folder of the source distribution)
 
-exit status: 0 success, 1 a claim or formula is false, no plan exists or a simulated
+exit status: 0 success, 1 a claim (or --expect) is false, no plan exists or a simulated
 mission failed, 2 bad input, 3 an internal error (a bug; --debug shows the traceback),
 130 interrupted
 """
@@ -137,6 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_run_command(commands)
     add_simulate_command(commands)
     add_sweep_commands(commands)
+    add_view_command(commands)
     for name in ("check", "plan", "show"):
         add_input_options(commands.choices[name])
     add_export_command(commands)
@@ -176,7 +183,8 @@ def _add_check(commands) -> None:
         "check",
         help="evaluate the claims of a spec or mission file, or one formula",
         description="Evaluate every 'check' claim of a spec file (exit 1 if one fails), or, "
-        "with --formula, whether a formula holds at the designated worlds (exit 1 if not).",
+        "with --formula, whether a formula holds at the designated worlds (exit 0 either "
+        "way; with --expect, exit 1 if the answer differs).",
         epilog="examples:\n"
         "  epistemica check specs/puzzles/muddy_children.epi\n"
         '  epistemica check specs/puzzles/coin_toss.epi --formula "[toss][show_b] Kw[b] heads"\n',
@@ -184,6 +192,11 @@ def _add_check(commands) -> None:
     )
     check.add_argument("file", metavar="FILE", help="a spec file or a mission file (.epi)")
     check.add_argument("--formula", "-f", metavar="F", help="check this formula instead")
+    check.add_argument(
+        "--expect",
+        choices=("true", "false"),
+        help="with --formula: exit 1 unless the formula is true (false) as expected",
+    )
     check.add_argument("--json", action="store_true", help="print a JSON object")
     check.add_argument(
         "--where",
@@ -300,6 +313,11 @@ def _add_show(commands) -> None:
     output = show.add_mutually_exclusive_group()
     output.add_argument("--dot", metavar="FILE", help="write the model as Graphviz DOT to FILE")
     output.add_argument("--json", action="store_true", help="print the model as JSON")
+    output.add_argument(
+        "--html",
+        metavar="FILE",
+        help="write a self-contained page: worlds, relations, claims, a formula box",
+    )
     show.add_argument(
         "--limit",
         type=_positive,

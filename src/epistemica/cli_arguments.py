@@ -16,12 +16,14 @@ __all__ = [
     "add_run_command",
     "add_simulate_command",
     "add_sweep_commands",
+    "add_view_command",
     "parse_counts",
 ]
 
 _RUN_EXAMPLES = """\
 examples:
   epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
+  epistemica run specs/rendezvous.epi specs/nested/private_goal_3.epi   # one after another
   epistemica run specs/task_allocation.epi --trials 50    # the published trial count
   epistemica run specs/multi_task.epi --levels convention,third --no-gif
   epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
@@ -59,21 +61,64 @@ def add_run_command(commands) -> None:
         help="run a mission file's study: table, figure and an animated trial",
         description="Compile a mission file, simulate its study (every level on the same "
         "seeds), store the trials in runs/NAME.sqlite (resumed when run again), print the "
-        "success table and write runs/NAME.png and runs/NAME.gif.",
+        "success table and write runs/NAME.png, and one trial as runs/NAME.gif and runs/NAME.html "
+        "(a page to replay in a browser).",
         epilog=_RUN_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    cmd.add_argument("file", metavar="MISSION", help="a mission file (.epi)")
+    cmd.add_argument(
+        "files", nargs="+", metavar="MISSION", help="mission files (.epi), run one after another"
+    )
     cmd.add_argument("--trials", type=int, default=None, help="trials per level (default: file)")
     cmd.add_argument(
         "--paper-scale", action="store_true", help="50 trials per level, as the published study"
     )
     cmd.add_argument("--levels", default=None, help="levels, comma-separated (default: file)")
     cmd.add_argument("--seed", type=int, default=None, help="first seed (default: file)")
-    cmd.add_argument("--out", default=None, help="results file (default runs/NAME.sqlite)")
-    cmd.add_argument("--workers", type=int, default=None, help="local processes (default all)")
+    cmd.add_argument(
+        "--out", default=None, help="results file (default runs/NAME.sqlite; one mission only)"
+    )
+    cmd.add_argument("--resume", action="store_true", help="add the missing trials to --out")
+    _add_execution_options(cmd)
     cmd.add_argument("--no-gif", action="store_true", help="do not animate a trial")
+    cmd.add_argument(
+        "--trial",
+        type=int,
+        default=None,
+        metavar="SEED",
+        help="the seed of the animated trial (default: the first seed where the last level "
+        "succeeds and the one before it fails, else where the levels disagree, else the "
+        "first seed); the study's last level is animated",
+    )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+
+
+def _add_execution_options(cmd) -> None:
+    """Where trials run and what is stored of them (``run`` and ``sweep``)."""
+    cmd.add_argument(
+        "--workers", type=_positive, default=None, help="local processes (default: all cores)"
+    )
+    cmd.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="run on this Dask scheduler (needs epistemica[cluster])",
+    )
+    cmd.add_argument(
+        "--no-traces",
+        action="store_true",
+        help="do not store each trial's per-step trace (about 2 kB a trial; huge sweeps)",
+    )
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
 
 
 def add_check_options(check) -> None:
@@ -159,9 +204,15 @@ def add_sweep_commands(commands) -> None:
         "--mission",
         type=_names,
         default=["rendezvous"],
-        help="rendezvous, allocation, multitask (comma-separated)",
+        help="rendezvous, allocation, multitask (comma-separated), or mission files "
+        "(.epi) whose robots are r1..rN",
     )
-    sweep.add_argument("--robots", type=parse_counts, default=[2], help="e.g. 2..5 or 2,3,5")
+    sweep.add_argument(
+        "--robots",
+        type=parse_counts,
+        default=None,
+        help="team sizes, e.g. 2..5 or 2,3,5 (default 2; a mission file: its N)",
+    )
     sweep.add_argument(
         "--goals",
         type=parse_counts,
@@ -171,30 +222,70 @@ def add_sweep_commands(commands) -> None:
     sweep.add_argument(
         "--reasoning",
         type=_names,
-        default=["zero", "convention", "third"],
-        help="levels, comma-separated",
+        default=None,
+        help="levels, comma-separated (default zero,convention,third; a mission file: its own)",
     )
-    sweep.add_argument("--trials", type=int, default=50, help="seeds per cell (default 50)")
-    sweep.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
+    sweep.add_argument(
+        "--trials", type=int, default=None, help="seeds per cell (default 50; a file: its own)"
+    )
+    sweep.add_argument(
+        "--seed", type=int, default=None, help="first seed (default 0; a file: its own)"
+    )
     sweep.add_argument("--out", required=True, help="results file (SQLite)")
     sweep.add_argument("--resume", action="store_true", help="add the missing trials to --out")
-    sweep.add_argument(
-        "--workers", type=int, default=None, help="local processes (default: all cores)"
-    )
-    sweep.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="tcp://HOST:PORT",
-        help="run on this Dask scheduler (needs epistemica[cluster])",
-    )
+    _add_execution_options(sweep)
     add_scenario_options(sweep)
 
     report = commands.add_parser(
         "report",
         help="print the success table of a results file and write its figure",
-        description="Success rate with 95 %% Wilson intervals and mean steps per cell.",
+        description="Success rate with 95 % Wilson intervals and mean steps per cell, and "
+        "a figure: success (multitask: completion) against team size, one line per level in "
+        "study order, each with its own colour, marker and line style. --png, --pdf and --svg "
+        "may be combined; without any, RESULTS.png is written.",
     )
     report.add_argument("results", help="an SQLite file written by `epistemica sweep`")
     report.add_argument("--markdown", action="store_true", help="a markdown table")
-    report.add_argument("--png", default=None, help="figure file (default: RESULTS.png)")
-    report.add_argument("--no-png", action="store_true", help="do not write the figure")
+    report.add_argument(
+        "--png", default=None, metavar="FILE", help="figure as PNG (default: RESULTS.png)"
+    )
+    report.add_argument(
+        "--pdf", default=None, metavar="FILE", help="figure as PDF (vector, for a paper)"
+    )
+    report.add_argument("--svg", default=None, metavar="FILE", help="figure as SVG (vector)")
+    report.add_argument("--no-png", action="store_true", help="do not write any figure")
+
+
+_VIEW_EXAMPLES = """\
+examples:
+  epistemica view specs/rendezvous.epi                  # simulate its first trial, last level
+  epistemica view specs/nested/relocated_3.epi --trial 4 --level first -o relocated.html
+  epistemica view trace.json                            # a trace (epistemica.sim.trace)
+  epistemica show specs/puzzles/muddy_children.epi --html muddy.html   # a model's page
+
+exit status: 0 written, 2 bad input
+"""
+
+
+def add_view_command(commands) -> None:
+    """Register ``view`` on an argparse subparsers object."""
+    cmd = commands.add_parser(
+        "view",
+        help="write a trial's replay as one self-contained HTML page",
+        description="Write one HTML page (script, style and data inline: no server, no "
+        "network) replaying a trial: the map with sensing radii, estimates and events, each "
+        "robot's belief, its configuration-set size and one robot's model of its teammates' "
+        "sets; a slider scrubs, a button plays and pauses.",
+        epilog=_VIEW_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument(
+        "file",
+        metavar="FILE",
+        help="a trace (JSON or compressed), a results file storing traces, or a mission file",
+    )
+    cmd.add_argument("--trial", type=int, default=None, metavar="SEED", help="the trial's seed")
+    cmd.add_argument(
+        "--level", default=None, help="the trial's level (mission file: default its last)"
+    )
+    cmd.add_argument("-o", "--out", default=None, help="the page (default: FILE's name .html)")

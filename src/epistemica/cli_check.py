@@ -1,7 +1,8 @@
 """``epistemica check``: the claims of a spec file, or one formula (``--formula``).
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs. Exit status 0 when
-every claim is as expected (or the formula holds at every designated world), 1 otherwise.
+every claim is as expected, 1 otherwise; ``--formula`` is a question (exit 0 whatever the
+answer) unless ``--expect true|false`` makes it a claim.
 """
 
 from __future__ import annotations
@@ -9,13 +10,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import itertools
-import json
 from typing import Any
 
 import numpy as np
 
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli_inputs import is_foreign, load_input, where_lines
+from epistemica.cli_json import print_json
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_label, world_labels
 from epistemica.del_.spec.backend import formula_summary
@@ -90,7 +91,7 @@ def run_check(args: argparse.Namespace) -> int:
             for c, value in results
         ]
         out = {"file": args.file, "claims": claims, "passed": len(results) - len(failed)}
-        print(json.dumps({**out, "failed": len(failed)}, indent=2))
+        print_json("check", {**out, "failed": len(failed)})
         return EXIT_FALSE if failed else EXIT_OK
     model = spec.model
     print(
@@ -113,11 +114,28 @@ def run_check(args: argparse.Namespace) -> int:
     return EXIT_FALSE if failed else EXIT_OK
 
 
+def answer_status(holds: bool, args: argparse.Namespace) -> int:
+    """The exit status of ``--formula``: a question (0 either way), or with ``--expect``
+    a claim (1 when the answer differs)."""
+    expected = getattr(args, "expect", None)
+    if expected is None:
+        return EXIT_OK
+    return EXIT_OK if holds == (expected == "true") else EXIT_FALSE
+
+
 def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     formula = spec.formula(args.formula)
     text_cap, json_cap = _LIST_TEXT, _LIST_JSON
     if args.where:  # list the worlds, as SMCDEL's WHERE? does, up to --limit
         text_cap = json_cap = args.limit or _WHERE
+    if spec.plausibility is not None:  # claims are about the plausibility model
+        holds = spec.holds(formula)
+        if args.json:
+            document = {"file": args.file, "formula": str(formula), "holds": holds}
+            print_json("check-formula", document)
+        else:
+            print(f"{formula}\n  {'true' if holds else 'false'} at the designated worlds")
+        return answer_status(holds, args)
     model = spec.model
     if not hasattr(model, "truth_set"):  # a KnowledgeStructure: it lists no worlds
         return _check_formula_symbolic(spec, formula, args)
@@ -140,22 +158,20 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     true_worlds = model.worlds_at(true_positions[:json_cap])
     if args.json:
         listed = [_world(model, w, labels) for w in true_worlds[:json_cap]]
-        print(
-            json.dumps(
-                {
-                    "file": args.file,
-                    "formula": str(formula),
-                    "holds": holds,
-                    "designated": designated,
-                    "n_worlds": model.n_worlds,
-                    "n_true": n_true,
-                    "worlds": listed,
-                    "truncated": n_true > len(listed),
-                },
-                indent=2,
-            )
+        print_json(
+            "check-formula",
+            {
+                "file": args.file,
+                "formula": str(formula),
+                "holds": holds,
+                "designated": designated,
+                "n_worlds": model.n_worlds,
+                "n_true": n_true,
+                "worlds": listed,
+                "truncated": n_true > len(listed),
+            },
         )
-        return EXIT_OK if holds else EXIT_FALSE
+        return answer_status(holds, args)
     print(f"{formula}")
     print(f"  {'true' if holds else 'false'} at the designated world", end="")
     if len(points) == 1:
@@ -171,7 +187,7 @@ def _check_formula(spec: Any, args: argparse.Namespace) -> int:
     print(f"  holds at {n_true} of {model.n_worlds} worlds" + (":" if shown else ""))
     if shown:
         print(f"    {shown}{tail}")
-    return EXIT_OK if holds else EXIT_FALSE
+    return answer_status(holds, args)
 
 
 def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -> int:
@@ -185,8 +201,8 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         summary["truncated"] = len(listed) > limit
         summary["valuations"] = listed = listed[:limit]
     if args.json:
-        print(json.dumps({"file": args.file, "formula": str(formula), **summary}, indent=2))
-        return EXIT_OK if summary["holds"] else EXIT_FALSE
+        print_json("check-formula", {"file": args.file, "formula": str(formula), **summary})
+        return answer_status(summary["holds"], args)
     print(f"{formula}")
     print(
         f"  {'true' if summary['holds'] else 'false'} at the designated worlds: holds at "
@@ -197,4 +213,4 @@ def _check_formula_symbolic(spec: Any, formula: Any, args: argparse.Namespace) -
         more = " ..." if summary["truncated"] else ""
         print("  where (true atoms of each valuation):")
         print("    " + "  ".join("{" + ", ".join(v) + "}" for v in listed) + more)
-    return EXIT_OK if summary["holds"] else EXIT_FALSE
+    return answer_status(summary["holds"], args)

@@ -19,9 +19,9 @@ Examples
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
+from epistemica.cli_json import print_json
 from epistemica.del_ import describe_model, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.planning.coordination import (
@@ -179,7 +179,7 @@ def plan_implicit(args: argparse.Namespace, spec: Any) -> int:
         }
         if args.explain and result.plan is not None:
             out["states"] = _states(spec, result.plan)
-        print(json.dumps(out, indent=2))
+        print_json("implicit-plan", out)
         return EXIT_OK if ok else EXIT_FALSE
     stats = f"bfs, {result.distinct} distinct states, {result.seconds:.3f} s"
     if result.plan is None:
@@ -226,7 +226,7 @@ def verify_plan(
         out.update({"plan": steps, **extra})
         if args.explain:
             out["states"] = _states(spec, steps, validate_with, describe)
-        print(json.dumps(out, indent=2))
+        print_json("implicit-plan", out)
         return EXIT_OK if ok else EXIT_FALSE
     print(f"plan {', '.join(steps)}: {'' if ok else 'not '}{verdict}")
     if args.explain:

@@ -1,8 +1,8 @@
 """The exit-status contract of the ``epistemica`` command, and the guard that keeps it.
 
 ====  =================================================================================
-0     success: every claim as expected, the formula holds, a plan was found, ...
-1     an answer of "no": a claim or formula is false, no plan exists, a plan is invalid
+0     success: every claim as expected, a ``--formula`` answered, a plan was found, ...
+1     an answer of "no": a claim (or ``--formula --expect``) is false, no plan exists, ...
 2     bad input: a malformed spec, an unknown name, a bad option, an unreadable file
 3     an internal error, that is a bug in epistemica (``--debug`` shows the traceback)
 130   interrupted (Ctrl-C)

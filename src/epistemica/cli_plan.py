@@ -13,12 +13,12 @@ explicit one unless its estimate for the spec's atoms exceeds the memory budget.
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli_inputs import is_foreign, load_input, plank_line
+from epistemica.cli_json import print_json
 from epistemica.cli_policy import plan_policy_command, verify_policy_command
 from epistemica.del_ import KripkeModel, describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
@@ -123,7 +123,7 @@ def run_plan(args: argparse.Namespace) -> int:
             out["plank_plan"] = task.plank_plan(result.plan)
         if args.explain:
             out["states"] = states
-        print(json.dumps(out, indent=2))
+        print_json("plan", out)
         return EXIT_OK if ok else EXIT_FALSE
     stats = f"{result.search}, {result.distinct} distinct states, {result.seconds:.3f} s"
     if backend == "symbolic":

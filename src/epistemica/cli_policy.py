@@ -23,6 +23,7 @@ from typing import Any
 
 from epistemica.cli_coordination import owners_of, split_plan
 from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli_json import print_json
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy
@@ -55,7 +56,7 @@ def plan_policy_command(args: argparse.Namespace, spec: Any) -> int:
             "seconds": round(result.seconds, 6),
             "complete": result.complete,
         }
-        print(json.dumps(out, indent=2))
+        print_json("policy", out)
         return EXIT_OK if ok else EXIT_FALSE
     stats = f"{result.local_states} local states, {result.seconds:.3f} s"
     if result.policy is None:
@@ -86,7 +87,7 @@ def verify_policy_command(args: argparse.Namespace, spec: Any) -> int:
             "reason": report.reason,
             "where": list(report.path),
         }
-        print(json.dumps(out, indent=2))
+        print_json("policy", out)
         return EXIT_OK if report.ok else EXIT_FALSE
     print(f"policy of depth {policy.depth}: {'' if report.ok else 'not '}implicitly coordinated")
     print(_indent(str(policy)))

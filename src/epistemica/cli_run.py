@@ -10,21 +10,24 @@ after the first steps of a seeded trial (each observation event applied by produ
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-import time
 from pathlib import Path
 
 from epistemica.cli_collaborative import run_collaborative
+from epistemica.cli_exit import EXIT_INTERRUPTED
+from epistemica.cli_json import print_json
+from epistemica.cli_sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
-from epistemica.run import mission_trials, run_study
+from epistemica.run import mission_trials
 from epistemica.sim.collaborative import COLLABORATIVE
-from epistemica.sim.figures import animate_trial
-from epistemica.sim.report import format_table, plot_levels, summarise
+from epistemica.sim.figures import animate_trace
+from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
-from epistemica.sim.store import ResultStore
+from epistemica.sim.trace import trial_trace
+from epistemica.view import trial_page
 
 __all__ = ["check_mission", "is_mission_file", "run_mission"]
 
@@ -45,8 +48,24 @@ def is_mission_file(path: str) -> bool:
 
 
 def run_mission(args: argparse.Namespace) -> int:
+    """``run``: each mission file's study in turn (all are compiled first, so a typo in
+    the last file is reported before any trial runs)."""
+    if args.out is not None and len(args.files) > 1:
+        raise InvalidArgumentError(
+            "--out names one results file, and several mission files were given",
+            hint="drop --out (each mission goes to runs/NAME.sqlite) or run them one by one",
+        )
+    missions = [load_mission(path) for path in args.files]
+    for i, mission in enumerate(missions):
+        if i:
+            print()
+        status = _run_study(mission, args)
+        if status != EXIT_OK:
+            return status
+    return EXIT_OK
 
-    mission = load_mission(args.file)
+
+def _run_study(mission, args: argparse.Namespace) -> int:
     if mission.kind == COLLABORATIVE:  # its own trials and table (cli_collaborative.py)
         return run_collaborative(mission, args)
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
@@ -54,27 +73,17 @@ def run_mission(args: argparse.Namespace) -> int:
     specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
-    started = time.perf_counter()
+    print(
+        f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
+        f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
+        f"{len(specs)} trials into {out}"
+    )
     # The default file resumes: a trial's id is its text, level and seed, so a stored row
-    # is the same result; an explicit --out is never added to silently.
-    with ResultStore(out, resume=args.out is None) as store:
-        ids = {s.id for s in specs}
-        stored = len(store.done_ids() & ids)
-        print(
-            f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
-            f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
-            f"{len(specs)} trials ({stored} already in {out})"
-        )
-        try:
-            ran, _ = run_study(specs, store, workers=args.workers)
-        except KeyboardInterrupt:
-            print(
-                f"interrupted: {len(store.done_ids() & ids)} of {len(specs)} trials stored "
-                f"in {out}; run the same command again to finish",
-                file=sys.stderr,
-            )
-            return 130
-        rows = [r for r in store.rows() if r["id"] in ids]
+    # is the same result; an explicit --out is added to only with --resume.
+    done = store_trials(specs, out, args.out is None or args.resume, args)
+    if done is None:
+        return EXIT_INTERRUPTED
+    rows = done.rows
     cells = summarise(rows)
     order = {s.reasoning: i for i, s in enumerate(specs)}
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
@@ -85,12 +94,28 @@ def run_mission(args: argparse.Namespace) -> int:
         print(f"figure: {png}")
         if not args.no_gif:
             gif = out.with_suffix(".gif")
-            _animate(mission, specs[-1].reasoning, specs[0].seed, gif)
-            print(f"animation ({specs[-1].reasoning}, seed {specs[0].seed}): {gif}")
+            level, seed, why = _animated_trial(args.trial, rows, specs)
+            _animate(mission, level, seed, gif)
+            print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
-    print(f"{ran} trials run in {time.perf_counter() - started:.1f} s")
+    print(done.summary())
     return EXIT_OK
+
+
+def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
+    """The level, seed and reason of the animated trial: the study's last (highest) level
+    at ``--trial``, else at the seed :func:`~epistemica.sim.report.disputed_seed` picks (the
+    first where the last level succeeds and the one before it fails, or else where the
+    levels disagree)."""
+    level = specs[-1].reasoning
+    if chosen is not None:
+        return level, chosen, ""
+    levels = list(dict.fromkeys(s.reasoning for s in specs))
+    seed = disputed_seed(rows, levels)
+    if seed is None:
+        return level, specs[0].seed, ": the levels agree on every seed"
+    return level, seed, ": the first where the levels disagree, the last succeeding if it can"
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:
@@ -99,7 +124,9 @@ def _animate(mission, level: str, seed: int, path: Path) -> None:
     trial = simulate(
         scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
     )
-    animate_trial(scenario, trial, path)
+    trace = trial_trace(scenario, trial)
+    animate_trace(trace, path, mission=mission.name)
+    write_page(path.with_suffix(".html"), trial_page(trace, mission.name))
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
@@ -138,7 +165,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
                 )
             formula = parse_formula(f"K[{args.robot}] ({args.formula})")
         chosen = model(args.after, args.seed, args.reasoning)
-        claims = [("--formula", str(formula), True, mission.holds(formula, chosen), where)]
+        expected = None if args.expect is None else args.expect == "true"  # None: a question
+        claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
     else:
         claims = []
         for c in mission.checks:
@@ -154,20 +182,28 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             )
             holds = mission.holds(c.check.formula, model(after, seed, level))
             claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
-    failed = [c for c in claims if c[2] != c[3]]
+    failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
     if args.json:
         out = [
-            {"name": n, "formula": t, "expected": e, "holds": h, "ok": e == h, "when": w}
+            {
+                "name": n,
+                "formula": t,
+                "expected": e,
+                "holds": h,
+                "ok": None if e is None else e == h,
+                "when": w,
+            }
             for n, t, e, h, w in claims
         ]
-        print(json.dumps({"file": args.file, "when": where, "claims": out}, indent=2))
+        print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
     robots = ", ".join(mission.robots)
     print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "
           f"worlds, robots {robots}")  # fmt: skip
     for name, text, expected, holds, label in claims:
-        mark = "ok  " if expected == holds else "FAIL"
+        mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
         moment = "" if label == where else f" [{label}]"
         print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
-    print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
+    if args.formula is None or args.expect is not None:
+        print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK

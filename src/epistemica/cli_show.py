@@ -23,6 +23,7 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import names_hint
 from epistemica.del_.symbolic.describe import describe_structure, structure_to_json
 from epistemica.model_json import dumps, model_to_json
+from epistemica.model_view import write_model_view
 
 __all__ = ["model_after", "run_show"]
 
@@ -61,12 +62,19 @@ def run_show(args: argparse.Namespace) -> int:
     model = model_after(spec, steps)
     title = f"{args.file}" + (f" after {', '.join(steps)}" if steps else "")
     if isinstance(model, KnowledgeStructure):
+        if getattr(args, "html", None):
+            raise InvalidArgumentError(
+                "--html shows explicit models only", hint="add --backend explicit"
+            )
         return _show_structure(model, args, steps, title)
     limit = args.limit
     if args.json:
         # The atoms in the order the spec declares them, the worlds by their spec names.
         data = model_to_json(model, spec.atoms, limit)
         print(dumps({"file": args.file, "after": steps, **data}))
+    elif getattr(args, "html", None):
+        write_model_view(spec, model, args.html, title, limit)
+        print(f"wrote {args.html}: {model.n_worlds} worlds; open it in a browser")
     elif args.dot:
         shown = _first_worlds(model, limit)
         with open(args.dot, "w", encoding="utf-8") as out:

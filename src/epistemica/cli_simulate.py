@@ -7,17 +7,35 @@ turned out false), 2 on bad input.
 from __future__ import annotations
 
 import argparse
-import json
+import os
 
+from epistemica.cli_json import print_json
 from epistemica.cli_options import scenario_options
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.figures import animate_trial, plot_trial
 
-__all__ = ["run_simulate"]
+__all__ = ["check_writable", "run_simulate"]
+
+
+def check_writable(path: str, flag: str) -> None:
+    """Refuse an output path whose folder is missing or read-only."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InvalidArgumentError(
+            f"{flag} {path}: the folder {folder} does not exist", hint="create it first"
+        )
+    if not os.access(folder, os.W_OK) or os.path.isdir(path):
+        raise InvalidArgumentError(
+            f"{flag} {path}: cannot write there", hint="choose a file in a writable folder"
+        )
 
 
 def run_simulate(args: argparse.Namespace) -> int:
 
+    for flag, path in (("--png", args.png), ("--gif", args.gif)):
+        if path:
+            check_writable(path, flag)  # before the trial, not after minutes of it
     options = scenario_options(args)
     scenario = Scenario.paper(args.mission, args.robots, args.goals, args.seed, **options)
     trial = simulate(scenario, args.reasoning, seed=args.seed)
@@ -35,7 +53,7 @@ def run_simulate(args: argparse.Namespace) -> int:
             "sensing_range": scenario.sensing_range,
             **trial.summary(),
         }
-        print(json.dumps(record, indent=2))
+        print_json("simulate", record)
     else:
         print(_describe(scenario, trial))
     return 0 if trial.success else 1

@@ -1,9 +1,11 @@
 """``epistemica sweep`` and ``epistemica report``: Monte Carlo studies of the simulator.
 
-``sweep`` runs every (mission, robots, goals, level, seed) trial of a grid, on local
-processes or a Dask cluster, into an SQLite file; ``--resume`` runs only the trials the
-file does not hold. ``report`` prints the success table with 95 % Wilson intervals and
-writes the figure.
+``sweep`` runs every (mission, robots, goals, level, seed) trial of a grid, or a mission
+file's study at each team size of ``--robots`` (files whose robots are ``r1..rN``), on local
+processes or a Dask cluster, into an SQLite file (docs/formats.md); ``--resume`` runs only
+the trials the file does not hold. :func:`store_trials` is the storing path ``run`` shares.
+``report`` reads the file (read-only), prints the success table with 95 % Wilson intervals
+and writes the figure.
 """
 
 from __future__ import annotations
@@ -12,57 +14,109 @@ import argparse
 import os
 import sys
 import time
+from dataclasses import dataclass
 
+from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_options import scenario_options
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.run import team_trials
 from epistemica.sim.report import format_table, plot_results, summarise
 from epistemica.sim.store import ResultStore, read_rows
 from epistemica.sim.sweep import plan_sweep, run_sweep
 
-__all__ = ["run_report", "run_sweep_command"]
+__all__ = ["Stored", "run_report", "run_sweep_command", "store_trials"]
 
 
 def run_sweep_command(args: argparse.Namespace) -> int:
 
-    specs = plan_sweep(
-        args.mission,
-        args.robots,
-        args.goals,
-        args.reasoning,
-        args.trials,
-        args.seed,
-        scenario_options(args),
-    )
+    files = [m for m in args.mission if m.endswith(".epi") or os.path.exists(m)]
+    if files:
+        specs = _mission_file_trials(files, args)
+    else:
+        specs = plan_sweep(
+            args.mission,
+            args.robots or [2],
+            args.goals,
+            args.reasoning or ["zero", "convention", "third"],
+            50 if args.trials is None else args.trials,
+            0 if args.seed is None else args.seed,
+            scenario_options(args),
+        )
+    done = store_trials(specs, args.out, args.resume, args)
+    if done is None:
+        return EXIT_INTERRUPTED
+    print(f"{done.summary()} ({sum(r['success'] for r in done.rows)} successes)")
+    return 0
+
+
+def _mission_file_trials(files: list[str], args: argparse.Namespace) -> list:
+    """``sweep --mission FILE``: the file's study at each team size of ``--robots``."""
+    if len(files) != len(args.mission):
+        raise InvalidArgumentError(
+            "--mission takes either mission files or built-in missions, not both",
+            hint="run one sweep per kind, into two --out files",
+        )
+    given = (["goals"] if args.goals is not None else []) + list(scenario_options(args))
+    if given:
+        raise InvalidArgumentError(
+            f"--{given[0].replace('_', '-')} applies to the built-in missions",
+            hint="a mission file sets its goals, sensing and steps itself",
+        )
+    specs = []
+    for path in files:
+        specs.extend(team_trials(path, args.robots, args.reasoning, args.trials, args.seed))
+    return specs
+
+
+@dataclass
+class Stored:
+    """What :func:`store_trials` did: trials run, the rows of the study, the time taken."""
+
+    out: str
+    ran: int
+    rows: list[dict]
+    missing: int
+    seconds: float
+
+    def summary(self) -> str:
+        before = len(self.rows) - self.ran
+        elsewhere = f", {self.missing} still running in another sweep" if self.missing else ""
+        return (
+            f"{self.ran} trials run, {before} already stored, {len(self.rows)} of this study "
+            f"in {self.out}{elsewhere} in {self.seconds:.1f} s"
+        )
+
+
+def store_trials(specs, out, resume: bool, args: argparse.Namespace) -> Stored | None:
+    """Run the trials of ``specs`` that ``out`` lacks (``sweep`` and ``run``): locally or
+    on ``args.scheduler``, with traces unless ``args.no_traces``. None if interrupted
+    (Ctrl-C), after saying how many trials are stored."""
     started = time.perf_counter()
-    with ResultStore(args.out, resume=args.resume) as store:
-        missing = len(specs) - len(store.done_ids() & {s.id for s in specs})
-        bar = _progress(missing)
+    ids = {s.id for s in specs}
+    with ResultStore(out, resume=resume) as store:
+        bar = _progress(len(ids - store.done_ids()))
         try:
-            ran, skipped = run_sweep(
+            ran, _ = run_sweep(
                 specs,
                 store,
                 workers=args.workers,
                 scheduler=args.scheduler,
                 progress=lambda row: bar.update(1) if bar else None,
+                traces=not args.no_traces,
             )
         except KeyboardInterrupt:
-            if bar:
-                bar.close()
-            stored = len(store.done_ids() & {s.id for s in specs})
+            stored = len(store.done_ids() & ids)
             print(
-                f"interrupted: {stored} of {len(specs)} trials stored in {args.out}; "
+                f"\ninterrupted: {stored} of {len(ids)} trials stored in {out}; "
                 "run the same command with --resume to finish",
                 file=sys.stderr,
             )
-            return 130
-        if bar:
-            bar.close()
-        ok = sum(r["success"] for r in store.rows())
-        total = len(store.rows())
-    print(
-        f"{ran} trials run, {skipped} already stored, {total} in {args.out} "
-        f"({ok} successes) in {time.perf_counter() - started:.1f} s"
-    )
-    return 0
+            return None
+        finally:
+            if bar:
+                bar.close()
+        rows = [r for r in store.rows() if r["id"] in ids]
+    return Stored(str(out), ran, rows, len(ids) - len(rows), time.perf_counter() - started)
 
 
 def _progress(total: int):
@@ -80,7 +134,8 @@ def run_report(args: argparse.Namespace) -> int:
     cells = summarise(read_rows(args.results))
     print(format_table(cells, markdown=args.markdown))
     if not args.no_png and cells:
-        path = args.png or os.path.splitext(args.results)[0] + ".png"
-        plot_results(cells, path)
-        print(f"figure: {path}")
+        paths = [p for p in (args.png, getattr(args, "pdf", None), getattr(args, "svg", None)) if p]
+        for path in paths or [os.path.splitext(args.results)[0] + ".png"]:
+            plot_results(cells, path)
+            print(f"figure: {path}")
     return 0

@@ -31,7 +31,7 @@ Examples
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -158,6 +158,11 @@ class Mission:
     source: str = field(repr=False)
     parts: MissionParts = field(repr=False)
 
+    @property
+    def team(self) -> int | None:
+        """N of the spans ``r1..rN`` this mission was compiled with (None: it has none)."""
+        return self.parts.team
+
     # -- the simulator's view ----------------------------------------------------------
 
     def scenario(self, seed: int | None = None) -> Scenario:
@@ -199,6 +204,8 @@ class Mission:
                 ),
                 robot_names=self.robots,
                 goal_names=self.goals,
+                robot_radius=_radii(p.robots),
+                obstacles=p.obstacles,
                 **options,
             )
         except InvalidArgumentError as exc:
@@ -293,7 +300,7 @@ class Mission:
                     column=token.column,
                     source=self.source,
                     filename=self.filename,
-                    hint=getattr(exc, "hint", None) or "see docs/language.md, 'policy'",
+                    hint=getattr(exc, "hint", None) or _POLICY_HINT,
                 ) from None
         return out
 
@@ -360,15 +367,16 @@ class Mission:
         return (self.model if model is None else model).holds(expand(tree, self.robots))
 
 
-def parse_mission(text: str, filename: str = "<string>") -> Mission:
-    """Compile the mission written in ``text``.
+def parse_mission(text: str, filename: str = "<string>", team: int | None = None) -> Mission:
+    """Compile the mission written in ``text``; ``team`` is the team size N of its robots
+    and goals declared as spans ``r1..rN`` (default: its ``simulate robots N``).
 
     Raises
     ------
     ParseError, SpecError
         Located at the offending token, with a hint.
     """
-    parts = compile_text(text, filename, library_rules())
+    parts = compile_text(text, filename, library_rules(), team)
     defaults = Study()
     defaults_levels = COLLABORATIVE_STUDY_LEVELS if parts.kind == COLLABORATIVE else defaults.levels
     mission = Mission(
@@ -391,6 +399,16 @@ def parse_mission(text: str, filename: str = "<string>") -> Mission:
     return mission
 
 
+def _radii(robots) -> list[float] | None:
+    """Each robot's ``radius`` (0 where none is given); None when no robot has one."""
+    if all(r.radius is None for r in robots):
+        return None
+    return [r.radius or 0.0 for r in robots]
+
+
+_POLICY_HINT = "policy options: " + ", ".join(f.name for f in fields(ActiveParameters))
+
+
 def _policy_value(text: str):
     """A ``policy`` value: a number (whole numbers as int), true, false or none."""
     words = {"true": True, "false": False, "none": None}
@@ -400,8 +418,8 @@ def _policy_value(text: str):
     return int(value) if value == int(value) and "." not in text else value
 
 
-def load_mission(path: str | Path) -> Mission:
-    """Compile the mission file at ``path``.
+def load_mission(path: str | Path, team: int | None = None) -> Mission:
+    """Compile the mission file at ``path`` (``team``: see :func:`parse_mission`).
 
     Examples
     --------
@@ -413,4 +431,4 @@ def load_mission(path: str | Path) -> Mission:
     'tiny'
     """
     _, text = read_input(path, "run", ("mission",))
-    return parse_mission(text, str(path))
+    return parse_mission(text, str(path), team)

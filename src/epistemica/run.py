@@ -26,32 +26,34 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.mission import Mission, parse_mission
+from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim.levels import make_policy
 from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.store import ResultStore
-from epistemica.sim.sweep import TrialSpec, run_sweep
+from epistemica.sim.sweep import TrialSpec, check_trials, run_sweep
 
-__all__ = ["MissionWorld", "mission_trials", "run_study"]
+__all__ = ["MissionWorld", "mission_trials", "run_study", "team_trials"]
 
 
-@functools.lru_cache(maxsize=8)
-def _compiled(source: str, filename: str) -> Mission:
-    return parse_mission(source, filename)
+@functools.lru_cache(maxsize=16)
+def _compiled(source: str, filename: str, team: int | None) -> Mission:
+    return parse_mission(source, filename, team)
 
 
 @dataclass(frozen=True)
 class MissionWorld:
     """A mission file as a :class:`~epistemica.sim.sweep.World`: its text (compiled once
-    per process), so a trial's id is its text, level and seed."""
+    per process) and, for a file whose robots are ``r1..rN``, the team size N; a trial's id
+    is its text, N, level and seed."""
 
     source: str
     filename: str
+    team: int | None = None
 
     @property
     def compiled(self) -> Mission:
-        return _compiled(self.source, self.filename)
+        return _compiled(self.source, self.filename, self.team)
 
     @property
     def mission(self) -> str:
@@ -76,7 +78,8 @@ class MissionWorld:
         return self.compiled.parameters
 
     def trial_id(self, reasoning: str, seed: int) -> str:
-        text = json.dumps([self.source, reasoning, seed])
+        key = [self.source, reasoning, seed] + ([] if self.team is None else [self.team])
+        text = json.dumps(key)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def scenario(self, seed: int) -> Scenario:
@@ -95,15 +98,38 @@ def mission_trials(
     """The trials of ``mission``'s study (its ``simulate`` line, or the arguments)."""
     levels = list(mission.study.levels if levels is None else levels)
     trials = mission.study.trials if trials is None else trials
-    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
-        raise InvalidArgumentError(f"trials must be an integer >= 1, got {trials!r}", hint="20")
+    levels = list(dict.fromkeys(levels))  # a level named twice runs once
     for level in levels:
         make_policy(level)  # unknown names fail here, not in a worker
     first = mission.study.seed if seed is None else seed
-    if isinstance(first, bool) or not isinstance(first, int) or first < 0:
-        raise InvalidArgumentError(f"seed must be an integer >= 0, got {first!r}", hint="0")
-    world = MissionWorld(mission.source, mission.filename)
+    check_trials(trials, first)
+    world = MissionWorld(mission.source, mission.filename, mission.team)
     return [TrialSpec(world, level, first + t) for level in levels for t in range(trials)]
+
+
+def team_trials(
+    path,
+    teams: Sequence[int] | None,
+    levels: Sequence[str] | None = None,
+    trials: int | None = None,
+    seed: int | None = None,
+) -> list[TrialSpec]:
+    """The trials of the study of the mission file at ``path`` at each team size of
+    ``teams``: N of its spans ``r1..rN`` (``None``: the file's own ``simulate robots N``,
+    or its robots as written)."""
+    if teams is None:
+        return mission_trials(load_mission(path), levels, trials, seed)
+    specs = []
+    for team in teams:
+        mission = load_mission(path, team)
+        if mission.team is None:
+            raise InvalidArgumentError(
+                f"{path} does not declare its team size as a parameter",
+                hint="write its robots (and goals) as spans r1..rN, g1..gN and add "
+                "'simulate robots 3' (the default N)",
+            )
+        specs.extend(mission_trials(mission, levels, trials, seed))
+    return specs
 
 
 def run_study(

@@ -135,7 +135,7 @@ SYNTAX = [
                  id="dangling-and"),
     pytest.param(HEAD + "goal K[a] (p\ncheck \"x\": p\n", 4, 1, "expected ')'", "3:11",
                  id="unclosed-paren"),
-    pytest.param(HEAD + "goal p $ q\n", 3, 8, "unexpected character '$'", "language",
+    pytest.param(HEAD + "goal p $ q\n", 3, 8, "unexpected character '$'", "formulas are built",
                  id="bad-character"),
     pytest.param(HEAD + "action go(r1): public p\n", 3, 13, "expected 'in'", "i in {a, b}",
                  id="parameter-without-domain"),

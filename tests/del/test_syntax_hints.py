@@ -27,7 +27,7 @@ HINTS = [
     ("'p'", "without quotes", "p"),
     ('"p"', "without quotes", "p"),
     ("p & é", "ASCII letters", "p & e"),
-    ("p $ q", "docs/language.md", "p & q"),
+    ("p $ q", "formulas are built from atoms with ~ & |", "p & q"),
     # unexpected tokens
     ("p > q", "did you mean '->'?", "p -> q"),
     ("E[] p", "at least one agent", "E[a] p"),

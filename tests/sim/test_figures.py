@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,9 +13,13 @@ import pytest
 from epistemica.cli import main
 from epistemica.del_.errors import EpistemicaError
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.figures import animate_trial, plot_trial
+from epistemica.sim.figures import TraceFrame, animate_trial, focus_robot, plot_trial
+from epistemica.sim.palette import ROBOT_COLOURS
+from epistemica.sim.report import plot_results, study_order, summarise
+from epistemica.sim.trace import trial_trace
 
 PIL = pytest.importorskip("PIL.Image")
+SPECS = Path(__file__).resolve().parents[2] / "specs"
 
 
 def test_success_and_failure_exit_codes_and_json(capsys):
@@ -90,3 +95,180 @@ def test_missing_matplotlib_names_the_extra(monkeypatch, tmp_path):
     with pytest.raises(EpistemicaError, match="matplotlib") as err:
         plot_trial(s, simulate(s, "zero", seed=0), tmp_path / "x.png")
     assert "epistemica[plot]" in err.value.hint
+
+
+# --- the animation's content, read from its artists ----------------------------------
+
+
+def _texts(fig):
+    from matplotlib.text import Text
+
+    return [t for t in fig.findobj(Text) if t.get_visible() and t.get_text().strip()]
+
+
+@pytest.fixture(scope="module")
+def relocated():
+    """The false-belief mission: an event at step 0 seen by some robots, nested sets that
+    differ from the teammates' own."""
+    from epistemica.mission import load_mission
+
+    mission = load_mission(str(SPECS / "nested" / "relocated_3.epi"))
+    s = mission.scenario(0)
+    t = simulate(s, "third", seed=0, policies=mission.policies(0), parameters=mission.parameters)
+    return s, t, trial_trace(s, t)
+
+
+def test_animation_frame_shows_names_sensing_estimates_and_sets(relocated):
+    s, trial, trace = relocated
+    frame = TraceFrame(trace, s.mission)
+    try:
+        frame.draw(3)
+        gids = [a.get_gid() for a in frame.fig.findobj() if a.get_gid()]
+        robots, goals = list(s.robot_names), list(s.goal_names)
+        assert robots == ["r1", "r2", "r3"] and goals == ["g1", "g2", "g3", "g4", "g5"]
+        assert sorted(g for g in gids if g.startswith("sensing:")) == [
+            f"sensing:{r}" for r in robots
+        ]
+        assert [g for g in gids if g.startswith("goal:")] == [f"goal:{g}" for g in goals]
+        assert [g for g in gids if g.startswith("robot:")] == [f"robot:{r}" for r in robots]
+        # The sensing circles follow the robots, with the trial's radius.
+        for circle, pose in zip(frame.sensing, trial.trajectory[3], strict=True):
+            assert np.allclose(circle.center, pose[:2], atol=0.01)
+            assert circle.radius == s.sensing_range
+        # r1's estimate of r2 is drawn where the trial recorded it.
+        mark = next(a for a in frame.fig.findobj() if a.get_gid() == "estimate:r1->r2")
+        assert np.allclose(np.asarray(mark.get_data())[:, 0], trial.estimates[3, 0, 1], atol=0.06)
+        # Goals are black, robots take the palette: a colour never means both.
+        star = next(a for a in frame.fig.findobj() if a.get_gid() == "goal:g1")
+        assert star.get_color() == "k"
+        assert all(c not in ("k", "0.8", "#7f7f7f") for c in ROBOT_COLOURS)
+        belief = frame.belief_axes
+        assert [t.get_text() for t in belief.get_xticklabels()] == goals
+        assert [t.get_text() for t in belief.get_yticklabels()] == robots
+        assert np.allclose(frame.belief_image.get_array(), trial.goal_belief[3], atol=6e-4)
+        # Own sets solid, and the focus robot's model of each teammate's set dashed.
+        f = focus_robot(trace)
+        lines = {line.get_label(): line for line in frame.sets_axes.get_lines()}
+        for j, name in enumerate(robots):
+            assert np.array_equal(lines[name].get_ydata(), trial.considered[:, j])
+            if j != f:
+                nested = lines[f"{robots[f]}'s model of {name}'s"]
+                assert nested.get_linestyle() == "--"
+                assert np.array_equal(nested.get_ydata(), trial.modelled[:, f, j])
+        assert (trial.modelled[:, f] != trial.considered).any()  # the focus differs somewhere
+        assert min(t.get_fontsize() for t in _texts(frame.fig)) >= 10
+        # Every legend (markers included) lies inside the picture.
+        frame.fig.canvas.draw()
+        page = frame.fig.bbox
+        for ax in (frame.map_axes, frame.sets_axes):
+            box = ax.get_legend().get_window_extent()
+            assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0, ax
+    finally:
+        frame.close()
+
+
+def test_events_are_listed_and_ringed_when_they_happen(relocated):
+    s, _trial, trace = relocated
+    (step, name, _, observers), *_ = trace["events"]
+    frame = TraceFrame(trace)
+    try:
+        frame.draw(step, step - 1)
+        rings = [a for a in frame.fig.findobj() if a.get_gid() == f"event:{name}"]
+        assert len(rings) == len(observers) >= 1
+        seen = ", ".join(s.robot_names[o] for o in observers)
+        assert f"step {step}: {name}, seen by {seen}" in frame.event_lines.get_text()
+        frame.draw(step + 2, step + 1)
+        assert not [a for a in frame.fig.findobj() if a.get_gid() == f"event:{name}"]
+    finally:
+        frame.close()
+
+
+def test_no_sensing_circles_with_unlimited_sensing():
+    s = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=4)
+    frame = TraceFrame(trial_trace(s, simulate(s, "third", seed=0)))
+    try:
+        assert s.sensing_range is None and frame.sensing == []
+    finally:
+        frame.close()
+
+
+# --- the report figure ---------------------------------------------------------------
+
+
+def _cells(levels):
+    rows = [
+        {"mission": "rendezvous", "robots": n, "goals": n, "reasoning": level, "options": "{}",
+         "success": (seed + k) % 3 != 0, "steps": 20, "completion_step": None,
+         "decision_ms": 0.1, "considered": 1.0}
+        for k, level in enumerate(levels) for n in (2, 3) for seed in range(6)
+    ]  # fmt: skip
+    return summarise(rows)
+
+
+def test_report_figure_in_study_order_with_markers_and_styles(tmp_path, monkeypatch):
+    from matplotlib.figure import Figure
+
+    saved = []
+    monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: saved.append(self))
+    levels = ["third", "zero", "first", "third-shared", "convention"]
+    plot_results(_cells(levels), tmp_path / "r.png")
+    (ax,) = saved[0].axes
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert legend == study_order(levels) == ["zero", "convention", "first", "third", "third-shared"]
+    lines = [line for line in ax.get_lines() if line.get_label() in legend]
+    looks = {(line.get_marker(), line.get_linestyle(), line.get_color()) for line in lines}
+    assert len(looks) == len(levels) and len({lk[0] for lk in looks}) == len(levels)
+    assert min(t.get_fontsize() for t in _texts(saved[0])) >= 10
+
+
+def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
+    from epistemica.sim.store import ResultStore
+
+    db = tmp_path / "r.sqlite"
+    with ResultStore(db) as store:
+        for i, c in enumerate(_cells(["zero", "third"])):
+            store.add({"id": str(i), "mission": c.mission, "robots": c.robots, "goals": c.goals,
+                       "reasoning": c.reasoning, "seed": i, "options": "{}", "success": 1,
+                       "steps": 9, "completion_step": None, "wall_time": 0.1,
+                       "decision_ms": 0.1, "considered": 1.0, "version": "0"})  # fmt: skip
+    out = {ext: tmp_path / f"fig.{ext}" for ext in ("png", "pdf", "svg")}
+    argv = ["report", str(db), "--png", str(out["png"]), "--pdf", str(out["pdf"])]
+    assert main([*argv, "--svg", str(out["svg"])]) == 0
+    assert out["png"].read_bytes().startswith(b"\x89PNG")
+    assert out["pdf"].read_bytes().startswith(b"%PDF")
+    assert b"<svg" in out["svg"].read_bytes()[:2000]
+    assert "--pdf" in _help(["report", "--help"]) and "95 %%" not in _help(["report", "--help"])
+
+
+def _help(argv) -> str:
+    proc = subprocess.run(
+        [sys.executable, "-m", "epistemica", *argv], capture_output=True, text=True, check=True
+    )
+    return proc.stdout
+
+
+def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys):
+    from epistemica.mission import load_mission
+
+    spec = str(SPECS / "rendezvous.epi")
+    argv = ["run", spec, "--trials", "4", "--levels", "zero,third", "--workers", "1"]
+    assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
+    printed = capsys.readouterr().out
+    mission = load_mission(spec)
+    outcomes = {
+        seed: {
+            level: simulate(mission.scenario(seed), level, seed=seed,
+                            policies=mission.policies(seed), parameters=mission.parameters).success
+            for level in ("zero", "third")
+        }
+        for seed in range(4)
+    }  # fmt: skip
+    # Third succeeding where zero fails comes first; any disagreement next.
+    decided = [seed for seed, o in outcomes.items() if o["third"] and not o["zero"]]
+    disputed = decided or [seed for seed, o in outcomes.items() if len(set(o.values())) > 1]
+    expected = f"seed {disputed[0]}: the first where" if disputed else "the levels agree"
+    assert f"animation (third, {expected}" in printed
+    assert main([*argv, "--out", str(tmp_path / "s.sqlite"), "--trial", "2"]) == 0
+    assert "animation (third, seed 2)" in capsys.readouterr().out
+    with PIL.open(tmp_path / "s.gif") as gif:
+        assert gif.n_frames >= 2

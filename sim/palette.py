@@ -1,0 +1,55 @@
+"""The colours of robots in every figure and page, and which robot's nested sets to show.
+
+Goals are black or grey everywhere; robots take :data:`ROBOT_COLOURS`, a qualitative
+palette (matplotlib's ``tab10``) without its grey, so that a colour always means a robot.
+
+Examples
+--------
+>>> robot_colour(0), robot_colour(len(ROBOT_COLOURS))
+('#1f77b4', '#1f77b4')
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["ROBOT_COLOURS", "focus_robot", "robot_colour"]
+
+#: A qualitative palette without grey or black (those are the goals').
+ROBOT_COLOURS = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#17becf",
+    "#bcbd22",
+)
+
+
+def robot_colour(i: int) -> str:
+    """The colour of robot ``i`` (0-based) in every figure and the browser view."""
+    return ROBOT_COLOURS[i % len(ROBOT_COLOURS)]
+
+
+def focus_robot(trace: dict[str, Any]) -> int:
+    """The robot whose model of its teammates' sets differs most from their own sets (the
+    first robot when no model differs): the one whose nested reasoning the figures show.
+
+    Examples
+    --------
+    >>> focus_robot({"modelled": [[[4, 4], [3, 4]]], "considered": [[4, 4]]})
+    1
+    >>> focus_robot({"modelled": [], "considered": []})
+    0
+    """
+    modelled = np.asarray(trace["modelled"], dtype=float)
+    if modelled.size == 0:
+        return 0
+    own = np.asarray(trace["considered"], dtype=float)
+    gap = np.abs(modelled - own[:, None, :]).sum(axis=(0, 2))
+    return int(np.argmax(gap)) if gap.max() > 0 else 0

@@ -1,0 +1,102 @@
+"""Self-contained HTML pages: a trial's replay and a Kripke model with a formula box.
+
+Each page is one file with its script, style and data inline (the data as JSON in a
+``<script type="application/json">`` element): it opens offline, from disk, with no server
+and no network. The assets are in ``src/epistemica/pages/`` (``page.html``, ``view.css``,
+``trial_view.js``, ``model_view.js``), shipped as package data. This module imports no
+simulator code, so that ``show --html`` starts as fast as ``show``.
+
+- :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.trace`) replayed with
+  the panels of the animation (:mod:`epistemica.sim.figures`); a slider scrubs, a button
+  plays and pauses.
+- :func:`model_page`: a model as ``epistemica show --json`` writes it (worlds, relations per
+  agent, designated worlds), the spec's claims with their truth sets computed by
+  epistemica, and a box that evaluates static formulas (propositional, ``K``, ``B``,
+  ``Kw``, ``M``, ``E``, ``C``, ``D``, ``EB``, ``CB``) in the page.
+
+Examples
+--------
+>>> html = model_page({"format": "epistemica-kripke-1", "agents": ["a"], "atoms": ["p"],
+...                    "worlds": [{"name": "w0", "atoms": ["p"]}], "designated": ["w0"],
+...                    "relations": {"a": {"belief": {"blocks": [["w0"]]}}}}, "one world")
+>>> html.startswith("<!DOCTYPE html>"), "<link" in html or " src=" in html
+(True, False)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__ = ["check_writable", "model_page", "page", "write_page"]
+
+
+def _asset(name: str) -> str:
+    return (resources.files("epistemica") / "pages" / name).read_text(encoding="utf-8")
+
+
+def _json(data: Any) -> str:
+    # Inside <script>, "</" would end the element early; "<\\/" is the same JSON string.
+    text = json.dumps(data, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
+    return text.replace("</", "<\\/")
+
+
+def page(title: str, script: str, data: dict[str, Any]) -> str:
+    """The page titled ``title`` running the asset ``script`` over ``data`` (embedded JSON)."""
+    escaped = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    parts = {"title": escaped, "style": _asset("view.css"), "script": _asset(script)}
+    parts["data"] = _json(data)
+    # Split on the markers once, so that no inserted text is searched for markers again.
+    pieces = _asset("page.html").split("@@")
+    return "".join(parts[p] if i % 2 else p for i, p in enumerate(pieces))
+
+
+def model_page(
+    model: dict[str, Any],
+    title: str,
+    claims: list[dict[str, Any]] = (),
+    example: str = "",
+) -> str:
+    """The page of a model object (``epistemica-kripke-1``, from
+    :func:`epistemica.model_json.model_to_json`) as HTML text.
+
+    ``claims``: ``{"name", "formula", "expected", "holds", "worlds"}`` each, the truth sets
+    as epistemica computed them; ``example``: a formula put in the box and evaluated when
+    the page opens.
+    """
+    if not isinstance(model, dict) or not str(model.get("format", "")).startswith(
+        "epistemica-kripke"
+    ):
+        raise InvalidArgumentError("not a model object", hint="write one with 'show --json'")
+    data = {
+        "model": model,
+        "claims": list(claims),
+        "example": example,
+    }
+    return page(title, "model_view.js", data)
+
+
+def write_page(path, text: str) -> None:
+    """Write a page's text to ``path``; a clear error (not a traceback) when its folder is
+    missing or not writable."""
+    try:
+        Path(path).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InvalidArgumentError(
+            f"cannot write {path}: {exc.strerror}", hint="choose a path in an existing folder"
+        ) from None
+
+
+def check_writable(path) -> None:
+    """Fail now, before any work, if a page could not be written at ``path``."""
+    folder = Path(path).resolve().parent
+    if not folder.is_dir() or not os.access(folder, os.W_OK):
+        raise InvalidArgumentError(
+            f"cannot write {path}: no writable folder {folder}",
+            hint="choose a path in an existing folder",
+        )

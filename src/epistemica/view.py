@@ -1,0 +1,124 @@
+"""``epistemica view FILE``: a trial's replay as one self-contained HTML page.
+
+:func:`trial_page` replays a trace (:mod:`epistemica.sim.trace`) with the panels of the
+animation (:mod:`epistemica.sim.figures`): the map with sensing radii, estimates and
+events, each robot's belief, the configuration-set sizes (own and one robot's model of each
+teammate's) and the events; a slider scrubs, a button plays and pauses.
+
+``view`` writes the replay page of one trial (:func:`trial_page`)
+from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.trace.encode`),
+from a results file whose rows carry traces (an SQLite ``trials`` table with a ``trace``
+column), or from a mission file (the trial is simulated). The page is one self-contained
+file: open it in any browser, offline. ``show --html`` is :mod:`epistemica.model_view`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sqlite3
+from pathlib import Path
+from typing import Any
+
+from epistemica.cli_exit import EXIT_OK
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.html_view import check_writable, page, write_page
+from epistemica.input_files import file_kind, read_input
+from epistemica.mission import parse_mission
+from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
+from epistemica.sim.simulate import simulate
+from epistemica.sim.trace import FORMAT, decode, trial_trace
+
+__all__ = ["read_trace", "run_view", "trial_page"]
+
+_FPS = 6
+
+_SQLITE = b"SQLite format 3\x00"
+
+
+def read_trace(path: str, seed: int | None = None, level: str | None = None) -> tuple[dict, str]:
+    """The trace named by ``path`` (and, for results and mission files, ``seed`` and
+    ``level``) and a mission name for the title."""
+    try:
+        blob = Path(path).read_bytes()
+    except OSError as exc:
+        raise InvalidArgumentError(f"cannot read {path}: {exc.strerror}", hint="a path") from None
+    if blob.startswith(_SQLITE):
+        return _stored_trace(path, seed, level)
+    if blob.lstrip().startswith(b"{"):
+        try:
+            trace = json.loads(blob)
+        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+            raise InvalidArgumentError(f"{path}: not JSON ({exc})", hint="a trace file") from None
+        return trace, ""
+    try:
+        kind = file_kind(blob.decode("utf-8"))[0]
+    except UnicodeDecodeError:
+        kind = "binary"
+    if kind in ("mission", "headless"):
+        _, text = read_input(path, "view", ("mission",))
+        return _simulated_trace(parse_mission(text, path), seed, level)
+    return decode(blob), ""
+
+
+def _simulated_trace(mission, seed: int | None, level: str | None) -> tuple[dict, str]:
+    seed = mission.study.seed if seed is None else seed
+    level = mission.study.levels[-1] if level is None else level
+    scenario = mission.scenario(seed)
+    trial = simulate(
+        scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
+    )
+    return trial_trace(scenario, trial), mission.name
+
+
+def _stored_trace(path: str, seed: int | None, level: str | None) -> tuple[dict, str]:
+    with sqlite3.connect(f"file:{path}?mode=ro", uri=True) as db:
+        columns = {row[1] for row in db.execute("PRAGMA table_info(trials)")}
+        if "trace" not in columns:
+            raise InvalidArgumentError(
+                f"{path} stores no traces",
+                hint="view the mission file instead (the trial is simulated again), "
+                "or a trace file",
+            )
+        query = "SELECT trace, mission FROM trials WHERE trace IS NOT NULL"
+        args: list[Any] = []
+        if seed is not None:
+            query, args = query + " AND seed = ?", [*args, seed]
+        if level is not None:
+            query, args = query + " AND reasoning = ?", [*args, level]
+        row = db.execute(query + " ORDER BY seed, reasoning LIMIT 1", args).fetchone()
+    if row is None:
+        raise InvalidArgumentError(
+            f"{path} has no stored trace for seed {seed} and level {level}",
+            hint="choose a stored trial with --trial SEED and --level LEVEL",
+        )
+    return decode(row[0]), row[1]
+
+
+def run_view(args: argparse.Namespace) -> int:
+    """Run ``epistemica view``; return the exit status."""
+    out = Path(args.out) if args.out else Path(Path(args.file).stem + ".html")
+    check_writable(out)
+    html = trial_page(*read_trace(args.file, args.trial, args.level))
+    write_page(out, html)
+    print(f"wrote {out} ({len(html.encode()) / 1024:.0f} kB): open it in a browser")
+    return EXIT_OK
+
+
+def trial_page(trace: dict[str, Any], mission: str = "") -> str:
+    """The replay page of a trial's trace (``epistemica-trace`` v1) as HTML text."""
+    if not isinstance(trace, dict) or trace.get("format") != FORMAT:
+        raise InvalidArgumentError(
+            "not an epistemica trace", hint="traces are written by epistemica.sim.trace"
+        )
+    levels = ", ".join(dict.fromkeys(trace["policies"]))
+    outcome = "success" if trace["success"] else "failure"
+    head = f"{mission}: " if mission else ""
+    title = f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']} ({outcome})"
+    data = {
+        "trace": trace,
+        "colours": list(ROBOT_COLOURS),
+        "focus": focus_robot(trace),
+        "fps": _FPS,
+    }
+    return page(title, "trial_view.js", data)
