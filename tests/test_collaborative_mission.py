@@ -208,3 +208,11 @@ def test_lanes_cover_the_workspace():
         x = lanes(w, r, f)  # every point of [0, w] within f * r / 2 of a lane
         grid = np.linspace(0, w, 101)
         assert (np.abs(grid[:, None] - x[None]).min(axis=1) <= f * r / 2 + 1e-9).all()
+
+
+def test_check_on_a_collaborative_mission_is_a_clean_error(capsys):
+    from epistemica.cli import main
+
+    code = main(["check", SPECS[0], "--formula", "K[r1] closed(t1)"])
+    assert code == 2
+    assert "collaborative mission has no explicit model" in capsys.readouterr().err

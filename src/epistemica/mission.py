@@ -243,7 +243,7 @@ class Mission:
         """The valid configurations after ``valid`` and ``initially`` (None: the whole
         set of the mission kind, unconstrained, or a multitask mission)."""
         p = self.parts
-        if self.kind == "multitask":
+        if self.kind in ("multitask", COLLABORATIVE):
             return None
         n, m = len(self.robots), len(self.goals)
         constraints = p.valid + p.initially
@@ -271,9 +271,9 @@ class Mission:
 
     def configurations(self) -> np.ndarray:
         """The valid configurations, ``(k, n)`` goal indices (not for multitask)."""
-        if self.kind == "multitask":
+        if self.kind in ("multitask", COLLABORATIVE):
             raise InvalidArgumentError(
-                "a multitask mission has no fixed configuration set",
+                f"a {self.kind} mission has no fixed configuration set",
                 hint="its configurations are chosen every step from the open tasks",
             )
         table = self._table
@@ -308,7 +308,11 @@ class Mission:
 
     def knowledge(self, seed: int | None = None) -> TeamKnowledge:
         """The team's epistemic state at the start of trial ``seed``: the goals each robot
-        knows, the facts it was told (``learns``)."""
+        knows, the facts it was told (``learns``); in a collaborative mission, no task."""
+        if self.kind == COLLABORATIVE:
+            return TeamKnowledge(
+                self.robots, self.goals, np.zeros((len(self.robots), len(self.goals)))
+            )
         return initial_knowledge(self.scenario(seed))
 
     def trial(self, steps: int, seed: int | None = None, level: str | None = None) -> Trial:
@@ -333,9 +337,9 @@ class Mission:
         """The model over the valid configurations after what ``knowledge`` holds (the
         group semantics of :mod:`epistemica.del_.state`): a Kripke model, or a knowledge
         structure on BDDs when the configurations are too many to list."""
-        if self.kind == "multitask":
+        if self.kind in ("multitask", COLLABORATIVE):
             raise InvalidArgumentError(
-                "a multitask mission has no explicit model over configurations",
+                f"a {self.kind} mission has no explicit model over configurations",
                 hint="its configurations are chosen every step from the open tasks",
             )
         p, n, m = self.parts, len(self.robots), len(self.goals)
