@@ -3,12 +3,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica import SpecError
+from epistemica.cli import main
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
@@ -216,3 +219,11 @@ def test_check_on_a_collaborative_mission_is_a_clean_error(capsys):
     code = main(["check", SPECS[0], "--formula", "K[r1] closed(t1)"])
     assert code == 2
     assert "collaborative mission has no explicit model" in capsys.readouterr().err
+
+
+def test_sweep_of_a_collaborative_mission_says_to_use_run(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    path = str(Path(__file__).resolve().parents[1] / "specs" / "collaborative" / "tasks_3.epi")
+    assert main(["sweep", "--mission", path, "--trials", "1", "--out", "x.sqlite"]) == 2
+    err = capsys.readouterr().err
+    assert "epistemica run" in err and "Traceback" not in err

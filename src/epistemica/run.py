@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import Mission, load_mission, parse_mission
+from epistemica.sim.collaborative import COLLABORATIVE
 from epistemica.sim.levels import make_policy
 from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
@@ -96,6 +97,12 @@ def mission_trials(
     seed: int | None = None,
 ) -> list[TrialSpec]:
     """The trials of ``mission``'s study (its ``simulate`` line, or the arguments)."""
+    if mission.kind == COLLABORATIVE:
+        raise InvalidArgumentError(
+            f"{mission.filename}: collaborative missions run in their own loop, which the "
+            "results files and sweeps do not store yet",
+            hint=f"run it with 'epistemica run {mission.filename}'",
+        )
     levels = list(mission.study.levels if levels is None else levels)
     trials = mission.study.trials if trials is None else trials
     levels = list(dict.fromkeys(levels))  # a level named twice runs once
