@@ -82,6 +82,8 @@ ROW_COLUMNS = tuple(c for c in COLUMNS if c != "trace")
 #: The columns that depend only on the trial, not on the machine that ran it.
 OUTCOME_COLUMNS = tuple(c for c in ROW_COLUMNS if c not in ("wall_time", "decision_ms"))
 _REQUIRED = tuple(c for c in ROW_COLUMNS if "NOT NULL" in COLUMNS[c] or c == "id")
+# Seconds a sweep waits for another to let go of the file when opening it.
+_OPEN_TIMEOUT = 30.0
 # A claim whose owner cannot be checked (another host) lapses after this many seconds.
 CLAIM_LIFETIME = 6 * 3600.0
 
@@ -132,15 +134,27 @@ class ResultStore:
                 f"{self.path} already exists",
                 hint="add --resume to run only its missing trials, or choose another --out",
             )
-        try:
-            self._db = sqlite3.connect(self.path, timeout=30, isolation_level=None)
-            if existed:
-                _check_schema(self._db, self.path, empty_ok=True)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.execute("PRAGMA synchronous=FULL")
-            self._create()
-        except sqlite3.DatabaseError as exc:
-            raise _not_results(self.path, str(exc)) from None
+        # Switching the journal mode takes the file exclusively and SQLite does not wait
+        # for it, so a sweep opening the file while another opens or closes it retries.
+        deadline = time.monotonic() + _OPEN_TIMEOUT
+        while True:
+            self._db = None
+            try:
+                self._db = sqlite3.connect(self.path, timeout=_OPEN_TIMEOUT, isolation_level=None)
+                if existed:
+                    _check_schema(self._db, self.path, empty_ok=True)
+                self._db.execute("PRAGMA journal_mode=WAL")
+                self._db.execute("PRAGMA synchronous=FULL")
+                self._create()
+                return
+            except sqlite3.OperationalError as exc:
+                if self._db is not None:
+                    self._db.close()
+                if "locked" not in str(exc) or time.monotonic() > deadline:
+                    raise _not_results(self.path, str(exc)) from None
+                time.sleep(0.05)
+            except sqlite3.DatabaseError as exc:
+                raise _not_results(self.path, str(exc)) from None
 
     def _create(self) -> None:
         db = self._db
