@@ -13,9 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from epistemica import parse_mission
-from epistemica.del_ import Observation, PlausibilityModel
+from epistemica import load_mission, parse_mission
+from epistemica.del_ import InvalidArgumentError, Observation, PlausibilityModel, parse_formula
 from epistemica.del_.errors import SpecError
+from epistemica.sim import Scenario
 from epistemica.sim.worlds import fact_mask
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,8 +31,6 @@ def believed(mission, knowledge, robot=0) -> list[list[str]]:
 
 
 def test_the_example_mission_ranks_as_worked_out():
-    from epistemica import load_mission
-
     m = load_mission(EXAMPLE)
     model = m.model
     assert isinstance(model, PlausibilityModel)
@@ -55,8 +54,6 @@ def test_the_example_mission_ranks_as_worked_out():
 
 
 def test_the_example_revises_instead_of_emptying():
-    from epistemica import load_mission
-
     m = load_mission(EXAMPLE)
     # At the start r1 believes the rank-0 configurations: r2 at east.
     assert believed(m, m.knowledge()) == [["west", "east"], ["north", "east"]]
@@ -71,13 +68,19 @@ def test_the_example_revises_instead_of_emptying():
     assert believed(plain, plain_after) == [["west", "north"], ["north", "west"]]
 
 
-RENDEZVOUS = """
-mission rendezvous
+#: Two robots and three goals, the world of the missions below.
+TWO_AND_THREE = """
 robot r1: range at (5, 5)
 robot r2: range at (25, 5)
 goal g1 at (3, 25)
 goal g2 at (27, 25)
 goal g3 at (15, 28)
+"""
+
+RENDEZVOUS = (
+    "mission rendezvous\n"
+    + TWO_AND_THREE
+    + """
 plausibility r1: assigned(r1, g1), assigned(r2, g2)
 event g1_shuts {
     when step 2
@@ -101,6 +104,7 @@ event g3_only {
 }
 simulate steps 20 levels third
 """
+)
 
 
 @pytest.mark.parametrize(
@@ -137,13 +141,9 @@ def test_a_private_fact_gives_the_plausibility_model_cells():
     # its copy, where it believes r2 at g1 (copy 0) or at g3 (copy 1). r1's order ranks
     # r2 at g3 first: excluded in its actual cell, so it believes the next level, r2 at g1.
     m = parse_mission(
-        """
-        mission allocation
-        robot r1: range at (5, 5)
-        robot r2: range at (25, 5)
-        goal g1 at (3, 25)
-        goal g2 at (27, 25)
-        goal g3 at (15, 28)
+        "mission allocation\n"
+        + TWO_AND_THREE
+        + """
         learns r1: ~assigned(r2, g3)
         plausibility r1: assigned(r2, g3), assigned(r2, g1)
         plausibility r2: assigned(r2, g2)
@@ -304,3 +304,14 @@ def _world_of(model, row, mission) -> int:
 
 def _rows_satisfying(mission, rows, fact) -> np.ndarray:
     return fact_mask(fact, rows, mission.robots, mission.goals)
+
+
+def test_scenario_suggested_observers_are_checked():
+    with pytest.raises(InvalidArgumentError, match="suggested observers must be 2 booleans"):
+        Scenario(
+            "allocation",
+            [[0, 0], [9, 9]],
+            [[1, 1], [8, 8]],
+            ["range"] * 2,
+            suggested=[((True,), parse_formula("assigned(r1, g1)"))],
+        )
