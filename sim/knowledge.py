@@ -37,7 +37,10 @@ from epistemica.del_.state import EpistemicState, Observation
 from epistemica.del_.state.explicit import belief_masks
 from epistemica.sim.worlds import ConfigurationTable, closed_fact, goal_atoms
 
-__all__ = ["TeamKnowledge", "initial_knowledge"]
+__all__ = ["PRIOR", "TeamKnowledge", "initial_knowledge"]
+
+#: The name of the observations of :meth:`TeamKnowledge.suggest` (a prior belief, no sighting).
+PRIOR = "prior"
 
 Chain = Sequence[int]
 
@@ -104,6 +107,12 @@ class TeamKnowledge:
         names = {self.robots[i] for i in np.flatnonzero(observers)}
         return self.observe(Observation("learns", full=names, pre=fact))
 
+    def suggest(self, fact: Formula, observers) -> bool:
+        """The observers (``n`` booleans) believe ``fact`` at the start, softly (a prior:
+        a ``plausibility`` level of a mission); newer evidence that contradicts it wins."""
+        names = {self.robots[i] for i in np.flatnonzero(observers)}
+        return self.observe(Observation(PRIOR, full=names, suggests=fact))
+
     # -- queries ---------------------------------------------------------------------
 
     def constrains(self, chain: Chain) -> bool:
@@ -118,8 +127,11 @@ class TeamKnowledge:
         """``(robot, goal)`` of the suggestions ``assigned(ROBOT, GOAL)`` the whole chain
         saw (a teammate seen settled), newest first."""
         out = []
-        for fact in self.state.soft(chain):
-            if isinstance(fact, Atom) and fact.name == "assigned" and len(fact.args) == 2:
+        events = self.state.observations
+        for i in reversed(self.state.observed(chain, fully=True)):
+            fact = events[i].suggests  # a prior is no sighting of a teammate
+            is_assignment = isinstance(fact, Atom) and fact.name == "assigned"
+            if events[i].name != PRIOR and is_assignment and len(fact.args) == 2:
                 robot, goal = (str(a) for a in fact.args)
                 out.append((self.robots.index(robot), self.goals.index(goal)))
         return out
@@ -174,7 +186,8 @@ class TeamKnowledge:
 
 def initial_knowledge(scenario) -> TeamKnowledge:
     """The team's knowledge at the start of a trial of ``scenario``: the goals each robot
-    knows and the facts it was told (``Scenario.known_goals`` and ``Scenario.told``).
+    knows, the facts it was told and its prior beliefs (``Scenario.known_goals``,
+    ``Scenario.told`` and ``Scenario.suggested``).
 
     Examples
     --------
@@ -186,6 +199,8 @@ def initial_knowledge(scenario) -> TeamKnowledge:
     [False, True]
     """
     k = TeamKnowledge(scenario.robot_names, scenario.goal_names, scenario.known_goals)
+    for observers, formula in scenario.suggested:
+        k.suggest(formula, observers)
     for observers, formula in scenario.told:
         k.tell(formula, observers)
     return k

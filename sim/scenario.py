@@ -145,6 +145,9 @@ class Scenario:
     told : sequence of (observers, formula)
         Facts over ``assigned(ROBOT, GOAL)`` atoms that the robots marked in
         ``observers`` (``n`` booleans) know at the start (and know each other to know).
+    suggested : sequence of (observers, formula)
+        Soft facts the robots marked in ``observers`` believe at the start (a prior, as
+        ``suggests`` of an event: later evidence that contradicts one wins), oldest first.
     robot_names, goal_names : sequence of str, optional
         Names used by ``told`` formulas and in reports; default ``r1, r2, ...`` and
         ``g1, g2, ...``.
@@ -185,6 +188,7 @@ class Scenario:
     events: tuple[EventRule, ...] = ()
     closed: np.ndarray | None = None
     told: tuple = ()
+    suggested: tuple = ()
     robot_names: tuple[str, ...] | None = None
     goal_names: tuple[str, ...] | None = None
     dynamics: Dynamics | None = None
@@ -294,13 +298,14 @@ class Scenario:
             raise _fail(f"closed must be {m} booleans, got {closed!r}", "one per goal")
         closed.setflags(write=False)
         set_(self, "closed", closed)
-        told = []
-        for observers, formula in self.told:
-            mask = np.asarray(observers, dtype=bool)
-            if mask.shape != (n,):
-                raise _fail(f"told observers must be {n} booleans", "one per robot")
-            told.append((tuple(bool(x) for x in mask), formula))
-        set_(self, "told", tuple(told))
+        for name in ("told", "suggested"):
+            facts = []
+            for observers, formula in getattr(self, name):
+                mask = np.asarray(observers, dtype=bool)
+                if mask.shape != (n,):
+                    raise _fail(f"{name} observers must be {n} booleans", "one per robot")
+                facts.append((tuple(bool(x) for x in mask), formula))
+            set_(self, name, tuple(facts))
         if self.valid is None:
             return
         if self.mission == "multitask":

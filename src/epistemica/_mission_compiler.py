@@ -21,6 +21,7 @@ from lark.exceptions import UnexpectedInput
 from epistemica._mission_events import compile_event
 from epistemica._mission_names import KEYWORDS, LIMITS, MAX_NUMBER, MissionScope
 from epistemica._mission_parts import GoalSpec, MissionCheck, MissionParts, RobotSpec, assemble
+from epistemica._mission_plausibility import PlausibilityOrder, plausibility_order
 from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula
 from epistemica.del_.language.parser import syntax_error
 from epistemica.sim.collaborative import COLLABORATIVE
@@ -76,6 +77,7 @@ class MissionCompiler(MissionScope):
         self.valid: list[Formula] = []
         self.initially: list[Formula] = []
         self.learns: list[tuple[tuple[str, ...], Formula]] = []
+        self.plausibility: list[PlausibilityOrder] = []
         self.knows: dict[str, set[str]] = {}
         self.random_knowledge = False
         self.teammates: list[tuple[str, str, Token]] = []
@@ -209,6 +211,9 @@ class MissionCompiler(MissionScope):
         robots, fml = node.children
         names = tuple(self.robot_name(r) for r in robots.children)
         self.learns.append((names, self.fact(fml)))
+
+    def plausibility_decl(self, node: Tree) -> None:
+        self.plausibility.append(plausibility_order(self, node))
 
     def valid_decl(self, node: Tree) -> None:
         self.valid.append(self.fact(node.children[0]))

@@ -24,11 +24,16 @@ __all__ = ["KEYWORDS", "LIMITS", "MAX_NUMBER", "MissionScope"]
 KEYWORDS = (
     "mission", "valid", "workspace", "robot", "goal", "task", "sensing", "knows", "learns",
     "initially", "event", "teammate", "policy", "check", "simulate", "obstacle",
+    "plausibility",
 )  # fmt: skip
 #: Largest accepted magnitude of any number in a mission file.
 MAX_NUMBER = 1e6
 #: Most robots, goals (tasks), steps and trials a mission file may declare.
 LIMITS = {"robots": 12, "goals": 64, "steps": 100_000, "trials": 100_000}
+
+
+#: Formula nodes that change the model: not part of a fact about configurations.
+_DYNAMIC = ("announce", "announce_diamond", "radical_upgrade", "conservative_upgrade")
 
 
 class MissionScope:
@@ -164,7 +169,7 @@ class MissionScope:
                         "use assigned(ROBOT, GOAL) atoms with ~, &, |, ->, <->",
                     )
                 self.robot_name(token)
-            elif kind == "action" or (kind in ("announce", "announce_diamond") and not epistemic):
+            elif kind == "action" or (kind in _DYNAMIC and not epistemic):
                 raise self.error(
                     "actions and announcements are not part of mission formulas",
                     node,

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from lark import Token
 
+from epistemica._mission_plausibility import check_orders
 from epistemica.del_ import Check, Formula
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.collaborative import COLLABORATIVE
@@ -86,6 +87,7 @@ class MissionParts:
     levels: tuple[tuple[str, Token], ...] | None
     obstacles: tuple[np.ndarray, ...] = ()
     team: int | None = None  # the team size N of spans r1..rN (None: the file has none)
+    plausibility: tuple = ()  # PlausibilityOrder per 'plausibility' line, in file order
 
     @property
     def robot_names(self) -> tuple[str, ...]:
@@ -108,6 +110,7 @@ def assemble(comp: Any) -> MissionParts:
     _check_kind(comp)
     _check_steps(comp)
     _check_levels(comp)
+    check_orders(comp)
     return MissionParts(
         kind=comp.kind,
         robots=tuple(comp.robots.values()),
@@ -127,6 +130,7 @@ def assemble(comp: Any) -> MissionParts:
         levels=comp.study.get("levels"),
         obstacles=_obstacles(comp),
         team=comp.team if comp.parametric else None,
+        plausibility=tuple(comp.plausibility),
     )
 
 

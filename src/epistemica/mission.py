@@ -48,8 +48,15 @@ from epistemica._mission_compiler import (
     compile_text,
     everyone_observes,
 )
+from epistemica._mission_plausibility import initial_beliefs, plausibility_model
 from epistemica.aif.configurations import count_configurations, valid_configurations
-from epistemica.del_ import Formula, KnowledgeStructure, KripkeModel, parse_formula
+from epistemica.del_ import (
+    Formula,
+    KnowledgeStructure,
+    KripkeModel,
+    PlausibilityModel,
+    parse_formula,
+)
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.input_files import read_input
 from epistemica.sim.collaborative import COLLABORATIVE, simulate_collaborative
@@ -202,6 +209,7 @@ class Mission:
                 told=tuple(
                     (tuple(r in names for r in self.robots), fact) for names, fact in p.learns
                 ),
+                suggested=initial_beliefs(p.plausibility, self.robots),
                 robot_names=self.robots,
                 goal_names=self.goals,
                 robot_radius=_radii(p.robots),
@@ -352,11 +360,26 @@ class Mission:
         return configuration_model(self.robots, self.goals, self.configurations(), knowledge.state)
 
     @functools.cached_property
-    def model(self) -> KripkeModel:
+    def model(self) -> KripkeModel | PlausibilityModel:
         """The Kripke model at the start of the study's first trial: one world per valid
         configuration, every robot uncertain of which, after the ``learns`` facts and with
-        the goals each robot knows of."""
-        return self.model_of(self.knowledge())
+        the goals each robot knows of. With ``plausibility`` lines, the plausibility model
+        of the same worlds and information cells, ranked by the robots' orders."""
+        if not self.parts.plausibility:
+            return self.model_of(self.knowledge())
+        p = self.parts
+        total = count_configurations(self.kind, len(self.robots), len(self.goals), p.capacities)
+        if total > MAX_CONFIGURATIONS:  # the symbolic backend has no plausibility here yet
+            token = p.plausibility[0].token
+            raise SpecError(
+                f"{total} configurations are too many for a plausibility model (at most "
+                f"{MAX_CONFIGURATIONS}: the symbolic backend does not take orders yet)",
+                line=token.line, column=token.column, source=self.source,
+                filename=self.filename, hint="fewer robots or goals",
+            )  # fmt: skip
+        # The cells come from the hard facts only: the orders are the ranks, not evidence.
+        model = self.model_of(initial_knowledge(self.scenario().replace(suggested=())))
+        return plausibility_model(model, p.plausibility)
 
     def model_after(self, steps: int, seed: int | None = None, level: str | None = None):
         """The model after the first ``steps`` steps of a seeded trial (:meth:`trial`)."""
@@ -364,9 +387,13 @@ class Mission:
             return self.model_of(self.knowledge(seed))
         return self.model_of(self.trial(steps, seed, level).knowledge)
 
-    def holds(self, formula: Formula | str, model: KripkeModel | None = None) -> bool:
+    def holds(
+        self, formula: Formula | str, model: KripkeModel | PlausibilityModel | None = None
+    ) -> bool:
         """Whether ``formula`` (``closed(GOAL)`` allowed) holds at every designated world of
-        ``model`` (default the mission's initial model)."""
+        ``model`` (default the mission's initial model: with ``plausibility`` lines, the
+        plausibility model, where ``B[r | c] f``, ``Sb[r] f`` and ``[^^c] f`` mean what
+        docs/language.md says)."""
         tree = parse_formula(formula) if isinstance(formula, str) else formula
         return (self.model if model is None else model).holds(expand(tree, self.robots))
 
