@@ -69,6 +69,7 @@ import numpy as np
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.sim._env_view import action_space, agent_views, observation_space, potential
 from epistemica.sim._streams import trial_streams
+from epistemica.sim.collaborative import COLLABORATIVE
 from epistemica.sim.figures import plot_trial, pyplot
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.simulate import TrialRun, policy_groups
@@ -134,6 +135,13 @@ class MissionEnv(ParallelEnv):
             raise InvalidArgumentError(
                 f"expected a Scenario or a mission, got {type(source).__name__}",
                 hint="pass Scenario.paper(...) or epistemica.mission.load_mission(path)",
+            )
+        if getattr(source, "kind", None) == COLLABORATIVE:
+            raise InvalidArgumentError(
+                "collaborative missions run in their own loop, which the environment does "
+                "not step yet",
+                hint="run it with 'epistemica run FILE', or use a rendezvous, allocation, "
+                "capacity or multitask mission",
             )
         if render_mode not in (None, "rgb_array"):
             raise InvalidArgumentError(
