@@ -50,6 +50,7 @@ __all__ = [
     "plan_sweep",
     "run_sweep",
     "run_trial",
+    "spec_columns",
 ]
 
 
@@ -207,11 +208,29 @@ def _default_goals(mission: str, n: int) -> int:
 def run_trial(spec: TrialSpec, traces: bool = True) -> dict:
     """Run one trial and return its result row (see :data:`epistemica.sim.store.COLUMNS`),
     with its per-step trace (:mod:`epistemica.sim.trace`, compressed) unless ``traces`` is
-    False."""
+    False. A world with an ``outcome(reasoning, seed, traces)`` method runs its own kind
+    of trial and returns the outcome columns."""
+    own = getattr(spec.world, "outcome", None)
+    if own is not None:  # a world with trials of its own kind (a collaborative mission)
+        return spec_columns(spec) | own(spec.reasoning, spec.seed, traces)
     started = time.perf_counter()
     scenario = spec.scenario()
     trial = spec.simulate(scenario)
     elapsed = time.perf_counter() - started
+    return spec_columns(spec) | {
+        "success": int(trial.success),
+        "steps": trial.steps,
+        "completion_step": trial.completion_step,
+        "wall_time": elapsed,
+        "decision_ms": float(np.mean(trial.decision_time) * 1e3) if trial.steps else 0.0,
+        "considered": float(np.mean(trial.considered)) if trial.steps else 0.0,
+        "unpruned": float(np.mean(trial.unpruned)) if trial.steps else 0.0,
+        "trace": encode(trial_trace(scenario, trial)) if traces else None,
+    }
+
+
+def spec_columns(spec: TrialSpec) -> dict:
+    """The columns of a trial's results row that name it (and the code version)."""
     return {
         "id": spec.id,
         "mission": spec.mission,
@@ -220,15 +239,7 @@ def run_trial(spec: TrialSpec, traces: bool = True) -> dict:
         "reasoning": spec.reasoning,
         "seed": spec.seed,
         "options": json.dumps(dict(spec.options), sort_keys=True),
-        "success": int(trial.success),
-        "steps": trial.steps,
-        "completion_step": trial.completion_step,
-        "wall_time": elapsed,
-        "decision_ms": float(np.mean(trial.decision_time) * 1e3) if trial.steps else 0.0,
-        "considered": float(np.mean(trial.considered)) if trial.steps else 0.0,
-        "unpruned": float(np.mean(trial.unpruned)) if trial.steps else 0.0,
         "version": code_version(),
-        "trace": encode(trial_trace(scenario, trial)) if traces else None,
     }
 
 

@@ -15,6 +15,7 @@ from epistemica.cli import main
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
+from epistemica.run import mission_trials
 from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
 from epistemica.sim.collaborative_levels import (
     COLLABORATIVE_LEVELS,
@@ -23,6 +24,9 @@ from epistemica.sim.collaborative_levels import (
 )
 from epistemica.sim.events import EventRule, ObserverRule, Trigger, World, fire
 from epistemica.sim.missions import distances
+from epistemica.sim.store import read_rows
+from epistemica.sim.sweep import run_trial
+from epistemica.sim.trace import decode
 
 SPECS = ["specs/collaborative/tasks_3.epi", "specs/collaborative/tasks_5.epi",
          "specs/collaborative/tasks_8.epi"]  # fmt: skip
@@ -221,9 +225,74 @@ def test_check_on_a_collaborative_mission_is_a_clean_error(capsys):
     assert "collaborative mission has no explicit model" in capsys.readouterr().err
 
 
-def test_sweep_of_a_collaborative_mission_says_to_use_run(capsys, tmp_path, monkeypatch):
+def _small(tmp_path, steps=60):
+    """tasks_3.epi with a step limit short enough for a test (a new text: a new study)."""
+    text = (Path(__file__).resolve().parents[1] / SPECS[0]).read_text()
+    path = tmp_path / "small.epi"
+    path.write_text(text.replace("steps 400", f"steps {steps}"))
+    return str(path)
+
+
+def test_run_stores_collaborative_trials_and_resumes(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    path = str(Path(__file__).resolve().parents[1] / "specs" / "collaborative" / "tasks_3.epi")
-    assert main(["sweep", "--mission", path, "--trials", "1", "--out", "x.sqlite"]) == 2
+    path = _small(tmp_path)
+    args = ["run", path, "--trials", "2", "--levels", "first,third", "--no-gif"]
+    assert main(args) == 0
+    first = capsys.readouterr().out
+    rows = read_rows(tmp_path / "runs" / "small.sqlite")
+    assert len(rows) == 4 and "4 trials run, 0 already stored" in first
+    m = load_mission(path)
+    for row in rows:  # each row is the trial simulated again, independently
+        trial = simulate_collaborative(m.scenario(row["seed"]), row["reasoning"], row["seed"],
+                                       m.parameters)  # fmt: skip
+        assert (row["success"], row["steps"]) == (int(trial.success), trial.steps)
+        assert row["completion_step"] == trial.completion_step
+        assert row["mission"] == "collaborative" and (row["robots"], row["goals"]) == (3, 3)
+    mean = np.mean([r["steps"] for r in rows if r["reasoning"] == "third" and r["success"]])
+    if not np.isnan(mean):  # the table is the stored rows'
+        assert f"{mean:.1f}" in first
+    assert main([*args[:3], "3", *args[4:]]) == 0  # one more seed: only its trials run
+    assert "2 trials run, 4 already stored" in capsys.readouterr().out
+    assert len(read_rows(tmp_path / "runs" / "small.sqlite")) == 6
+
+
+def test_a_stored_collaborative_trace_is_the_trial(tmp_path):
+    m = load_mission(_small(tmp_path, steps=80))
+    spec = mission_trials(m, ["third"], 1, seed=3)[0]
+    row = run_trial(spec)
+    trace, trial = decode(row["trace"]), simulate_collaborative(m.scenario(3), "third", 3,
+                                                                m.parameters)  # fmt: skip
+    assert trace["kind"] == "collaborative" and trace["steps"] == trial.steps
+    assert np.allclose(trace["poses"], trial.trajectory, atol=0.006)
+    assert trace["knows"] == trial.knows.astype(int).tolist()
+    assert trace["tasks_done"] == trial.tasks_done.tolist()
+    assert trace["needs"] == list(m.scenario(3).needs)
+    names = m.robots + m.goals
+    for (step, name, args, observers), event in zip(trace["events"], trial.events, strict=True):
+        assert (step, name, observers) == (event[0], event[1], list(event[3]))
+        kinds = [m.robots if a in m.robots else m.goals for a in event[2]]
+        assert [k.index(a) for k, a in zip(kinds, event[2], strict=True)] == args
+        assert all(a in names for a in event[2])
+
+
+def test_sweep_stores_a_collaborative_mission(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    path = _small(tmp_path)
+    out = ["--out", "x.sqlite", "--reasoning", "convention"]
+    assert main(["sweep", "--mission", path, "--trials", "1", *out]) == 0
+    assert main(["sweep", "--mission", path, "--trials", "2", "--resume", *out]) == 0
+    rows = read_rows(tmp_path / "x.sqlite")
+    assert sorted(r["seed"] for r in rows) == [0, 1]
+    assert "1 trials run, 1 already stored" in capsys.readouterr().out
+    assert main(["sweep", "--mission", path, "--trials", "1", "--reasoning", "zero",
+                 "--out", "y.sqlite"]) == 2  # fmt: skip
+    assert "unknown collaborative level" in capsys.readouterr().err
+
+
+def test_view_of_a_collaborative_result_is_a_clean_error(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", _small(tmp_path, 20), "--trials", "1", "--levels", "first",
+                 "--no-gif"]) == 0  # fmt: skip
+    assert main(["view", "runs/small.sqlite", "-o", "v.html"]) == 2
     err = capsys.readouterr().err
-    assert "epistemica run" in err and "Traceback" not in err
+    assert "collaborative" in err and "Traceback" not in err

@@ -13,7 +13,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from epistemica.cli_collaborative import run_collaborative
 from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_json import print_json
 from epistemica.cli_sweep import store_trials
@@ -66,16 +65,15 @@ def run_mission(args: argparse.Namespace) -> int:
 
 
 def _run_study(mission, args: argparse.Namespace) -> int:
-    if mission.kind == COLLABORATIVE:  # its own trials and table (cli_collaborative.py)
-        return run_collaborative(mission, args)
     levels = None if args.levels is None else [t.strip() for t in args.levels.split(",")]
     trials = 50 if args.paper_scale else args.trials
     specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
+    tasks = mission.kind in ("multitask", COLLABORATIVE)
     print(
         f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
-        f"{len(mission.goals)} {'tasks' if mission.kind == 'multitask' else 'goals'}; "
+        f"{len(mission.goals)} {'tasks' if tasks else 'goals'}; "
         f"{len(specs)} trials into {out}"
     )
     # The default file resumes: a trial's id is its text, level and seed, so a stored row
@@ -92,7 +90,9 @@ def _run_study(mission, args: argparse.Namespace) -> int:
         png = out.with_suffix(".png")
         plot_levels(cells, png, mission.name)
         print(f"figure: {png}")
-        if not args.no_gif:
+        if mission.kind == COLLABORATIVE:  # its trials keep no beliefs to draw
+            print("animation: none for a collaborative mission (its traces are stored)")
+        elif not args.no_gif:
             gif = out.with_suffix(".gif")
             level, seed, why = _animated_trial(args.trial, rows, specs)
             _animate(mission, level, seed, gif)

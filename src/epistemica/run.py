@@ -28,13 +28,15 @@ from dataclasses import dataclass
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim.collaborative import COLLABORATIVE
+from epistemica.sim.collaborative_levels import make_collaborative_policy
+from epistemica.sim.collaborative_trace import collaborative_columns
 from epistemica.sim.levels import make_policy
 from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.store import ResultStore
 from epistemica.sim.sweep import TrialSpec, check_trials, run_sweep
 
-__all__ = ["MissionWorld", "mission_trials", "run_study", "team_trials"]
+__all__ = ["CollaborativeWorld", "MissionWorld", "mission_trials", "run_study", "team_trials"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -90,6 +92,19 @@ class MissionWorld:
         return self.compiled.policies(seed)
 
 
+@dataclass(frozen=True)
+class CollaborativeWorld(MissionWorld):
+    """A collaborative mission file (``mission collaborative``) as a world: its trials run
+    in their own loop (:func:`~epistemica.sim.collaborative.simulate_collaborative`) and are
+    stored like any other (:mod:`epistemica.sim.collaborative_trace`)."""
+
+    def outcome(self, reasoning: str, seed: int, traces: bool = True) -> dict:
+        """The outcome columns of the trial's results row."""
+        return collaborative_columns(
+            self.compiled.scenario(seed), reasoning, seed, self.parameters, traces
+        )
+
+
 def mission_trials(
     mission: Mission,
     levels: Sequence[str] | None = None,
@@ -97,20 +112,16 @@ def mission_trials(
     seed: int | None = None,
 ) -> list[TrialSpec]:
     """The trials of ``mission``'s study (its ``simulate`` line, or the arguments)."""
-    if mission.kind == COLLABORATIVE:
-        raise InvalidArgumentError(
-            f"{mission.filename}: collaborative missions run in their own loop, which the "
-            "results files and sweeps do not store yet",
-            hint=f"run it with 'epistemica run {mission.filename}'",
-        )
     levels = list(mission.study.levels if levels is None else levels)
     trials = mission.study.trials if trials is None else trials
     levels = list(dict.fromkeys(levels))  # a level named twice runs once
-    for level in levels:
-        make_policy(level)  # unknown names fail here, not in a worker
+    collaborative = mission.kind == COLLABORATIVE
+    for level in levels:  # unknown names fail here, not in a worker
+        (make_collaborative_policy if collaborative else make_policy)(level)
     first = mission.study.seed if seed is None else seed
     check_trials(trials, first)
-    world = MissionWorld(mission.source, mission.filename, mission.team)
+    kind = CollaborativeWorld if collaborative else MissionWorld
+    world = kind(mission.source, mission.filename, mission.team)
     return [TrialSpec(world, level, first + t) for level in levels for t in range(trials)]
 
 

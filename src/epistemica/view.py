@@ -111,6 +111,11 @@ def trial_page(trace: dict[str, Any], mission: str = "") -> str:
         raise InvalidArgumentError(
             "not an epistemica trace", hint="traces are written by epistemica.sim.trace"
         )
+    if trace.get("kind") == "collaborative":
+        raise InvalidArgumentError(
+            "a collaborative trial's trace has no beliefs or configuration sets to replay",
+            hint="read it with epistemica.sim.store.read_trace; the page replays other missions",
+        )
     levels = ", ".join(dict.fromkeys(trace["policies"]))
     outcome = "success" if trace["success"] else "failure"
     head = f"{mission}: " if mission else ""
