@@ -86,6 +86,13 @@ class CollaborativeParameters:
     seek : bool
         ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
         on (it meets teammates to fetch) rather than waiting at the task.
+    backed_patience : int
+        ``third``: steps a robot waits at a task while it knows a teammate that knows the
+        task is out fetching or looking for helpers for it (``patience`` otherwise).
+    stand_in : bool
+        ``third``: a knower of a task not among the ones it would send goes in place of
+        each chosen teammate whose place it does not know (not seen for ``fetch_memory``
+        steps): that teammate's own view, and so its choice, may differ.
     """
 
     lane_factor: float = 2.0
@@ -96,6 +103,8 @@ class CollaborativeParameters:
     wait_horizon: int = 20
     fetch_memory: int = 40
     seek: bool = True
+    backed_patience: int = 150
+    stand_in: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -204,6 +213,7 @@ class CollaborativePolicy:
         self.fetching = np.full(n, -1)
         self.fetch_since = np.full(n, -1)
         self.gave_up = np.zeros((n, m, n), dtype=bool)
+        self.backed = np.zeros(n, dtype=bool)
 
     # -- what a robot predicts ------------------------------------------------------------
 
@@ -252,6 +262,7 @@ class CollaborativePolicy:
     def _choose(self, view: View, i: int, available: np.ndarray, aware, waiting) -> tuple:
         """``("task", t)``, ``("fetch", t, j)``, or ``("explore",)``."""
         tasks = np.flatnonzero(available)
+        self.backed[i] = False
         if tasks.size == 0:
             return ("explore",)
         here = view.poses[i, :2]
@@ -280,6 +291,8 @@ class CollaborativePolicy:
             need = s.needs[t]
             if order.size >= need or aware is None:
                 chosen = order[:need]
+                if self.parameters.stand_in and aware is not None and i not in chosen:
+                    chosen = self._stand_ins(view, i, order, need)
                 taken[chosen] = True
                 if i in chosen:
                     return ("task", int(t))
@@ -288,6 +301,7 @@ class CollaborativePolicy:
             fetch = self._recruit(view, i, t, knowers | taken, where)
             if i in order:
                 if fetch == WAIT or (order.size > 1 and i == order[0]):
+                    self.backed[i] = order.size > 1  # another knower fetches or seeks
                     return ("task", int(t))
                 if fetch is None:  # nobody it knows where to find: look for helpers
                     return ("explore",) if self.parameters.seek else ("task", int(t))
@@ -295,6 +309,14 @@ class CollaborativePolicy:
             if fetch is not None and fetch != WAIT:
                 taken[fetch] = True
         return ("explore",)
+
+    def _stand_ins(self, view: View, i: int, order: np.ndarray, need: int) -> np.ndarray:
+        """The knowers robot ``i`` sends to a task (nearest first, ``order``): the
+        ``need`` nearest, and one more for each of those whose place it does not know."""
+        recent = view.last_seen[i] >= view.step - self.parameters.fetch_memory
+        recent[i] = True
+        unsure = int((~recent[order[:need]]).sum())
+        return order[: need + unsure]
 
     def _recruit(self, view: View, i: int, t: int, excluded: np.ndarray, where) -> int | None:
         """The teammate robot ``i`` would fetch for task ``t`` (:data:`WAIT`: its sweep
@@ -322,7 +344,8 @@ class CollaborativePolicy:
                 if self.waiting_since[i] < 0 or waiting[t] > self.company[i]:
                     self.waiting_since[i] = step  # a teammate joined: patience anew
                 self.company[i] = waiting[t]
-                if step - self.waiting_since[i] >= p.patience:
+                patience = p.backed_patience if self.backed[i] else p.patience
+                if step - self.waiting_since[i] >= patience:
                     self.hold_until[i, t] = step + p.hold
                     self.waiting_since[i] = -1
             else:
