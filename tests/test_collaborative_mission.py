@@ -296,3 +296,21 @@ def test_view_of_a_collaborative_result_is_a_clean_error(capsys, tmp_path, monke
     assert main(["view", "runs/small.sqlite", "-o", "v.html"]) == 2
     err = capsys.readouterr().err
     assert "collaborative" in err and "Traceback" not in err
+
+
+def test_a_backed_waiter_waits_longer():
+    # r1 and r2 find a 3-robot task together (each sees the other: both know that both
+    # know); r3 is far away. r1, the nearer, waits while r2 is out for helpers: it gives up
+    # after backed_patience steps, not patience.
+    s = CollaborativeScenario([[5, 5, 0], [7, 5, 0], [45, 45, 0]], [[6, 8]], (3,),
+                              workspace=50.0, sensing_range=7.0, max_steps=170,
+                              events=_events())  # fmt: skip
+    waited = {}
+    for backed in (60, 150):
+        trial = simulate_collaborative(
+            s, "third", 0, CollaborativeParameters(backed_patience=backed)
+        )
+        at_task = trial.targets[:, 0] == 0
+        waited[backed] = int(np.argmin(at_task))  # the first step r1 steers elsewhere
+        assert at_task[: waited[backed]].all() and not trial.success
+    assert waited[60] >= 60 and waited[150] >= waited[60] + 20
