@@ -20,6 +20,8 @@ knows:
                    that teammate on its sweep, and once in sight heads for the task, so the
                    teammate observes the heading event), or waits at the task when that
                    teammate's sweep passes within sight of it in ``wait_horizon`` steps
+                   (a knower that waits while it knows another is out for helpers waits
+                   ``backed_patience`` steps)
 ``oracle``         ``third`` with full communication: every robot observes every event
 =================  ======================================================================
 
