@@ -21,11 +21,6 @@ PUBLISHED_FIRST = {2: 93.6, 3: 74.2, 4: 69.1, 5: 67.1, 6: 61.6, 7: 58.3, 8: 54.0
 PAPER_LEVELS = {"paper-first": PUBLISHED_FIRST, "paper-higher": PUBLISHED_HIGHER}
 
 
-def mean_ci(values: list[float]) -> str:
-    half = 1.96 * np.std(values, ddof=1) / np.sqrt(len(values)) if len(values) > 1 else 0.0
-    return f"{np.mean(values):.1f} ± {half:.1f}"
-
-
 def against_published(values: list[float], published: float | None) -> str:
     """``mean ± half-width (published)``, starred when the published mean is outside."""
     if not values:
@@ -36,6 +31,10 @@ def against_published(values: list[float], published: float | None) -> str:
         return f"{mean:.1f} ± {half:.1f}"
     star = " *" if abs(mean - published) > half else ""
     return f"{mean:.1f} ± {half:.1f} ({published}){star}"
+
+
+def mean_ci(values: list[float]) -> str:
+    return against_published(values, None)
 
 
 def paper_table(rows: list[dict]) -> None:
