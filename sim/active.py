@@ -103,6 +103,12 @@ class ActiveInference(Policy):
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
         self._search = RendezvousSearch(scenario, spacing, p.lone_wait, p.look)
+        # The common-view switch of each robot (True: teammates out of sight), the steps
+        # its sight has disagreed with it, and the step it was last advanced.
+        n = scenario.n_robots
+        self._blind = np.zeros(n, dtype=bool)
+        self._unsteady = np.zeros(n, dtype=int)
+        self._sight_step = np.full(n, -1)
 
     # -- controllers and priors ----------------------------------------------------------
 
@@ -127,12 +133,31 @@ class ActiveInference(Policy):
             s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
         )
 
+    def _follow_sight(self, observations: Observations, robots) -> None:
+        """Advance each robot's common-view switch by this step's sight (once per step).
+
+        A robot's switch follows whether it sees every teammate, but only after the
+        change has lasted ``sight_hysteresis`` steps (``ActiveParameters``).
+        """
+        step, k = observations.step, self.parameters.sight_hysteresis
+        for robot in robots:
+            if self._sight_step[robot] == step:
+                continue
+            blind = not observations.seen[robot].all()
+            if self._sight_step[robot] < 0 or blind == self._blind[robot]:
+                self._blind[robot], self._unsteady[robot] = blind, 0
+            else:
+                self._unsteady[robot] += 1
+                if self._unsteady[robot] >= k:
+                    self._blind[robot], self._unsteady[robot] = blind, 0
+            self._sight_step[robot] = step
+
     def _views(self, observations: Observations, robots) -> np.ndarray:
         """``(R, n, 3)`` the poses each robot's team prior is computed from."""
         views = observations.poses[list(robots)]
         if self.order < 2 or not self.parameters.common_view:
             return views
-        blind = ~observations.seen[list(robots)].all(axis=1)
+        blind = self._blind[list(robots)]
         if blind.any():
             views = views.copy()
             views[blind, :, :2] = self.scenario.workspace / 2
@@ -170,6 +195,7 @@ class ActiveInference(Policy):
         # Robots that share a controller (same goals, set and limits) decide in one team
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
+        self._follow_sight(observations, robots)
         self._explorer.visit(observations.poses[robots, robots], robots)
         searching = (
             self._search.searchers(observations, robots)

@@ -32,7 +32,9 @@ not the paper's text:
   and ``linspace(-π/4, π/4, 8)``) is scored by ``H[q'] - ln max q'`` (item 2); the least
   score wins, exact ties broken at random (policy stream);
 - multitask: each robot reasons over allocations of the ``n`` open tasks nearest itself
-  (item 7).
+  (item 7); once fewer open tasks than robots remain, the released harness switches the
+  robot to its greedy rule (drive straight to the nearest open task, turns clipped to the
+  published ``±π/4``), and so does this level.
 
 The valid configurations replace the released enumeration of all ``m^n`` combinations:
 the likelihood is normalised over the same valid rows, so beliefs and decisions are the
@@ -57,7 +59,7 @@ from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.row_index import RowIndex
 from epistemica.sim.baselines import open_goals
 from epistemica.sim.missions import distances
-from epistemica.sim.policy import Decisions, Policy
+from epistemica.sim.policy import Decisions, Policy, steer
 from epistemica.sim.sensing import Observations
 
 __all__ = ["PAPER_LEVELS", "PaperPolicy", "perspectives"]
@@ -150,16 +152,20 @@ class PaperPolicy(Policy):
         }
 
     def _goals(self, observations: Observations, robot: int) -> tuple[np.ndarray, np.ndarray]:
-        """Goal indices reasoned over, and their valid configurations."""
+        """Goal indices reasoned over, and their valid configurations.
+
+        Multitask: the ``n`` open tasks nearest the robot, ordered by distance, and
+        ``rows`` is ``None`` when fewer than ``n`` remain (the robot then drives greedily).
+        """
         s, n = self.scenario, self.scenario.n_robots
         known = open_goals(s, observations, robot)
         if s.mission != "multitask":
             return known, s.configurations()
         view = observations.poses[robot, robot : robot + 1]
         nearest = known[np.argsort(distances(view, s.goals[known])[0], kind="stable")[:n]]
-        return nearest, shared_configurations("allocation", n, len(nearest)) if len(
-            nearest
-        ) >= n else None
+        if len(nearest) < n:
+            return nearest, None
+        return nearest, shared_configurations("allocation", n, n)
 
     def _likelihoods(self, robot, scenes, goals, rows) -> np.ndarray:
         """``(b, p, k)``: each perspective's likelihood over the valid rows, per scene."""
@@ -191,8 +197,15 @@ class PaperPolicy(Policy):
         out = out._replace(goal_belief=np.zeros((len(robots), s.n_goals)))
         for row, robot in enumerate(robots):
             goals, rows = self._goals(observations, robot)
-            if rows is None or goals.size == 0:
-                continue  # too few tasks left to reason over: stand still
+            if goals.size == 0:
+                continue  # nothing left that it knows of: hold position
+            if rows is None:  # fewer tasks than robots: the released code turns greedy
+                pose = observations.poses[robot, robot : robot + 1]
+                out.controls[row] = steer(
+                    pose, s.goals[goals[:1]], s.max_speed[robot], s.max_turn[robot], s.dt
+                )[0]
+                out.focal[row, robot] = goals[0]
+                continue
             view = observations.poses[robot]
             first = predict_poses(view[robot], self.grid, s.dt)  # (c, 3)
             scenes = np.repeat(view[None, :, :2], len(first) + 1, axis=0)

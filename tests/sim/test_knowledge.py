@@ -347,3 +347,34 @@ def test_a_group_waiting_for_the_rest_of_the_team_searches_for_it():
     assert any(e[1] == "settle" and e[2] == 2 and {0, 1} & set(e[4]) for e in trial.events)
     patient = ActiveInference(3, search=False)
     assert not simulate(s, patient, seed=0, policies={2: "zero"}).success
+
+
+def _common_view_switches(k: int, sight: str) -> str:
+    """The common-view switch of robot 0 ("C" common, "o" own view) over a sight pattern
+    ("+": it sees its teammate this step, "-": it does not)."""
+    from types import SimpleNamespace
+
+    s = Scenario("rendezvous", [[3.0, 3.0], [9.0, 3.0]], [[5.0, 5.0]], ["range"] * 2)
+    policy = ActiveInference(3, sight_hysteresis=k)
+    policy.start(s, [0, 1], [np.random.default_rng(0)] * 2)
+    poses = np.broadcast_to(s.starts, (2, 2, 3)).copy()
+    out = ""
+    for step, mark in enumerate(sight):
+        seen = np.array([[True, mark == "+"], [mark == "+", True]])
+        observations = SimpleNamespace(step=step, poses=poses, seen=seen)
+        policy._follow_sight(observations, [0, 1])
+        policy._follow_sight(observations, [0, 1])  # a second call in a step changes nothing
+        view = policy._views(observations, [0])[0]
+        out += "C" if np.allclose(view[:, :2], s.workspace / 2) else "o"
+    return out
+
+
+def test_the_common_view_follows_sight_at_once_without_hysteresis():
+    assert _common_view_switches(1, "++-+-+--++") == "ooCoCoCCoo"
+
+
+def test_the_common_view_switches_only_after_k_steps_of_changed_sight():
+    # at the edge of sight (seen every other step) the switch holds; it follows a change
+    # only once the change has lasted k = 3 steps, in either direction
+    assert _common_view_switches(3, "++-+-+---++-+++") == "ooooooooCCCCCCo"
+    assert _common_view_switches(3, "--+-++---") == "CCCCCCCCC"

@@ -88,3 +88,34 @@ def test_paper_higher_beats_greedy_where_it_matters():
         for lvl in ("zero", "paper-higher")
     ]
     assert sum(wins[1::2]) > sum(wins[0::2]) + 5
+
+
+@pytest.mark.parametrize("level", ["paper-first", "paper-higher"])
+def test_fewer_tasks_than_robots_turns_the_robot_greedy(level):
+    # Three robots, two tasks: the released harness drives each robot straight to its
+    # nearest open task (turns clipped to pi/4) once fewer tasks than robots remain.
+    s = Scenario(
+        "multitask",
+        [[0, 0, 0], [20, 5, 0], [25, 25, np.pi]],
+        [[6, 0], [20, 15]],
+        ["range", "bearing", "range"],
+        max_turn=np.pi / 4,
+        max_steps=150,
+    )
+    trial = simulate(s, level, seed=0)
+    assert trial.success and trial.completion_step is not None
+    # robot 0 faces its nearest task: full speed straight ahead, 1 m along x
+    assert np.allclose(trial.trajectory[1, 0], [1.0, 0.0, 0.0])
+    # robot 1's nearest task is straight above it: the turn is clipped to pi/4
+    assert np.allclose(
+        trial.trajectory[1, 1], [20 + np.cos(np.pi / 4), 5 + np.sin(np.pi / 4), np.pi / 4]
+    )
+    assert trial.focal[0, 0, 0] == 0 and trial.focal[0, 1, 1] == 1
+
+
+@pytest.mark.parametrize("level", ["paper-first", "paper-higher"])
+def test_multitask_scenes_with_few_tasks_are_completed(level):
+    # Protocol scenes with fewer tasks than robots from the start: standing still (the
+    # old behaviour) completes none of them.
+    done = [simulate(Scenario.paper("multitask", 4, 3, seed=s), level, seed=s) for s in range(5)]
+    assert all(t.success for t in done), [t.completion_step for t in done]
