@@ -3,7 +3,8 @@
 Each variant breaks one assumption of the published protocol, under which a shared
 convention already reaches 100 %; `hardest` combines them. In every variant a robot that
 stops at a goal is seen to have settled there by the robots within sensing range (all of
-them without a sensing range): `event settle seen by nearby`. Every file is a mission file
+them without a sensing range): `event settle seen by nearby`, except in the `*_silent`
+variants, which declare no event. Every file is a mission file
 that `epistemica run` runs; the header of each says what is common knowledge in it.
 
     python benchmarks/stress_suite.py            # (re)write the files
@@ -54,6 +55,25 @@ VARIANTS = {
         "the goals; one robot, drawn at random per trial and unknown to the others, follows "
         "the convention with the opposite tie-break",
         ["teammate random follows convention_reverse", "event settle seen by nearby"],
+    ),
+    # Issue 19 §2: one ad hoc teammate, everyone in view, and no event declared: the
+    # others can only read its kind from how it moves.
+    "adhoc_greedy_silent": (
+        "the goals and that everyone sees everyone; one robot, drawn at random per trial "
+        "and unknown to the others, drives to its nearest goal; no event is declared",
+        ["teammate random follows zero"],
+    ),
+    "adhoc_reverse_silent": (
+        "the goals and that everyone sees everyone; one robot, drawn at random per trial "
+        "and unknown to the others, follows the convention with the opposite tie-break; no "
+        "event is declared",
+        ["teammate random follows convention_reverse"],
+    ),
+    "adhoc_stationary_silent": (
+        "the goals and that everyone sees everyone; one robot, drawn at random per trial "
+        "and unknown to the others, stops on a goal drawn at random and never leaves it; no "
+        "event is declared",
+        ["teammate random follows stationary"],
     ),
     "hardest": (
         "nothing about the goals (private, as in `private`), honest sensing within 10 m "

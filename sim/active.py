@@ -36,6 +36,7 @@ from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Decisions, Policy, steer
 from epistemica.sim.search import RendezvousSearch
 from epistemica.sim.sensing import Observations
+from epistemica.sim.teammate_models import TeammateModels
 
 __all__ = ["ORDERS", "ActiveInference"]
 
@@ -103,6 +104,11 @@ class ActiveInference(Policy):
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
         self._search = RendezvousSearch(scenario, spacing, p.lone_wait, p.look)
+        self._teammates = (
+            TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
+            if p.teammate_models and p.free_energy and self.order >= 2
+            else None
+        )
         # The common-view switch of each robot (True: teammates out of sight), the steps
         # its sight has disagreed with it, and the step it was last advanced.
         n = scenario.n_robots
@@ -221,6 +227,11 @@ class ActiveInference(Policy):
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
             priors = self._priors(ctrl, self._views(observations, team), team)
+            if self._teammates is not None:
+                priors = [
+                    self._teammates.mix(robot, observations, goals, ctrl.configurations, prior)
+                    for robot, prior in zip(team, priors, strict=True)
+                ]
             if self.parameters.free_energy:
                 decisions = ctrl.decide_team(observations.poses, team, priors)
             else:
@@ -321,6 +332,8 @@ class ActiveInference(Policy):
                 {jk: m[keep] for jk, m in sets.triples.items()},
                 redecide,
             )
+        if self._teammates is not None:
+            own = self._teammates.mix(robot, observations, choice.goals, ctrl.configurations, own)
         if self.parameters.free_energy:
             d = ctrl.decide(
                 robot,

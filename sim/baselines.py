@@ -2,6 +2,8 @@
 
 - :class:`Greedy` (level ``"zero"``): drive to the nearest goal the robot knows of
   (multitask: the nearest task it does not know to be done), ignoring the others.
+- :class:`Stationary` (level ``"stationary"``): an ad hoc teammate that stops on one goal,
+  drawn at random from those it knows at its first step, and never leaves it.
 - :class:`Convention`: every step, from the robot's own observations, the configuration of
   least total distance over the valid set (rendezvous: the goal minimising the summed
   distance; allocation, multitask: an optimal assignment; capacity: an optimal assignment
@@ -28,7 +30,7 @@ from epistemica.sim.missions import distances
 from epistemica.sim.policy import Decisions, Policy, steer
 from epistemica.sim.sensing import Observations
 
-__all__ = ["Convention", "Greedy", "open_goals"]
+__all__ = ["Convention", "Greedy", "Stationary", "open_goals"]
 
 
 def open_goals(scenario, observations: Observations, robot: int) -> np.ndarray:
@@ -71,6 +73,34 @@ class Greedy(_Straight):
         row[robot] = goals[
             np.argmin(distances(view[robot : robot + 1], self.scenario.goals[goals])[0])
         ]
+        return row
+
+
+class Stationary(_Straight):
+    """Level ``"stationary"``: one goal, drawn from the robot's policy stream among those it
+    knows at its first step, driven to and never left (a teammate that stopped on a goal,
+    whatever the team does).
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario, simulate
+    >>> s = Scenario("rendezvous", [[0, 0, 0], [20, 0, 0]], [[2, 0], [18, 0]], ["range"] * 2)
+    >>> t = simulate(s, "stationary", seed=3)
+    >>> t.success == bool(t.focal[-1, 0, 0] == t.focal[-1, 1, 1])
+    True
+    """
+
+    name = "stationary"
+
+    def start(self, scenario, robots, generators) -> None:
+        super().start(scenario, robots, generators)
+        self._goal: dict[int, int] = {}
+
+    def configuration(self, view, goals, robot):
+        if robot not in self._goal:
+            self._goal[robot] = int(goals[self.generators[robot].integers(goals.size)])
+        row = np.full(view.shape[0], -1)
+        row[robot] = self._goal[robot]
         return row
 
 

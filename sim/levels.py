@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.active import ORDERS, ActiveInference
-from epistemica.sim.baselines import Convention, Greedy
+from epistemica.sim.baselines import Convention, Greedy, Stationary
 from epistemica.sim.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.parameters import ActiveParameters
 from epistemica.sim.policy import Policy
@@ -87,6 +87,11 @@ def _table() -> dict[str, Level]:
     levels["convention-reverse"] = Level(
         "the convention with the opposite tie-break (an ad hoc teammate)",
         lambda p: Convention(tie_break="reverse"),
+    )
+    levels["stationary"] = Level(
+        "stops on a goal drawn at random at its first step and never leaves it (an ad hoc "
+        "teammate)",
+        lambda p: Stationary(),
     )
     for name in PAPER_LEVELS:
         levels[name] = Level(

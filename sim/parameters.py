@@ -87,6 +87,19 @@ class ActiveParameters:
         ``False`` is the ablation (level ``*-priormode``, and ``convention+rules``): drive
         straight to the robot's own goal in the most probable configuration of the prior
         it was handed, every other rule kept.
+    teammate_models : bool
+        At order 2 and above, infer each teammate's behaviour online from its observed
+        moves: a posterior over a library of types (the team's own level, greedy, the other
+        convention, stationary; :mod:`epistemica.aif.teammates`), and infer the
+        configuration from the type mixture instead of the team prior alone
+        (:mod:`epistemica.sim.teammate_models`). It is evidence: the prior-mode ablation
+        (``free_energy=False``) ignores it. ``False`` is the ablation.
+    teammate_sigma : float
+        Metres of motion-model error in the teammate models (added in quadrature to the
+        observation noise of a step).
+    teammate_leak : float
+        Rate in ``[0, 1]`` at which each type posterior returns to the type prior every
+        step (lets a teammate that changes its behaviour be re-read).
     search : bool
         Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
         goal without the rest of the team searches for it.
@@ -118,6 +131,9 @@ class ActiveParameters:
     common_view: bool = True
     sight_hysteresis: int = 1
     free_energy: bool = True
+    teammate_models: bool = True
+    teammate_sigma: float = 0.5
+    teammate_leak: float = 0.02
     search: bool = True
     lone_wait: int = 15
     look: float = 0.8
@@ -137,6 +153,14 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 1, got {value!r}", hint=f"e.g. {name}=16"
                 )
+        if not float(self.teammate_sigma) > 0:
+            raise InvalidArgumentError(
+                f"teammate_sigma must be > 0, got {self.teammate_sigma!r}", hint="e.g. 0.5"
+            )
+        if not 0.0 <= float(self.teammate_leak) <= 1.0:
+            raise InvalidArgumentError(
+                f"teammate_leak must lie in [0, 1], got {self.teammate_leak!r}", hint="e.g. 0.02"
+            )
         for name in ("tie_weight", "look", "plausible_margin", "log_prior_floor"):
             if not math.isfinite(float(getattr(self, name))):
                 raise InvalidArgumentError(f"{name} must be finite", hint="a number")
