@@ -22,7 +22,8 @@ changes its mind.
 The belief over configurations uses the type mixture: with ``π`` the team prior, a
 teammate ``j`` of type ``t`` takes its goal from ``P_t`` and the team coordinates around it,
 ``P(c) = Σ_t P(t) P_t(c_j) π(c_-j | c_j)`` (:func:`mix_configurations`). A ``"team"``
-teammate commits to no goal of its own (``π`` already models it).
+teammate commits to no goal of its own (``π`` already models it); with several teammates
+the mixture is taken to first order: at most one of them holds to a goal of its own.
 
 Examples
 --------
@@ -164,13 +165,16 @@ def mix_configurations(
 ) -> np.ndarray:
     """``(k,)`` the team prior over ``configurations`` made the teammate-type mixture.
 
-    For one teammate ``j``: ``P'(c) = Σ_t P(t) P_t(c_j) P(c) / P_j(c_j)``, the configuration
+    For one teammate ``j``: ``P'(c) = Σ_t P(t) P_t(c_j) π(c) / π_j(c_j)``, the configuration
     drawn with ``j``'s goal from its type and the rest of the team coordinating around it
-    (``P_j`` the marginal of ``j``'s goal). The ``"team"`` type, and a ``"stationary"`` one
-    away from every goal, commit to no goal of their own: their term is ``P(t) P(c)``. With
-    several teammates the mixtures are applied one after the other, each on the marginal
-    the previous left, so that teammates whose goals are tied (rendezvous) are not counted
-    twice; with a single committed teammate it is exact.
+    (``π_j`` the marginal of ``j``'s goal under the prior ``π``). The ``"team"`` type, and a
+    ``"stationary"`` one away from every goal, commit to no goal of their own: their term
+    is ``P(t) π(c)``. With several teammates, writing ``u_j`` for the weight of ``j``'s
+    uncommitted types and ``a_j(g)`` for the committed ones' ``Σ_t P(t) P_t(g)``, the
+    mixture is expanded to first order in commitment:
+    ``P'(c) ∝ π(c) [Π_j u_j + Σ_j a_j(c_j) / π_j(c_j) Π_{i≠j} u_i]`` — everyone coordinating,
+    or exactly one teammate holding to a goal of its own (two teammates committed to
+    clashing goals leave no configuration the team can form). Exact with one teammate.
 
     Examples
     --------
@@ -184,20 +188,23 @@ def mix_configurations(
     >>> q.round(3).tolist()   # 0.9 · (0.26 + 0.01), 0.1 · (0.26 + 7.31)
     [0.243, 0.757]
     """
-    p = np.asarray(prior, dtype=float).copy()
-    flat = np.zeros(goal_probabilities.shape[1], dtype=bool)
-    flat[TYPES.index("team")] = True
+    pi = np.asarray(prior, dtype=float)
     stationary = TYPES.index("stationary")
     m = goal_probabilities.shape[2]
-    for j in teammates:
+    uncommitted = np.zeros(len(teammates))
+    terms = np.zeros((len(teammates), pi.shape[0]))  # a_j(c_j) / π_j(c_j)
+    for row, j in enumerate(teammates):
         column = configurations[:, j]
-        marginal = np.bincount(column, weights=p, minlength=m)
+        marginal = np.bincount(column, weights=pi, minlength=m)
         weights = np.exp(log_types[j])
-        committed = flat.copy()
-        committed[stationary] = np.all(goal_probabilities[j, stationary] == 1.0 / m)
-        ratio = weights[~committed] @ goal_probabilities[j, ~committed]  # (m,)
+        flat = np.zeros(weights.shape[0], dtype=bool)
+        flat[TYPES.index("team")] = True
+        flat[stationary] = np.all(goal_probabilities[j, stationary] == 1.0 / m)
+        uncommitted[row] = weights[flat].sum()
+        committed = weights[~flat] @ goal_probabilities[j, ~flat]  # (m,)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(marginal > 0, ratio / marginal, 0.0)
-        p = p * (weights[committed].sum() + ratio[column])
-        p /= p.sum()
-    return p
+            ratio = np.where(marginal > 0, committed / marginal, 0.0)
+        terms[row] = ratio[column]
+    others = np.array([np.prod(np.delete(uncommitted, row)) for row in range(len(teammates))])
+    p = pi * (np.prod(uncommitted) + others @ terms)
+    return p / p.sum()
