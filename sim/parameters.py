@@ -96,10 +96,12 @@ class ActiveParameters:
         (``free_energy=False``) ignores it. ``False`` is the ablation.
     teammate_sigma : float
         Metres of motion-model error in the teammate models (added in quadrature to the
-        observation noise of a step).
+        observation noise of a step). Chosen on tuning seeds 1000-1029 of the silent ad hoc
+        cells among 0.25, 0.5 and 1 (every one 100 %; 0.25 the fastest, docs/results.md).
     teammate_leak : float
         Rate in ``[0, 1]`` at which each type posterior returns to the type prior every
-        step (lets a teammate that changes its behaviour be re-read).
+        step (lets a teammate that changes its behaviour be re-read); 0 was as successful on
+        the tuning seeds, and slower where a teammate stops (docs/results.md).
     search : bool
         Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
         goal without the rest of the team searches for it.
@@ -132,7 +134,7 @@ class ActiveParameters:
     sight_hysteresis: int = 1
     free_energy: bool = True
     teammate_models: bool = True
-    teammate_sigma: float = 0.5
+    teammate_sigma: float = 0.25
     teammate_leak: float = 0.02
     search: bool = True
     lone_wait: int = 15
