@@ -158,6 +158,11 @@ class ActiveInference(Policy):
                     self._blind[robot], self._unsteady[robot] = blind, 0
             self._sight_step[robot] = step
 
+    def _private(self, robot: int) -> bool:
+        """Whether the robot may use what it privately reads of its teammates: not while
+        the team coordinates on the common view (some teammate out of its sight)."""
+        return not (self.parameters.common_view and self._blind[robot])
+
     def _views(self, observations: Observations, robots) -> np.ndarray:
         """``(R, n, 3)`` the poses each robot's team prior is computed from."""
         views = observations.poses[list(robots)]
@@ -229,7 +234,9 @@ class ActiveInference(Policy):
             priors = self._priors(ctrl, self._views(observations, team), team)
             if self._teammates is not None:
                 priors = [
-                    self._teammates.mix(robot, observations, goals, ctrl.configurations, prior)
+                    self._teammates.mix(
+                        robot, observations, goals, ctrl.configurations, prior, self._private(robot)
+                    )
                     for robot, prior in zip(team, priors, strict=True)
                 ]
             if self.parameters.free_energy:
@@ -333,7 +340,9 @@ class ActiveInference(Policy):
                 redecide,
             )
         if self._teammates is not None:
-            own = self._teammates.mix(robot, observations, choice.goals, ctrl.configurations, own)
+            own = self._teammates.mix(
+                robot, observations, choice.goals, ctrl.configurations, own, self._private(robot)
+            )
         if self.parameters.free_energy:
             d = ctrl.decide(
                 robot,

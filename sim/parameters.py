@@ -93,7 +93,9 @@ class ActiveParameters:
         convention, stationary; :mod:`epistemica.aif.teammates`), and infer the
         configuration from the type mixture instead of the team prior alone
         (:mod:`epistemica.sim.teammate_models`). It is evidence: the prior-mode ablation
-        (``free_energy=False``) ignores it. ``False`` is the ablation.
+        (``free_energy=False``) ignores it, and so does a robot on the common view (some
+        teammate out of its sight: the team coordinates on what is common knowledge).
+        ``False`` is the ablation.
     teammate_sigma : float
         Metres of motion-model error in the teammate models (added in quadrature to the
         observation noise of a step). Chosen on tuning seeds 1000-1029 of the silent ad hoc

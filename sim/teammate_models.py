@@ -59,9 +59,11 @@ class TeammateModels:
         """``(n, T)`` the observer's posterior over each robot's type (its own row unused)."""
         return np.exp(self._log_types[observer])
 
-    def mix(self, observer: int, observations, goals: np.ndarray, configurations, prior):
+    def mix(self, observer: int, observations, goals: np.ndarray, configurations, prior,
+            apply: bool = True):  # fmt: skip
         """The observer's prior over ``configurations`` (of goal indices ``goals``) made the
-        type mixture, after scoring this step's moves; ``None`` (uniform) is accepted."""
+        type mixture, after scoring this step's moves; ``None`` (uniform) is accepted.
+        With ``apply`` false the moves are scored but the prior is returned as it is."""
         s, step = self.scenario, observations.step
         k = configurations.shape[0]
         prior = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
@@ -88,6 +90,8 @@ class TeammateModels:
         convention = least_cost_row(positions, where, configurations)
         predictions = type_goal_probabilities(marginal, positions, where, convention)
         self._last[observer] = (step, positions.copy(), seen, goals.copy(), predictions)
+        if not apply:
+            return prior
         return mix_configurations(
             prior, self._log_types[observer], predictions, configurations, np.flatnonzero(seen)
         )
