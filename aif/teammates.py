@@ -43,14 +43,14 @@ prior expected it at goal 1 at (0, -20):
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import logsumexp
 
 from epistemica.aif._logspace import log_normalise
 
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
-    "least_cost_row",
+    "goal_marginals",
+    "least_cost_rows",
     "mix_configurations",
     "motion_log_likelihood",
     "type_goal_probabilities",
@@ -74,20 +74,48 @@ def _one_hot(index: np.ndarray, m: int) -> np.ndarray:
     return out
 
 
-def least_cost_row(positions: np.ndarray, goals: np.ndarray, configurations: np.ndarray,
-                   last: bool = True) -> np.ndarray:  # fmt: skip
-    """The valid configuration of least total distance (``last``: the last of equal ones).
+def _distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
+    """``(..., m)`` distances from ``positions (..., 2)`` to ``goals (m, 2)``."""
+    delta = positions[..., None, :] - goals
+    return np.sqrt((delta**2).sum(-1))
+
+
+def least_cost_rows(positions: np.ndarray, goals: np.ndarray, configurations: np.ndarray
+                    ) -> np.ndarray:  # fmt: skip
+    """``(R, n)``: for each view ``positions[r] (n, 2)``, the valid configuration of least
+    total distance, the last of equal ones (the other tie-break).
 
     Examples
     --------
-    >>> least_cost_row(np.array([[0.0, 0.0], [4.0, 0.0]]), np.array([[1.0, 0.0], [3.0, 0.0]]),
-    ...                np.array([[0, 0], [1, 1], [0, 1], [1, 0]])).tolist()
-    [0, 1]
+    >>> least_cost_rows(np.array([[[0.0, 0.0], [4.0, 0.0]]]), np.array([[1.0, 0.0], [3.0, 0.0]]),
+    ...                 np.array([[0, 0], [1, 1], [0, 1], [1, 0]])).tolist()
+    [[0, 1]]
     """
-    cost = np.hypot(*(positions[:, None, :] - goals[None]).transpose(2, 0, 1))  # (n, m)
-    total = cost[np.arange(configurations.shape[1]), configurations].sum(axis=1)
-    best = np.flatnonzero(total <= total.min() + 1e-9)
-    return configurations[best[-1] if last else best[0]]
+    cost = _distances(positions, goals)  # (R, n, m)
+    n = configurations.shape[1]
+    total = cost[:, np.arange(n), configurations].sum(axis=2)  # (R, k)
+    tied = total <= total.min(axis=1, keepdims=True) + 1e-9
+    best = np.where(tied, np.arange(total.shape[1]), -1).max(axis=1)
+    return configurations[best]
+
+
+def goal_marginals(prior: np.ndarray, configurations: np.ndarray, m: int) -> np.ndarray:
+    """``(R, n, m)``: each robot's goal marginal under each prior ``prior[r] (k,)``.
+
+    Examples
+    --------
+    >>> goal_marginals(np.array([[0.25, 0.75]]), np.array([[0, 1], [1, 1]]), 2).tolist()
+    [[[0.25, 0.75], [0.0, 1.0]]]
+    """
+    r = prior.shape[0]
+    offset = (np.arange(r) * m)[:, None]
+    return np.stack(
+        [
+            np.bincount((offset + column).ravel(), prior.ravel(), r * m).reshape(r, m)
+            for column in configurations.T
+        ],
+        axis=1,
+    )
 
 
 def type_goal_probabilities(
@@ -107,7 +135,7 @@ def type_goal_probabilities(
         ``(n,)`` each robot's goal in the other tie-break's convention.
     """
     n, m = marginal.shape
-    distance = np.hypot(*(positions[:, None, :] - goals[None]).transpose(2, 0, 1))
+    distance = _distances(positions, goals)
     nearest = np.argmin(distance, axis=1)
     on_goal = distance[np.arange(n), nearest] <= ON_GOAL
     stationary = np.where(on_goal[:, None], _one_hot(nearest, m), 1.0 / m)
@@ -135,7 +163,9 @@ def motion_log_likelihood(
     miss = current[:, None] - predicted
     toward = norm - (miss**2).sum(-1) / (2 * sigma**2)  # (n, m)
     with np.errstate(divide="ignore"):
-        moving = logsumexp(np.log(goal_probabilities) + toward[:, None, :], axis=-1)
+        terms = np.log(goal_probabilities) + toward[:, None, :]
+    top = terms.max(axis=-1, keepdims=True)
+    moving = np.log(np.exp(terms - top).sum(-1)) + top[..., 0]
     still = norm - ((current - previous) ** 2).sum(-1) / (2 * sigma**2)
     stationary = TYPES.index("stationary")
     moving[:, stationary] = still
@@ -163,7 +193,11 @@ def mix_configurations(
     configurations: np.ndarray,
     teammates: np.ndarray,
 ) -> np.ndarray:
-    """``(k,)`` the team prior over ``configurations`` made the teammate-type mixture.
+    """``(R, k)`` each team prior ``prior[r] (k,)`` made the teammate-type mixture.
+
+    ``log_types (R, n, T)`` and ``goal_probabilities (R, n, T, m)`` are what observer
+    ``r`` believes of each robot, ``teammates (R, n)`` whom it mixes in (the others keep
+    the team's model).
 
     For one teammate ``j``: ``P'(c) = Σ_t P(t) P_t(c_j) π(c) / π_j(c_j)``, the configuration
     drawn with ``j``'s goal from its type and the rest of the team coordinating around it
@@ -184,27 +218,29 @@ def mix_configurations(
     >>> rows = np.array([[0, 0], [1, 1]])
     >>> probs = np.array([[[0.9, 0.1], [0.0, 1.0], [0.9, 0.1], [0.5, 0.5]]] * 2)
     >>> lt = np.log(np.array([[0.97, 0.01, 0.01, 0.01], [0.25, 0.73, 0.01, 0.01]]))
-    >>> q = mix_configurations(np.array([0.9, 0.1]), lt, probs, rows, np.array([1]))
+    >>> q = mix_configurations(np.array([[0.9, 0.1]]), lt[None], probs[None], rows,
+    ...                        np.array([[False, True]]))
     >>> q.round(3).tolist()   # 0.9 · (0.26 + 0.01), 0.1 · (0.26 + 7.31)
-    [0.243, 0.757]
+    [[0.243, 0.757]]
     """
     pi = np.asarray(prior, dtype=float)
+    m = goal_probabilities.shape[-1]
+    weights = np.exp(log_types)  # (R, n, T)
+    flat = np.zeros(weights.shape, dtype=bool)
+    flat[..., TYPES.index("team")] = True
     stationary = TYPES.index("stationary")
-    m = goal_probabilities.shape[2]
-    uncommitted = np.zeros(len(teammates))
-    terms = np.zeros((len(teammates), pi.shape[0]))  # a_j(c_j) / π_j(c_j)
-    for row, j in enumerate(teammates):
-        column = configurations[:, j]
-        marginal = np.bincount(column, weights=pi, minlength=m)
-        weights = np.exp(log_types[j])
-        flat = np.zeros(weights.shape[0], dtype=bool)
-        flat[TYPES.index("team")] = True
-        flat[stationary] = np.all(goal_probabilities[j, stationary] == 1.0 / m)
-        uncommitted[row] = weights[flat].sum()
-        committed = weights[~flat] @ goal_probabilities[j, ~flat]  # (m,)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(marginal > 0, committed / marginal, 0.0)
-        terms[row] = ratio[column]
-    others = np.array([np.prod(np.delete(uncommitted, row)) for row in range(len(teammates))])
-    p = pi * (np.prod(uncommitted) + others @ terms)
-    return p / p.sum()
+    flat[..., stationary] = np.all(goal_probabilities[..., stationary, :] == 1.0 / m, axis=-1)
+    uncommitted = np.where(teammates, (weights * flat).sum(-1), 1.0)  # (R, n)
+    committed = np.einsum("rnt,rntm->rnm", weights * ~flat, goal_probabilities)
+    marginal = goal_marginals(pi, configurations, m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(teammates[..., None] & (marginal > 0), committed / marginal, 0.0)
+    n = configurations.shape[1]
+    terms = ratio[:, np.arange(n), configurations]  # (R, k, n): a_j(c_j) / π_j(c_j)
+    # Π_{i≠j} u_i from prefix and suffix products (a u_j of 0 stays exact)
+    ones = np.ones((uncommitted.shape[0], 1))
+    before = np.cumprod(np.hstack([ones, uncommitted[:, :-1]]), axis=1)
+    after = np.cumprod(np.hstack([ones, uncommitted[:, :0:-1]]), axis=1)[:, ::-1]
+    others = before * after
+    p = pi * (np.prod(uncommitted, axis=1, keepdims=True) + np.einsum("rkn,rn->rk", terms, others))
+    return p / p.sum(axis=1, keepdims=True)

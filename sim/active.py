@@ -233,12 +233,10 @@ class ActiveInference(Policy):
             rows, team = zip(*members, strict=True)
             priors = self._priors(ctrl, self._views(observations, team), team)
             if self._teammates is not None:
-                priors = [
-                    self._teammates.mix(
-                        robot, observations, goals, ctrl.configurations, prior, self._private(robot)
-                    )
-                    for robot, prior in zip(team, priors, strict=True)
-                ]
+                private = [self._private(robot) for robot in team]
+                priors = self._teammates.mix(
+                    team, observations, goals, ctrl.configurations, priors, private
+                )
             if self.parameters.free_energy:
                 decisions = ctrl.decide_team(observations.poses, team, priors)
             else:
@@ -341,8 +339,9 @@ class ActiveInference(Policy):
             )
         if self._teammates is not None:
             own = self._teammates.mix(
-                robot, observations, choice.goals, ctrl.configurations, own, self._private(robot)
-            )
+                [robot], observations, choice.goals, ctrl.configurations, [own],
+                [self._private(robot)],
+            )[0]  # fmt: skip
         if self.parameters.free_energy:
             d = ctrl.decide(
                 robot,

@@ -22,7 +22,8 @@ import numpy as np
 
 from epistemica.aif.teammates import (
     TYPE_PRIOR,
-    least_cost_row,
+    goal_marginals,
+    least_cost_rows,
     mix_configurations,
     motion_log_likelihood,
     type_goal_probabilities,
@@ -59,39 +60,67 @@ class TeammateModels:
         """``(n, T)`` the observer's posterior over each robot's type (its own row unused)."""
         return np.exp(self._log_types[observer])
 
-    def mix(self, observer: int, observations, goals: np.ndarray, configurations, prior,
-            apply: bool = True):  # fmt: skip
-        """The observer's prior over ``configurations`` (of goal indices ``goals``) made the
-        type mixture, after scoring this step's moves; ``None`` (uniform) is accepted.
-        With ``apply`` false the moves are scored but the prior is returned as it is."""
+    def mix(self, observers, observations, goals: np.ndarray, configurations, priors,
+            apply) -> list:  # fmt: skip
+        """Each observer's prior over ``configurations`` (of goal indices ``goals``) made the
+        type mixture, after scoring this step's moves, for all ``observers`` at once.
+
+        ``priors`` holds one vector (or ``None``, uniform) per observer; where ``apply[r]``
+        is false the moves are scored but the prior is returned as it is.
+        """
         s, step = self.scenario, observations.step
+        observers = np.asarray(observers, dtype=int)
         k = configurations.shape[0]
-        prior = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
-        positions = observations.poses[observer][:, :2]
-        seen = observations.seen[observer].copy()
-        seen[observer] = False
+        pi = np.stack([np.full(k, 1.0 / k) if p is None else np.asarray(p, float) for p in priors])
+        positions = observations.poses[observers][:, :, :2]  # (R, n, 2)
+        seen = observations.seen[observers].copy()
+        seen[np.arange(len(observers)), observers] = False
         where = s.goals[goals]
-        last = self._last.get(observer)
-        if last is not None and last[0] == step - 1 and np.array_equal(last[3], goals):
-            scored = seen & last[2]
-            if scored.any():
-                reach = s.max_speed[scored] * s.dt
-                ll = motion_log_likelihood(
-                    last[1][scored], positions[scored], last[4][scored], where, reach, self.sigma
-                )
-                types = self._log_types[observer]
-                types[scored] = update_types(types[scored], ll, self.leak)
-        marginal = np.stack(
-            [
-                np.bincount(configurations[:, j], weights=prior, minlength=goals.size)
-                for j in range(configurations.shape[1])
-            ]
-        )
-        convention = least_cost_row(positions, where, configurations)
-        predictions = type_goal_probabilities(marginal, positions, where, convention)
-        self._last[observer] = (step, positions.copy(), seen, goals.copy(), predictions)
-        if not apply:
-            return prior
-        return mix_configurations(
-            prior, self._log_types[observer], predictions, configurations, np.flatnonzero(seen)
-        )
+        self._score(observers, step, positions, seen, goals, where)
+        marginal = goal_marginals(pi, configurations, goals.size)  # (R, n, m)
+        convention = least_cost_rows(positions, where, configurations)  # (R, n)
+        r, n = seen.shape
+        predictions = type_goal_probabilities(
+            marginal.reshape(r * n, -1), positions.reshape(r * n, 2), where, convention.ravel()
+        ).reshape(r, n, *predictions_shape(goals.size))
+        for row, observer in enumerate(observers.tolist()):
+            self._last[observer] = (step, positions[row], seen[row], goals, predictions[row])
+        apply = np.asarray(apply, dtype=bool)
+        mixed = pi.copy()
+        if apply.any():
+            mixed[apply] = mix_configurations(
+                pi[apply],
+                self._log_types[observers[apply]],
+                predictions[apply],
+                configurations,
+                seen[apply],
+            )
+        return [mixed[row] if apply[row] else priors[row] for row in range(r)]
+
+    def _score(self, observers, step, positions, seen, goals, where) -> None:
+        """Update the type posteriors from each observer's view of this step's moves."""
+        rows, pairs, previous, predicted = [], [], [], []
+        for row, observer in enumerate(observers.tolist()):
+            last = self._last.get(observer)
+            if last is None or last[0] != step - 1 or not np.array_equal(last[3], goals):
+                continue
+            scored = np.flatnonzero(seen[row] & last[2])
+            rows.append(np.full(scored.size, row))
+            pairs.append(scored)
+            previous.append(last[1][scored])
+            predicted.append(last[4][scored])
+        if not pairs or not sum(p.size for p in pairs):
+            return
+        rows, pairs = np.concatenate(rows), np.concatenate(pairs)
+        reach = self.scenario.max_speed[pairs] * self.scenario.dt
+        ll = motion_log_likelihood(
+            np.concatenate(previous), positions[rows, pairs], np.concatenate(predicted), where,
+            reach, self.sigma,
+        )  # fmt: skip
+        who = observers[rows]
+        self._log_types[who, pairs] = update_types(self._log_types[who, pairs], ll, self.leak)
+
+
+def predictions_shape(m: int) -> tuple[int, int]:
+    """``(T, m)``: the shape of one robot's type predictions over ``m`` goals."""
+    return len(TYPE_PRIOR), m
