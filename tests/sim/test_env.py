@@ -58,7 +58,7 @@ def test_a_collaborative_mission_is_refused_with_a_pointer_to_run():
 def test_every_kind_of_shipped_mission_is_covered():
     kinds = {load_mission(p).kind for p in SHIPPED}
     assert kinds == {"rendezvous", "allocation", "capacity", "multitask"}
-    assert len(SHIPPED) >= 15 and len(STRESS) == 80
+    assert len(SHIPPED) >= 15 and len(STRESS) == 110
 
 
 @pytest.mark.parametrize("path", SHIPPED + STRESS, ids=_ids(SHIPPED + STRESS))
