@@ -311,6 +311,11 @@ class ActiveInference(Policy):
         ctrl = self._controller(robot, choice.goals, lambda: rows[keep], shared=False)
         base = self._priors(ctrl, self._views(observations, (robot,)), (robot,))[0]
         base = np.full(int(keep.sum()), 1.0) if base is None else base
+        if self._teammates is not None:  # every perspective starts from the type mixture
+            base = self._teammates.mix(
+                [robot], observations, choice.goals, ctrl.configurations, [base],
+                [self._private(robot)],
+            )[0]  # fmt: skip
 
         def restricted(mask: np.ndarray) -> np.ndarray:
             p = np.where(mask[keep], base, 0.0)
@@ -337,11 +342,6 @@ class ActiveInference(Policy):
                 {jk: m[keep] for jk, m in sets.triples.items()},
                 redecide,
             )
-        if self._teammates is not None:
-            own = self._teammates.mix(
-                [robot], observations, choice.goals, ctrl.configurations, [own],
-                [self._private(robot)],
-            )[0]  # fmt: skip
         if self.parameters.free_energy:
             d = ctrl.decide(
                 robot,

@@ -3,8 +3,8 @@
 Every step a robot scores each teammate's observed move under the behaviour library of
 :mod:`epistemica.aif.teammates` (the team's own level, greedy, the other convention,
 stationary), updates its posterior over them, and turns the team prior it was handed into
-the type mixture: the belief it infers from then weights each configuration by
-``Σ_t P(t) P_t(teammate's goal)`` (:func:`~epistemica.aif.teammates.mix_configurations`).
+the type mixture (:func:`~epistemica.aif.teammates.mix_configurations`, docs/aif.md §6f),
+from which the robot infers and which every perspective it models starts from.
 Only teammates seen at both steps are scored and mixed; the rest keep the team's model.
 
 Examples
@@ -82,7 +82,7 @@ class TeammateModels:
         r, n = seen.shape
         predictions = type_goal_probabilities(
             marginal.reshape(r * n, -1), positions.reshape(r * n, 2), where, convention.ravel()
-        ).reshape(r, n, *predictions_shape(goals.size))
+        ).reshape(r, n, len(TYPE_PRIOR), goals.size)
         for row, observer in enumerate(observers.tolist()):
             self._last[observer] = (step, positions[row], seen[row], goals, predictions[row])
         apply = np.asarray(apply, dtype=bool)
@@ -119,8 +119,3 @@ class TeammateModels:
         )  # fmt: skip
         who = observers[rows]
         self._log_types[who, pairs] = update_types(self._log_types[who, pairs], ll, self.leak)
-
-
-def predictions_shape(m: int) -> tuple[int, int]:
-    """``(T, m)``: the shape of one robot's type predictions over ``m`` goals."""
-    return len(TYPE_PRIOR), m
