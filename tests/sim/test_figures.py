@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -238,6 +239,31 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
     assert out["pdf"].read_bytes().startswith(b"%PDF")
     assert b"<svg" in out["svg"].read_bytes()[:2000]
     assert "--pdf" in _help(["report", "--help"]) and "95 %%" not in _help(["report", "--help"])
+    # The format is the option's, at exactly the path given, extension or not.
+    assert (
+        main(["report", str(db), "--png", str(tmp_path / "plain"), "--svg", str(out["png"])]) == 0
+    )
+    assert (tmp_path / "plain").read_bytes().startswith(b"\x89PNG")
+    assert b"<svg" in out["png"].read_bytes()[:2000]
+    assert not (tmp_path / "plain.png").exists()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys):
+    from epistemica.sim.store import ResultStore
+
+    db = tmp_path / "r.sqlite"
+    with ResultStore(db) as store:
+        store.add({"id": "0", "mission": "rendezvous", "robots": 2, "goals": 2,
+                   "reasoning": "third", "seed": 0, "options": "{}", "success": 1,
+                   "steps": 9, "completion_step": None, "wall_time": 0.1,
+                   "decision_ms": 0.1, "considered": 1.0, "version": "0"})  # fmt: skip
+    assert main(["report", str(db), "--png", "/dev/full"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the figure /dev/full" in err and "Traceback" not in err
+    assert main(["report", str(db), "--pdf", str(tmp_path / "missing" / "f.pdf")]) == 2
+    assert main(["simulate", "--mission", "rendezvous", "--robots", "2", "--gif", "/dev/full"]) == 2
+    assert "cannot write the animation /dev/full" in capsys.readouterr().err
 
 
 def _help(argv) -> str:
