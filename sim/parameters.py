@@ -59,7 +59,9 @@ class ActiveParameters:
         How a robot's belief follows teammates' settles that contradict each other:
         ``"recency"``, the newest that leaves a configuration wins (a lexicographic radical
         upgrade, :func:`epistemica.del_.state.state.soft_in_order`), or ``"primacy"``, the
-        oldest is kept (the ablation).
+        oldest is kept (the ablation). Every soft fact is reordered, a mission's
+        ``plausibility`` levels too (suggested least plausible first), so the ablation is
+        for missions without a plausibility order.
     headings : int
         Heading changes in the control grid.
     pruning : bool
