@@ -154,11 +154,12 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
 
 
 def _event_text(event: list, robots: list[str]) -> str:
-    # The trace gives an event's arguments as indices without saying whether each is a
-    # robot or a goal, so only its name and observers are written.
-    step, name, _arguments, observers = event
+    # Version 1 traces gave arguments as bare indices (robot or goal unsaid): name only.
+    step, name, arguments, observers = event
+    named = [a for a in arguments if isinstance(a, str) and a]
+    about = f"({', '.join(named)})" if named else ""
     seen = ", ".join(robots[o] for o in observers) or "nobody"
-    return f"step {step}: {name}, seen by {seen}"
+    return f"step {step}: {name}{about}, seen by {seen}"
 
 
 class TraceFrame:
