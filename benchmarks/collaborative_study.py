@@ -64,7 +64,9 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
     and, per task, the teammates it knows know it; then the events with their observers."""
     mission = load_mission(path)
     scenario = mission.scenario(seed)
-    trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+    level, changes = _level(level)
+    parameters = mission.parameters.replace(**changes) if changes else mission.parameters
+    trial = simulate_collaborative(scenario, level, seed, parameters)
     names, tasks = scenario.robot_names, scenario.task_names
     print(f"{Path(path).stem} {level} seed {seed}: success {trial.success}, {trial.steps} steps")
     print("tasks: " + ", ".join(
@@ -101,7 +103,9 @@ def main() -> None:
     parser.add_argument("--levels", default=LEVELS)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--speed", action="store_true", help="time 5-robot 200-step trials")
-    parser.add_argument("--trace", metavar="LEVEL", help="print one trial (the first seed)")
+    parser.add_argument(
+        "--trace", metavar="LEVEL", help="print one trial (the first seed); LEVEL may carry changes"
+    )
     args = parser.parse_args()
     if args.trace:
         trace(args.missions[0], args.trace, _seeds(args.seeds)[0])
