@@ -42,7 +42,7 @@ from epistemica.sim.collaborative_levels import (
     make_collaborative_policy,
 )
 from epistemica.sim.draws import draw_layout
-from epistemica.sim.events import EventRule, World, fire
+from epistemica.sim.events import EventRule, World, firings, observer_indices
 from epistemica.sim.knowledge import TeamKnowledge
 from epistemica.sim.missions import distances
 
@@ -279,21 +279,17 @@ class _Run:
             s.task_names,
             self.heading,
         )
-        for rule in s.events:
-            if (rule.trigger.kind == "reached") != arrivals:
-                continue
-            for firing in fire(rule, world):
-                if rule.trigger.kind == "within" and self._done_revealed(rule, firing):
-                    continue  # a task done is not found again (closed goals are not discovered)
-                observation = firing.observation
-                if self.shared:
-                    observation = replace(
-                        observation, full=frozenset(s.robot_names), partial=frozenset()
-                    )
-                if self.knowledge.observe(observation):
-                    names = observation.full | observation.partial
-                    observers = tuple(i for i, r in enumerate(s.robot_names) if r in names)
-                    self.events.append((step, rule.name, observation.args, observers))
+        for rule, firing in firings(s.events, world, arrivals):
+            if rule.trigger.kind == "within" and self._done_revealed(rule, firing):
+                continue  # a task done is not found again (closed goals are not discovered)
+            observation = firing.observation
+            if self.shared:
+                observation = replace(
+                    observation, full=frozenset(s.robot_names), partial=frozenset()
+                )
+            if self.knowledge.observe(observation):
+                observers = observer_indices(observation, s.robot_names)
+                self.events.append((step, rule.name, observation.args, observers))
 
     def _done_revealed(self, rule: EventRule, firing) -> bool:
         """Whether ``firing`` of ``rule`` reveals a task already done."""

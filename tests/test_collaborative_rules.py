@@ -13,6 +13,7 @@ from epistemica.sim.collaborative_levels import (
     make_collaborative_policy,
 )
 from epistemica.sim.collaborative_sweep import Route, meeting_point
+from epistemica.sim.events import World, firings, observer_indices
 from epistemica.sim.knowledge import TeamKnowledge
 
 LANE = Route(np.array([[5.0, 0.0], [5.0, 30.0], [15.0, 30.0]]))  # up x = 5, then east
@@ -185,3 +186,23 @@ def test_no_task_is_found_after_it_is_done(level):
         for step, name, args, _ in trial.events:
             if name == "found":
                 assert done[args[1]] < 0 or step < done[args[1]]
+
+
+# -- the firing loop the simulators share -------------------------------------------------
+
+
+def test_firings_split_arrivals_from_perception_and_name_the_observers():
+    # r1 steps to within 7 m of t1 (from 8 m) and reaches it; r2, 3 m away, sees r1, r3
+    # (20 m away) does not
+    rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
+    now = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
+    before = now + np.array([[0.0, -8.0, 0.0], [0, 0, 0], [0, 0, 0]])
+    visible = np.hypot(*(now[:, None, :2] - now[None, :, :2]).transpose(2, 0, 1)) <= 7.0
+    world = World(1, now, before, np.array([[0.0, 0.0]]), np.ones(1, bool),
+                  np.ones(1, bool), visible, 7.0, 1.5, ("range",) * 3,
+                  ("r1", "r2", "r3"), ("t1",))  # fmt: skip
+    seen = [(rule.name, f.binding) for rule, f in firings(rules, world, arrivals=False)]
+    assert seen == [("found", {"r": "r1", "t": "t1"})]  # r2 was within 7 m already
+    done = firings(rules, world, arrivals=True)
+    assert [rule.name for rule, _ in done] == ["done"]
+    assert observer_indices(done[0][1].observation, world.robots) == (0, 1)
