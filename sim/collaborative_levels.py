@@ -21,7 +21,10 @@ knows:
                    teammate observes the heading event), or waits at the task when that
                    teammate's sweep passes within sight of it in ``wait_horizon`` steps
                    (a knower that waits while it knows another is out for helpers waits
-                   ``backed_patience`` steps)
+                   ``backed_patience`` steps). Tasks enough robots it knows know of come
+                   first (``complete_first``); news of one more knower renews a waiting
+                   robot's patience (``rejoin``); a task as many teammates as it needs
+                   have long been known to know of is presumed done (``stale_after``)
 ``oracle``         ``third`` with full communication: every robot observes every event
 =================  ======================================================================
 
