@@ -192,6 +192,7 @@ class CollaborativePolicy:
         self.fetch_since = np.full(n, -1)
         self.gave_up = np.zeros((n, m, n), dtype=bool)
         self.backed = np.zeros(n, dtype=bool)
+        self.open_now = np.zeros((n, m), dtype=bool)  # per robot: tasks open by its knowledge
 
     # -- what a robot predicts ------------------------------------------------------------
 
@@ -306,10 +307,9 @@ class CollaborativePolicy:
         where = np.array([self.predicted(view, i, j) for j in range(n)])
         taken = np.zeros(n, dtype=bool)
         if aware is not None and self.parameters.complete_first:
-            # tasks enough robots know of first: the teammates that know only those expect
-            # i there (they cannot know of its other tasks), whatever else i knows
-            count = aware[i][:, tasks].sum(axis=0) + ~aware[i, i, tasks]
-            short = count < np.asarray(s.needs)[tasks]
+            # tasks enough robots know of first (i among them): the teammates that know only
+            # those expect i there (they cannot know of its other tasks)
+            short = aware[i][:, tasks].sum(axis=0) < np.asarray(s.needs)[tasks]
             tasks = tasks[np.argsort(short, kind="stable")]
         for t in tasks:
             if aware is None:  # third-shared: everyone knows what i knows
