@@ -15,6 +15,8 @@ parameter changes after a colon, as in benchmarks/level_study.py:
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
     python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
         --trace third --seeds 17                          # one trial, step by step
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_3.epi \
+        --trace "third:stale_after=0" --seeds 1010        # ... with parameter changes
 """
 
 from __future__ import annotations
