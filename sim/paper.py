@@ -35,17 +35,18 @@ not the paper's text:
   (item 7); once fewer open tasks than robots remain, the released harness switches the
   robot to its greedy rule (drive straight to the nearest open task, turns clipped to the
   published ``±π/4``), and so does this level. The released multitask code
-  (``aif_functions_iterative_sampling.py``) also differs from the rendezvous code in six
-  places, and these levels follow it there: bearing evidence ``(1 + cos) / 2`` (the same
-  preference, in ``[0, 1]``) with a bearing viewpoint row uniform; each likelihood
-  ``L_p = softmax`` of the products themselves, not the products normalised, so it stays
-  close to uniform; every perspective typed afresh (no slip, also in ``"paper-higher"``);
-  from :data:`SAMPLED_FROM` robots on, :data:`SAMPLES` random permutations of the task
-  subset drawn every step (policy stream, repeats allowed) instead of all ``n!``, with
-  ``-ln max q'`` counted once per entry at the maximum (:func:`free_energy`); and
-  the beliefs are kept entry by entry while no task is done, even when the nearest tasks
-  change or come in another order (farthest first, as released), and start again from
-  uniform when one is.
+  (``aif_functions_iterative_sampling.py``) keeps one list of completed tasks for the
+  whole team (a robot 10 m away from a task a teammate did knows it is done at once) and
+  differs from the rendezvous code in six places; these levels follow it: bearing
+  evidence ``(1 + cos) / 2`` (the same preference, in ``[0, 1]``) with a bearing viewpoint
+  row uniform; each likelihood ``L_p = softmax`` of the products themselves, not the
+  products normalised, so it stays close to uniform; every perspective typed afresh (no
+  slip, also in ``"paper-higher"``); from :data:`SAMPLED_FROM` robots on, :data:`SAMPLES`
+  random permutations of the task subset drawn every step (policy stream, repeats
+  allowed) instead of all ``n!``, with ``-ln max q'`` counted once per entry at the
+  maximum (:func:`free_energy`); and the beliefs kept entry by entry while no task is
+  done, even when the nearest tasks change or come in another order (farthest first, as
+  released), and started again from uniform when one is.
 
 The valid configurations replace the released enumeration of all ``m^n`` combinations
 (rendezvous, allocation): the likelihood is normalised over the same valid rows, so
@@ -236,6 +237,14 @@ class PaperPolicy(Policy):
             int(r): perspectives(int(r), scenario.sensors, self.higher, slip) for r in self.robots
         }
 
+    def _open(self, observations: Observations, robot: int) -> np.ndarray:
+        """The open goals ``robot`` reasons over. Multitask: a task any robot saw done is
+        done for all (the released harness keeps one list of completed tasks)."""
+        if not self.multitask:
+            return open_goals(self.scenario, observations, robot)
+        done = observations.known_done.any(axis=0)
+        return np.flatnonzero(observations.known_goals[robot] & ~done)
+
     def _goals(self, observations: Observations, robot: int) -> tuple[np.ndarray, np.ndarray]:
         """Goal indices reasoned over, and their configurations.
 
@@ -246,7 +255,7 @@ class PaperPolicy(Policy):
         goals are ordered nearest first).
         """
         s, n = self.scenario, self.scenario.n_robots
-        known = open_goals(s, observations, robot)
+        known = self._open(observations, robot)
         if s.mission != "multitask":
             return known, s.configurations()
         view = observations.poses[robot, robot : robot + 1]
@@ -296,7 +305,7 @@ class PaperPolicy(Policy):
             goals, rows = self._goals(observations, robot)
             if goals.size == 0:
                 continue  # nothing left that it knows of: hold position
-            opened = open_goals(s, observations, robot).tobytes()
+            opened = self._open(observations, robot).tobytes()
             if rows is None:  # fewer tasks than robots: the released code turns greedy
                 pose = observations.poses[robot, robot : robot + 1]
                 out.controls[row] = steer(

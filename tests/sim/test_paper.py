@@ -140,16 +140,29 @@ def test_multitask_views_have_no_slip():
 
 
 def _observe(poses, done):
-    poses = np.asarray(poses, dtype=float)
-    n, m = len(poses), len(done)
+    """Exact views of ``poses``; ``done`` per task (every robot) or per robot and task."""
+    poses, done = np.asarray(poses, dtype=float), np.asarray(done, dtype=bool)
+    n, m = len(poses), done.shape[-1]
     return Observations(
         0,
         np.repeat(poses[None], n, axis=0),
         np.ones((n, n), bool),
         np.zeros((n, n), int),
         np.ones((n, m), bool),
-        np.repeat(np.asarray(done)[None], n, axis=0),
+        np.broadcast_to(done, (n, m)).copy(),
     )
+
+
+def test_a_task_done_is_done_for_the_whole_multitask_team():
+    # Robot 1 is nearest tasks 0 and 1 but has not seen 0 done; robot 0 has. The released
+    # harness keeps one list of completed tasks, so robot 1 reasons over tasks 1 and 2.
+    s = Scenario("multitask", np.zeros((2, 3)), [[2, 0], [26, 0], [28, 5], [5, 28]], ["range"] * 2)
+    policy = PaperPolicy("paper-first")
+    policy.start(s, [0, 1], [np.random.default_rng(0) for _ in range(2)])
+    done = [[True, False, False, False], [False, False, False, False]]
+    out = policy.decide(_observe([[2, 1, 0], [12, 0, 0]], done), np.array([1]))
+    assert out.goal_belief[0, 0] == 0 and out.goal_belief[0, 3] == 0
+    assert np.isclose(out.goal_belief[0, [1, 2]].sum(), 1.0)
 
 
 def test_multitask_belief_is_kept_until_a_task_is_done():
