@@ -51,13 +51,18 @@ def test_the_slip_blanks_views_up_to_its_own_after_a_range_robot():
     assert views == [(2, [BLANK, BLANK, RANGE])]
 
 
-def test_bearing_evidence_is_the_cosine_of_the_angle_at_the_viewpoint():
+def _viewed_from_origin(types, multitask=False):
+    """Evidence of robots at (0, 0), (5, 0), (0, 30) for goals (9, 0), (0, 9), (-9, 0), seen
+    from robot 0, and the range evidence of the same scene."""
     scene = np.array([[[0.0, 0.0], [5.0, 0.0], [0.0, 30.0]]])
     goals = np.array([[9.0, 0.0], [0.0, 9.0], [-9.0, 0.0]])
     to_goal = goals[None, None] - scene[:, :, None]
     ranged = np.exp(-np.hypot(to_goal[..., 0], to_goal[..., 1]) / 50.0)
-    types = np.array([BEARING, BEARING, RANGE])
-    e = _evidence(scene, goals, to_goal, ranged, 0, types)[0]
+    return _evidence(scene, goals, to_goal, ranged, 0, np.array(types), multitask)[0], ranged[0]
+
+
+def test_bearing_evidence_is_the_cosine_of_the_angle_at_the_viewpoint():
+    e, _ = _viewed_from_origin([BEARING, BEARING, RANGE])
     # robot 1 on the x axis: aligned with goal 0, at a right angle to 1, opposite to 2
     assert np.allclose(e[1], [1.0, 0.0, -1.0])
     # the viewpoint's own row: the goal's direction against the x axis (atan2(0, 0) = 0)
@@ -69,17 +74,12 @@ def test_multitask_bearing_evidence_is_rescaled_and_blank_at_the_viewpoint():
     # Same scene as above. The released multitask code takes 1 - (cos(r) + 1) / 2 of the
     # angle r between robot -> viewpoint and viewpoint -> goal; robot 1 at (5, 0) looks
     # back along pi, so r = pi, pi / 2, 0 for the three goals: 1, 1/2, 0.
-    scene = np.array([[[0.0, 0.0], [5.0, 0.0], [0.0, 30.0]]])
-    goals = np.array([[9.0, 0.0], [0.0, 9.0], [-9.0, 0.0]])
-    to_goal = goals[None, None] - scene[:, :, None]
-    ranged = np.exp(-np.hypot(to_goal[..., 0], to_goal[..., 1]) / 50.0)
-    types = np.array([BEARING, BEARING, RANGE])
-    e = _evidence(scene, goals, to_goal, ranged, 0, types, multitask=True)[0]
+    e, ranged = _viewed_from_origin([BEARING, BEARING, RANGE], multitask=True)
     assert np.allclose(e[1], [1.0, 0.5, 0.0])
     assert np.allclose(e[0], [1 / 3] * 3)  # the viewpoint's own bearing row: uniform
-    assert np.allclose(e[2], ranged[0, 2])  # range rows are unchanged
+    assert np.allclose(e[2], ranged[2])  # range rows are unchanged
     # robot 2 at (0, 30) seen from the origin, in bearing: goal 1 straight at it
-    e = _evidence(scene, goals, to_goal, ranged, 0, np.full(3, BEARING), multitask=True)[0]
+    e, _ = _viewed_from_origin([BEARING] * 3, multitask=True)
     assert np.allclose(e[2], [0.5, 1.0, 0.5])
 
 
