@@ -15,6 +15,8 @@ parameter changes after a colon, as in benchmarks/level_study.py:
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
     python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
         --trace third --seeds 17                          # one trial, step by step
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_3.epi \
+        --trace "third:stale_after=0" --seeds 1010        # ... with parameter changes
 """
 
 from __future__ import annotations
@@ -64,7 +66,9 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
     and, per task, the teammates it knows know it; then the events with their observers."""
     mission = load_mission(path)
     scenario = mission.scenario(seed)
-    trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+    level, changes = _level(level)
+    parameters = mission.parameters.replace(**changes) if changes else mission.parameters
+    trial = simulate_collaborative(scenario, level, seed, parameters)
     names, tasks = scenario.robot_names, scenario.task_names
     print(f"{Path(path).stem} {level} seed {seed}: success {trial.success}, {trial.steps} steps")
     print("tasks: " + ", ".join(
@@ -101,7 +105,9 @@ def main() -> None:
     parser.add_argument("--levels", default=LEVELS)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--speed", action="store_true", help="time 5-robot 200-step trials")
-    parser.add_argument("--trace", metavar="LEVEL", help="print one trial (the first seed)")
+    parser.add_argument(
+        "--trace", metavar="LEVEL", help="print one trial (the first seed); LEVEL may carry changes"
+    )
     args = parser.parse_args()
     if args.trace:
         trace(args.missions[0], args.trace, _seeds(args.seeds)[0])

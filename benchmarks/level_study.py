@@ -28,6 +28,8 @@ def _value(text: str):
         return low == "true"
     if low == "none":
         return None
+    if text.isidentifier():  # a word: revision=primacy
+        return text
     number = float(text)
     return int(number) if number.is_integer() and "." not in text else number
 

@@ -306,6 +306,7 @@ class ActiveInference(Policy):
             self.order,
             choice.goals[rows],
             self.parameters.nested,
+            self.parameters.revision,
         )
         keep = sets.union
         ctrl = self._controller(robot, choice.goals, lambda: rows[keep], shared=False)

@@ -42,7 +42,7 @@ from epistemica.sim.collaborative_levels import (
     make_collaborative_policy,
 )
 from epistemica.sim.draws import draw_layout
-from epistemica.sim.events import EventRule, World, fire
+from epistemica.sim.events import EventRule, World, firings, observer_indices
 from epistemica.sim.knowledge import TeamKnowledge
 from epistemica.sim.missions import distances
 
@@ -188,10 +188,11 @@ def simulate_collaborative(
     policy.start(scenario)
     for step in range(scenario.max_steps):
         run.perceive(step)
-        view = View(step, run.poses, run.estimates, run.last_seen, run.knowledge)
+        run.remember(step)
+        view = View(step, run.poses, run.estimates, run.last_seen, run.knowledge, *run.record())
         targets, steer_to = policy.decide(view)
         run.targets.append(steer_to.copy())
-        run.knows.append(np.array([run.knowledge.knows_goals((i,)) for i in range(run.n)]))
+        run.knows.append(np.diagonal(run.aware).T.copy())
         if run.advance(step, targets, steer_to):
             break
     return run.trial(policy.name, seed)
@@ -213,6 +214,12 @@ class _Run:
         self.estimates = np.zeros((s.n_robots, s.n_robots, 2))
         self.last_seen = np.full((s.n_robots, s.n_robots), -1)
         self.heading = np.full(s.n_robots, -1)
+        # when each robot learnt what (kept beside the knowledge, which keeps no time):
+        # ``since[i, j, t]`` the first step robot i knew that j knows of task t (j == i: of
+        # the task itself), ``open_seen[i, t]`` the last step i saw t not done
+        self.aware = np.zeros((s.n_robots, s.n_robots, s.n_tasks), dtype=bool)
+        self.since = np.full((s.n_robots, s.n_robots, s.n_tasks), -1)
+        self.open_seen = np.full((s.n_robots, s.n_tasks), -1)
         self.targets: list[np.ndarray] = []
         self.knows: list[np.ndarray] = []
         self.events: list[tuple] = []
@@ -240,7 +247,20 @@ class _Run:
                 k.notice_closed(t, self._observers(alone[i]))
             else:
                 k.discover(t, self._observers(alone[i]))
+                self.open_seen[self._observers(alone[i]), t] = step
         self._fire(step, arrivals=False)
+
+    def remember(self, step: int) -> None:
+        """Update ``aware`` (robot i knows that robot j knows of task t) and ``since``."""
+        k, n = self.knowledge, self.n
+        for i in range(n):
+            for j in range(n):
+                self.aware[i, j] = k.knows_goals((i,) if i == j else (i, j))
+        self.since[self.aware & (self.since < 0)] = step
+
+    def record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(aware, since, open_seen)`` for the policies' :class:`View`."""
+        return self.aware, self.since, self.open_seen
 
     def _fire(self, step: int, arrivals: bool) -> None:
         s = self.s
@@ -259,19 +279,23 @@ class _Run:
             s.task_names,
             self.heading,
         )
-        for rule in s.events:
-            if (rule.trigger.kind == "reached") != arrivals:
-                continue
-            for firing in fire(rule, world):
-                observation = firing.observation
-                if self.shared:
-                    observation = replace(
-                        observation, full=frozenset(s.robot_names), partial=frozenset()
-                    )
-                if self.knowledge.observe(observation):
-                    names = observation.full | observation.partial
-                    observers = tuple(i for i, r in enumerate(s.robot_names) if r in names)
-                    self.events.append((step, rule.name, observation.args, observers))
+        for rule, firing in firings(s.events, world, arrivals):
+            if rule.trigger.kind == "within" and self._done_revealed(rule, firing):
+                continue  # a task done is not found again (closed goals are not discovered)
+            observation = firing.observation
+            if self.shared:
+                observation = replace(
+                    observation, full=frozenset(s.robot_names), partial=frozenset()
+                )
+            if self.knowledge.observe(observation):
+                observers = observer_indices(observation, s.robot_names)
+                self.events.append((step, rule.name, observation.args, observers))
+
+    def _done_revealed(self, rule: EventRule, firing) -> bool:
+        """Whether ``firing`` of ``rule`` reveals a task already done."""
+        names = [firing.binding.get(g, g) for g in rule.reveals]
+        index = {name: t for t, name in enumerate(self.s.task_names)}
+        return any(name in index and self.done[index[name]] >= 0 for name in names)
 
     def advance(self, step: int, targets: np.ndarray, steer_to: np.ndarray) -> bool:
         s = self.s

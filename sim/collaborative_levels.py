@@ -21,7 +21,10 @@ knows:
                    teammate observes the heading event), or waits at the task when that
                    teammate's sweep passes within sight of it in ``wait_horizon`` steps
                    (a knower that waits while it knows another is out for helpers waits
-                   ``backed_patience`` steps)
+                   ``backed_patience`` steps). Tasks enough robots it knows know of come
+                   first (``complete_first``); news of one more knower renews a waiting
+                   robot's patience (``rejoin``); a task as many teammates as it needs
+                   have long been known to know of is presumed done (``stale_after``)
 ``oracle``         ``third`` with full communication: every robot observes every event
 =================  ======================================================================
 
@@ -29,8 +32,6 @@ Examples
 --------
 >>> make_collaborative_policy("third").name, make_collaborative_policy("oracle").shares_everything
 ('third', True)
->>> lanes(40.0, 8.0, 1.6)                      # at most 12.8 m apart: four lanes
-array([ 5., 15., 25., 35.])
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.collaborative_sweep import Route, meeting_point, sweep
 from epistemica.sim.knowledge import TeamKnowledge
 
 __all__ = [
@@ -49,7 +51,6 @@ __all__ = [
     "CollaborativeParameters",
     "CollaborativePolicy",
     "View",
-    "lanes",
     "make_collaborative_policy",
 ]
 
@@ -95,6 +96,27 @@ class CollaborativeParameters:
         ``third``: a knower of a task not among the ones it would send goes in place of
         each chosen teammate whose place it does not know (not seen for ``fetch_memory``
         steps): that teammate's own view, and so its choice, may differ.
+    sweep_memory : int
+        ``third``: a teammate not seen for longer than ``fetch_memory`` (at most this many
+        steps) is still fetched when the robot knows it is on its sweep: it knows of no
+        open task the robot knows that teammate knows, and its predicted sweep since it
+        was last seen passed in sight of no open task the robot knows (0: off).
+    meet_ahead : bool
+        ``third``: a fetcher goes to the first place of the teammate's predicted sweep it
+        can reach in time (:func:`~epistemica.sim.collaborative_sweep.meeting_point`),
+        rather than to where the teammate is now, and picks the teammate it brings to the
+        task soonest.
+    complete_first : bool
+        ``third``: a robot assigns the tasks that enough robots it knows know of (itself
+        included) before those that too few know of, rather than in index order.
+    rejoin : bool
+        ``third``: news of one more robot that knows of a task renews the patience of a
+        robot waiting there, and a task a robot put on hold is open to it again as soon as
+        it knows of more robots that know of it than when it gave up waiting.
+    stale_after : int
+        ``third``: a robot presumes a task done once at least as many teammates as it
+        needs have been known to know of it for this many steps while the robot has not
+        seen it open for as long (0: off).
     """
 
     lane_factor: float = 2.0
@@ -107,6 +129,11 @@ class CollaborativeParameters:
     seek: bool = True
     backed_patience: int = 150
     stand_in: bool = False
+    sweep_memory: int = 0
+    meet_ahead: bool = False
+    complete_first: bool = True
+    rejoin: bool = True
+    stale_after: int = 20
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -137,62 +164,9 @@ class View(NamedTuple):
     estimates: np.ndarray  # (n, n, 2) where robot i last saw robot j
     last_seen: np.ndarray  # (n, n) step robot i last saw robot j (-1 never)
     knowledge: TeamKnowledge
-
-
-def lanes(workspace: float, sensing_range: float, factor: float) -> np.ndarray:
-    """Centres of the sweep's lanes: as few as leave them at most ``factor`` sensing
-    ranges apart, evenly spaced."""
-    count = max(1, math.ceil(workspace / (factor * sensing_range) - 1e-9))
-    spacing = workspace / count
-    return spacing / 2 + spacing * np.arange(count)
-
-
-def _route(scenario, robot: int, p: CollaborativeParameters) -> np.ndarray:
-    """Robot ``robot``'s sweep: waypoints ``(k, 2)``, lanes in turn from its own, cyclic."""
-    w, r = scenario.workspace, scenario.sensing_range
-    xs = lanes(w, r, p.lane_factor)
-    low = min(w / (2 * len(xs)), w / 2)
-    count, n = len(xs), scenario.n_robots
-    first = (robot * count) // n
-    up = robot % 2 == 0
-    points = []
-    travel = scenario.max_steps * float(scenario.max_speed[robot])
-    laps = 2 + int(travel // max(count * w, 1.0))
-    for k in range(count * laps):
-        x = xs[(first + k) % count]
-        ends = [(x, low), (x, w - low)] if up else [(x, w - low), (x, low)]
-        points.extend(ends)
-        up = not up
-    return np.array(points)
-
-
-class _Route:
-    """A polyline with arc-length look-ups (a teammate's predicted sweep)."""
-
-    def __init__(self, points: np.ndarray) -> None:
-        self.points = points
-        seg = np.diff(points, axis=0)
-        self.lengths = np.hypot(seg[:, 0], seg[:, 1])
-        self.cumulative = np.concatenate([[0.0], np.cumsum(self.lengths)])
-
-    def at(self, s: float) -> np.ndarray:
-        s = float(np.clip(s, 0.0, self.cumulative[-1]))
-        return np.column_stack(
-            [
-                np.interp(s, self.cumulative, self.points[:, 0]),
-                np.interp(s, self.cumulative, self.points[:, 1]),
-            ]
-        )[0]
-
-    def project(self, point: np.ndarray) -> float:
-        """Arc length of the point of the route nearest ``point`` (first lap)."""
-        a, b = self.points[:-1], self.points[1:]
-        d = b - a
-        length2 = np.maximum((d**2).sum(axis=1), 1e-12)
-        u = np.clip(((point - a) * d).sum(axis=1) / length2, 0.0, 1.0)
-        gap = np.hypot(*(a + u[:, None] * d - point).T)
-        k = int(np.argmin(gap))
-        return float(self.cumulative[k] + u[k] * self.lengths[k])
+    aware: np.ndarray  # (n, n, m) robot i knows that robot j knows of task t (j == i: it does)
+    since: np.ndarray  # (n, n, m) the first step aware[i, j, t] held (-1: not yet)
+    open_seen: np.ndarray  # (n, m) the last step robot i saw task t not done (-1: never)
 
 
 class CollaborativePolicy:
@@ -207,31 +181,77 @@ class CollaborativePolicy:
     def start(self, scenario) -> None:
         s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
         self.s = s
-        self.routes = [_Route(_route(s, i, p)) for i in range(n)]
+        self.routes = [Route(sweep(s, i, p.lane_factor)) for i in range(n)]
         self.pointer = np.zeros(n, dtype=int)
         self.waiting_since = np.full(n, -1)
         self.company = np.zeros(n, dtype=int)
         self.hold_until = np.zeros((n, m), dtype=int)
+        self.held_knowers = np.zeros((n, m), dtype=int)
+        self.knowers = np.zeros(n, dtype=int)
         self.fetching = np.full(n, -1)
         self.fetch_since = np.full(n, -1)
         self.gave_up = np.zeros((n, m, n), dtype=bool)
         self.backed = np.zeros(n, dtype=bool)
+        self.open_now = np.zeros((n, m), dtype=bool)  # per robot: tasks open by its knowledge
 
     # -- what a robot predicts ------------------------------------------------------------
+
+    def arc(self, view: View, i: int, j: int) -> float:
+        """Arc length of teammate ``j``'s sweep where robot ``i`` expects it now."""
+        speed, seen = self.s.max_speed[j], view.last_seen[i, j]
+        if seen < 0:  # never seen: on its sweep since it could reach the start
+            return (view.step - 0.5 * self.s.workspace / speed) * speed
+        return self.routes[j].project(view.estimates[i, j]) + (view.step - seen) * speed
 
     def predicted(self, view: View, i: int, j: int, ahead: int = 0) -> np.ndarray:
         """Where robot ``i`` expects robot ``j`` ``ahead`` steps from now."""
         if i == j:
             return view.poses[i, :2]
-        route, speed = self.routes[j], self.s.max_speed[j]
-        seen = view.last_seen[i, j]
-        if seen == view.step and ahead == 0:
+        if view.last_seen[i, j] == view.step and ahead == 0:
             return view.estimates[i, j]
-        if seen < 0:  # never seen: on its sweep since it could reach the start
-            lag = 0.5 * self.s.workspace / speed
-            return route.at((view.step + ahead - lag) * speed)
-        start = route.project(view.estimates[i, j])
-        return route.at(start + (view.step + ahead - seen) * speed)
+        return self.routes[j].at(self.arc(view, i, j) + ahead * self.s.max_speed[j])
+
+    def on_sweep(self, view: View, i: int, j: int, open_tasks: np.ndarray) -> bool:
+        """Whether robot ``i`` knows teammate ``j`` is still on its sweep: ``i`` knows of no
+        open task (``open_tasks``, by ``i``'s knowledge) that it knows ``j`` knows of, and
+        ``j``'s predicted sweep since ``i`` last saw it passed in sight of none of them
+        (else ``j`` found one). A task ``i`` does not know of may still have drawn ``j``
+        away: ``sweep_memory`` bounds how long ``i`` trusts this."""
+        if (view.aware[i, j] & open_tasks).any():
+            return False
+        seen = view.last_seen[i, j]
+        if seen >= 0 and self.routes[j].gap(view.estimates[i, j]) > 0.5 * self.s.sensing_range:
+            return False  # last seen off its sweep (at a task): where it resumed is unknown
+        tasks = self.s.tasks[open_tasks]
+        if tasks.size == 0:
+            return True
+        speed, now = self.s.max_speed[j], self.arc(view, i, j)
+        since = max(view.step - max(view.last_seen[i, j], 0), 0)
+        path = self.routes[j].along(np.arange(max(now - since * speed, 0.0), now + 1e-9, 2.0))
+        gap = np.hypot(*(path[:, None, :] - tasks[None]).transpose(2, 0, 1))
+        return bool(gap.min() > self.s.sensing_range)
+
+    def meet(self, view: View, i: int, j: int) -> tuple[int, np.ndarray] | None:
+        """Where robot ``i`` meets teammate ``j`` on ``j``'s predicted sweep
+        (:func:`~epistemica.sim.collaborative_sweep.meeting_point`)."""
+        return meeting_point(
+            view.poses[i, :2],
+            float(self.s.max_speed[i]),
+            self.routes[j],
+            self.arc(view, i, j),
+            float(self.s.max_speed[j]),
+            0.8 * self.s.sensing_range,
+            self.parameters.intercept_limit,
+        )
+
+    def presumed_done(self, view: View, i: int) -> np.ndarray:
+        """``(m,)`` the tasks robot ``i`` presumes done (``stale_after``): at least as many
+        teammates as a task needs have been known to know of it that long, and ``i`` has
+        not seen it open for as long."""
+        old = view.step - self.parameters.stale_after
+        knew = (view.since[i] >= 0) & (view.since[i] <= old)
+        knew[i] = False
+        return (knew.sum(axis=0) >= np.asarray(self.s.needs)) & (view.open_seen[i] < old)
 
     # -- decisions --------------------------------------------------------------------------
 
@@ -240,13 +260,18 @@ class CollaborativePolicy:
         heads to (-1 exploring, -2 fetching a teammate)."""
         n, k = self.s.n_robots, view.knowledge
         targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
-        aware = None
-        if self.style in ("third",):
-            aware = np.array([[k.knows_goals((i, j)) for j in range(n)] for i in range(n)])
+        aware = view.aware if self.style == "third" else None
+        self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
         for i in range(n):
-            known = k.knows_goals((i,)) & ~k.knows_done((i,))
+            done = k.knows_done((i,))
+            if aware is not None and self.parameters.stale_after:
+                done = done | self.presumed_done(view, i)
+            known = view.aware[i, i] & ~done
+            self.open_now[i] = known
             waiting = self._waiting(view, i)
             full = waiting >= np.asarray(self.s.needs) - 1  # it would complete them: go
+            if aware is not None and self.parameters.rejoin:  # a new knower: try again
+                full |= aware[i].sum(axis=0) > self.held_knowers[i]
             available = known & ((self.hold_until[i] <= view.step) | full)
             choice = self._choose(view, i, available, aware, waiting)
             targets[i], steer_to[i] = self._act(view, i, choice, waiting)
@@ -281,6 +306,11 @@ class CollaborativePolicy:
         n, s = self.s.n_robots, self.s
         where = np.array([self.predicted(view, i, j) for j in range(n)])
         taken = np.zeros(n, dtype=bool)
+        if aware is not None and self.parameters.complete_first:
+            # tasks enough robots know of first (i among them): the teammates that know only
+            # those expect i there (they cannot know of its other tasks)
+            short = aware[i][:, tasks].sum(axis=0) < np.asarray(s.needs)[tasks]
+            tasks = tasks[np.argsort(short, kind="stable")]
         for t in tasks:
             if aware is None:  # third-shared: everyone knows what i knows
                 knowers = np.ones(n, dtype=bool)
@@ -323,12 +353,26 @@ class CollaborativePolicy:
     def _recruit(self, view: View, i: int, t: int, excluded: np.ndarray, where) -> int | None:
         """The teammate robot ``i`` would fetch for task ``t`` (:data:`WAIT`: its sweep
         brings it by; None: no teammate it knows where to find)."""
-        recent = view.last_seen[i] >= view.step - self.parameters.fetch_memory
-        candidates = np.flatnonzero(~excluded & ~self.gave_up[i, t] & recent)
+        p, step = self.parameters, view.step
+        recent = view.last_seen[i] >= step - p.fetch_memory
+        allowed = ~excluded & ~self.gave_up[i, t]
+        known = recent.copy()
+        if p.sweep_memory:  # teammates it knows are sweeping: it knows where they are
+            longer = allowed & ~recent & (view.last_seen[i] >= step - p.sweep_memory)
+            for j in np.flatnonzero(longer):
+                known[j] = self.on_sweep(view, i, j, self.open_now[i])
+        candidates = np.flatnonzero(allowed & known)
         if candidates.size == 0:
             return None
         gap = np.hypot(*(where[candidates] - self.s.tasks[t]).T)
+        if p.meet_ahead:  # steps to meet it, then metres from there to the task
+            for c, j in enumerate(candidates):
+                met = self.meet(view, i, j)
+                if met is not None:
+                    gap[c] = met[0] + np.hypot(*(met[1] - self.s.tasks[t]))
         j = int(candidates[np.argmin(gap)])
+        if not recent[j]:  # a task it does not know of may have drawn j away: go and see
+            return j
         horizon, sight = self.parameters.wait_horizon, 0.8 * self.s.sensing_range
         for ahead in range(0, horizon + 1, 5):
             if np.hypot(*(self.predicted(view, i, j, ahead) - self.s.tasks[t])) <= sight:
@@ -343,12 +387,15 @@ class CollaborativePolicy:
         if choice[0] == "task":
             t = choice[1]
             if np.hypot(*(here - s.tasks[t])) <= s.completion_radius:
-                if self.waiting_since[i] < 0 or waiting[t] > self.company[i]:
+                knowers = int(view.aware[i, :, t].sum())
+                news = p.rejoin and knowers > self.knowers[i]  # one more knows: it may come
+                if self.waiting_since[i] < 0 or waiting[t] > self.company[i] or news:
                     self.waiting_since[i] = step  # a teammate joined: patience anew
-                self.company[i] = waiting[t]
+                self.company[i], self.knowers[i] = waiting[t], knowers
                 patience = p.backed_patience if self.backed[i] else p.patience
                 if step - self.waiting_since[i] >= patience:
                     self.hold_until[i, t] = step + p.hold
+                    self.held_knowers[i, t] = knowers
                     self.waiting_since[i] = -1
             else:
                 self.waiting_since[i] = -1
@@ -360,9 +407,16 @@ class CollaborativePolicy:
                 self.fetching[i], self.fetch_since[i] = j, step
             if view.last_seen[i, j] == step:  # in sight: head for the task, it sees that
                 return s.tasks[t], t
+            now = self.predicted(view, i, j)
             if step - self.fetch_since[i] >= p.intercept_limit:
                 self.gave_up[i, t, j] = True
-            return self.predicted(view, i, j), FETCHING
+            if p.meet_ahead:
+                if np.hypot(*(now - here)) <= 0.5 * s.sensing_range:
+                    self.gave_up[i, t, j] = True  # not where its sweep puts it: it left it
+                met = self.meet(view, i, j)
+                if met is not None:
+                    return met[1], FETCHING
+            return now, FETCHING
         route = self.routes[i]
         while np.hypot(*(route.points[self.pointer[i]] - here)) < 1.0:
             self.pointer[i] = (self.pointer[i] + 1) % len(route.points)

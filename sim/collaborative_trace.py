@@ -9,7 +9,7 @@ places, poses, events) and ``kind: "collaborative"`` with what is particular to 
 ``tasks_done``    ``m`` steps each task was done (-1: never)
 ``steer_to``      ``(T, n)`` the task each robot steered to (-1 exploring, -2 fetching)
 ``knows``         ``(T, n, m)`` 1 where robot ``i`` knew of task ``t``
-``events``        ``[step, name, [arguments], [observers]]``, robots and tasks by index
+``events``        ``[step, name, [arguments], [observers]]``, arguments by name
 ================  ==========================================================================
 
 It has no belief or configuration-set fields (a collaborative level keeps none).
@@ -44,10 +44,8 @@ __all__ = ["collaborative_columns", "collaborative_trace", "decode"]
 
 def collaborative_trace(s: CollaborativeScenario, trial: CollaborativeTrial) -> dict[str, Any]:
     """The trace document of ``trial`` (a trial of ``s``)."""
-    index = {name: j for j, name in enumerate(s.task_names)}
-    index.update({name: i for i, name in enumerate(s.robot_names)})
     events = [
-        [int(step), str(name), [index[a] for a in args], [int(o) for o in observers]]
+        [int(step), str(name), [str(a) for a in args], [int(o) for o in observers]]
         for step, name, args, observers in trial.events
     ]
     return {

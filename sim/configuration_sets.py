@@ -128,18 +128,20 @@ def nested_sets(
     order: int,
     table: np.ndarray,
     nested: bool = True,
+    revision: str = "recency",
 ) -> NestedSets:
     """The robot's ``B`` set over ``table`` (global goal indices) and, for each perspective
     it models (:func:`epistemica.aif.perspective.perspectives`), the union of the sets of
     the chains that end at that teammate. ``nested=False`` is the ablation: every modelled
-    perspective gets the robot's own set."""
+    perspective gets the robot's own set. ``revision`` orders settle suggestions
+    (:meth:`TeamKnowledge.possible_many`)."""
     chains = perspective_sets(sensors, robot, order)
     n = len(sensors)
     pairs = [(robot, j) for j in range(n) if j != robot] if order >= 2 else []
     triples = [(robot, j, k) for _, j in pairs for k in range(n) if k != j] if order >= 3 else []
     # Chains that saw the same events keep the same set: computed once per signature.
     every = [(robot,)] + [c for level in chains[2:] for c in level] + pairs + triples
-    kept = dict(zip(every, knowledge.possible_many(every, table), strict=True))
+    kept = dict(zip(every, knowledge.possible_many(every, table, revision), strict=True))
     own = kept[(robot,)]
     modelled = []
     for view in perspectives(sensors, robot, order)[1:]:

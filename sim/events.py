@@ -70,6 +70,8 @@ __all__ = [
     "bind",
     "expand",
     "fire",
+    "firings",
+    "observer_indices",
 ]
 
 #: Trigger kinds and what they name: ``(robot, target, value)`` slots each one uses.
@@ -343,3 +345,21 @@ def fire(rule: EventRule, world: World) -> list[Firing]:
         opens = tuple(world.goal_names.index(env.get(g, g)) for g in rule.opens)
         out.append(Firing(dict(env), observation, closes, opens))
     return out
+
+
+def firings(rules: Sequence[EventRule], world: World, arrivals: bool) -> list[tuple]:
+    """``(rule, firing)`` for every occurrence of ``rules`` at this step of ``world``: the
+    arrival rules (``G is reached``, fired right after the robots move) when ``arrivals``,
+    the others (fired when the robots perceive) otherwise; rules in order."""
+    return [
+        (rule, firing)
+        for rule in rules
+        if (rule.trigger.kind == "reached") == arrivals
+        for firing in fire(rule, world)
+    ]
+
+
+def observer_indices(observation: Observation, robots: Sequence[str]) -> tuple[int, ...]:
+    """Indices of the robots that observe ``observation`` (fully or partially)."""
+    names = observation.full | observation.partial
+    return tuple(i for i, r in enumerate(robots) if r in names)

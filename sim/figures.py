@@ -37,6 +37,7 @@ __all__ = [
     "focus_robot",
     "plot_trial",
     "pyplot",
+    "save_figure",
 ]
 
 _MAX_FRAMES = 60
@@ -58,6 +59,28 @@ def pyplot():
             hint="install the plot extra: pip install 'epistemica[plot]'",
         ) from exc
     return plt
+
+
+def save_figure(fig, path, fmt: str | None = None) -> None:
+    """Write ``fig`` to exactly ``path`` in format ``fmt`` (default: the path's extension
+    among png, pdf and svg, else png), 100 dpi. Unlike a bare ``savefig``, no extension
+    is appended to a path without one, and a write that fails (a full disk, a device)
+    is an :class:`EpistemicaError` naming the file, never a success reported elsewhere.
+    """
+    if fmt is None:
+        suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
+        fmt = suffix if suffix in ("png", "pdf", "svg") else "png"
+    try:
+        fig.savefig(path, dpi=100, format=fmt)
+    except OSError as err:
+        raise _unwritable("figure", path, err) from err
+
+
+def _unwritable(what: str, path, err: OSError) -> EpistemicaError:
+    return EpistemicaError(
+        f"cannot write the {what} {path}: {err.strerror or err}",
+        hint="write it to a folder that exists, is writable and has room",
+    )
 
 
 def _title(scenario: Scenario, trial: Trial) -> str:
@@ -126,16 +149,17 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     ax.set_title(_title(scenario, trial), fontsize=_FONT)
     ax.legend(fontsize=_FONT, loc="upper right", title="o start, ■ end", title_fontsize=_FONT)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, "png")
     plt.close(fig)
 
 
 def _event_text(event: list, robots: list[str]) -> str:
-    # The trace gives an event's arguments as indices without saying whether each is a
-    # robot or a goal, so only its name and observers are written.
-    step, name, _arguments, observers = event
+    # Version 1 traces gave arguments as bare indices (robot or goal unsaid): name only.
+    step, name, arguments, observers = event
+    named = [a for a in arguments if isinstance(a, str) and a]
+    about = f"({', '.join(named)})" if named else ""
     seen = ", ".join(robots[o] for o in observers) or "nobody"
-    return f"step {step}: {name}, seen by {seen}"
+    return f"step {step}: {name}{about}, seen by {seen}"
 
 
 class TraceFrame:
@@ -394,7 +418,12 @@ def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") 
             images.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
     finally:
         frame.close()
-    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    try:
+        images[0].save(
+            path, "GIF", save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0
+        )
+    except OSError as err:
+        raise _unwritable("animation", path, err) from err
     return len(frames)
 
 

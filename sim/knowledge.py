@@ -162,8 +162,12 @@ class TeamKnowledge:
         same configurations."""
         return self.state.signature(chain)
 
-    def possible_many(self, chains: Sequence[Chain], rows: np.ndarray) -> list:
-        """:meth:`possible` for each chain, computed once per distinct signature.
+    def possible_many(
+        self, chains: Sequence[Chain], rows: np.ndarray, revision: str = "recency"
+    ) -> list:
+        """:meth:`possible` for each chain, computed once per distinct signature
+        (``revision``: how settle suggestions revise, ``"recency"`` or the ablation
+        ``"primacy"``, :func:`epistemica.del_.state.state.soft_in_order`).
 
         Examples
         --------
@@ -172,7 +176,8 @@ class TeamKnowledge:
         >>> a is b  # nothing was observed: one computation serves both chains
         True
         """
-        return belief_masks(self.state, chains, ConfigurationTable(rows, self.robots, self.goals))
+        table = ConfigurationTable(rows, self.robots, self.goals)
+        return belief_masks(self.state, chains, table, revision)
 
     def possible(self, chain: Chain, rows: np.ndarray) -> np.ndarray:
         """Which configurations ``rows`` (``(k, n)`` global goal indices) the chain keeps:

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from epistemica.aif.controller import Controller
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.state.state import REVISIONS
 
 __all__ = ["CONTROLLER_OPTIONS", "ActiveParameters", "names"]
 
@@ -54,6 +55,13 @@ class ActiveParameters:
     memory : float
         Exponent ``rho`` in ``[0, 1]`` of the previous posterior in the next prior: 0
         forgets, 1 is a plain Bayes filter.
+    revision : str
+        How a robot's belief follows teammates' settles that contradict each other:
+        ``"recency"``, the newest that leaves a configuration wins (a lexicographic radical
+        upgrade, :func:`epistemica.del_.state.state.soft_in_order`), or ``"primacy"``, the
+        oldest is kept (the ablation). Every soft fact is reordered, a mission's
+        ``plausibility`` levels too (suggested least plausible first), so the ablation is
+        for missions without a plausibility order.
     headings : int
         Heading changes in the control grid.
     pruning : bool
@@ -128,6 +136,7 @@ class ActiveParameters:
     prior_scale: float | None = 1.0
     tie_weight: float = 1.0
     memory: float = 0.0
+    revision: str = "recency"
     headings: int = 16
     pruning: bool = True
     nested: bool = True
@@ -147,10 +156,28 @@ class ActiveParameters:
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
+        numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor")
+        for name in (*numbers, "prior_scale"):
+            value = getattr(self, name)
+            if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
+                raise InvalidArgumentError(
+                    f"{name} must be a number, got {value!r}", hint=f"e.g. {name}=1.0"
+                )
         if not 0.0 <= float(self.memory) <= 1.0:
             raise InvalidArgumentError(
                 f"memory must lie in [0, 1], got {self.memory!r}", hint="0 forgets, 1 filters"
             )
+        if self.revision not in REVISIONS:
+            raise InvalidArgumentError(
+                f"revision must be one of {', '.join(REVISIONS)}, got {self.revision!r}",
+                hint="'recency' (the default) or the ablation 'primacy'",
+            )
+        for name in ("pruning", "nested", "anticipate", "common_view", "free_energy", "search"):
+            if not isinstance(getattr(self, name), bool):
+                raise InvalidArgumentError(
+                    f"{name} must be true or false, got {getattr(self, name)!r}",
+                    hint=f"e.g. {name}=false (the ablation)",
+                )
         for name in ("headings", "lone_wait", "prune_from", "sight_hysteresis"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from epistemica.sim.figures import pyplot
+from epistemica.sim.figures import pyplot, save_figure
 from epistemica.sim.levels import REASONING
 
 __all__ = [
@@ -230,13 +230,15 @@ LEVEL_STYLES = (
 _FONTS = {"font.size": 11, "legend.fontsize": 10, "axes.titlesize": 11}
 
 
-def plot_results(cells: list[Cell], path, levels: Sequence[str] | None = None) -> None:
+def plot_results(
+    cells: list[Cell], path, levels: Sequence[str] | None = None, fmt: str | None = None
+) -> None:
     """The paper-style figure: per mission, success rate (multitask: mean completion step)
     against team size, one line per level (its own colour, marker and line style), 95 %
     bands, the legend in study order (``levels``, default :func:`study_order`).
 
-    The extension of ``path`` picks the format: ``.png`` (100 dpi), ``.pdf`` or ``.svg``
-    (vector, for a paper).
+    ``fmt`` (or else the extension of ``path``) picks the format: ``png`` (100 dpi),
+    ``pdf`` or ``svg`` (vector, for a paper); the file is written at ``path`` exactly.
     """
     plt = pyplot()
     missions = sorted({c.mission for c in cells})
@@ -269,7 +271,7 @@ def plot_results(cells: list[Cell], path, levels: Sequence[str] | None = None) -
             bbox_to_anchor=(1.02, 1.0),
         )
         fig.tight_layout()
-        fig.savefig(path, dpi=100)
+        save_figure(fig, path, fmt)
     plt.close(fig)
 
 
@@ -323,5 +325,5 @@ def _level_bars(plt, cells: list[Cell], path, title: str) -> None:
     ax.set_title(f"{title} ({max((c.trials for c in cells), default=0)} trials per level)")
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path)
     plt.close(fig)

@@ -20,7 +20,7 @@ import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim._streams import trial_streams
-from epistemica.sim.events import STILL, World, fire
+from epistemica.sim.events import STILL, World, firings, observer_indices
 from epistemica.sim.knowledge import initial_knowledge
 from epistemica.sim.levels import make_policy
 from epistemica.sim.missions import distances, mission_holds, realises
@@ -131,9 +131,7 @@ def _record(step: int, rule, firing, s: Scenario) -> tuple:
     index = {**{r: i for i, r in enumerate(s.robot_names)},
              **{g: j for j, g in enumerate(s.goal_names)}}  # fmt: skip
     arguments = tuple(index.get(firing.binding.get(p, ""), -1) for p, _ in rule.parameters)
-    names = firing.observation.full | firing.observation.partial
-    observers = tuple(i for i, r in enumerate(s.robot_names) if r in names)
-    return (step, rule.name, *arguments, observers)
+    return (step, rule.name, *arguments, observer_indices(firing.observation, s.robot_names))
 
 
 class TrialRun:
@@ -233,14 +231,11 @@ class TrialRun:
             s.robot_names,
             s.goal_names,
         )
-        for rule in s.events:
-            if (rule.trigger.kind == "reached") != arrivals:
-                continue
-            for firing in fire(rule, world):
-                self.open[list(firing.closes)] = False
-                self.open[list(firing.opens)] = True
-                if self.knowledge.observe(firing.observation):
-                    self.events.append(_record(step, rule, firing, s))
+        for rule, firing in firings(s.events, world, arrivals):
+            self.open[list(firing.closes)] = False
+            self.open[list(firing.opens)] = True
+            if self.knowledge.observe(firing.observation):
+                self.events.append(_record(step, rule, firing, s))
 
     def settled(self) -> np.ndarray:
         if len(self.path) < 2:

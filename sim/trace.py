@@ -1,4 +1,4 @@
-"""A trial's per-step record as a compact, versioned document (``epistemica-trace`` v1).
+"""A trial's per-step record as a compact, versioned document (``epistemica-trace`` v2).
 
 What a figure, a browser replay or an audit needs of a trial, and nothing of the process
 that ran it: the world (names, goals, sensors, ranges), the true poses step by step, each
@@ -12,7 +12,7 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 
 ==================  ==========================================================================
 ``format``          ``"epistemica-trace"``
-``version``         ``1``
+``version``         ``2`` (version 1, read too, gave event arguments as indices)
 ``robots``          ``n`` names; ``goals``: ``m`` names
 ``goal_positions``  ``(m, 2)`` metres
 ``workspace``       side of the workspace (m); ``sensing_range``: m or ``null`` (unlimited)
@@ -25,7 +25,8 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 ``modelled``        ``(T, n, n)``: the size of the set robot ``i`` models ``j`` keeping
 ``focal``           ``(T, n, n)``: the configuration robot ``i`` acted on (-1: none)
 ``estimates``       ``(T, n, n, 2)``: where robot ``i`` placed robot ``j`` (m, 1 decimal)
-``events``          ``[step, name, [arguments], [observers]]``, robots and goals by index
+``events``          ``[step, name, [arguments], [observers]]``: arguments by name (the
+                    robots and goals the event was about), observers by index
 ==================  ==========================================================================
 
 Examples
@@ -34,7 +35,7 @@ Examples
 >>> s = Scenario.paper("rendezvous", 2, 2, seed=0)
 >>> trace = trial_trace(s, simulate(s, "convention", seed=0))
 >>> trace["version"], len(trace["poses"]) == trace["steps"] + 1
-(1, True)
+(2, True)
 >>> decode(encode(trace)) == trace
 True
 """
@@ -51,10 +52,12 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.trial import Trial
 
-__all__ = ["FORMAT", "VERSION", "decode", "encode", "trial_trace"]
+__all__ = ["FORMAT", "READABLE", "VERSION", "decode", "encode", "event_names", "trial_trace"]
 
 FORMAT = "epistemica-trace"
-VERSION = 1
+VERSION = 2
+#: The versions :func:`decode` reads.
+READABLE = (1, 2)
 
 
 def _rounded(array: np.ndarray, decimals: int) -> list:
@@ -65,7 +68,7 @@ def _rounded(array: np.ndarray, decimals: int) -> list:
 def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
     """The trace document of ``trial`` (a trial of ``scenario``)."""
     events = [
-        [int(e[0]), str(e[1]), [int(a) for a in e[2:-1]], [int(o) for o in e[-1]]]
+        [int(e[0]), str(e[1]), event_names(scenario, e[1], e[2:-1]), [int(o) for o in e[-1]]]
         for e in trial.events
     ]
     return {
@@ -93,6 +96,17 @@ def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
     }
 
 
+def event_names(scenario: Scenario, rule: str, indices) -> list[str]:
+    """The names of an event's arguments, given as indices (a robot's or a goal's, as the
+    rule's parameter says); an unbound argument (``-1``) is ``""``."""
+    kinds = {r.name: [kind for _, kind in r.parameters] for r in scenario.events}
+    names = {"robots": scenario.robot_names, "goals": scenario.goal_names}
+    return [
+        names[kind][int(i)] if int(i) >= 0 and kind in names else ""
+        for kind, i in zip(kinds.get(rule, []), indices, strict=False)
+    ]
+
+
 def encode(trace: dict[str, Any]) -> bytes:
     """The trace as zlib-compressed JSON (NaN written as ``null``)."""
     text = json.dumps(trace, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
@@ -109,9 +123,10 @@ def decode(blob: bytes) -> dict[str, Any]:
         ) from None
     if not isinstance(trace, dict) or trace.get("format") != FORMAT:
         raise InvalidArgumentError("not an epistemica trace", hint="no 'format' field")
-    if trace.get("version") != VERSION:
+    if trace.get("version") not in READABLE:
         raise InvalidArgumentError(
-            f"trace version {trace.get('version')!r}, this epistemica reads {VERSION}",
+            f"trace version {trace.get('version')!r}, this epistemica reads "
+            + ", ".join(map(str, READABLE)),
             hint="re-run the trial with this version",
         )
     return trace

@@ -250,6 +250,9 @@ BAD = [
     (TWO + "event flood seen by nearby\n", "unknown library event 'flood'", 6, 7),
     (TWO + "policy lone_wayt 5\n", "did you mean 'lone_wait'", 6, 8),
     (TWO + "policy memory 3\n", "memory must lie in [0, 1]", 6, 8),
+    (TWO + "policy memory abc\n", "memory must be a number", 6, 8),
+    (TWO + "policy pruning maybe\n", "pruning must be true or false", 6, 8),
+    (TWO + "policy revision latest\n", "revision must be one of recency, primacy", 6, 8),
     (
         TWO + 'check "c" after 3 steps level sixth: K[a] assigned(a, x)\n',
         "unknown reasoning level 'sixth'",

@@ -37,7 +37,7 @@ from epistemica.del_.explicit.checker import propositional_truth
 from epistemica.del_.explicit.relations import ClassArrows, Partition
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.models import KripkeModel
-from epistemica.del_.state.state import Chain, EpistemicState
+from epistemica.del_.state.state import Chain, EpistemicState, soft_in_order
 
 __all__ = [
     "ValuationTable",
@@ -142,11 +142,13 @@ def _knowledge(state: EpistemicState, chain: Chain, facts: Callable) -> np.ndarr
     return keep
 
 
-def _belief(state: EpistemicState, chain: Chain, facts: Callable) -> np.ndarray:
+def _belief(
+    state: EpistemicState, chain: Chain, facts: Callable, revision: str = "recency"
+) -> np.ndarray:
     keep = _knowledge(state, chain, facts)
     if state.tracked:
         keep &= facts.table.conceivable(state.tracked - state.aware(chain))
-    for fact in state.soft(chain):  # newest first: the newest consistent evidence wins
+    for fact in soft_in_order(state, chain, revision):  # the first consistent one wins
         narrowed = keep & facts(fact)
         if narrowed.any():
             keep = narrowed
@@ -158,12 +160,23 @@ def knowledge_mask(state: EpistemicState, chain: Chain, table: WorldTable) -> np
     return _knowledge(state, chain, _Facts(table))
 
 
-def belief_mask(state: EpistemicState, chain: Chain, table: WorldTable) -> np.ndarray:
-    """``B`` of the chain's group: the most plausible worlds it conceives of."""
-    return _belief(state, chain, _Facts(table))
+def belief_mask(
+    state: EpistemicState, chain: Chain, table: WorldTable, revision: str = "recency"
+) -> np.ndarray:
+    """``B`` of the chain's group: the most plausible worlds it conceives of.
+
+    ``revision`` orders the soft facts: ``"recency"`` (the newest consistent fact wins, a
+    lexicographic radical upgrade) or ``"primacy"`` (the oldest wins: the ablation).
+    """
+    return _belief(state, chain, _Facts(table), revision)
 
 
-def belief_masks(state: EpistemicState, chains: Sequence[Chain], table: WorldTable) -> list:
+def belief_masks(
+    state: EpistemicState,
+    chains: Sequence[Chain],
+    table: WorldTable,
+    revision: str = "recency",
+) -> list:
     """:func:`belief_mask` of each chain, computed once per distinct signature (chains
     that observed the same share one array).
 
@@ -182,7 +195,7 @@ def belief_masks(state: EpistemicState, chains: Sequence[Chain], table: WorldTab
     for chain in chains:
         key = state.signature(chain)
         if key not in memo:
-            memo[key] = _belief(state, chain, facts)
+            memo[key] = _belief(state, chain, facts, revision)
         out.append(memo[key])
     return out
 

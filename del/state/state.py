@@ -20,7 +20,8 @@ fully:
 - ``B(S)``: of those, the *conceivable* ones (every tracked atom true there is one the
   group is aware of, through an ``aware`` observation in ``F(S)``), then the soft facts of
   ``F(S)`` applied newest first, each kept only if some world is left (a lexicographic
-  radical upgrade: the newest consistent evidence wins).
+  radical upgrade: the newest consistent evidence wins). The ``"primacy"`` revision
+  (an ablation, :func:`soft_in_order`) applies them oldest first instead.
 
 ``K[i1] K[i2] ... K[ik] f`` (``f`` propositional) holds iff ``f`` holds on ``K(S)``, and
 ``B[i1] ... B[ik] f`` iff ``f`` holds on ``B(S)``. The group models
@@ -54,7 +55,10 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.state.observation import Observation
 
-__all__ = ["EpistemicState", "History"]
+__all__ = ["REVISIONS", "EpistemicState", "History", "soft_in_order"]
+
+#: How soft facts revise a belief: the newest consistent one wins, or the oldest.
+REVISIONS = ("recency", "primacy")
 
 Chain = Sequence[str] | Sequence[int]
 
@@ -234,3 +238,26 @@ class _Group(NamedTuple):
     seen: tuple[int, ...]
     full: tuple[int, ...]
     history: History
+
+
+def soft_in_order(state: EpistemicState, chain: Chain, revision: str = "recency") -> tuple:
+    """The soft facts of ``chain``'s group in the order they revise its belief: newest
+    first under ``"recency"`` (the newest consistent fact wins), oldest first under
+    ``"primacy"`` (the first consistent fact the group was shown is kept: the ablation).
+
+    Examples
+    --------
+    >>> s = EpistemicState(["a"])
+    >>> for goal in ("g1", "g2"):
+    ...     _ = s.observe(Observation("settle", full={"a"}, suggests=f"at_{goal}"))
+    >>> [str(f) for f in soft_in_order(s, ("a",))]
+    ['at_g2', 'at_g1']
+    >>> [str(f) for f in soft_in_order(s, ("a",), "primacy")]
+    ['at_g1', 'at_g2']
+    """
+    if revision not in REVISIONS:
+        raise InvalidArgumentError(
+            f"unknown revision {revision!r}", hint="use 'recency' (default) or 'primacy'"
+        )
+    soft = state.soft(chain)
+    return soft if revision == "recency" else soft[::-1]

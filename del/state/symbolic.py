@@ -27,7 +27,7 @@ from collections.abc import Sequence
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KnowledgeStructure
-from epistemica.del_.state.state import Chain, EpistemicState
+from epistemica.del_.state.state import Chain, EpistemicState, soft_in_order
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows
@@ -62,13 +62,16 @@ def knowledge_bdd(state: EpistemicState, chain: Chain, space: KnowledgeStructure
     return keep
 
 
-def belief_bdd(state: EpistemicState, chain: Chain, space: KnowledgeStructure) -> BDDFunction:
-    """``B`` of the chain's group, as a BDD over the space's atoms."""
+def belief_bdd(
+    state: EpistemicState, chain: Chain, space: KnowledgeStructure, revision: str = "recency"
+) -> BDDFunction:
+    """``B`` of the chain's group, as a BDD over the space's atoms (``revision`` as in
+    :func:`~epistemica.del_.state.explicit.belief_mask`)."""
     keep = knowledge_bdd(state, chain, space)
     for atom in sorted(state.tracked - state.aware(chain)):
         if atom in space.atom_slots:
             keep &= ~_bdd.var(space.atom_slots[atom])
-    for fact in state.soft(chain):  # newest first
+    for fact in soft_in_order(state, chain, revision):  # the first consistent one wins
         narrowed = keep & space.truth(fact)
         if narrowed.satisfiable():
             keep = narrowed

@@ -134,8 +134,9 @@ def run_report(args: argparse.Namespace) -> int:
     cells = summarise(read_rows(args.results))
     print(format_table(cells, markdown=args.markdown))
     if not args.no_png and cells:
-        paths = [p for p in (args.png, getattr(args, "pdf", None), getattr(args, "svg", None)) if p]
-        for path in paths or [os.path.splitext(args.results)[0] + ".png"]:
-            plot_results(cells, path)
+        asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
+        paths = [(path, fmt) for path, fmt in asked if path]
+        for path, fmt in paths or [(os.path.splitext(args.results)[0] + ".png", "png")]:
+            plot_results(cells, path, fmt=fmt)
             print(f"figure: {path}")
     return 0

@@ -441,10 +441,13 @@ _POLICY_HINT = "policy options: " + ", ".join(f.name for f in fields(ActiveParam
 
 
 def _policy_value(text: str):
-    """A ``policy`` value: a number (whole numbers as int), true, false or none."""
+    """A ``policy`` value: a number (whole numbers as int), true, false, none, or a word
+    (``revision primacy``)."""
     words = {"true": True, "false": False, "none": None}
     if text.lower() in words:
         return words[text.lower()]
+    if text.isidentifier():
+        return text
     value = float(text)
     return int(value) if value == int(value) and "." not in text else value
 

@@ -10,6 +10,7 @@ state's sets must give the same verdicts as that model.
 from __future__ import annotations
 
 import itertools
+from functools import partial
 
 import numpy as np
 import pytest
@@ -180,6 +181,39 @@ def test_soft_evidence_is_a_lexicographic_upgrade(history, chain):
         assert np.array_equal(believe, base)
 
 
+@settings(max_examples=60, deadline=None)
+@given(histories(), chains)
+def test_primacy_revision_keeps_the_oldest_consistent_fact(history, chain):
+    """The ablation mirrors recency: success for the oldest consistent fact, the same set
+    whenever the soft facts are jointly consistent (then the order cannot matter)."""
+    _, worlds, _, tracked, observations = history
+    state = _state(tracked, observations)
+    table = ValuationTable(ATOMS, worlds)
+    base = knowledge_mask(state, chain, table) & table.conceivable(
+        frozenset(tracked) - state.aware(chain)
+    )
+    believe = belief_mask(state, chain, table, revision="primacy")
+    consistent = [f for f in state.soft(chain)[::-1] if (base & truth(f, worlds)).any()]
+    if consistent:
+        assert truth(consistent[0], worlds)[believe].all()
+    joint = base.copy()
+    for f in state.soft(chain):
+        joint &= truth(f, worlds)
+    if joint.any():
+        assert np.array_equal(believe, belief_mask(state, chain, table))
+
+
+def test_the_oldest_of_two_contradicting_suggestions_wins_under_primacy():
+    table = ValuationTable(["p"], np.array([[False], [True]]))
+    state = EpistemicState(["a"])
+    state.observe(Observation("seen", full={"a"}, suggests="p"))
+    state.observe(Observation("seen", full={"a"}, suggests="~p"))
+    assert belief_mask(state, ("a",), table, revision="primacy").tolist() == [False, True]
+    assert belief_mask(state, ("a",), table).tolist() == [True, False]
+    with pytest.raises(InvalidArgumentError, match="unknown revision"):
+        belief_mask(state, ("a",), table, revision="latest")
+
+
 def test_the_newest_of_two_contradicting_suggestions_wins():
     table = ValuationTable(["p"], np.array([[False], [True]]))
     state = EpistemicState(["a", "b"])
@@ -239,7 +273,10 @@ def test_symbolic_sets_equal_explicit_sets(history, chain):
     state = _state(tracked, observations)
     table = ValuationTable(ATOMS, worlds)
     space = world_space(ATOMS, law)
-    for explicit, symbolic in ((knowledge_mask, knowledge_bdd), (belief_mask, belief_bdd)):
+    pairs = [(knowledge_mask, knowledge_bdd), (belief_mask, belief_bdd)]
+    primacy = {"revision": "primacy"}
+    pairs.append((partial(belief_mask, **primacy), partial(belief_bdd, **primacy)))
+    for explicit, symbolic in pairs:
         mask = explicit(state, chain, table)
         bdd = symbolic(state, chain, space)
         assert count(space, bdd) == int(mask.sum())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -167,16 +168,46 @@ def test_animation_frame_shows_names_sensing_estimates_and_sets(relocated):
         frame.close()
 
 
+def test_a_settle_event_names_the_robot_and_the_goal_it_settled_at():
+    from epistemica.mission import load_mission
+
+    mission = load_mission(str(SPECS / "stress" / "rendezvous_radius_3.epi"))
+    s = mission.scenario(0)
+    trace = trial_trace(s, simulate(s, "third", seed=0, policies=mission.policies(0)))
+    settles = [e for e in trace["events"] if e[1] == "settle"]
+    assert settles
+    for step, _, (robot, goal), _observers in settles:
+        i, g = trace["robots"].index(robot), trace["goals"].index(goal)
+        gap = np.subtract(trace["poses"][step][i][:2], trace["goal_positions"][g])
+        assert np.hypot(*gap) <= trace["success_radius"] + 0.01
+
+
+def test_a_version_1_trace_is_still_read_and_drawn(relocated):
+    from epistemica.sim.trace import decode, encode
+
+    _s, _trial, trace = relocated
+    old = {**trace, "version": 1, "events": [[9, "settle", [1, 0], [0, 1]]]}
+    old = decode(encode(old))
+    frame = TraceFrame(old)
+    try:
+        frame.draw(9, 8)
+        names = old["robots"][0] + ", " + old["robots"][1]
+        assert f"step 9: settle, seen by {names}" in frame.event_lines.get_text()
+    finally:
+        frame.close()
+
+
 def test_events_are_listed_and_ringed_when_they_happen(relocated):
     s, _trial, trace = relocated
-    (step, name, _, observers), *_ = trace["events"]
+    (step, name, arguments, observers), *_ = trace["events"]
     frame = TraceFrame(trace)
     try:
         frame.draw(step, step - 1)
         rings = [a for a in frame.fig.findobj() if a.get_gid() == f"event:{name}"]
         assert len(rings) == len(observers) >= 1
         seen = ", ".join(s.robot_names[o] for o in observers)
-        assert f"step {step}: {name}, seen by {seen}" in frame.event_lines.get_text()
+        about = f"({', '.join(arguments)})" if arguments else ""
+        assert f"step {step}: {name}{about}, seen by {seen}" in frame.event_lines.get_text()
         frame.draw(step + 2, step + 1)
         assert not [a for a in frame.fig.findobj() if a.get_gid() == f"event:{name}"]
     finally:
@@ -238,6 +269,31 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
     assert out["pdf"].read_bytes().startswith(b"%PDF")
     assert b"<svg" in out["svg"].read_bytes()[:2000]
     assert "--pdf" in _help(["report", "--help"]) and "95 %%" not in _help(["report", "--help"])
+    # The format is the option's, at exactly the path given, extension or not.
+    assert (
+        main(["report", str(db), "--png", str(tmp_path / "plain"), "--svg", str(out["png"])]) == 0
+    )
+    assert (tmp_path / "plain").read_bytes().startswith(b"\x89PNG")
+    assert b"<svg" in out["png"].read_bytes()[:2000]
+    assert not (tmp_path / "plain.png").exists()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys):
+    from epistemica.sim.store import ResultStore
+
+    db = tmp_path / "r.sqlite"
+    with ResultStore(db) as store:
+        store.add({"id": "0", "mission": "rendezvous", "robots": 2, "goals": 2,
+                   "reasoning": "third", "seed": 0, "options": "{}", "success": 1,
+                   "steps": 9, "completion_step": None, "wall_time": 0.1,
+                   "decision_ms": 0.1, "considered": 1.0, "version": "0"})  # fmt: skip
+    assert main(["report", str(db), "--png", "/dev/full"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot write the figure /dev/full" in err and "Traceback" not in err
+    assert main(["report", str(db), "--pdf", str(tmp_path / "missing" / "f.pdf")]) == 2
+    assert main(["simulate", "--mission", "rendezvous", "--robots", "2", "--gif", "/dev/full"]) == 2
+    assert "cannot write the animation /dev/full" in capsys.readouterr().err
 
 
 def _help(argv) -> str:

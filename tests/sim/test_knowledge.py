@@ -21,6 +21,7 @@ from epistemica.del_ import KripkeModel, Observation, parse_formula
 from epistemica.mission import library_event
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.active import ActiveInference
+from epistemica.sim.configuration_sets import nested_sets
 from epistemica.sim.knowledge import TeamKnowledge
 from epistemica.sim.worlds import fact_mask
 
@@ -171,6 +172,18 @@ def test_a_contradictory_settle_is_ignored_not_an_empty_set():
     settle(k, 0, 0, [True, True])
     settle(k, 1, 1, [True, True])  # cannot both hold in a rendezvous: the newest wins
     assert k.possible((0,), rows).tolist() == [False, True]
+
+
+def test_the_primacy_ablation_keeps_the_first_settle_through_the_nested_sets():
+    # Hand-worked: a rendezvous at g1 or g2; r2 is seen settled at g1, then at g2.
+    rows = valid_configurations("rendezvous", 2, 2)
+    k = TeamKnowledge(["r1", "r2"], ["g1", "g2"])
+    settle(k, 1, 0, [True, True])
+    settle(k, 1, 1, [True, True])
+    newest = nested_sets(k, ["range"] * 2, 0, 2, rows)
+    oldest = nested_sets(k, ["range"] * 2, 0, 2, rows, revision="primacy")
+    assert newest.own.tolist() == [False, True] and newest.pairs[1].tolist() == [False, True]
+    assert oldest.own.tolist() == [True, False] and oldest.pairs[1].tolist() == [True, False]
 
 
 def test_settle_events_of_a_trial_are_recorded_with_their_observers():

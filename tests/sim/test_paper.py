@@ -7,7 +7,18 @@ import pytest
 from scipy.stats import binomtest
 
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.paper import BEARING, BLANK, RANGE, _evidence, perspectives
+from epistemica.sim.paper import (
+    BEARING,
+    BLANK,
+    RANGE,
+    PaperPolicy,
+    _evidence,
+    free_energy,
+    perspectives,
+    product_softmax,
+    sampled_permutations,
+)
+from epistemica.sim.sensing import Observations
 
 
 def _types(views):
@@ -40,18 +51,139 @@ def test_the_slip_blanks_views_up_to_its_own_after_a_range_robot():
     assert views == [(2, [BLANK, BLANK, RANGE])]
 
 
-def test_bearing_evidence_is_the_cosine_of_the_angle_at_the_viewpoint():
+def _viewed_from_origin(types, multitask=False):
+    """Evidence of robots at (0, 0), (5, 0), (0, 30) for goals (9, 0), (0, 9), (-9, 0), seen
+    from robot 0, and the range evidence of the same scene."""
     scene = np.array([[[0.0, 0.0], [5.0, 0.0], [0.0, 30.0]]])
     goals = np.array([[9.0, 0.0], [0.0, 9.0], [-9.0, 0.0]])
     to_goal = goals[None, None] - scene[:, :, None]
     ranged = np.exp(-np.hypot(to_goal[..., 0], to_goal[..., 1]) / 50.0)
-    types = np.array([BEARING, BEARING, RANGE])
-    e = _evidence(scene, goals, to_goal, ranged, 0, types)[0]
+    return _evidence(scene, goals, to_goal, ranged, 0, np.array(types), multitask)[0], ranged[0]
+
+
+def test_bearing_evidence_is_the_cosine_of_the_angle_at_the_viewpoint():
+    e, _ = _viewed_from_origin([BEARING, BEARING, RANGE])
     # robot 1 on the x axis: aligned with goal 0, at a right angle to 1, opposite to 2
     assert np.allclose(e[1], [1.0, 0.0, -1.0])
     # the viewpoint's own row: the goal's direction against the x axis (atan2(0, 0) = 0)
     assert np.allclose(e[0], [1.0, 0.0, -1.0])
     assert np.allclose(e[2], np.exp(-np.array([np.hypot(9, 30), 21.0, np.hypot(9, 30)]) / 50))
+
+
+def test_multitask_bearing_evidence_is_rescaled_and_blank_at_the_viewpoint():
+    # Same scene as above. The released multitask code takes 1 - (cos(r) + 1) / 2 of the
+    # angle r between robot -> viewpoint and viewpoint -> goal; robot 1 at (5, 0) looks
+    # back along pi, so r = pi, pi / 2, 0 for the three goals: 1, 1/2, 0.
+    e, ranged = _viewed_from_origin([BEARING, BEARING, RANGE], multitask=True)
+    assert np.allclose(e[1], [1.0, 0.5, 0.0])
+    assert np.allclose(e[0], [1 / 3] * 3)  # the viewpoint's own bearing row: uniform
+    assert np.allclose(e[2], ranged[2])  # range rows are unchanged
+    # robot 2 at (0, 30) seen from the origin, in bearing: goal 1 straight at it
+    e, _ = _viewed_from_origin([BEARING] * 3, multitask=True)
+    assert np.allclose(e[2], [0.5, 1.0, 0.5])
+
+
+def test_multitask_likelihood_is_a_softmax_of_the_products():
+    # Row probabilities p0 = (0.5, 0.5), p1 = (0.8, 0.2); allocations (0, 1) and (1, 0)
+    # have products 0.1 and 0.4, and softmax(0.1, 0.4) = (1, e^0.3) / (1 + e^0.3).
+    log_p = np.log([[[0.5, 0.5], [0.8, 0.2]]])
+    got = product_softmax(log_p, np.array([[0, 1], [1, 0]]))
+    assert np.allclose(got, [[1 / (1 + np.e**0.3), np.e**0.3 / (1 + np.e**0.3)]])
+    # a batch of two scenes, three robots and a repeated row (sampled sets may repeat)
+    p = np.array([[[0.2, 0.3, 0.5], [0.6, 0.3, 0.1], [0.1, 0.1, 0.8]]] * 2)
+    rows = np.array([[2, 0, 1], [0, 1, 2], [2, 0, 1]])
+    products = np.array([0.5 * 0.6 * 0.1, 0.2 * 0.3 * 0.8, 0.5 * 0.6 * 0.1])
+    expected = np.exp(products) / np.exp(products).sum()
+    assert np.allclose(product_softmax(np.log(p), rows), [expected, expected])
+
+
+def test_multitask_free_energy_counts_every_maximum():
+    # q = (0.4, 0.4, 0.2): H = -(0.8 ln 0.4 + 0.2 ln 0.2) = 1.05492; the released one-hot
+    # marks both maxima, so -ln 0.4 = 0.91629 counts twice in multitask.
+    q = np.array([[0.4, 0.4, 0.2], [0.2, 0.5, 0.3]])
+    h = -(0.8 * np.log(0.4) + 0.2 * np.log(0.2))
+    h2 = -(0.2 * np.log(0.2) + 0.5 * np.log(0.5) + 0.3 * np.log(0.3))
+    assert np.allclose(free_energy(q), [h - np.log(0.4), h2 - np.log(0.5)])
+    assert np.allclose(free_energy(q, every_top=True), [h - 2 * np.log(0.4), h2 - np.log(0.5)])
+    assert np.allclose(free_energy(q, every_top=True)[0], 2.88750, atol=1e-5)
+
+
+def test_sampled_permutations_come_from_the_generator_passed():
+    state = np.random.get_state()[1].copy()  # noqa: NPY002 (checked untouched below)
+    a = sampled_permutations(6, 200, np.random.default_rng(7))
+    b = sampled_permutations(6, 200, np.random.default_rng(7))
+    c = sampled_permutations(6, 200, np.random.default_rng(8))
+    assert a.shape == (200, 6) and np.array_equal(a, b) and not np.array_equal(a, c)
+    assert (np.sort(a, axis=1) == np.arange(6)).all()  # every row a permutation
+    assert len({tuple(r) for r in a}) > 150  # drawn, not a fixed list (6! = 720)
+    assert np.array_equal(np.random.get_state()[1], state)  # noqa: NPY002
+
+
+def test_five_robot_multitask_trials_are_reproducible():
+    s = Scenario.paper("multitask", 5, 20, seed=3, max_steps=12)
+    first, again = (simulate(s, "paper-higher", seed=3) for _ in range(2))
+    assert np.array_equal(first.trajectory, again.trajectory)
+    assert (first.considered[first.considered > 0] == 200).all()
+
+
+def test_multitask_views_have_no_slip():
+    sensors = ["bearing", "range", "bearing"]
+    goals = [[5.0, 5.0], [20.0, 5.0], [5.0, 20.0], [20.0, 20.0]]
+    starts = np.zeros((3, 3))
+    rng = [np.random.default_rng(0) for _ in range(3)]
+    for mission, slip in (("multitask", False), ("allocation", True)):
+        policy = PaperPolicy("paper-higher")
+        s = Scenario(mission, starts, goals[:3] if mission == "allocation" else goals, sensors)
+        policy.start(s, [0, 1, 2], rng)
+        assert _types(policy.views[0]) == _types(perspectives(0, sensors, True, slip))
+    assert _types(policy.views[0])[1] == (1, [RANGE] * 3)  # the slip, kept outside multitask
+
+
+def _observe(poses, done):
+    """Exact views of ``poses``; ``done`` per task (every robot) or per robot and task."""
+    poses, done = np.asarray(poses, dtype=float), np.asarray(done, dtype=bool)
+    n, m = len(poses), done.shape[-1]
+    return Observations(
+        0,
+        np.repeat(poses[None], n, axis=0),
+        np.ones((n, n), bool),
+        np.zeros((n, n), int),
+        np.ones((n, m), bool),
+        np.broadcast_to(done, (n, m)).copy(),
+    )
+
+
+def test_a_task_done_is_done_for_the_whole_multitask_team():
+    # Robot 1 is nearest tasks 0 and 1 but has not seen 0 done; robot 0 has. The released
+    # harness keeps one list of completed tasks, so robot 1 reasons over tasks 1 and 2.
+    s = Scenario("multitask", np.zeros((2, 3)), [[2, 0], [26, 0], [28, 5], [5, 28]], ["range"] * 2)
+    policy = PaperPolicy("paper-first")
+    policy.start(s, [0, 1], [np.random.default_rng(0) for _ in range(2)])
+    done = [[True, False, False, False], [False, False, False, False]]
+    out = policy.decide(_observe([[2, 1, 0], [12, 0, 0]], done), np.array([1]))
+    assert out.goal_belief[0, 0] == 0 and out.goal_belief[0, 3] == 0
+    assert np.isclose(out.goal_belief[0, [1, 2]].sum(), 1.0)
+
+
+def test_multitask_belief_is_kept_until_a_task_is_done():
+    # Two range robots, four tasks on the x axis. Robot 0's nearest two tasks are
+    # {0, 1}, then (having moved) {2, 3}: the released code keeps the belief entry by
+    # entry; once a task is done it starts again from uniform.
+    s = Scenario("multitask", np.zeros((2, 3)), [[2, 0], [4, 0], [26, 0], [28, 0]], ["range"] * 2)
+    near, far = [[0, 0, 0], [0, 9, 0]], [[27, 0, 0], [0, 9, 0]]
+
+    def run(steps):
+        policy = PaperPolicy("paper-first")
+        policy.start(s, [0, 1], [np.random.default_rng(0) for _ in range(2)])
+        for poses, done in steps:
+            policy.decide(_observe(poses, done), np.array([0]))
+        return policy.belief(0)
+
+    open_, closed = [False] * 4, [True, False, False, False]
+    fresh = run([(far, open_)])
+    assert fresh.shape == (1, 2)  # one perspective, two allocations
+    assert not np.array_equal(run([(near, open_), (far, open_)]), fresh)  # kept
+    assert np.array_equal(run([(near, open_), (far, closed)]), run([(far, closed)]))  # reset
 
 
 # Published successes out of 50 (paper-results.md). Ours on seeds 0-49 must fall inside

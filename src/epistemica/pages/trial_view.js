@@ -1,5 +1,5 @@
 // epistemica trial replay: the map, each robot's belief, configuration-set sizes (own and
-// nested) and the events observed, for one trace (format epistemica-trace, version 1).
+// nested) and the events observed, for one trace (format epistemica-trace, version 1 or 2).
 // The page state is exposed as window.epistemicaView for scripts and tests.
 "use strict";
 (function () {
@@ -114,7 +114,10 @@
 
   function eventText(e) {
     const seen = e[3].map((o) => t.robots[o]).join(", ") || "nobody";
-    return `step ${e[0]}: ${e[1]}, seen by ${seen}`;
+    // Version 2 names the event's arguments; version 1 gave bare indices (not shown).
+    const named = e[2].filter((a) => typeof a === "string" && a);
+    const about = named.length ? `(${named.join(", ")})` : "";
+    return `step ${e[0]}: ${e[1]}${about}, seen by ${seen}`;
   }
 
   function drawMap(step) {

@@ -1,0 +1,208 @@
+"""The rules of the collaborative levels, each on a small scene worked by hand
+(sim/collaborative_levels.py, sim/collaborative_sweep.py)."""
+
+import numpy as np
+import pytest
+
+from epistemica.mission import load_mission
+from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim.collaborative_levels import (
+    FETCHING,
+    CollaborativeParameters,
+    View,
+    make_collaborative_policy,
+)
+from epistemica.sim.collaborative_sweep import Route, meeting_point
+from epistemica.sim.events import World, firings, observer_indices
+from epistemica.sim.knowledge import TeamKnowledge
+
+LANE = Route(np.array([[5.0, 0.0], [5.0, 30.0], [15.0, 30.0]]))  # up x = 5, then east
+
+
+def _policy(scenario, **changes):
+    policy = make_collaborative_policy("third", CollaborativeParameters().replace(**changes))
+    policy.start(scenario)
+    return policy
+
+
+def _view(k: TeamKnowledge, poses, step, since=None, open_seen=None, last_seen=None) -> View:
+    """What the robots have at ``step``: every robot sees every other now (unless
+    ``last_seen`` says otherwise), and has known what it knows since step 0."""
+    poses = np.asarray(poses, dtype=float)
+    n = len(poses)
+    aware = np.array(
+        [[k.knows_goals((i,) if i == j else (i, j)) for j in range(n)] for i in range(n)]
+    )
+    since = np.where(aware, 0, -1) if since is None else np.asarray(since)
+    open_seen = np.full((n, k.m), -1) if open_seen is None else np.asarray(open_seen)
+    last_seen = np.full((n, n), step) if last_seen is None else np.asarray(last_seen)
+    estimates = np.repeat(poses[None, :, :2], n, axis=0)
+    return View(step, poses, estimates, last_seen, k, aware, since, open_seen)
+
+
+# -- where a robot meets a teammate on its sweep ----------------------------------------------
+
+
+def test_the_meeting_point_on_a_lane_is_the_first_step_it_can_reach():
+    # the teammate goes up x = 5 from (5, 0) at 1 m a step; the robot at (15, 20) moves
+    # 1 m a step: the first tau with sqrt(10^2 + (20 - tau)^2) <= tau is 12.5 -> 13
+    tau, place = meeting_point(np.array([15.0, 20.0]), 1.0, LANE, 0.0, 1.0, 0.0, 40)
+    assert tau == 13 and place.tolist() == [5.0, 13.0]
+    # seen from 5 m (reach 5): sqrt(100 + (20 - tau)^2) - 5 <= tau  <=>  tau >= 10
+    tau, place = meeting_point(np.array([15.0, 20.0]), 1.0, LANE, 0.0, 1.0, 5.0, 40)
+    assert tau == 10 and place.tolist() == [5.0, 10.0]
+    # already in reach: now, where it is
+    tau, place = meeting_point(np.array([6.0, 3.0]), 1.0, LANE, 3.0, 1.0, 2.0, 40)
+    assert tau == 0 and place.tolist() == [5.0, 3.0]
+    # a teammate as fast, 10 m ahead along the lane, is not caught in 20 steps
+    assert meeting_point(np.array([5.0, 0.0]), 1.0, LANE, 10.0, 1.0, 0.0, 20) is None
+
+
+def test_a_route_measures_arc_length_and_distance():
+    assert LANE.at(35.0).tolist() == [10.0, 30.0]  # 30 m up, 5 m east
+    assert LANE.along([-1.0, 100.0]).tolist() == [[5.0, 0.0], [15.0, 30.0]]  # clipped
+    assert LANE.project(np.array([8.0, 12.0])) == 12.0
+    assert LANE.gap(np.array([8.0, 12.0])) == 3.0
+
+
+# -- tasks presumed done -------------------------------------------------------------
+
+
+def _two_robot_scene(needs=(2,)):
+    return CollaborativeScenario(
+        [[2, 2, 0], [4, 2, 0], [6, 2, 0]], [[20, 20]], needs, workspace=30.0, sensing_range=7.0
+    )
+
+
+@pytest.mark.parametrize(
+    ("step", "teammates", "open_seen", "presumed"),
+    [
+        (30, (1, 2), -1, True),  # two teammates have known it since 5: 5 <= 30 - 20
+        (24, (1, 2), -1, False),  # only 19 steps
+        (30, (1,), -1, False),  # one teammate cannot do a task that needs two
+        (30, (1, 2), 15, False),  # robot 0 saw it open at 15, after 30 - 20
+    ],
+)
+def test_a_task_enough_teammates_knew_of_long_enough_is_presumed_done(
+    step, teammates, open_seen, presumed
+):
+    s = _two_robot_scene()
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    policy = _policy(s, stale_after=20)
+    since = np.full((3, 3, 1), -1)
+    since[0, 0, 0] = 5
+    for j in teammates:
+        since[0, j, 0] = 5
+    view = _view(k, s.starts, step, since=since, open_seen=np.full((3, 1), open_seen))
+    assert policy.presumed_done(view, 0).tolist() == [presumed]
+
+
+# -- tasks enough robots know of come first --------------------------------------------------
+
+
+def test_a_robot_joins_the_task_its_teammates_expect_it_at():
+    # r1 knows t1 (needs 2) alone, and t2 (needs 3) with r2 and r3, who know only t2 and
+    # that r1 knows it: they expect r1 at t2. In index order r1 would deal with t1 first
+    # (too few know: it fetches or waits there); completable tasks first, it goes to t2.
+    s = CollaborativeScenario(
+        [[5, 15, 0], [25, 5, 0], [27, 7, 0]], [[3, 16], [28, 5]], (2, 3),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
+    k.discover(0, np.array([True, False, False]))
+    k.discover(1, np.array([True, True, True]))
+    for complete_first, r1 in ((True, {1}), (False, {0, FETCHING})):
+        policy = _policy(s, complete_first=complete_first)
+        _, steer_to = policy.decide(_view(k, s.starts, 10))
+        assert int(steer_to[0]) in r1
+        assert int(steer_to[1]) == int(steer_to[2]) == 1  # r2 and r3 go to t2 either way
+
+
+# -- news of a knower renews patience ----------------------------------------------------
+
+
+def test_news_of_another_knower_renews_a_waiting_robots_patience():
+    # r1 waits at t1 (needs 3), which r2 knows too; at step 30 r1 sees r3 find it. With
+    # `rejoin` it waits 60 steps from then (gives up at 90), without it from step 0 (60);
+    # it steers elsewhere from the next step.
+    s = CollaborativeScenario(
+        [[10, 10, 0], [28, 28, 0], [2, 28, 0]], [[10, 10]], (3,),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    gave_up = {}
+    for rejoin in (True, False):
+        k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+        k.discover(0, np.array([True, True, False]))
+        policy = _policy(s, rejoin=rejoin, stale_after=0)
+        for step in range(120):
+            if step == 30:
+                k.discover(0, np.array([True, False, True]))
+            unseen = np.full((3, 3), -1)
+            np.fill_diagonal(unseen, step)
+            view = _view(k, s.starts, step, open_seen=np.full((3, 1), step), last_seen=unseen)
+            _, steer_to = policy.decide(view)
+            if steer_to[0] != 0:
+                gave_up[rejoin] = step
+                break
+    assert gave_up == {True: 91, False: 61}
+
+
+# -- a teammate known to be on its sweep -------------------------------------------------
+
+
+def test_a_teammate_is_known_on_its_sweep_until_it_could_have_found_a_task():
+    # 30 m, 7 m of sight, lanes 14 m apart at most: x = 5, 15, 25, from y = 5 to 25. r2
+    # (second of two) starts on the middle lane going down: (15, 25) -> (15, 5). r1 saw it
+    # there at step 0; at step 12 r2 has swept (15, 25) -> (15, 13).
+    s = CollaborativeScenario(
+        [[2, 2, 0], [15, 25, 0]], [[25, 25], [20, 15]], (2, 2),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    policy = _policy(s)
+    assert policy.routes[1].points[:2].tolist() == [[15.0, 25.0], [15.0, 5.0]]
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 2), dtype=bool))
+    k.discover(0, np.array([True, False]))  # r1 alone knows t1
+    last_seen = np.array([[12, 0], [0, 12]])
+    view = _view(k, s.starts, 12, last_seen=last_seen)
+    # t1 is 10 m from the nearest point r2 swept, (15, 25): r2 cannot have found it
+    assert policy.on_sweep(view, 0, 1, np.array([True, False])) is True
+    # t2 is 5 m from (15, 15), which r2 passed: it found t2, and went there
+    assert policy.on_sweep(view, 0, 1, np.array([True, True])) is False
+    # r1 knows r2 knows of t1: r2 may be going there
+    k.discover(0, np.array([True, True]))
+    view = _view(k, s.starts, 12, last_seen=last_seen)
+    assert policy.on_sweep(view, 0, 1, np.array([True, False])) is False
+
+
+# -- the world: a task done is not found again ---------------------------------------------
+
+
+@pytest.mark.parametrize("level", ["first", "third"])
+def test_no_task_is_found_after_it_is_done(level):
+    mission = load_mission("specs/collaborative/tasks_5.epi")
+    for seed in range(4):
+        trial = simulate_collaborative(mission.scenario(seed), level, seed, mission.parameters)
+        done = {mission.scenario(seed).task_names[t]: d for t, d in enumerate(trial.tasks_done)}
+        for step, name, args, _ in trial.events:
+            if name == "found":
+                assert done[args[1]] < 0 or step < done[args[1]]
+
+
+# -- the firing loop the simulators share -------------------------------------------------
+
+
+def test_firings_split_arrivals_from_perception_and_name_the_observers():
+    # r1 steps to within 7 m of t1 (from 8 m) and reaches it; r2, 3 m away, sees r1, r3
+    # (20 m away) does not
+    rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
+    now = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
+    before = now + np.array([[0.0, -8.0, 0.0], [0, 0, 0], [0, 0, 0]])
+    visible = np.hypot(*(now[:, None, :2] - now[None, :, :2]).transpose(2, 0, 1)) <= 7.0
+    world = World(1, now, before, np.array([[0.0, 0.0]]), np.ones(1, bool),
+                  np.ones(1, bool), visible, 7.0, 1.5, ("range",) * 3,
+                  ("r1", "r2", "r3"), ("t1",))  # fmt: skip
+    seen = [(rule.name, f.binding) for rule, f in firings(rules, world, arrivals=False)]
+    assert seen == [("found", {"r": "r1", "t": "t1"})]  # r2 was within 7 m already
+    done = firings(rules, world, arrivals=True)
+    assert [rule.name for rule, _ in done] == ["done"]
+    assert observer_indices(done[0][1].observation, world.robots) == (0, 1)
