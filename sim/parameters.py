@@ -156,7 +156,8 @@ class ActiveParameters:
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
-        numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor")
+        numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
+                   "teammate_sigma", "teammate_leak")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -172,7 +173,9 @@ class ActiveParameters:
                 f"revision must be one of {', '.join(REVISIONS)}, got {self.revision!r}",
                 hint="'recency' (the default) or the ablation 'primacy'",
             )
-        for name in ("pruning", "nested", "anticipate", "common_view", "free_energy", "search"):
+        switches = ("pruning", "nested", "anticipate", "common_view", "free_energy", "search",
+                    "teammate_models")  # fmt: skip
+        for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
                     f"{name} must be true or false, got {getattr(self, name)!r}",

@@ -36,6 +36,8 @@ def test_the_models_are_a_parameter_on_at_order_two_and_above():
         ActiveParameters(teammate_leak=2.0)
     with pytest.raises(InvalidArgumentError, match="teammate_sigma"):
         ActiveParameters(teammate_sigma=0.0)
+    with pytest.raises(InvalidArgumentError, match="teammate_models must be true or false"):
+        ActiveParameters(teammate_models="yes")
 
 
 def _run(path: Path, seed: int, **changes):
