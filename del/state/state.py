@@ -22,9 +22,13 @@ fully:
   ``F(S)`` applied newest first, each kept only if some world is left (a lexicographic
   radical upgrade: the newest consistent evidence wins). The ``"primacy"`` revision
   (an ablation, :func:`soft_in_order`) applies them oldest first instead.
+  ``B(S)`` is empty when the group learnt a hard fact that only worlds it cannot
+  conceive of satisfy (a partial observer told of a fact about an atom it is not aware
+  of): its belief is inconsistent, and every ``B`` formula holds at its copies.
 
 ``K[i1] K[i2] ... K[ik] f`` (``f`` propositional) holds iff ``f`` holds on ``K(S)``, and
-``B[i1] ... B[ik] f`` iff ``f`` holds on ``B(S)``. The group models
+``B[i1] ... B[ik] f`` iff ``f`` holds on ``B(S)`` provided no shorter chain's group
+``{i1, ..., ij}`` has an empty ``B`` (else it holds vacuously). The group models
 (:func:`~.explicit.group_model`, :func:`~.symbolic.group_structure`) answer every formula;
 for hard evidence they give the verdicts of the product update of the observations'
 action models (tests/del/test_state.py checks it on random histories and formulas of
