@@ -246,6 +246,9 @@ class ActiveInference(Policy):
                 ]
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
+        if self._teammates is not None:  # what each robot reads of its teammates, for the record
+            types = np.stack([self._teammates.posterior(int(robot)) for robot in robots])
+            out = out._replace(teammate_types=types)
         return out
 
     def _explore(self, out: Decisions, row: int, observations: Observations, robot: int) -> None:

@@ -228,6 +228,7 @@ class TraceFrame:
             for i, a in enumerate(self.robots)
         ]
         self.transient: list = []
+        self._reading_setup()
         self._map_legend()
         self._belief_panel()
         self._sets_panel()
@@ -340,10 +341,38 @@ class TraceFrame:
         if decided >= 0:
             self._draw_estimates(decided, pose)
             self._draw_belief(decided)
+            self._draw_reading(decided)
         self._draw_events(step, step - 1 if since is None else since)
         self.cursor.set_xdata([decided, decided])
         self.heading.set_text(f"{self.title}   step {step}")
         return [*self.trails, *self.discs, *self.transient, self.heading]
+
+    def _reading_setup(self) -> None:
+        """What one robot reads of its teammates' behaviour (teammate models), if kept: the
+        focus robot, or else the first robot that kept them."""
+        self.reading = None
+        if "teammate_types" not in self.trace:
+            return
+        self.types = np.asarray(self.trace["teammate_types"], dtype=float)  # (T, n, n, K)
+        kept = [i for i in range(self.types.shape[1]) if np.isfinite(self.types[:, i]).any()]
+        if not kept:
+            return
+        self.reader = self.focus if self.focus in kept else kept[0]
+        self.reading = self.sets_axes.text(
+            1.01, -0.3, "", transform=self.sets_axes.transAxes, va="top", ha="left",
+            fontsize=_FONT, family="monospace", gid="reading",
+        )  # fmt: skip
+
+    def _draw_reading(self, step: int) -> None:
+        if self.reading is None:
+            return
+        lines = [f"{self.robots[self.reader]} reads its teammates as:"]
+        for j, name in enumerate(self.robots):
+            row = self.types[step, self.reader, j]
+            if j != self.reader and np.isfinite(row).all():
+                k = int(np.argmax(row))
+                lines.append(f"{name} {self.trace['types'][k]} {row[k]:.2f}")
+        self.reading.set_text("\n".join(lines))
 
     def _draw_estimates(self, step: int, pose: np.ndarray) -> None:
         for i, marks in enumerate(self.estimate_marks):

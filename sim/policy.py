@@ -58,6 +58,10 @@ class Decisions(NamedTuple):
     unpruned : numpy.ndarray or None
         ``(r,)`` configurations each robot had before pruning by what it knows
         (:class:`~epistemica.sim.knowledge.TeamKnowledge`); ``None``: as ``considered``.
+    teammate_types : numpy.ndarray or None
+        ``(r, n, T)``: each deciding robot's posterior over the behaviour library
+        :data:`epistemica.aif.teammates.TYPES` of every robot (its own row unused);
+        ``None``: no teammate models.
     """
 
     controls: np.ndarray
@@ -67,6 +71,7 @@ class Decisions(NamedTuple):
     goal_belief: np.ndarray | None = None
     unpruned: np.ndarray | None = None
     modelled: np.ndarray | None = None
+    teammate_types: np.ndarray | None = None
 
     @classmethod
     def of(cls, controls, focal, entropy=None, considered=None) -> Decisions:

@@ -163,6 +163,7 @@ class TrialRun:
         self.first_reached = np.full(s.n_goals, -1)
         self.events: list[tuple] = []
         self.goal_belief = np.zeros((steps, n, s.n_goals))
+        self.teammate_types: np.ndarray | None = None  # (steps, n, n, T) once a policy keeps them
         self.estimates = np.zeros((steps, n, n, 2))
         self.time = np.zeros(steps)
 
@@ -183,6 +184,11 @@ class TrialRun:
                 modelled = np.repeat(np.asarray(decisions.considered)[:, None], n, axis=1)
             self.modelled[step, robots] = modelled
             self.record_goal_belief(step, robots, decisions)
+            if decisions.teammate_types is not None:
+                if self.teammate_types is None:
+                    shape = (len(self.focal), n, *np.shape(decisions.teammate_types)[1:])
+                    self.teammate_types = np.full(shape, np.nan)
+                self.teammate_types[step, robots] = decisions.teammate_types
 
     def record_goal_belief(self, step: int, robots: np.ndarray, decisions) -> None:
         if decisions.goal_belief is not None:
@@ -321,4 +327,5 @@ class TrialRun:
             seed=int(seed),
             events=tuple(self.events),
             knowledge=self.knowledge,
+            teammate_types=None if self.teammate_types is None else self.teammate_types[:steps],
         )

@@ -27,6 +27,9 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 ``estimates``       ``(T, n, n, 2)``: where robot ``i`` placed robot ``j`` (m, 1 decimal)
 ``events``          ``[step, name, [arguments], [observers]]``: arguments by name (the
                     robots and goals the event was about), observers by index
+``types``           (only where robots kept teammate models) the behaviour library's names
+``teammate_types``  ``(T, n, n, len(types))``: robot ``i``'s posterior over robot ``j``'s
+                    behaviour when it decided (2 decimals; ``null`` where it kept none)
 ==================  ==========================================================================
 
 Examples
@@ -48,6 +51,7 @@ from typing import Any
 
 import numpy as np
 
+from epistemica.aif.teammates import TYPES
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.trial import Trial
@@ -93,7 +97,14 @@ def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
         "focal": np.asarray(trial.focal).tolist(),
         "estimates": _rounded(trial.estimates, 1),
         "events": events,
+        **_teammate_types(trial),
     }
+
+
+def _teammate_types(trial: Trial) -> dict[str, Any]:
+    if trial.teammate_types is None:
+        return {}
+    return {"types": list(TYPES), "teammate_types": _rounded(trial.teammate_types, 2)}
 
 
 def event_names(scenario: Scenario, rule: str, indices) -> list[str]:

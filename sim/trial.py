@@ -65,6 +65,10 @@ class Trial:
         indices: ``settle`` gives the robot and its goal, ``complete`` the task) and the
         robots that observed it (indices). Only events that taught someone something are
         listed.
+    teammate_types : numpy.ndarray or None
+        ``(steps, n, n, T)``: robot ``i``'s posterior over the behaviour library
+        (:data:`epistemica.aif.teammates.TYPES`) of robot ``j`` when it decided (NaN where
+        it kept none); ``None`` when no robot kept teammate models.
     knowledge : TeamKnowledge
         The team's epistemic state at the end of the trial (every observation, goals
         discovered included): what ``epistemica check --after`` checks claims on.
@@ -87,6 +91,7 @@ class Trial:
     seed: int
     events: tuple = ()
     knowledge: Any = field(default=None, repr=False)
+    teammate_types: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> dict:
         """A JSON-ready dictionary of the outcome (no per-step arrays).

@@ -25,7 +25,7 @@ from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.palette import ROBOT_COLOURS
+from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
 from epistemica.sim.trace import trial_trace
 
 CHROMIUM = next(
@@ -202,6 +202,17 @@ def test_play_pause_and_scrub(browser, trial_page):
     expected = [f"{v:.2f}" for row in trace["goal_belief"][decided] for v in row]
     assert cells == expected
     assert f"step {step} of {trace['steps']}" in browser.js("document.body.innerText")
+    # What a robot reads of its teammates (teammate models): the trace's most likely type.
+    types = trace["teammate_types"]
+    kept = [i for i in range(5) if any(None not in row for st in types for row in st[i])]
+    reader = focus_robot(trace) if focus_robot(trace) in kept else kept[0]
+    lines = browser.js("[...document.querySelectorAll('#reading div')].map(d => d.textContent)")
+    shown = []
+    for j, row in enumerate(trace["teammate_types"][decided][reader]):
+        if j != reader and None not in row:
+            k = row.index(max(row))
+            shown.append(f"{trace['robots'][j]}: {trace['types'][k]} {row[k]:.2f}")
+    assert lines == shown and shown
 
 
 def _random_formula(rng: random.Random, agents: list[str], atoms: list[str], depth: int) -> str:

@@ -182,6 +182,36 @@ def test_a_settle_event_names_the_robot_and_the_goal_it_settled_at():
         assert np.hypot(*gap) <= trace["success_radius"] + 0.01
 
 
+def test_the_teammate_types_a_robot_reads_are_recorded_and_drawn():
+    from epistemica.mission import load_mission
+
+    mission = load_mission(str(SPECS / "stress" / "rendezvous_adhoc_stationary_silent_3.epi"))
+    s = mission.scenario(0)
+    trial = simulate(s, "third", seed=0, policies=mission.policies(0))
+    trace = trial_trace(s, trial)
+    plain = trial_trace(s, simulate(s, "convention", seed=0, policies=mission.policies(0)))
+    assert "teammate_types" not in plain  # no level kept models: nothing recorded
+    types = np.asarray(trace["teammate_types"], dtype=float)  # (T, n, n, K)
+    assert types.shape == (trial.steps, 3, 3, len(trace["types"]))
+    kept = [i for i, level in enumerate(trial.policies) if level == "third"]
+    assert np.allclose(types[:, kept].sum(axis=-1), 1.0, atol=0.03)  # posteriors, rounded
+    assert np.isnan(types[:, [i for i in range(3) if i not in kept]]).all()
+    frame = TraceFrame(trace)
+    try:
+        step = trial.steps - 1
+        frame.draw(step, step - 1)
+        reader = frame.focus if frame.focus in kept else kept[0]
+        text = frame.reading.get_text().splitlines()
+        assert text[0] == f"{trace['robots'][reader]} reads its teammates as:"
+        for line, j in zip(text[1:], [j for j in range(3) if j != reader], strict=True):
+            k = int(np.argmax(types[step, reader, j]))
+            assert (
+                line == f"{trace['robots'][j]} {trace['types'][k]} {types[step, reader, j, k]:.2f}"
+            )
+    finally:
+        frame.close()
+
+
 def test_a_version_1_trace_is_still_read_and_drawn(relocated):
     from epistemica.sim.trace import decode, encode
 

@@ -109,6 +109,17 @@
       j === focus ? `━ ${r}` : `━ ${r}  ╌ ${t.robots[focus]}'s model of ${r}'s`);
   });
 
+  // What one robot reads of its teammates' behaviour (teammate models), where kept.
+  const types = t.teammate_types || null;
+  const kept = types ? t.robots.map((r, i) => i)
+    .filter((i) => types.some((s) => s[i].some((row) => row.every((v) => v !== null)))) : [];
+  const reader = kept.includes(focus) ? focus : kept[0];
+  let reading = null;
+  if (kept.length) {
+    el("h2", {}, right, `What ${t.robots[reader]} reads of its teammates' behaviour`);
+    reading = el("div", { class: "events", id: "reading" }, right);
+  }
+
   el("h2", {}, right, "Events observed (and by whom)");
   const events = el("div", { class: "events", id: "events" }, right);
 
@@ -172,6 +183,14 @@
     }));
     cursor.setAttribute("x1", cx(Math.max(decided, 0)));
     cursor.setAttribute("x2", cx(Math.max(decided, 0)));
+    if (reading) {
+      reading.replaceChildren();
+      types[Math.max(decided, 0)][reader].forEach((row, j) => {
+        if (j === reader || row.some((v) => v === null)) return;
+        const k = row.indexOf(Math.max(...row));
+        el("div", {}, reading, `${t.robots[j]}: ${t.types[k]} ${row[k].toFixed(2)}`);
+      });
+    }
     events.replaceChildren();
     const seen = t.events.filter((e) => e[0] <= step);
     if (!seen.length) el("div", {}, events, "(none yet)");
