@@ -56,7 +56,7 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.trial import Trial
 
-__all__ = ["FORMAT", "READABLE", "VERSION", "decode", "encode", "event_names", "trial_trace"]
+__all__ = ["FORMAT", "READABLE", "VERSION", "decode", "encode", "trial_trace"]
 
 FORMAT = "epistemica-trace"
 VERSION = 2
@@ -71,9 +71,9 @@ def _rounded(array: np.ndarray, decimals: int) -> list:
 
 def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
     """The trace document of ``trial`` (a trial of ``scenario``)."""
+    named = _argument_namer(scenario)
     events = [
-        [int(e[0]), str(e[1]), event_names(scenario, e[1], e[2:-1]), [int(o) for o in e[-1]]]
-        for e in trial.events
+        [int(e[0]), str(e[1]), named(e[1], e[2:-1]), [int(o) for o in e[-1]]] for e in trial.events
     ]
     return {
         "format": FORMAT,
@@ -107,15 +107,19 @@ def _teammate_types(trial: Trial) -> dict[str, Any]:
     return {"types": list(TYPES), "teammate_types": _rounded(trial.teammate_types, 2)}
 
 
-def event_names(scenario: Scenario, rule: str, indices) -> list[str]:
-    """The names of an event's arguments, given as indices (a robot's or a goal's, as the
-    rule's parameter says); an unbound argument (``-1``) is ``""``."""
+def _argument_namer(scenario: Scenario):
+    """A function from an event's rule name and argument indices to the arguments' names (a
+    robot's or a goal's, as the rule's parameter says; an unbound ``-1`` is ``""``)."""
     kinds = {r.name: [kind for _, kind in r.parameters] for r in scenario.events}
     names = {"robots": scenario.robot_names, "goals": scenario.goal_names}
-    return [
-        names[kind][int(i)] if int(i) >= 0 and kind in names else ""
-        for kind, i in zip(kinds.get(rule, []), indices, strict=False)
-    ]
+
+    def named(rule: str, indices) -> list[str]:
+        return [
+            names[kind][int(i)] if int(i) >= 0 and kind in names else ""
+            for kind, i in zip(kinds.get(rule, []), indices, strict=False)
+        ]
+
+    return named
 
 
 def encode(trace: dict[str, Any]) -> bytes:
