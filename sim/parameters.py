@@ -119,6 +119,12 @@ class ActiveParameters:
         Steps a group waits before its first search (each search doubles it).
     look : float
         A searcher counts a goal as looked at from this fraction of its sensing range.
+    anchor_check : int
+        Rendezvous search: a member of the group a searcher left that it still sees
+        settle at that goal this many steps after leaving never searches (a greedy or
+        stationary teammate); the searcher goes back and waits with it, and searches on
+        once it has stood there this many steps without seeing it settle
+        (:mod:`epistemica.sim.search`). 0 is the ablation.
     prune_from : int
         From this many valid configurations on, a robot reasons over the plausible ones
         only: those within ``prior_scale * (n + plausible_margin)`` of the least total
@@ -150,6 +156,7 @@ class ActiveParameters:
     search: bool = True
     lone_wait: int = 15
     look: float = 0.8
+    anchor_check: int = 2
     prune_from: int = 2_000
     plausible_margin: float = 10.0
     log_prior_floor: float = -80.0
@@ -187,6 +194,15 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 1, got {value!r}", hint=f"e.g. {name}=16"
                 )
+        if (
+            isinstance(self.anchor_check, bool)
+            or not isinstance(self.anchor_check, int)
+            or (self.anchor_check < 0)
+        ):
+            raise InvalidArgumentError(
+                f"anchor_check must be an integer >= 0, got {self.anchor_check!r}",
+                hint="e.g. anchor_check=2 (0: never)",
+            )
         if not float(self.teammate_sigma) > 0:
             raise InvalidArgumentError(
                 f"teammate_sigma must be > 0, got {self.teammate_sigma!r}", hint="e.g. 0.5"

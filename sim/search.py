@@ -10,12 +10,22 @@ knows the same, so the group leaves together. A searcher stops when it sees a te
 settled where none stood when it left (the settle it then observes is its newest, and
 wins). Each search doubles the robot's next wait: two groups that left at once and crossed
 unseen would otherwise keep missing each other.
+
+A group that holds a teammate that never searches (a greedy or stationary robot) must not
+leave it: every other teammate has to come there in the end, and a group that leaves
+crosses the ones that come. Everyone of the team's own level in a group counts its wait
+from the step it stands still (the step its teammates see it settle), so the group leaves
+at one step; a member still seen settling at that goal ``anchor_check`` steps later, and
+until ``lone_wait`` steps after, is an *anchor*: the searcher goes back and waits there.
+When it has stood there ``anchor_check`` steps without seeing an anchor settle (one that
+only left later than the rest), it searches on.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from epistemica.sim.events import STILL
 from epistemica.sim.explore import Explorer
 from epistemica.sim.scenario import Scenario
 from epistemica.sim.sensing import Observations
@@ -35,11 +45,21 @@ class RendezvousSearch:
         Steps a group waits before its first search.
     look : float
         A goal counts as looked at from this fraction of the sensing range.
+    anchor_check : int
+        Steps after leaving from which a member of the group still seen settling at the
+        goal is an anchor (0: never).
     """
 
-    def __init__(self, scenario: Scenario, spacing: float, lone_wait: int, look: float) -> None:
+    def __init__(
+        self, scenario: Scenario, spacing: float, lone_wait: int, look: float, anchor_check: int
+    ) -> None:
         n = scenario.n_robots
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
+        self.anchor_check = int(anchor_check)
+        self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
+        self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
+        self.since = np.zeros(n, dtype=int)  # steps since the search started
+        self.unseen = np.zeros(n, dtype=int)  # steps back at the goal not seeing an anchor
         self.sweep = Explorer(scenario.workspace, spacing, n)
         self.waiting = np.zeros(n, dtype=int)
         self.left = np.full(n, -1)  # the goal a searcher left (-1: not searching)
@@ -47,6 +67,7 @@ class RendezvousSearch:
         self.searches = np.zeros(n, dtype=int)
         self.mark = np.zeros(n, dtype=int)  # settles it had seen when it left
         self.checked = np.zeros((n, scenario.n_goals), dtype=bool)
+        self.last = np.full((n, 2), np.nan)  # each robot's own position a step before
 
     def applies(self) -> bool:
         """Whether the scenario calls for searching (rendezvous with a sensing range)."""
@@ -61,6 +82,10 @@ class RendezvousSearch:
         pose = observations.poses[robots, robots, :2]
         d = np.hypot(*(pose[:, None] - s.goals[None]).transpose(2, 0, 1))
         own = np.where(d.min(axis=1) <= s.success_radius, d.argmin(axis=1), -1)
+        # A robot counts its wait from the step it stands still, the step its teammates
+        # see it settle: the group's waits then start, and end, together.
+        still = np.hypot(*(pose - self.last[robots]).T) < STILL
+        self.last[robots] = pose
         at, fresh, count = self._settles(observations, robots)
         seen = observations.seen[robots].copy()
         seen[rows, robots] = False
@@ -74,7 +99,7 @@ class RendezvousSearch:
         found = (elsewhere | newcomer).any(axis=1)
         searching = (left >= 0) & ~found
         waiting = (own >= 0) & ~everyone & together & ~searching
-        self.waiting[robots] = np.where(waiting, self.waiting[robots] + 1, 0)
+        self.waiting[robots] = np.where(waiting, self.waiting[robots] + still, 0)
         start = self.waiting[robots] >= self.lone_wait * 2 ** self.searches[robots]
         self.searches[robots] += start
         if start.any():
@@ -83,7 +108,34 @@ class RendezvousSearch:
             self.group[robots[start]] = seen[start] & (at[start] == own[start, None])
             self.mark[robots[start]] = count[start]
         self.left[robots] = np.where(start, own, np.where(searching, left, -1))
-        return self.left[robots] >= 0
+        self._watch(observations, robots, start)
+        return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
+
+    def _watch(self, observations: Observations, robots: np.ndarray, start: np.ndarray) -> None:
+        """A searcher that sees a member of the group it left still settle at that goal,
+        ``anchor_check`` steps on, goes back to wait with it; one waiting there that
+        sees no anchor settle for ``anchor_check`` steps searches on."""
+        if self.anchor_check == 0 or observations.settles is None:
+            return
+        k = self.anchor_check
+        for row, robot in enumerate(robots):
+            self.since[robot] = 0 if start[row] else self.since[robot] + 1
+            settles = observations.settles[robot]
+            goal = self.anchor[robot]
+            if goal >= 0:
+                pose = observations.poses[robot, robot, :2]
+                back = np.hypot(*(pose - self.scenario.goals[goal])) <= self.scenario.success_radius
+                seen = (settles[self.anchors[robot]] == goal).any()
+                self.unseen[robot] = self.unseen[robot] + 1 if back and not seen else 0
+                if self.unseen[robot] >= k:
+                    self.left[robot], self.anchor[robot] = goal, -1
+                continue
+            goal = self.left[robot]
+            if goal < 0 or not k <= self.since[robot] <= self.lone_wait:
+                continue
+            stayed = self.group[robot] & (settles == goal)
+            if stayed.any():
+                self.anchor[robot], self.anchors[robot], self.unseen[robot] = goal, stayed, 0
 
     def _settles(self, observations: Observations, robots: np.ndarray):
         """Where each robot last saw each teammate settle (a noisy view of a position
@@ -109,6 +161,8 @@ class RendezvousSearch:
         then the other goals it knows, then the nearest cell not swept; None when all
         are searched."""
         s, pose = self.scenario, observations.poses[robot, robot]
+        if self.anchor[robot] >= 0:
+            return s.goals[self.anchor[robot]]
         self.sweep.visit(pose[None, :2], [robot])
         distance = np.hypot(*(s.goals - pose[:2]).T)
         self.checked[robot] |= distance <= self.look * s.sensing_range

@@ -56,6 +56,12 @@ class Observations(NamedTuple):
         (:mod:`epistemica.sim.knowledge`); read it, never change it. ``known_goals`` and
         ``known_done`` include what each robot learnt from events (a goal revealed, a
         task seen done by a teammate's completion).
+    settles : numpy.ndarray or None
+        ``(n, n)``: the goal at which robot ``i`` saw robot ``j`` settle at this step (an
+        observation event suggesting ``assigned(j, g)``, such as ``settle``, that ``i``
+        observed fully), whether or not it taught ``i`` anything new; -1: none. A
+        repeated sighting is no news to ``knowledge``, but it says the teammate is
+        still there. ``None`` without events.
     """
 
     step: int
@@ -65,6 +71,7 @@ class Observations(NamedTuple):
     known_goals: np.ndarray
     known_done: np.ndarray
     knowledge: TeamKnowledge | None = None
+    settles: np.ndarray | None = None
 
 
 class Sensing:

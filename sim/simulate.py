@@ -19,6 +19,7 @@ from time import perf_counter
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.language.formula import Atom
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.events import STILL, World, firings, observer_indices
 from epistemica.sim.knowledge import initial_knowledge
@@ -147,6 +148,7 @@ class TrialRun:
         n, steps = s.n_robots, s.max_steps
         self.s, self.streams = s, streams
         self.sensing = Sensing(s, streams.observation)
+        self.settles = np.full((n, n), -1)  # who saw whom settle where, this step
         self.poses = np.array(s.starts, dtype=float)
         self.path = [self.poses.copy()]
         self.held = 0
@@ -215,7 +217,8 @@ class TrialRun:
                 known_goals[i] |= self.knowledge.knows_goals((i,))
                 known_done[i] |= self.knowledge.knows_done((i,))
         self.estimates[step] = obs.poses[..., :2]
-        return obs._replace(knowledge=self.knowledge)
+        settles, self.settles = self.settles, np.full_like(self.settles, -1)
+        return obs._replace(knowledge=self.knowledge, settles=settles if self.s.events else None)
 
     def _events(self, step: int, arrivals: bool) -> None:
         """Fire the mission's event rules at ``step``: arrivals (``G is reached``) right
@@ -240,8 +243,17 @@ class TrialRun:
         for rule, firing in firings(s.events, world, arrivals):
             self.open[list(firing.closes)] = False
             self.open[list(firing.opens)] = True
+            self._note_settle(firing.observation)
             if self.knowledge.observe(firing.observation):
                 self.events.append(_record(step, rule, firing, s))
+
+    def _note_settle(self, observation) -> None:
+        """Who saw whom settle where (``Observations.settles``), news or not."""
+        fact = observation.suggests
+        if isinstance(fact, Atom) and fact.name == "assigned" and len(fact.args) == 2:
+            robot, goal = (str(a) for a in fact.args)
+            watchers = [i for i, r in enumerate(self.s.robot_names) if r in observation.full]
+            self.settles[watchers, self.s.robot_names.index(robot)] = self.s.goal_names.index(goal)
 
     def settled(self) -> np.ndarray:
         if len(self.path) < 2:
