@@ -107,15 +107,10 @@ def goal_marginals(prior: np.ndarray, configurations: np.ndarray, m: int) -> np.
     >>> goal_marginals(np.array([[0.25, 0.75]]), np.array([[0, 1], [1, 1]]), 2).tolist()
     [[[0.25, 0.75], [0.0, 1.0]]]
     """
-    r = prior.shape[0]
-    offset = (np.arange(r) * m)[:, None]
-    return np.stack(
-        [
-            np.bincount((offset + column).ravel(), prior.ravel(), r * m).reshape(r, m)
-            for column in configurations.T
-        ],
-        axis=1,
-    )
+    r, (k, n) = prior.shape[0], configurations.shape
+    cell = (np.arange(r)[:, None, None] * n + np.arange(n)) * m + configurations  # (r, k, n)
+    weights = np.broadcast_to(prior[:, :, None], (r, k, n))
+    return np.bincount(cell.ravel(), weights.ravel(), r * n * m).reshape(r, n, m)
 
 
 def type_goal_probabilities(
@@ -192,12 +187,14 @@ def mix_configurations(
     goal_probabilities: np.ndarray,
     configurations: np.ndarray,
     teammates: np.ndarray,
+    marginal: np.ndarray | None = None,
 ) -> np.ndarray:
     """``(R, k)`` each team prior ``prior[r] (k,)`` made the teammate-type mixture.
 
     ``log_types (R, n, T)`` and ``goal_probabilities (R, n, T, m)`` are what observer
     ``r`` believes of each robot, ``teammates (R, n)`` whom it mixes in (the others keep
-    the team's model).
+    the team's model); ``marginal`` is :func:`goal_marginals` of ``prior`` if the caller
+    has it.
 
     For one teammate ``j``: ``P'(c) = Σ_t P(t) P_t(c_j) π(c) / π_j(c_j)``, the configuration
     drawn with ``j``'s goal from its type and the rest of the team coordinating around it
@@ -232,7 +229,8 @@ def mix_configurations(
     flat[..., stationary] = np.all(goal_probabilities[..., stationary, :] == 1.0 / m, axis=-1)
     uncommitted = np.where(teammates, (weights * flat).sum(-1), 1.0)  # (R, n)
     committed = np.einsum("rnt,rntm->rnm", weights * ~flat, goal_probabilities)
-    marginal = goal_marginals(pi, configurations, m)
+    if marginal is None:
+        marginal = goal_marginals(pi, configurations, m)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(teammates[..., None] & (marginal > 0), committed / marginal, 0.0)
     n = configurations.shape[1]

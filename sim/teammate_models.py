@@ -94,6 +94,7 @@ class TeammateModels:
                 predictions[apply],
                 configurations,
                 seen[apply],
+                marginal[apply],
             )
         return [mixed[row] if apply[row] else priors[row] for row in range(r)]
 
