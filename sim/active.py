@@ -103,7 +103,9 @@ class ActiveInference(Policy):
         self._convention.start(scenario, robots, generators)
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
-        self._search = RendezvousSearch(scenario, spacing, p.lone_wait, p.look, p.anchor_check)
+        self._search = RendezvousSearch(
+            scenario, spacing, p.lone_wait, p.look, p.anchor_check, p.unaware_wait
+        )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
             if p.teammate_models and p.free_energy and self.order >= 2

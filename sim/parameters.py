@@ -117,6 +117,9 @@ class ActiveParameters:
         goal without the rest of the team searches for it.
     lone_wait : int
         Steps a group waits before its first search (each search doubles it).
+    unaware_wait : int
+        The same when the group knows that a teammate it does not see does not know of
+        the goal it waits at (that teammate cannot be on its way): it searches sooner.
     look : float
         A searcher counts a goal as looked at from this fraction of its sensing range.
     anchor_check : int
@@ -155,6 +158,7 @@ class ActiveParameters:
     teammate_leak: float = 0.02
     search: bool = True
     lone_wait: int = 15
+    unaware_wait: int = 3
     look: float = 0.8
     anchor_check: int = 2
     prune_from: int = 2_000
@@ -188,7 +192,7 @@ class ActiveParameters:
                     f"{name} must be true or false, got {getattr(self, name)!r}",
                     hint=f"e.g. {name}=false (the ablation)",
                 )
-        for name in ("headings", "lone_wait", "prune_from", "sight_hysteresis"):
+        for name in ("headings", "lone_wait", "unaware_wait", "prune_from", "sight_hysteresis"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise InvalidArgumentError(

@@ -45,16 +45,26 @@ class RendezvousSearch:
         Steps a group waits before its first search.
     look : float
         A goal counts as looked at from this fraction of the sensing range.
+    unaware_wait : int, optional
+        Steps a group waits instead when it knows that a teammate it does not see does
+        not know of its goal (default ``lone_wait``).
     anchor_check : int
         Steps after leaving from which a member of the group still seen settling at the
         goal is an anchor (0: never).
     """
 
     def __init__(
-        self, scenario: Scenario, spacing: float, lone_wait: int, look: float, anchor_check: int
+        self,
+        scenario: Scenario,
+        spacing: float,
+        lone_wait: int,
+        look: float,
+        anchor_check: int,
+        unaware_wait: int | None = None,
     ) -> None:
         n = scenario.n_robots
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
+        self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
         self.anchor_check = int(anchor_check)
         self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
         self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
@@ -100,7 +110,12 @@ class RendezvousSearch:
         searching = (left >= 0) & ~found
         waiting = (own >= 0) & ~everyone & together & ~searching
         self.waiting[robots] = np.where(waiting, self.waiting[robots] + still, 0)
-        start = self.waiting[robots] >= self.lone_wait * 2 ** self.searches[robots]
+        patience = np.where(
+            self._unaware(observations, robots, own, seen, waiting),
+            self.unaware_wait,
+            self.lone_wait,
+        )
+        start = self.waiting[robots] >= patience * 2 ** self.searches[robots]
         self.searches[robots] += start
         if start.any():
             self.sweep.visited[robots[start]] = False  # a new search sweeps anew
@@ -110,6 +125,24 @@ class RendezvousSearch:
         self.left[robots] = np.where(start, own, np.where(searching, left, -1))
         self._watch(observations, robots, start)
         return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
+
+    def _unaware(self, observations: Observations, robots, own, seen, waiting) -> np.ndarray:
+        """``(len(robots),)`` which waiting robots know that a teammate they do not see
+        does not know of the goal they wait at: that teammate is not on its way."""
+        out = np.zeros(len(robots), dtype=bool)
+        knowledge = observations.knowledge
+        if knowledge is None or self.unaware_wait == self.lone_wait:
+            return out
+        for row in np.flatnonzero(waiting):
+            robot = int(robots[row])
+            for teammate in np.flatnonzero(~seen[row]):
+                if (
+                    teammate != robot
+                    and not knowledge.knows_goals((robot, int(teammate)))[own[row]]
+                ):
+                    out[row] = True
+                    break
+        return out
 
     def _watch(self, observations: Observations, robots: np.ndarray, start: np.ndarray) -> None:
         """A searcher that sees a member of the group it left still settle at that goal,

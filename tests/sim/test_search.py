@@ -47,12 +47,10 @@ def _distance_from(trial, robot: int, point) -> np.ndarray:
 def test_a_searcher_comes_back_to_a_teammate_that_never_leaves():
     _, trial = _run(ANCHOR)
     assert trial.policies[0] == "stationary"
-    wait = ActiveParameters().lone_wait
     r2 = _distance_from(trial, 1, (5, 5))
     # r2 leaves after its wait, sees r1 still settling there, and is back for good: it
     # never gets further than the few steps it took before turning round.
-    assert r2[wait + 1 :].max() > 1.0  # it did leave
-    assert r2[wait + 1 :].max() < 6.0
+    assert 1.0 < r2.max() < 6.0
     assert trial.success  # r3's search found them
     _, ablated = _run(ANCHOR, anchor_check=0)
     assert _distance_from(ablated, 1, (5, 5)).max() > 10.0  # r2 leaves r1 to search
@@ -61,7 +59,7 @@ def test_a_searcher_comes_back_to_a_teammate_that_never_leaves():
 
 def test_a_teammate_that_only_left_later_is_no_anchor():
     mission = parse_mission(ANCHOR.replace("teammate r1 follows stationary\n", ""))
-    leave_at = ActiveParameters().lone_wait + 6
+    leave_at = 14
 
     def late_leaver(robot, observations, scenario):  # r1: at g1, then off east for good
         if observations.step < leave_at:
@@ -73,10 +71,10 @@ def test_a_teammate_that_only_left_later_is_no_anchor():
         mission.scenario(0), "third", seed=0, policies={0: FunctionPolicy(late_leaver)}
     )
     r2 = _distance_from(trial, 1, (5, 5))
-    back = leave_at + 3  # r2 went back when it saw r1 still there, then stood a while
-    assert r2[leave_at - 4 : back].max() > 1.0  # it had left once
-    assert r2[back - 1] < 2.0  # and come back
-    assert r2[back:].max() > 10.0  # r1 gone, it searches on
+    left = int(np.flatnonzero(r2 > 1.5)[0])
+    assert left + 4 < leave_at  # r2 left first (r3 cannot know of g1: a short wait)
+    assert r2[left + 2 : leave_at].min() < 0.5  # came back to r1, still settling there
+    assert r2[leave_at:].max() > 10.0  # r1 gone, it searches on
 
 
 def test_settles_are_seen_every_step_news_or_not():
@@ -113,3 +111,34 @@ def test_without_events_there_are_no_settle_sightings():
 def test_anchor_check_must_be_a_count(bad):
     with pytest.raises(ValueError, match="anchor_check must be an integer >= 0"):
         ActiveParameters(anchor_check=bad)
+
+
+# r1 alone at g1; r2 far off at g2, out of sight. Whether r2 knows of g1 decides whether
+# r1 can expect it.
+UNAWARE = """\
+mission rendezvous
+workspace 30
+robot r1: range at (5, 5)
+robot r2: range at (25, 25)
+goal g1 at (5, 5)
+goal g2 at (25, 25)
+knows r1: g1
+knows r2: g2
+sensing model paper noise 0.5 range 10
+event settle seen by nearby
+simulate trials 1 seed 0 steps 40 levels third
+"""
+
+
+def _first_departure(text: str) -> int:
+    _, trial = _run(text)
+    away = np.flatnonzero(_distance_from(trial, 0, (5, 5)) > 1.0)
+    return int(away[0])
+
+
+def test_a_robot_that_knows_a_teammate_cannot_know_its_goal_searches_sooner():
+    p = ActiveParameters()
+    unaware = _first_departure(UNAWARE)  # r1 knows r2 has never heard of g1
+    aware = _first_departure(UNAWARE.replace("knows r1: g1", "knows r1, r2: g1"))
+    assert p.unaware_wait < unaware <= p.unaware_wait + 3
+    assert p.lone_wait < aware <= p.lone_wait + 3
