@@ -32,6 +32,8 @@ MECHANISMS = {
     "teammate models": "teammate_models=false",
     "common view": "common_view=false",
     "group search": "search=false",
+    "anchors": "anchor_check=0",
+    "short wait when unaware": "unaware_wait=15",
     "pruning by events": "pruning=false",
     "recency revision": "revision=primacy",
 }
