@@ -103,8 +103,16 @@ class ActiveInference(Policy):
         self._convention.start(scenario, robots, generators)
         spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
         self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
+        # Knowing that a teammate does not know of one's goal is second-order knowledge:
+        # only the nested levels have it.
+        aware_of_others = self.order >= 2 and p.nested
         self._search = RendezvousSearch(
-            scenario, spacing, p.lone_wait, p.look, p.anchor_check, p.unaware_wait
+            scenario,
+            spacing,
+            p.lone_wait,
+            p.look,
+            p.anchor_check,
+            p.unaware_wait if aware_of_others else p.lone_wait,
         )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)

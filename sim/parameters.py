@@ -120,6 +120,7 @@ class ActiveParameters:
     unaware_wait : int
         The same when the group knows that a teammate it does not see does not know of
         the goal it waits at (that teammate cannot be on its way): it searches sooner.
+        Second-order knowledge: used at order 2 and above with nested sets only.
     look : float
         A searcher counts a goal as looked at from this fraction of its sensing range.
     anchor_check : int

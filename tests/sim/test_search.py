@@ -142,3 +142,11 @@ def test_a_robot_that_knows_a_teammate_cannot_know_its_goal_searches_sooner():
     aware = _first_departure(UNAWARE.replace("knows r1: g1", "knows r1, r2: g1"))
     assert p.unaware_wait < unaware <= p.unaware_wait + 3
     assert p.lone_wait < aware <= p.lone_wait + 3
+
+
+@pytest.mark.parametrize("level", ["first", "third-shared", "convention+rules"])
+def test_knowing_what_a_teammate_does_not_know_is_for_the_nested_levels(level):
+    mission = parse_mission(UNAWARE)  # r1 knows r2 never heard of g1; these levels do not
+    trial = simulate(mission.scenario(0), level, seed=0, parameters=mission.parameters)
+    away = np.flatnonzero(_distance_from(trial, 0, (5, 5)) > 1.0)
+    assert ActiveParameters().lone_wait < away[0]
