@@ -19,6 +19,9 @@ at one step; a member still seen settling at that goal ``anchor_check`` steps la
 until ``lone_wait`` steps after, is an *anchor*: the searcher goes back and waits there.
 When it has stood there ``anchor_check`` steps without seeing an anchor settle (one that
 only left later than the rest), it searches on.
+
+A group that knows that a teammate it does not see has never heard of its goal knows that
+teammate is not on its way: it waits ``unaware_wait`` steps instead of ``lone_wait``.
 """
 
 from __future__ import annotations
@@ -45,12 +48,13 @@ class RendezvousSearch:
         Steps a group waits before its first search.
     look : float
         A goal counts as looked at from this fraction of the sensing range.
-    unaware_wait : int, optional
-        Steps a group waits instead when it knows that a teammate it does not see does
-        not know of its goal (default ``lone_wait``).
     anchor_check : int
         Steps after leaving from which a member of the group still seen settling at the
         goal is an anchor (0: never).
+    unaware_wait : int, optional
+        Steps a group waits instead when it knows that a teammate it does not see does
+        not know of its goal (default ``lone_wait``: a level that does not reason about
+        what teammates know).
     """
 
     def __init__(
