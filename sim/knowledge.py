@@ -37,12 +37,28 @@ from epistemica.del_.state import EpistemicState, Observation
 from epistemica.del_.state.explicit import belief_masks
 from epistemica.sim.worlds import ConfigurationTable, closed_fact, goal_atoms
 
-__all__ = ["PRIOR", "TeamKnowledge", "initial_knowledge"]
+__all__ = ["PRIOR", "TeamKnowledge", "assignment", "initial_knowledge"]
 
 #: The name of the observations of :meth:`TeamKnowledge.suggest` (a prior belief, no sighting).
 PRIOR = "prior"
 
 Chain = Sequence[int]
+
+
+def assignment(fact: Formula | None) -> tuple[str, str] | None:
+    """``(robot, goal)`` if ``fact`` is ``assigned(robot, goal)`` (what a settle suggests).
+
+    Examples
+    --------
+    >>> assignment(Atom("assigned", ("r1", "g2")))
+    ('r1', 'g2')
+    >>> assignment(None) is None
+    True
+    """
+    if isinstance(fact, Atom) and fact.name == "assigned" and len(fact.args) == 2:
+        robot, goal = fact.args
+        return str(robot), str(goal)
+    return None
 
 
 class TeamKnowledge:
@@ -129,11 +145,9 @@ class TeamKnowledge:
         out = []
         events = self.state.observations
         for i in reversed(self.state.observed(chain, fully=True)):
-            fact = events[i].suggests  # a prior is no sighting of a teammate
-            is_assignment = isinstance(fact, Atom) and fact.name == "assigned"
-            if events[i].name != PRIOR and is_assignment and len(fact.args) == 2:
-                robot, goal = (str(a) for a in fact.args)
-                out.append((self.robots.index(robot), self.goals.index(goal)))
+            pair = assignment(events[i].suggests)
+            if events[i].name != PRIOR and pair is not None:  # a prior is no sighting
+                out.append((self.robots.index(pair[0]), self.goals.index(pair[1])))
         return out
 
     def knows_goals(self, chain: Chain) -> np.ndarray:

@@ -19,10 +19,9 @@ from time import perf_counter
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.language.formula import Atom
 from epistemica.sim._streams import trial_streams
 from epistemica.sim.events import STILL, World, firings, observer_indices
-from epistemica.sim.knowledge import initial_knowledge
+from epistemica.sim.knowledge import assignment, initial_knowledge
 from epistemica.sim.levels import make_policy
 from epistemica.sim.missions import distances, mission_holds, realises
 from epistemica.sim.obstacles import resolve_contacts
@@ -249,9 +248,9 @@ class TrialRun:
 
     def _note_settle(self, observation) -> None:
         """Who saw whom settle where (``Observations.settles``), news or not."""
-        fact = observation.suggests
-        if isinstance(fact, Atom) and fact.name == "assigned" and len(fact.args) == 2:
-            robot, goal = (str(a) for a in fact.args)
+        pair = assignment(observation.suggests)
+        if pair is not None:
+            robot, goal = pair
             watchers = [i for i, r in enumerate(self.s.robot_names) if r in observation.full]
             self.settles[watchers, self.s.robot_names.index(robot)] = self.s.goal_names.index(goal)
 
