@@ -44,8 +44,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from epistemica.aif._logspace import log_normalise
-
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
@@ -67,13 +65,6 @@ GOAL_FLOOR = 1e-4
 ON_GOAL = 0.5
 
 
-def _one_hot(index: np.ndarray, m: int) -> np.ndarray:
-    """``(n, m)`` rows ``1 - (m - 1) · GOAL_FLOOR`` at ``index``, ``GOAL_FLOOR`` elsewhere."""
-    out = np.full((index.shape[0], m), GOAL_FLOOR)
-    out[np.arange(index.shape[0]), index] = 1.0 - (m - 1) * GOAL_FLOOR
-    return out
-
-
 def _distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
     """``(..., m)`` distances from ``positions (..., 2)`` to ``goals (m, 2)``."""
     delta = positions[..., None, :] - goals
@@ -91,12 +82,17 @@ def least_cost_rows(positions: np.ndarray, goals: np.ndarray, configurations: np
     ...                 np.array([[0, 0], [1, 1], [0, 1], [1, 0]])).tolist()
     [[0, 1]]
     """
-    cost = _distances(positions, goals)  # (R, n, m)
+    return least_cost_from_distances(_distances(positions, goals), configurations)
+
+
+def least_cost_from_distances(cost: np.ndarray, configurations: np.ndarray) -> np.ndarray:
+    """:func:`least_cost_rows` from the ``(R, n, m)`` robot-to-goal distances."""
     n = configurations.shape[1]
     total = cost[:, np.arange(n), configurations].sum(axis=2)  # (R, k)
+    # the last of the configurations within 1e-9 of the least total
     tied = total <= total.min(axis=1, keepdims=True) + 1e-9
-    best = np.where(tied, np.arange(total.shape[1]), -1).max(axis=1)
-    return configurations[best]
+    k = total.shape[1]
+    return configurations[k - 1 - np.argmax(tied[:, ::-1], axis=1)]
 
 
 def goal_marginals(prior: np.ndarray, configurations: np.ndarray, m: int) -> np.ndarray:
@@ -129,12 +125,24 @@ def type_goal_probabilities(
     convention : numpy.ndarray
         ``(n,)`` each robot's goal in the other tie-break's convention.
     """
+    return goal_probabilities_from_distances(marginal, _distances(positions, goals), convention)
+
+
+def goal_probabilities_from_distances(
+    marginal: np.ndarray, distance: np.ndarray, convention: np.ndarray
+) -> np.ndarray:
+    """:func:`type_goal_probabilities` from the ``(n, m)`` robot-to-goal distances."""
     n, m = marginal.shape
-    distance = _distances(positions, goals)
+    rows = np.arange(n)
     nearest = np.argmin(distance, axis=1)
-    on_goal = distance[np.arange(n), nearest] <= ON_GOAL
-    stationary = np.where(on_goal[:, None], _one_hot(nearest, m), 1.0 / m)
-    return np.stack([marginal, _one_hot(nearest, m), _one_hot(convention, m), stationary], 1)
+    on_goal = distance[rows, nearest] <= ON_GOAL
+    out = np.full((n, len(TYPES), m), GOAL_FLOOR)
+    out[:, 0] = marginal
+    out[rows, 1, nearest] = 1.0 - (m - 1) * GOAL_FLOOR
+    out[rows, 2, convention] = 1.0 - (m - 1) * GOAL_FLOOR
+    out[~on_goal, 3] = 1.0 / m  # away from every goal: says nothing of its goal
+    out[rows[on_goal], 3, nearest[on_goal]] = 1.0 - (m - 1) * GOAL_FLOOR
+    return out
 
 
 def motion_log_likelihood(
@@ -176,9 +184,13 @@ def update_types(log_types: np.ndarray, log_likelihood: np.ndarray, leak: float)
     >>> np.exp(post).round(3).tolist()
     [[0.6, 0.2, 0.2, 0.0]]
     """
-    post = np.exp(log_normalise(log_types + log_likelihood, 1))
+    joint = log_types + log_likelihood
+    top = joint.max(axis=-1, keepdims=True)
+    post = np.exp(joint - np.where(np.isfinite(top), top, 0.0))
+    total = post.sum(axis=-1, keepdims=True)  # 0 only where every type was ruled out
+    post *= (1 - leak) / np.where(total > 0, total, 1.0)
     with np.errstate(divide="ignore"):
-        return np.log((1 - leak) * post + leak * TYPE_PRIOR)
+        return np.log(post + leak * TYPE_PRIOR)
 
 
 def mix_configurations(
@@ -223,22 +235,23 @@ def mix_configurations(
     pi = np.asarray(prior, dtype=float)
     m = goal_probabilities.shape[-1]
     weights = np.exp(log_types)  # (R, n, T)
-    flat = np.zeros(weights.shape, dtype=bool)
-    flat[..., TYPES.index("team")] = True
-    stationary = TYPES.index("stationary")
-    flat[..., stationary] = np.all(goal_probabilities[..., stationary, :] == 1.0 / m, axis=-1)
-    uncommitted = np.where(teammates, (weights * flat).sum(-1), 1.0)  # (R, n)
-    committed = np.einsum("rnt,rntm->rnm", weights * ~flat, goal_probabilities)
+    team, stationary = TYPES.index("team"), TYPES.index("stationary")
+    # a stationary teammate away from every goal predicts the uniform row: no goal of its own
+    adrift = (goal_probabilities[..., stationary, :] == 1.0 / m).all(axis=-1)  # (R, n)
+    uncommitted = np.where(teammates, weights[..., team] + adrift * weights[..., stationary], 1.0)
+    weights[..., team] = 0.0
+    weights[..., stationary] *= ~adrift
+    committed = np.einsum("rnt,rntm->rnm", weights, goal_probabilities)
     if marginal is None:
         marginal = goal_marginals(pi, configurations, m)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(teammates[..., None] & (marginal > 0), committed / marginal, 0.0)
+    ratio = np.zeros_like(committed)
+    np.divide(committed, marginal, out=ratio, where=teammates[..., None] & (marginal > 0))
     n = configurations.shape[1]
     terms = ratio[:, np.arange(n), configurations]  # (R, k, n): a_j(c_j) / π_j(c_j)
     # Π_{i≠j} u_i from prefix and suffix products (a u_j of 0 stays exact)
-    ones = np.ones((uncommitted.shape[0], 1))
-    before = np.cumprod(np.hstack([ones, uncommitted[:, :-1]]), axis=1)
-    after = np.cumprod(np.hstack([ones, uncommitted[:, :0:-1]]), axis=1)[:, ::-1]
-    others = before * after
-    p = pi * (np.prod(uncommitted, axis=1, keepdims=True) + np.einsum("rkn,rn->rk", terms, others))
+    r = uncommitted.shape[0]
+    before = np.cumprod(np.hstack([np.ones((r, 1)), uncommitted]), axis=1)  # (R, n + 1)
+    after = np.cumprod(np.hstack([np.ones((r, 1)), uncommitted[:, ::-1]]), axis=1)[:, ::-1]
+    others = before[:, :-1] * after[:, 1:]
+    p = pi * (before[:, -1:] + (terms * others[:, None, :]).sum(axis=2))
     return p / p.sum(axis=1, keepdims=True)

@@ -23,10 +23,10 @@ import numpy as np
 from epistemica.aif.teammates import (
     TYPE_PRIOR,
     goal_marginals,
-    least_cost_rows,
+    goal_probabilities_from_distances,
+    least_cost_from_distances,
     mix_configurations,
     motion_log_likelihood,
-    type_goal_probabilities,
     update_types,
 )
 
@@ -55,6 +55,8 @@ class TeammateModels:
         self._log_types = np.tile(np.log(TYPE_PRIOR), (n, n, 1))  # observer, teammate, T
         # observer -> (step, positions seen, seen mask, goal indices, (n, T, m) predictions)
         self._last: dict[int, tuple] = {}
+        # the last call's ((step, observers, goals), positions, seen, predictions), batched
+        self._batch: tuple | None = None
 
     def posterior(self, observer: int) -> np.ndarray:
         """``(n, T)`` the observer's posterior over each robot's type (its own row unused)."""
@@ -71,20 +73,25 @@ class TeammateModels:
         s, step = self.scenario, observations.step
         observers = np.asarray(observers, dtype=int)
         k = configurations.shape[0]
-        pi = np.stack([np.full(k, 1.0 / k) if p is None else np.asarray(p, float) for p in priors])
+        pi = np.empty((observers.size, k))
+        for row, p in enumerate(priors):
+            pi[row] = 1.0 / k if p is None else p
         positions = observations.poses[observers][:, :, :2]  # (R, n, 2)
         seen = observations.seen[observers].copy()
         seen[np.arange(len(observers)), observers] = False
         where = s.goals[goals]
         self._score(observers, step, positions, seen, goals, where)
         marginal = goal_marginals(pi, configurations, goals.size)  # (R, n, m)
-        convention = least_cost_rows(positions, where, configurations)  # (R, n)
+        delta = positions[:, :, None] - where  # (R, n, m, 2)
+        distance = np.sqrt((delta**2).sum(-1))
+        convention = least_cost_from_distances(distance, configurations)  # (R, n)
         r, n = seen.shape
-        predictions = type_goal_probabilities(
-            marginal.reshape(r * n, -1), positions.reshape(r * n, 2), where, convention.ravel()
+        predictions = goal_probabilities_from_distances(
+            marginal.reshape(r * n, -1), distance.reshape(r * n, -1), convention.ravel()
         ).reshape(r, n, len(TYPE_PRIOR), goals.size)
         for row, observer in enumerate(observers.tolist()):
             self._last[observer] = (step, positions[row], seen[row], goals, predictions[row])
+        self._batch = ((step, observers.tobytes(), goals.tobytes()), positions, seen, predictions)
         apply = np.asarray(apply, dtype=bool)
         mixed = pi.copy()
         if apply.any():
@@ -100,7 +107,26 @@ class TeammateModels:
 
     def _score(self, observers, step, positions, seen, goals, where) -> None:
         """Update the type posteriors from each observer's view of this step's moves."""
-        rows, pairs, previous, predicted = [], [], [], []
+        batch = self._batch
+        if batch is not None and batch[0] == (step - 1, observers.tobytes(), goals.tobytes()):
+            # the usual case: the same team decided together last step, on the same goals
+            rows, pairs = np.nonzero(seen & batch[2])
+            previous, predicted = batch[1][rows, pairs], batch[3][rows, pairs]
+        else:
+            rows, pairs, previous, predicted = self._scored_one_by_one(observers, step, seen, goals)
+        if not pairs.size:
+            return
+        reach = self.scenario.max_speed[pairs] * self.scenario.dt
+        ll = motion_log_likelihood(
+            previous, positions[rows, pairs], predicted, where, reach, self.sigma
+        )
+        who = observers[rows]
+        self._log_types[who, pairs] = update_types(self._log_types[who, pairs], ll, self.leak)
+
+    def _scored_one_by_one(self, observers, step, seen, goals) -> tuple:
+        """``(rows, teammates, previous positions, predictions)`` of the moves to score,
+        from each observer's own record of the last step."""
+        rows, pairs, previous, predicted = [np.zeros(0, int)], [np.zeros(0, int)], [], []
         for row, observer in enumerate(observers.tolist()):
             last = self._last.get(observer)
             if last is None or last[0] != step - 1 or not np.array_equal(last[3], goals):
@@ -110,13 +136,7 @@ class TeammateModels:
             pairs.append(scored)
             previous.append(last[1][scored])
             predicted.append(last[4][scored])
-        if not pairs or not sum(p.size for p in pairs):
-            return
-        rows, pairs = np.concatenate(rows), np.concatenate(pairs)
-        reach = self.scenario.max_speed[pairs] * self.scenario.dt
-        ll = motion_log_likelihood(
-            np.concatenate(previous), positions[rows, pairs], np.concatenate(predicted), where,
-            reach, self.sigma,
-        )  # fmt: skip
-        who = observers[rows]
-        self._log_types[who, pairs] = update_types(self._log_types[who, pairs], ll, self.leak)
+        if not previous:
+            return rows[0], pairs[0], None, None
+        return (np.concatenate(rows), np.concatenate(pairs), np.concatenate(previous),
+                np.concatenate(predicted))  # fmt: skip

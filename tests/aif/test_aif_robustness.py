@@ -174,3 +174,33 @@ def test_zero_prior_mass_and_huge_precision_stay_finite(order, update, zeros, ga
     if update == "bayes":  # the published softmax rule is not Bayesian: zeros revive
         assert np.all(d.belief[np.asarray(zeros)] == 0.0)
     assert np.isclose(d.belief.sum(), 1.0)
+
+
+@pytest.mark.filterwarnings("error")
+@settings(max_examples=300, deadline=None)
+@given(
+    p=arrays(
+        np.float64,
+        st.integers(1, 6),
+        elements=st.one_of(
+            st.floats(-1.0, 2.0),
+            st.sampled_from([0.0, 0.25, 0.5, 1.0, np.nan, np.inf, -np.inf, 1e-7, -1e-300]),
+        ),
+    ),
+    normalise=st.booleans(),
+)
+def test_a_distribution_passed_as_an_array_is_checked_like_any_other(p, normalise):
+    """A float array takes the short path of ``as_distribution``: it must accept and reject
+    exactly what the same values given as a list do."""
+    from epistemica.aif._validate import as_distribution
+
+    if normalise and np.isfinite(p).all() and p.sum() > 0:
+        p = p / p.sum()
+
+    def outcome(value):
+        try:
+            return as_distribution(value, "p").tolist()
+        except InvalidArgumentError as err:
+            return str(err)
+
+    assert outcome(p) == outcome(p.tolist())

@@ -60,3 +60,37 @@ def test_with_a_silent_greedy_teammate_the_models_make_the_rendezvous():
     assert on.success and not off.success
     greedy_goal = int(on.focal[-1, 2, 2])
     assert (on.focal[-1, [0, 1], [0, 1]] == greedy_goal).all()
+
+
+def test_a_team_scored_together_reads_its_teammates_as_each_robot_alone_would():
+    """The models score a team's moves in one batch when the same team decided together
+    the step before; robot by robot (as when robots decide apart) they must read the same."""
+    from types import SimpleNamespace
+
+    from epistemica.sim.teammate_models import TeammateModels
+
+    s = Scenario("rendezvous", [[0, 0, 0], [30, 0, 0], [10, 15, 0]], [[2, 0], [30, 12], [10, 5]],
+                 ["range"] * 3)  # fmt: skip
+    rows = np.array([[0, 0, 0], [1, 1, 1], [2, 2, 2]])
+    goals = np.arange(3)
+    together, alone = TeammateModels(s, 0.25, 0.02), TeammateModels(s, 0.25, 0.02)
+    rng = np.random.default_rng(5)
+    poses = np.array(s.starts, dtype=float)
+    # robot 1 drives for goal 1, its nearest (greedy); the others for goal 2, the prior's
+    heading_for = s.goals[[2, 1, 2]]
+    for step in range(10):
+        seen = np.ones((3, 3), dtype=bool)
+        seen[0, 1] = step % 3 != 1  # robot 0 loses sight of robot 1 now and then
+        obs = SimpleNamespace(step=step, poses=np.broadcast_to(poses, (3, 3, 3)).copy(), seen=seen)
+        priors = [np.array([0.05, 0.05, 0.9])] * 3
+        a = together.mix([0, 1, 2], obs, goals, rows, priors, [True] * 3)
+        b = [alone.mix([r], obs, goals, rows, [priors[r]], [True])[0] for r in range(3)]
+        for got, want in zip(a, b, strict=True):
+            np.testing.assert_allclose(got, want, rtol=1e-12)
+        for r in range(3):
+            np.testing.assert_allclose(together.posterior(r), alone.posterior(r), rtol=1e-12)
+        step_to = heading_for - poses[:, :2]
+        poses[:, :2] += step_to / np.linalg.norm(step_to, axis=1, keepdims=True)
+        poses[:, :2] += rng.normal(0, 0.05, (3, 2))
+    # and it did read something: robot 0's view of robot 1 left the prior
+    assert together.posterior(0)[1, 1] > 0.5
