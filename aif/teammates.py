@@ -189,8 +189,10 @@ def update_types(log_types: np.ndarray, log_likelihood: np.ndarray, leak: float)
     post = np.exp(joint - np.where(np.isfinite(top), top, 0.0))
     total = post.sum(axis=-1, keepdims=True)  # 0 only where every type was ruled out
     post *= (1 - leak) / np.where(total > 0, total, 1.0)
-    with np.errstate(divide="ignore"):
+    if leak > 0:  # no type is ever ruled out
         return np.log(post + leak * TYPE_PRIOR)
+    with np.errstate(divide="ignore"):
+        return np.log(post)
 
 
 def mix_configurations(

@@ -93,6 +93,11 @@ class TeammateModels:
             self._last[observer] = (step, positions[row], seen[row], goals, predictions[row])
         self._batch = ((step, observers.tobytes(), goals.tobytes()), positions, seen, predictions)
         apply = np.asarray(apply, dtype=bool)
+        if apply.all():  # the usual case: no rows to pick
+            mixed = mix_configurations(
+                pi, self._log_types[observers], predictions, configurations, seen, marginal
+            )
+            return list(mixed)
         mixed = pi.copy()
         if apply.any():
             mixed[apply] = mix_configurations(
