@@ -25,16 +25,18 @@ ROOT = Path(__file__).resolve().parents[1]
 LEVELS = ("convention", "first", "third", "third-shared", "third-unpruned")
 
 
-def files(sizes, match: str = ""):
+def files(sizes, match: str = "", skip=()):
     out = []
     for mission in ("rendezvous", "allocation"):
         for path in sorted((ROOT / "specs" / "stress").glob(f"{mission}_*.epi")):
-            if int(path.stem.rsplit("_", 1)[1]) in sizes and match in path.stem:
+            if int(path.stem.rsplit("_", 1)[1]) not in sizes or match not in path.stem:
+                continue
+            if not any(part in path.stem for part in skip):
                 out.append(path)
     return out
 
 
-def table(rows, sizes, trials: int) -> str:
+def table(rows, sizes, trials: int, levels=LEVELS) -> str:
     cells = summarise(rows)
     by = {}
     for c in cells:
@@ -45,12 +47,12 @@ def table(rows, sizes, trials: int) -> str:
     lines = []
     for mission in ("rendezvous", "allocation"):
         variants = sorted({k[1] for k in by if k[0] == mission})
-        head = "| variant | robots | " + " | ".join(LEVELS) + " |"
-        lines += [f"\n**{mission}**\n", head, "|---|---|" + "---|" * len(LEVELS)]
+        head = "| variant | robots | " + " | ".join(levels) + " |"
+        lines += [f"\n**{mission}**\n", head, "|---|---|" + "---|" * len(levels)]
         for variant in variants:
             for n in sizes:
                 row = [variant, str(n)]
-                for level in LEVELS:
+                for level in levels:
                     c = by.get((mission, variant, n, level))
                     if c is None:
                         row.append("–")
@@ -77,14 +79,18 @@ def main() -> None:
     parser.add_argument("--table", action="store_true", help="only print the table")
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--match", default="", help="run only files whose name contains it")
-    parser.add_argument("--levels", default=",".join(LEVELS), help="levels to run")
+    parser.add_argument("--levels", default=",".join(LEVELS), help="levels to run or tabulate")
+    parser.add_argument(
+        "--skip", default="", help="comma-separated: leave out files whose name contains one"
+    )
     args = parser.parse_args()
     sizes = [int(x) for x in args.sizes.split(",")]
-    levels = LEVELS if args.table else tuple(args.levels.split(","))
+    levels = tuple(args.levels.split(","))
+    skip = tuple(filter(None, args.skip.split(",")))
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     with ResultStore(args.out, resume=True) as store:
         specs = []
-        for path in files(sizes, args.match if not args.table else ""):
+        for path in files(sizes, args.match if not args.table else "", skip):
             specs += mission_trials(load_mission(path), levels, args.trials, args.seed)
         if not args.table:
             ran, skipped = run_study(specs, store, workers=args.workers)
@@ -94,7 +100,7 @@ def main() -> None:
     for extra in args.also if args.table else ():
         with ResultStore(extra, resume=True) as more:
             rows += [r for r in more.rows() if r["id"] in ids]
-    print(table(rows, sizes, args.trials))
+    print(table(rows, sizes, args.trials, levels))
 
 
 if __name__ == "__main__":
