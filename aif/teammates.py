@@ -47,7 +47,10 @@ import numpy as np
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
+    "goal_distances",
     "goal_marginals",
+    "goal_probabilities_from_distances",
+    "least_cost_from_distances",
     "least_cost_rows",
     "mix_configurations",
     "motion_log_likelihood",
@@ -65,8 +68,15 @@ GOAL_FLOOR = 1e-4
 ON_GOAL = 0.5
 
 
-def _distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
-    """``(..., m)`` distances from ``positions (..., 2)`` to ``goals (m, 2)``."""
+def goal_distances(positions: np.ndarray, goals: np.ndarray) -> np.ndarray:
+    """``(..., m)`` distances from ``positions (..., 2)`` to ``goals (m, 2)``: what
+    :func:`least_cost_from_distances` and :func:`goal_probabilities_from_distances` share.
+
+    Examples
+    --------
+    >>> goal_distances(np.array([[0.0, 0.0]]), np.array([[3.0, 4.0], [0.0, 1.0]])).tolist()
+    [[5.0, 1.0]]
+    """
     delta = positions[..., None, :] - goals
     return np.sqrt((delta**2).sum(-1))
 
@@ -82,7 +92,7 @@ def least_cost_rows(positions: np.ndarray, goals: np.ndarray, configurations: np
     ...                 np.array([[0, 0], [1, 1], [0, 1], [1, 0]])).tolist()
     [[0, 1]]
     """
-    return least_cost_from_distances(_distances(positions, goals), configurations)
+    return least_cost_from_distances(goal_distances(positions, goals), configurations)
 
 
 def least_cost_from_distances(cost: np.ndarray, configurations: np.ndarray) -> np.ndarray:
@@ -125,7 +135,7 @@ def type_goal_probabilities(
     convention : numpy.ndarray
         ``(n,)`` each robot's goal in the other tie-break's convention.
     """
-    return goal_probabilities_from_distances(marginal, _distances(positions, goals), convention)
+    return goal_probabilities_from_distances(marginal, goal_distances(positions, goals), convention)
 
 
 def goal_probabilities_from_distances(

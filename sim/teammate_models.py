@@ -22,6 +22,7 @@ import numpy as np
 
 from epistemica.aif.teammates import (
     TYPE_PRIOR,
+    goal_distances,
     goal_marginals,
     goal_probabilities_from_distances,
     least_cost_from_distances,
@@ -82,8 +83,7 @@ class TeammateModels:
         where = s.goals[goals]
         self._score(observers, step, positions, seen, goals, where)
         marginal = goal_marginals(pi, configurations, goals.size)  # (R, n, m)
-        delta = positions[:, :, None] - where  # (R, n, m, 2)
-        distance = np.sqrt((delta**2).sum(-1))
+        distance = goal_distances(positions, where)  # (R, n, m), shared by the two below
         convention = least_cost_from_distances(distance, configurations)  # (R, n)
         r, n = seen.shape
         predictions = goal_probabilities_from_distances(
