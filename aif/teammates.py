@@ -143,15 +143,18 @@ def goal_probabilities_from_distances(
 ) -> np.ndarray:
     """:func:`type_goal_probabilities` from the ``(n, m)`` robot-to-goal distances."""
     n, m = marginal.shape
+    team, greedy = TYPES.index("team"), TYPES.index("greedy")
+    other, stationary = TYPES.index("convention"), TYPES.index("stationary")
     rows = np.arange(n)
     nearest = np.argmin(distance, axis=1)
     on_goal = distance[rows, nearest] <= ON_GOAL
+    sure = 1.0 - (m - 1) * GOAL_FLOOR  # a one-hot row, floored
     out = np.full((n, len(TYPES), m), GOAL_FLOOR)
-    out[:, 0] = marginal
-    out[rows, 1, nearest] = 1.0 - (m - 1) * GOAL_FLOOR
-    out[rows, 2, convention] = 1.0 - (m - 1) * GOAL_FLOOR
-    out[~on_goal, 3] = 1.0 / m  # away from every goal: says nothing of its goal
-    out[rows[on_goal], 3, nearest[on_goal]] = 1.0 - (m - 1) * GOAL_FLOOR
+    out[:, team] = marginal
+    out[rows, greedy, nearest] = sure
+    out[rows, other, convention] = sure
+    out[~on_goal, stationary] = 1.0 / m  # away from every goal: says nothing of its goal
+    out[rows[on_goal], stationary, nearest[on_goal]] = sure
     return out
 
 
