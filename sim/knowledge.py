@@ -82,6 +82,9 @@ class TeamKnowledge:
         if known_goals is not None:  # some goals unknown to some: awareness matters
             tracked = set().union(*(goal_atoms(self.robots, g) for g in self.goals))
         self.state = EpistemicState(self.robots, tracked=tracked)
+        # Event content -> the (full observers, all observers) it was seen by: each
+        # piece of evidence dates from its first sighting (:meth:`observe`).
+        self._sightings: dict[tuple, list[tuple[frozenset, frozenset]]] = {}
         self._goal_atoms = tuple(goal_atoms(self.robots, g) for g in self.goals)
         #: ``closed[g]``: the fact "no robot goes to goal ``g``" (a task done, a goal closed).
         self.closed = tuple(closed_fact(self.robots, g) for g in self.goals)
@@ -98,7 +101,22 @@ class TeamKnowledge:
     # -- events ------------------------------------------------------------------------
 
     def observe(self, observation: Observation) -> bool:
-        """Record an observation event; ``False`` if it taught nobody anything new."""
+        """Record an observation event; ``False`` if it taught nobody anything new.
+
+        Evidence dates from its first sighting: an event whose observers had all seen
+        the same event (fully, where they see it fully) is not recorded again, even after
+        other evidence came in between (a robot still standing where it settled, or back
+        at a goal it left, is not newer news). This is how every measured table was made;
+        the logic layer's :meth:`~epistemica.del_.EpistemicState.observe` alone would
+        record such a soft fact again, as the newest upgrade of a sequence.
+        """
+        key = (observation.name, observation.args, observation.pre, observation.senses,
+               observation.outcome, observation.suggests, observation.aware)  # fmt: skip
+        full, seen = observation.full, observation.observers
+        earlier = self._sightings.setdefault(key, [])
+        if any(full <= f and seen <= s for f, s in earlier):
+            return False
+        earlier.append((full, seen))
         return self.state.observe(observation)
 
     def discover(self, goal: int, observers) -> bool:

@@ -35,7 +35,8 @@ action models (tests/del/test_state.py checks it on random histories and formula
 every modality), and they extend it with awareness and soft evidence.
 
 An observation that teaches no group anything it had not observed already (the same
-content, observers within an earlier one's) is not recorded.
+content, observers within an earlier one's, and for a soft fact no other soft fact
+observed by any of them since) is not recorded.
 
 Examples
 --------
@@ -102,6 +103,7 @@ class EpistemicState:
         self._full: list[int] = []  # bitmask of the full observers
         self._by_content: dict[tuple, list[int]] = {}
         self._groups: dict[int, _Group] = {}  # per group bitmask, until the next observation
+        self._soft: list[int] = []  # indices of the observations with a soft fact
 
     # -- the record --------------------------------------------------------------------
 
@@ -165,14 +167,32 @@ class EpistemicState:
         )
         earlier = self._by_content.setdefault(key, [])
         for i in earlier:
-            if self._full[i] & full == full and self._observed[i] & seen == seen:
+            if (
+                self._full[i] & full == full
+                and self._observed[i] & seen == seen
+                and not self._soft_since(i, observation, full)
+            ):
                 return False
         earlier.append(len(self._observations))
+        if observation.suggests is not None:
+            self._soft.append(len(self._observations))
         self._groups.clear()
         self._observations.append(observation)
         self._observed.append(seen)
         self._full.append(full)
         return True
+
+    def _soft_since(self, i: int, observation: Observation, full: int) -> bool:
+        """Whether a soft fact reached one of ``full`` after observation ``i``: then a
+        repeat of ``i``'s soft fact is the newest evidence again, not a repeat."""
+        if observation.suggests is None:
+            return False
+        for j in reversed(self._soft):
+            if j <= i:
+                return False
+            if self._full[j] & full:
+                return True
+        return False
 
     # -- groups ------------------------------------------------------------------------
 

@@ -40,6 +40,7 @@ from epistemica.del_.state.explicit import (
     group_model,
     knowledge_mask,
 )
+from epistemica.del_.state.state import REVISIONS
 from epistemica.del_.state.symbolic import (
     belief_bdd,
     count,
@@ -249,21 +250,49 @@ def test_equal_signatures_give_equal_sets(history, groups):
         assert np.array_equal(mask, belief_mask(state, chain, table))
 
 
-@settings(max_examples=40, deadline=None)
-@given(histories(), st.data())
-def test_a_redundant_observation_is_not_recorded_and_changes_nothing(history, data):
+def _renamed(observations):
+    """The same observations under distinct names: no two have the same content, so the
+    state records every one (the reference without the skipping of repeats)."""
+    return [
+        Observation(f"e{k}", o.full, o.observers - o.full, o.pre, o.senses, o.outcome,
+                    o.suggests, o.aware)
+        for k, o in enumerate(observations)
+    ]  # fmt: skip
+
+
+@settings(max_examples=150, deadline=None)
+@given(histories(), st.data(), st.sampled_from(REVISIONS))
+def test_skipping_a_repeated_observation_changes_no_belief(history, data, revision):
+    """An observation repeated with the same or fewer observers, after any history (soft
+    facts in between included): every group's belief is that of recording it again."""
     _, worlds, _, tracked, observations = history
-    state = _state(tracked, observations)
-    if not len(state):
+    if not observations:
         return
-    table = ValuationTable(ATOMS, worlds)
-    before = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
-    o = state.observations[data.draw(st.integers(0, len(state) - 1))]
-    fewer = data.draw(st.sets(st.sampled_from(sorted(o.full)))) if o.full else set()
+    soft = [o for o in observations if o.suggests is not None and o.full]
+    o = data.draw(st.sampled_from(soft or observations))
+    fewer = data.draw(st.sets(st.sampled_from(sorted(o.full)), min_size=1)) if o.full else set()
     repeat = Observation(o.name, fewer, set(), o.pre, o.senses, o.outcome, o.suggests, o.aware)
-    assert not state.observe(repeat)
-    after = [belief_mask(state, c, table) for c in itertools.product(AGENTS, repeat=2)]
-    assert all(np.array_equal(x, y) for x, y in zip(before, after, strict=True))
+    later = data.draw(st.lists(st.sampled_from(observations), max_size=2))
+    if o.suggests is not None:  # the case that matters: contrary evidence in between
+        later.append(Observation("e", data.draw(st.sets(st.sampled_from(AGENTS))), set(),
+                                 suggests=Not(o.suggests)))  # fmt: skip
+    sequence = [*observations, *later, repeat]
+    state, reference = _state(tracked, sequence), _state(tracked, _renamed(sequence))
+    table = ValuationTable(ATOMS, worlds)
+    for chain in itertools.product(AGENTS, repeat=2):
+        assert np.array_equal(
+            belief_mask(state, chain, table, revision),
+            belief_mask(reference, chain, table, revision),
+        ), chain
+
+
+def test_a_settle_seen_again_after_another_is_the_newest_again():
+    """a sees c settle at g1, then at g2, then at g1 again: g1 is the newest evidence."""
+    s = EpistemicState(["a", "c"])
+    for goal in ("g1", "g2", "g1"):
+        assert s.observe(Observation("settle", full={"a", "c"}, suggests=f"at_c_{goal}"))
+    assert [str(f) for f in s.soft(("a",))] == ["at_c_g1", "at_c_g2", "at_c_g1"]
+    assert not s.observe(Observation("settle", full={"a"}, suggests="at_c_g1"))
 
 
 @settings(max_examples=40, deadline=None)

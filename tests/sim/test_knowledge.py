@@ -174,6 +174,21 @@ def test_a_contradictory_settle_is_ignored_not_an_empty_set():
     assert k.possible((0,), rows).tolist() == [False, True]
 
 
+def test_a_settle_seen_again_dates_from_its_first_sighting():
+    # Hand-worked: r2 settles at g1, then at g2, then back at g1, all seen by r1. The
+    # simulator dates evidence from its first sighting (g2 stays the newest); the logic
+    # layer alone takes the third settle as the newest upgrade.
+    rows = valid_configurations("rendezvous", 2, 2)
+    k = TeamKnowledge(["r1", "r2"], ["g1", "g2"])
+    assert settle(k, 1, 0, [True, True]) and settle(k, 1, 1, [True, True])
+    assert not settle(k, 1, 0, [True, True])
+    assert not settle(k, 1, 0, [True, False])  # fewer observers: nothing new either
+    assert k.possible((0,), rows).tolist() == [False, True]
+    again = Observation("settle", full={"r1", "r2"}, suggests="assigned(r2, g1)")
+    assert k.state.observe(again)
+    assert k.possible((0,), rows).tolist() == [True, False]
+
+
 def test_the_primacy_ablation_keeps_the_first_settle_through_the_nested_sets():
     # Hand-worked: a rendezvous at g1 or g2; r2 is seen settled at g1, then at g2.
     rows = valid_configurations("rendezvous", 2, 2)
