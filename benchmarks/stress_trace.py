@@ -46,10 +46,10 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> str:
                 f"  {name:>4} at ({pose[r, 0]:5.1f}, {pose[r, 1]:5.1f}) on {at:>4}; "
                 f"believes {favoured}; considers {trial.considered[row, r]:.0f}"
             )
-    lines.append("events (step, kind, robot, goal, observers):")
-    for step, kind, robot, goal, observers in trial.events:
+    lines.append("events (step, name, arguments, observers):")
+    for step, kind, *arguments, observers in trial.events:
         seen = ", ".join(names[i] for i in observers)
-        lines.append(f"  {step:3d} {names[robot]} {kind}s at {goals[goal]}, seen by {seen}")
+        lines.append(f"  {step:3d} {kind}{tuple(arguments)}, seen by {seen or 'nobody'}")
     return "\n".join(lines)
 
 
