@@ -27,26 +27,19 @@ import time
 import numpy as np
 
 from epistemica.del_.explicit.plausibility import PlausibilityModel
-from epistemica.del_.language.formula import (
-    And,
+from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     ConditionalBelief,
     ConservativeUpgrade,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
     RadicalUpgrade,
     SafeBelief,
-    Top,
 )
 from epistemica.del_.symbolic.plausibility import PlausibilityStructure
 

@@ -13,26 +13,19 @@ import numpy as np
 from hypothesis import strategies as st
 
 from epistemica.del_.explicit.plausibility import PlausibilityModel
-from epistemica.del_.language.formula import (
-    And,
+from epistemica.del_.language.formula import And, Atom, Bottom, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     ConditionalBelief,
     ConservativeUpgrade,
     Everybody,
     EverybodyBelieves,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
     RadicalUpgrade,
     SafeBelief,
-    Top,
 )
 
 ATOMS = ("p", "q", "r")

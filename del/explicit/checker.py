@@ -45,27 +45,19 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel, column_of
 from epistemica.del_.explicit._product import product_with_provenance
 from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
-from epistemica.del_.language.formula import (
+from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     After,
-    And,
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     Common,
     CommonBelief,
     Distributed,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
-    Top,
 )
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.language.walk import fold_nodes

@@ -18,17 +18,8 @@ from typing import Any
 from lark import Tree
 
 from epistemica.del_.formats._epddl_syntax import Source, mangle
-from epistemica.del_.language.formula import (
-    And,
-    Believe,
-    Bottom,
-    CommonBelief,
-    Formula,
-    Implies,
-    Not,
-    Or,
-    Top,
-)
+from epistemica.del_.language.formula import And, Bottom, Formula, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import Believe, CommonBelief
 
 __all__ = ["conj", "disj", "ground_formula", "negate", "static_truth"]
 

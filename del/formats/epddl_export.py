@@ -45,23 +45,15 @@ from collections.abc import Iterable
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel
-from epistemica.del_.language.formula import (
-    And,
-    Atom,
+from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     Believe,
-    Bottom,
     Common,
     CommonBelief,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
-    Top,
 )
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.spec import Spec

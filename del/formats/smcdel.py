@@ -56,28 +56,30 @@ from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.formats._epddl_syntax import Source, position
 from epistemica.del_.language.formula import (
-    After,
     And,
-    Announce,
-    AnnounceDiamond,
     Atom,
-    Believe,
     Bottom,
-    Common,
-    CommonBelief,
-    Distributed,
-    Everybody,
-    EverybodyBelieves,
     Formula,
     Iff,
     Implies,
-    Know,
-    KnowWhether,
     Not,
     Or,
     Top,
     conjunction,
     disjunction,
+)
+from epistemica.del_.language.modalities import (
+    After,
+    Announce,
+    AnnounceDiamond,
+    Believe,
+    Common,
+    CommonBelief,
+    Distributed,
+    Everybody,
+    EverybodyBelieves,
+    Know,
+    KnowWhether,
 )
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
 from epistemica.del_.spec import Check, Spec

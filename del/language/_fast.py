@@ -17,27 +17,29 @@ from typing import Any
 
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,
-    After,
     And,
+    Atom,
+    Bottom,
+    Formula,
+    Iff,
+    Implies,
+    Not,
+    Or,
+    Top,
+)
+from epistemica.del_.language.modalities import (
+    After,
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     Common,
     CommonBelief,
     Distributed,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
     SafeBelief,
-    Top,
 )
 
 __all__ = ["Tokens", "read_formula", "tokenize"]

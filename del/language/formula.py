@@ -1,18 +1,21 @@
-"""Formulas of dynamic epistemic logic as immutable, hashable trees.
+"""Formulas of dynamic epistemic logic as immutable, hashable trees: the base class, the
+propositional nodes and the helpers that build formulas.
 
-The classes mirror the grammar in ``formula.lark``: atoms, the Boolean connectives, the
-individual modalities ``K`` (knowledge), ``B`` (belief) and ``Kw`` (knowing whether), the
-group modalities ``E`` (everybody knows), ``C`` (common knowledge), ``D`` (distributed
-knowledge), ``EB`` (everybody believes) and ``CB`` (common belief), public announcements
-``[!f] g`` and ``<!f> g``, and named actions ``[ACT] g``; for plausibility models,
-conditional belief ``B[a | f] g``, safe belief ``Sb[a] f`` and the public soft upgrades
-``[^^f] g`` (radical) and ``[^f] g`` (conservative).
+The classes mirror the grammar in ``formula.lark``. This module holds the base class
+:class:`Formula`, ``true`` and ``false``, atoms, negation and the Boolean connectives; the
+modal nodes (the individual and group modalities, announcements, upgrades and named
+actions) are in :mod:`~epistemica.del_.language.modalities`. Import both from
+:mod:`epistemica.del_`.
 
 ``str(formula)`` prints the formula in the concrete syntax with as few parentheses as the
-precedence rules allow, so that ``parse_formula(str(f)) == f``.
+precedence rules allow, so that ``parse_formula(str(f)) == f``. The helpers that rebuild or
+join formulas (``map_atoms``, ``with_children``, ``conjunction``, ``disjunction``) build
+nodes, so they stay here; the walks ``iter_postorder`` and ``fold`` are in
+:mod:`~epistemica.del_.language.walk`, re-exported here.
 
 Examples
 --------
+>>> from epistemica.del_ import Announce, Atom, Know
 >>> p, q = Atom("p"), Atom("q")
 >>> f = Know("a", p & ~q)
 >>> print(f)
@@ -27,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
-from typing import TypeVar
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.language._atom_names import (
@@ -37,32 +39,19 @@ from epistemica.del_.language._atom_names import (
     split_predicate,
     valid_atom,
 )
+from epistemica.del_.language.walk import fold, iter_postorder
 
 __all__ = [
     "RESERVED_WORDS",
-    "After",
     "And",
-    "Announce",
-    "AnnounceDiamond",
     "Atom",
-    "Believe",
     "Bottom",
-    "Common",
-    "CommonBelief",
-    "ConditionalBelief",
-    "ConservativeUpgrade",
-    "Distributed",
-    "Everybody",
-    "EverybodyBelieves",
     "Formula",
     "Iff",
     "Implies",
-    "Know",
-    "KnowWhether",
     "Not",
     "Or",
-    "RadicalUpgrade",
-    "SafeBelief",
+    "TextPart",
     "Top",
     "atom_name",
     "canonical_atom",
@@ -80,7 +69,7 @@ _UNARY, _AND, _OR, _IMPLIES, _IFF = 5, 4, 3, 2, 1
 
 # A piece of printed text: literal text, or a subformula to print where it stands and the
 # binding strength below which it needs parentheses.
-_Part = str | tuple["Formula", int]
+TextPart = str | tuple["Formula", int]
 
 
 class Formula:
@@ -91,7 +80,9 @@ class Formula:
 
     Construction, hashing, comparison, ``str`` and ``repr`` never recurse, so a formula
     nested 10,000 deep or a chain of 100,000 conjuncts is handled in linear time; code
-    walking a formula should do the same with :func:`iter_postorder` or :func:`fold`.
+    walking a formula should do the same with
+    :func:`~epistemica.del_.language.walk.iter_postorder` or
+    :func:`~epistemica.del_.language.walk.fold`.
     """
 
     # The hash is computed once, at construction, from the (cached) hashes of the
@@ -99,6 +90,9 @@ class Formula:
     # computed hash would recurse down the whole tree the first time.
     __slots__ = ("_hash",)
     precedence = _UNARY
+    # Whether the node is a modality of agents (K, B, E, C, ...: the classes with
+    # own_agents), counted by modal_depth; announcements and actions are not.
+    epistemic = False
 
     def __post_init__(self) -> None:
         values = (getattr(self, name) for name in _field_names(type(self)))
@@ -116,7 +110,7 @@ class Formula:
 
     def __str__(self) -> str:
         out: list[str] = []
-        stack: list[_Part] = [(self, 0)]
+        stack: list[TextPart] = [(self, 0)]
         while stack:
             item = stack.pop()
             if isinstance(item, str):
@@ -162,7 +156,7 @@ class Formula:
         """The immediate subformulas, in left-to-right order."""
         return ()
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         # The printed text of this node, its subformulas left as (child, minimum) pieces.
         raise NotImplementedError
 
@@ -178,16 +172,18 @@ class Formula:
         """The agents named by the formula's modalities."""
         found: set[str] = set()
         for f in iter_postorder(self, unique=True):
-            found.update(getattr(f, "group", ()))
-            if isinstance(f, _Individual):
-                found.add(f.agent)
+            found.update(f.own_agents())
         return frozenset(found)
+
+    def own_agents(self) -> tuple[str, ...]:
+        """The agents this node's own modality names, not its subformulas' (none here)."""
+        return ()
 
     def modal_depth(self) -> int:
         """Nesting depth of epistemic modalities (announcements and actions count 0)."""
 
         def depth(f: Formula, inner: tuple[int, ...]) -> int:
-            return max(inner, default=0) + (1 if isinstance(f, (_Individual, _Group)) else 0)
+            return max(inner, default=0) + (1 if f.epistemic else 0)
 
         return fold(self, depth)
 
@@ -196,7 +192,7 @@ class Formula:
 class Top(Formula):
     """The formula ``true``."""
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         return ("true",)
 
 
@@ -204,7 +200,7 @@ class Top(Formula):
 class Bottom(Formula):
     """The formula ``false``."""
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         return ("false",)
 
 
@@ -255,7 +251,7 @@ class Atom(Formula):
             return self.name
         return f"{self.name}({', '.join(self.args)})"
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         return (str(self),)
 
 
@@ -268,7 +264,7 @@ class Not(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.operand,)
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         return ("~", (self.operand, _UNARY))
 
 
@@ -286,7 +282,7 @@ class _Binary(Formula):
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)  # type: ignore[attr-defined]
 
-    def text_parts(self) -> tuple[_Part, ...]:
+    def text_parts(self) -> tuple[TextPart, ...]:
         p = self.precedence
         left_min, right_min = (p + 1, p) if self.right_assoc else (p, p + 1)
         left, right = self.left, self.right  # type: ignore[attr-defined]
@@ -334,237 +330,6 @@ class Iff(_Binary):
     symbol = "<->"
 
 
-class _Individual(Formula):
-    """A modality of one agent: ``OP[agent] operand``."""
-
-    __slots__ = ()
-    keyword = ""
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.operand,)  # type: ignore[attr-defined]
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        operand = self.operand  # type: ignore[attr-defined]
-        return (f"{self.keyword}[{self.agent}] ", (operand, _UNARY))  # type: ignore[attr-defined]
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Know(_Individual):
-    """``K[a] f``: agent ``a`` knows ``f`` (box over a's knowledge relation)."""
-
-    agent: str
-    operand: Formula
-    keyword = "K"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Believe(_Individual):
-    """``B[a] f``: agent ``a`` believes ``f`` (box over a's belief relation)."""
-
-    agent: str
-    operand: Formula
-    keyword = "B"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class KnowWhether(_Individual):
-    """``Kw[a] f``: agent ``a`` knows whether ``f``, i.e. ``K[a] f | K[a] ~f``."""
-
-    agent: str
-    operand: Formula
-    keyword = "Kw"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class ConditionalBelief(_Individual):
-    """``B[a | c] f``: ``f`` holds at the most plausible worlds of a's cell where ``c`` holds.
-
-    Interpreted in plausibility models only (:mod:`~epistemica.del_.explicit.plausibility`);
-    ``B[a | true] f`` is ``B[a] f`` there. ``|`` separates the agent from the condition so
-    that ``B[a] (f | g)`` keeps meaning belief in a disjunction.
-    """
-
-    agent: str
-    condition: Formula
-    operand: Formula
-    keyword = "B"
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.condition, self.operand)
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        return (f"B[{self.agent} | ", (self.condition, 0), "] ", (self.operand, _UNARY))
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class SafeBelief(_Individual):
-    """``Sb[a] f``: ``f`` holds at every world of a's cell at least as plausible as this one.
-
-    Baltag and Smets' safe belief (the box of the plausibility preorder): it survives every
-    truthful revision. Interpreted in plausibility models only.
-    """
-
-    agent: str
-    operand: Formula
-    keyword = "Sb"
-
-
-class _Group(Formula):
-    """A modality of a group of agents: ``OP[a, b] operand``."""
-
-    __slots__ = ()
-    keyword = ""
-
-    def __post_init__(self) -> None:
-        group = tuple(sorted(set(self.group)))  # type: ignore[attr-defined]
-        if not group:
-            raise ValueError(f"{self.keyword}[...] needs at least one agent")
-        object.__setattr__(self, "group", group)
-        Formula.__post_init__(self)
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.operand,)  # type: ignore[attr-defined]
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        group = ", ".join(self.group)  # type: ignore[attr-defined]
-        return (f"{self.keyword}[{group}] ", (self.operand, _UNARY))  # type: ignore[attr-defined]
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Everybody(_Group):
-    """``E[a, b] f``: every agent of the group knows ``f``."""
-
-    group: tuple[str, ...]
-    operand: Formula
-    keyword = "E"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Common(_Group):
-    """``C[a, b] f``: ``f`` is common knowledge in the group."""
-
-    group: tuple[str, ...]
-    operand: Formula
-    keyword = "C"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Distributed(_Group):
-    """``D[a, b] f``: ``f`` is distributed knowledge in the group."""
-
-    group: tuple[str, ...]
-    operand: Formula
-    keyword = "D"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class EverybodyBelieves(_Group):
-    """``EB[a, b] f``: every agent of the group believes ``f``."""
-
-    group: tuple[str, ...]
-    operand: Formula
-    keyword = "EB"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class CommonBelief(_Group):
-    """``CB[a, b] f``: ``f`` is common belief in the group.
-
-    ``f`` holds at every world reachable in one or more steps by the union of the group's
-    *belief* relations (``C`` uses the knowledge relations).
-    """
-
-    group: tuple[str, ...]
-    operand: Formula
-    keyword = "CB"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class Announce(Formula):
-    """``[!f] g``: after every truthful public announcement of ``f``, ``g`` holds."""
-
-    announcement: Formula
-    operand: Formula
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.announcement, self.operand)
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        return ("[!", (self.announcement, 0), "] ", (self.operand, _UNARY))
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class AnnounceDiamond(Formula):
-    """``<!f> g``: ``f`` is true (so announceable) and after announcing it ``g`` holds."""
-
-    announcement: Formula
-    operand: Formula
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.announcement, self.operand)
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        return ("<!", (self.announcement, 0), "> ", (self.operand, _UNARY))
-
-
-class _Upgrade(Formula):
-    """A public soft announcement ``[OPEN f] g``: the operand holds after the upgrade."""
-
-    __slots__ = ()
-    opener = ""
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.upgrade, self.operand)  # type: ignore[attr-defined]
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        upgrade, operand = self.upgrade, self.operand  # type: ignore[attr-defined]
-        return (f"[{self.opener}", (upgrade, 0), "] ", (operand, _UNARY))
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class RadicalUpgrade(_Upgrade):
-    """``[^^f] g`` (also ``[⇑f] g``): after the radical upgrade with ``f``, ``g`` holds.
-
-    In every information cell the ``f``-worlds become more plausible than all the others,
-    the order within each of the two zones kept (van Benthem's ⇑, Baltag and Smets'
-    lexicographic upgrade). Always executable.
-    """
-
-    upgrade: Formula
-    operand: Formula
-    opener = "^^"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class ConservativeUpgrade(_Upgrade):
-    """``[^f] g`` (also ``[↑f] g``): after the conservative upgrade with ``f``, ``g`` holds.
-
-    In every information cell only the most plausible ``f``-worlds move to the top; the
-    rest of the order is kept (van Benthem's ↑). Always executable.
-    """
-
-    upgrade: Formula
-    operand: Formula
-    opener = "^"
-
-
-@dataclass(frozen=True, slots=True, eq=False, repr=False)
-class After(Formula):
-    """``[ACT] g``: after every execution of the named action ``ACT``, ``g`` holds.
-
-    The name is resolved against the actions passed to the model checker.
-    """
-
-    action: str
-    operand: Formula
-
-    def children(self) -> tuple[Formula, ...]:
-        return (self.operand,)
-
-    def text_parts(self) -> tuple[_Part, ...]:
-        return (f"[{self.action}] ", (self.operand, _UNARY))
-
-
 _FIELDS: dict[type, tuple[str, ...]] = {}
 
 
@@ -595,76 +360,12 @@ def _equal(first: Formula, second: Formula) -> bool:
     return True
 
 
-def iter_postorder(formula: Formula, *, unique: bool = False) -> Iterator[Formula]:
-    """The subformulas of ``formula``, children before their parent, without recursion.
-
-    Children are visited left to right (``f.children()``), so a bottom-up evaluator can
-    keep the values of the children on a stack of its own, or in a table keyed by the
-    subformula.
-
-    Parameters
-    ----------
-    formula : Formula
-    unique : bool
-        When true, a subformula equal to one already yielded is skipped together with
-        everything below it (each distinct subformula once, as a memoising evaluator
-        wants); when false, every occurrence is yielded.
-
-    Yields
-    ------
-    Formula
-        ``formula`` itself comes last.
-
-    Examples
-    --------
-    >>> p, q = Atom("p"), Atom("q")
-    >>> [str(f) for f in iter_postorder((p & q) | p)]
-    ['p', 'q', 'p & q', 'p', 'p & q | p']
-    >>> [str(f) for f in iter_postorder((p & q) | p, unique=True)]
-    ['p', 'q', 'p & q', 'p & q | p']
-    """
-    seen: set[Formula] = set()
-    stack: list[tuple[Formula, bool]] = [(formula, False)]
-    while stack:
-        node, expanded = stack.pop()
-        if expanded:
-            if unique:
-                if node in seen:
-                    continue
-                seen.add(node)
-            yield node
-        elif not (unique and node in seen):
-            stack.append((node, True))
-            stack.extend((child, False) for child in reversed(node.children()))
-
-
-_T = TypeVar("_T")
-
-
-def fold(formula: Formula, combine: Callable[[Formula, tuple[_T, ...]], _T]) -> _T:
-    """Compute a value bottom-up over ``formula`` without recursion.
-
-    ``combine(node, values)`` gets a subformula and the values already computed for its
-    children (in the order of ``node.children()``). Each distinct subformula is combined
-    once, so equal subtrees share their value.
-
-    Examples
-    --------
-    >>> f = Know("a", Atom("p") & ~Atom("q"))
-    >>> fold(f, lambda node, inner: 1 + sum(inner))  # number of nodes
-    5
-    """
-    values: dict[Formula, _T] = {}
-    for node in iter_postorder(formula, unique=True):
-        values[node] = combine(node, tuple(values[child] for child in node.children()))
-    return values[formula]
-
-
 def map_atoms(formula: Formula, replace: Callable[[Atom], Formula]) -> Formula:
     """``formula`` with every atom replaced by ``replace(atom)`` (without recursion).
 
     Examples
     --------
+    >>> from epistemica.del_.language.modalities import Know
     >>> f = Know("a", Atom("p") & ~Atom("q"))
     >>> print(map_atoms(f, lambda atom: Atom(atom.name.upper())))
     K[a] (P & ~Q)
@@ -681,6 +382,7 @@ def with_children(node: Formula, children: tuple[Formula, ...]) -> Formula:
 
     Examples
     --------
+    >>> from epistemica.del_.language.modalities import Know
     >>> print(with_children(Know("a", Atom("p")), (Atom("q"),)))
     K[a] q
     """

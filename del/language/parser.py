@@ -42,13 +42,21 @@ from epistemica.del_.language._fast import read_formula, tokenize
 from epistemica.del_.language._syntax_errors import syntax_error
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,  # re-exported for the grammar users
-    After,
     And,
+    Atom,
+    Bottom,
+    Formula,
+    Iff,
+    Implies,
+    Not,
+    Or,
+    Top,
+)
+from epistemica.del_.language.modalities import (
+    After,
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     Common,
     CommonBelief,
     ConditionalBelief,
@@ -56,18 +64,12 @@ from epistemica.del_.language.formula import (
     Distributed,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
     RadicalUpgrade,
     SafeBelief,
-    Top,
-    iter_postorder,
 )
+from epistemica.del_.language.walk import iter_postorder
 
 # syntax_error is re-exported for the spec grammar, which imports formula.lark.
 __all__ = [

@@ -41,27 +41,19 @@ from collections.abc import Generator
 from typing import Any, Protocol
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.language.formula import (
-    And,
+from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     ConditionalBelief,
     ConservativeUpgrade,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
     RadicalUpgrade,
     SafeBelief,
-    Top,
 )
 
 __all__ = ["PlausibilityBackend", "evaluate_plausibility"]

@@ -52,15 +52,8 @@ from epistemica.del_.explicit._cube import Cube, pack_bits
 from epistemica.del_.explicit.action import ActionModel, product_update
 from epistemica.del_.explicit.canonical import canonical_key
 from epistemica.del_.explicit.checker import evaluate
-from epistemica.del_.language.formula import (
-    And,
-    Common,
-    Distributed,
-    Everybody,
-    Formula,
-    Know,
-    KnowWhether,
-)
+from epistemica.del_.language.formula import And, Formula
+from epistemica.del_.language.modalities import Common, Distributed, Everybody, Know, KnowWhether
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.planning.state_space import (

@@ -29,7 +29,6 @@ from lark import Token, Tree
 from epistemica.del_.errors import SpecError
 from epistemica.del_.language.formula import (
     RESERVED_WORDS,
-    After,
     And,
     Atom,
     Bottom,
@@ -41,6 +40,7 @@ from epistemica.del_.language.formula import (
     Top,
     conjunction,
 )
+from epistemica.del_.language.modalities import After
 from epistemica.del_.language.parser import build_imported_formula
 from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.models import KripkeModel

@@ -20,16 +20,14 @@ from lark import Tree
 
 from epistemica.del_.errors import SpecError
 from epistemica.del_.explicit.plausibility import PlausibilityModel
-from epistemica.del_.language.formula import (
+from epistemica.del_.language.formula import Formula, fold, with_children
+from epistemica.del_.language.modalities import (
     After,
     Common,
     CommonBelief,
     ConservativeUpgrade,
     Distributed,
-    Formula,
     RadicalUpgrade,
-    fold,
-    with_children,
 )
 from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.spec._model import observations

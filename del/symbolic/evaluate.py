@@ -14,27 +14,19 @@ from collections.abc import Callable, Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.language.formula import (
+from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.modalities import (
     After,
-    And,
     Announce,
     AnnounceDiamond,
-    Atom,
     Believe,
-    Bottom,
     Common,
     CommonBelief,
     Distributed,
     Everybody,
     EverybodyBelieves,
-    Formula,
-    Iff,
-    Implies,
     Know,
     KnowWhether,
-    Not,
-    Or,
-    Top,
 )
 from epistemica.del_.language.walk import fold_nodes
 from epistemica.del_.symbolic import _bdd
@@ -70,7 +62,7 @@ def evaluate(
 def propositional(f: Formula, atom: Callable[[Atom], BDDFunction]) -> BDDFunction:
     """The BDD of a formula without modalities, atoms given by ``atom``.
 
-    A fold over the node objects (:func:`~epistemica.del_.language.formula.fold_nodes`):
+    A fold over the node objects (:func:`~epistemica.del_.language.walk.fold_nodes`):
     no recursion, a shared node computed once, each BDD freed after its last use.
 
     Examples

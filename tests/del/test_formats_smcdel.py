@@ -11,7 +11,8 @@ from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import ParseError, SpecError
 from epistemica.del_.explicit.bisimulation import bisimilar
 from epistemica.del_.formats.smcdel import parse_smcdel, to_smcdel
-from epistemica.del_.language.formula import And, Atom, Know
+from epistemica.del_.language.formula import And, Atom
+from epistemica.del_.language.modalities import Know
 from epistemica.del_.planning.planner import project
 from epistemica.del_.spec import Check, Spec, load_spec
 from tests.epistemic_strategies import formulas

@@ -9,17 +9,15 @@ from hypothesis import strategies as st
 from plausibility_strategies import plausibility_formulas, plausibility_models
 
 from epistemica.del_.explicit.checker import evaluate
-from epistemica.del_.language.formula import (
+from epistemica.del_.language.formula import Bottom, Not, Top
+from epistemica.del_.language.modalities import (
     Announce,
     Believe,
-    Bottom,
     ConditionalBelief,
     ConservativeUpgrade,
     Know,
-    Not,
     RadicalUpgrade,
     SafeBelief,
-    Top,
 )
 
 formulas = plausibility_formulas(max_leaves=5)
