@@ -280,8 +280,6 @@ class _Run:
             self.heading,
         )
         for rule, firing in firings(s.events, world, arrivals):
-            if rule.trigger.kind == "within" and self._done_revealed(rule, firing):
-                continue  # a task done is not found again (closed goals are not discovered)
             observation = firing.observation
             if self.shared:
                 observation = replace(
@@ -290,12 +288,6 @@ class _Run:
             if self.knowledge.observe(observation):
                 observers = observer_indices(observation, s.robot_names)
                 self.events.append((step, rule.name, observation.args, observers))
-
-    def _done_revealed(self, rule: EventRule, firing) -> bool:
-        """Whether ``firing`` of ``rule`` reveals a task already done."""
-        names = [firing.binding.get(g, g) for g in rule.reveals]
-        index = {name: t for t, name in enumerate(self.s.task_names)}
-        return any(name in index and self.done[index[name]] >= 0 for name in names)
 
     def advance(self, step: int, targets: np.ndarray, steer_to: np.ndarray) -> bool:
         s = self.s

@@ -14,7 +14,9 @@ Triggers (``R`` a robot, ``G`` a goal, ``X`` either; names or parameters):
 - ``R settles at G``: every step ``R`` stands still (less than 5 cm moved) within the
   success radius of ``G``, its nearest goal;
 - ``R reaches G``: the step ``R`` comes within the success radius of ``G``;
-- ``R within D of X``: the step the distance from ``R`` to ``X`` drops to ``D`` m or less;
+- ``R within D of X``: the step the distance from ``R`` to ``X`` drops to ``D`` m or less
+  (never when the occurrence would reveal a closed goal: a closed goal, a task done, is
+  not discovered);
 - ``G is reached``: the first step a robot is within the success radius of the open goal
   ``G``; the robots there are ``reachers`` (in a collaborative mission, the step enough
   robots are there at once to do the task: :mod:`epistemica.sim.collaborative`);
@@ -343,8 +345,19 @@ def fire(rule: EventRule, world: World) -> list[Firing]:
         )
         closes = tuple(world.goal_names.index(env.get(g, g)) for g in rule.closes)
         opens = tuple(world.goal_names.index(env.get(g, g)) for g in rule.opens)
+        if rule.trigger.kind == "within" and _reveals_closed(rule, env, world, opens):
+            continue
         out.append(Firing(dict(env), observation, closes, opens))
     return out
+
+
+def _reveals_closed(rule: EventRule, env: Mapping[str, str], world: World, opens) -> bool:
+    """Whether an occurrence reveals a goal that is closed and stays closed."""
+    for g in rule.reveals:
+        k = world.goal_names.index(env.get(g, g))
+        if not world.open[k] and k not in opens:
+            return True
+    return False
 
 
 def firings(rules: Sequence[EventRule], world: World, arrivals: bool) -> list[tuple]:

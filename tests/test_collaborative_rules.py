@@ -206,3 +206,16 @@ def test_firings_split_arrivals_from_perception_and_name_the_observers():
     done = firings(rules, world, arrivals=True)
     assert [rule.name for rule, _ in done] == ["done"]
     assert observer_indices(done[0][1].observation, world.robots) == (0, 1)
+
+
+def test_a_closed_goal_is_not_discovered_by_either_simulator():
+    # The world of the test above with t1 closed (done): r1 comes within 7 m of it but
+    # finds nothing; the rule lives in the firing loop, so the generic simulator has it too
+    rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
+    now = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
+    before = now + np.array([[0.0, -8.0, 0.0], [0, 0, 0], [0, 0, 0]])
+    visible = np.hypot(*(now[:, None, :2] - now[None, :, :2]).transpose(2, 0, 1)) <= 7.0
+    world = World(1, now, before, np.array([[0.0, 0.0]]), np.zeros(1, bool),
+                  np.zeros(1, bool), visible, 7.0, 1.5, ("range",) * 3,
+                  ("r1", "r2", "r3"), ("t1",))  # fmt: skip
+    assert firings(rules, world, arrivals=False) == []
