@@ -6,10 +6,15 @@ takes which goal, and the robots see each other only within a few metres:
 they cannot read from motion what they cannot see.
 
     python benchmarks/nested_suite.py            # rewrites specs/nested/*.epi
+    python benchmarks/nested_suite.py --tried DIR   # and the missions tried, not kept
+
+Tried and not kept (docs/results.md §7): ``closed_goal``, the issue's own example of an
+asymmetric observation, a goal closing seen only nearby. It separates no level.
 """
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -51,14 +56,39 @@ HEADER = {
 }
 
 
+TRIED = {
+    "closed_goal": """\
+# Asymmetric observation of a closing (rendezvous, {n} robots; tried, not kept). The
+# meeting place everyone knows, g4 at the centre, closes at step 0; only robots within
+# 10 m see it, and they know who else did. The others head for g4, see it shut there and
+# choose again among g1-g3, which everyone knows.""",
+}
+
+
 def _robots(n: int) -> str:
     return ", ".join(f"r{i}" for i in range(2, n + 1))
 
 
 def mission(kind: str, n: int) -> str:
     """The text of one mission file."""
-    lines = [HEADER[kind].format(n=n, extra=n + 1)]
-    if kind == "commitment":
+    lines = [{**HEADER, **TRIED}[kind].format(n=n, extra=n + 1)]
+    if kind == "closed_goal":
+        lines += [
+            "mission rendezvous",
+            "workspace 30",
+            f"robot r1..r{n}: random at random",
+            "goal g1..g3 at random",
+            "goal g4 at (15, 15)",
+            "knows " + ", ".join(f"r{i}" for i in range(1, n + 1)) + ": g1, g2, g3, g4",
+            "sensing model paper noise 0.5 range 4 discovery 3",
+            "event closing {",
+            "    when step 0",
+            "    closes g4",
+            "    announces closed(g4)",
+            "    full robots if near(g4, 10)",
+            "}",
+        ]
+    elif kind == "commitment":
         pairs = [(1, 2), (2, 3), (1, 3)] if n == 3 else [(1, 2), (3, 4), (2, 5)]
         lines += [
             "mission rendezvous",
@@ -144,11 +174,16 @@ def mission(kind: str, n: int) -> str:
 
 
 def main() -> None:
-    OUT.mkdir(parents=True, exist_ok=True)
-    for kind in HEADER:
-        for n in (3, 5):
-            (OUT / f"{kind}_{n}.epi").write_text(mission(kind, n), encoding="utf-8")
-    print(f"wrote {2 * len(HEADER)} missions to {OUT.relative_to(ROOT)}")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--tried", type=Path, help="also write the missions not kept here")
+    args = parser.parse_args()
+    targets = [(OUT, HEADER)] + ([(args.tried, TRIED)] if args.tried else [])
+    for folder, kinds in targets:
+        folder.mkdir(parents=True, exist_ok=True)
+        for kind in kinds:
+            for n in (3, 5):
+                (folder / f"{kind}_{n}.epi").write_text(mission(kind, n), encoding="utf-8")
+        print(f"wrote {2 * len(kinds)} missions to {folder}")
 
 
 if __name__ == "__main__":

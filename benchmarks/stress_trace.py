@@ -1,9 +1,11 @@
 """A trace of one stress-suite trial: where each robot is, what it believes, what it saw.
 
 Every ``--every`` steps, one line per robot: its position, the goal it is at (if any), the
-goal its belief favours for itself with that belief, how many configurations it still
-considers ("believes -": it is searching, not deciding over configurations). Then the
-observation events with their observers. Used for the failure traces of docs/results.md §6.
+goal its belief favours for itself with that belief, the configuration it acts on (the
+goal number of each robot in turn), how many configurations it still keeps and how many
+it models each teammate keeping (``B_ij``: where nested knowledge differs, they differ;
+"believes -": it is searching, not deciding over configurations). Then the observation
+events with their observers. Used for the failure traces of docs/results.md §6.
 
     python benchmarks/stress_trace.py specs/stress/rendezvous_hardest_5.epi third 3
 """
@@ -42,9 +44,17 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> str:
             row = min(step, trial.goal_belief.shape[0] - 1)
             belief = trial.goal_belief[row, r]
             favoured = f"{goals[belief.argmax()]} ({belief.max():.2f})" if belief.sum() > 0 else "-"
+            acts = trial.focal[row, r]
+            plan = (
+                "-" if (acts < 0).all() else "".join(goals[g][1:] if g >= 0 else "?" for g in acts)
+            )
+            models = ", ".join(
+                f"{names[j]} {trial.modelled[row, r, j]}" for j in range(len(names)) if j != r
+            )
             lines.append(
                 f"  {name:>4} at ({pose[r, 0]:5.1f}, {pose[r, 1]:5.1f}) on {at:>4}; "
-                f"believes {favoured}; considers {trial.considered[row, r]:.0f}"
+                f"believes {favoured}; acts on {plan}; keeps {trial.considered[row, r]:.0f}, "
+                f"models {models}"
             )
     lines.append("events (step, name, arguments, observers):")
     for step, kind, *arguments, observers in trial.events:
