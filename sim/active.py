@@ -125,6 +125,9 @@ class ActiveInference(Policy):
         self._blind = np.zeros(n, dtype=bool)
         self._unsteady = np.zeros(n, dtype=int)
         self._sight_step = np.full(n, -1)
+        # Each robot's estimate of the team's poses at the last step it saw the whole
+        # team in sight of each other (``remember_sight``).
+        self._team_sight: dict[int, np.ndarray] = {}
 
     # -- controllers and priors ----------------------------------------------------------
 
@@ -167,6 +170,22 @@ class ActiveInference(Policy):
                 if self._unsteady[robot] >= k:
                     self._blind[robot], self._unsteady[robot] = blind, 0
             self._sight_step[robot] = step
+        if self.parameters.remember_sight:
+            self._remember_sight(observations, [r for r in robots if observations.seen[r].all()])
+
+    def _remember_sight(self, observations: Observations, seeing: list) -> None:
+        """Keep the estimates of each robot of ``seeing`` (it sees every teammate) whose
+        estimates put every pair of robots within the sensing range: the whole team in
+        sight of each other."""
+        reach = self.scenario.sensing_range
+        if not seeing or reach is None:
+            return
+        x = observations.poses[seeing][..., :2]  # (R, n, 2)
+        gaps = x[:, :, None] - x[:, None]  # (R, n, n, 2)
+        together = (np.hypot(gaps[..., 0], gaps[..., 1]) <= reach).all(axis=(1, 2))
+        for robot, whole in zip(seeing, together, strict=True):
+            if whole:
+                self._team_sight[robot] = observations.poses[robot].copy()
 
     def _private(self, robot: int) -> bool:
         """Whether the robot may use what it privately reads of its teammates: not while
@@ -181,7 +200,12 @@ class ActiveInference(Policy):
         blind = self._blind[list(robots)]
         if blind.any():
             views = views.copy()
-            views[blind, :, :2] = self.scenario.workspace / 2
+            for j in np.flatnonzero(blind):
+                remembered = self._team_sight.get(int(robots[j]))
+                if remembered is None:
+                    views[j, :, :2] = self.scenario.workspace / 2
+                else:
+                    views[j] = remembered
         return views
 
     def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:

@@ -18,11 +18,12 @@ from hypothesis import strategies as st
 
 from epistemica.aif.configurations import valid_configurations
 from epistemica.del_ import KripkeModel, Observation, parse_formula
-from epistemica.mission import library_event
+from epistemica.mission import library_event, load_mission
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.active import ActiveInference
 from epistemica.sim.configuration_sets import nested_sets
 from epistemica.sim.knowledge import TeamKnowledge
+from epistemica.sim.levels import make_policy
 from epistemica.sim.worlds import fact_mask
 
 
@@ -383,7 +384,7 @@ def _common_view_switches(k: int, sight: str) -> str:
     from types import SimpleNamespace
 
     s = Scenario("rendezvous", [[3.0, 3.0], [9.0, 3.0]], [[5.0, 5.0]], ["range"] * 2)
-    policy = ActiveInference(3, sight_hysteresis=k)
+    policy = ActiveInference(3, sight_hysteresis=k, remember_sight=False)  # "C": the centre
     policy.start(s, [0, 1], [np.random.default_rng(0)] * 2)
     poses = np.broadcast_to(s.starts, (2, 2, 3)).copy()
     out = ""
@@ -406,3 +407,54 @@ def test_the_common_view_switches_only_after_k_steps_of_changed_sight():
     # only once the change has lasted k = 3 steps, in either direction
     assert _common_view_switches(3, "++-+-+---++-+++") == "ooooooooCCCCCCo"
     assert _common_view_switches(3, "--+-++---") == "CCCCCCCCC"
+
+
+def _blind_views(starts, sight: str, remember: bool = True) -> list:
+    """Robot 0's team view at each step of a sight pattern ("+": it sees every teammate,
+    "-": not), the robots moving 1 m east each step, sensing range 10 m: ``"C"`` for
+    the centre, the step whose estimates it uses, or ``"o"`` for its own view now."""
+    from types import SimpleNamespace
+
+    n = len(starts)
+    s = Scenario("rendezvous", starts, [[5.0, 5.0]], ["range"] * n).replace(sensing_range=10.0)
+    policy = ActiveInference(3, remember_sight=remember)
+    policy.start(s, list(range(n)), [np.random.default_rng(0)] * n)
+    out = []
+    for step, mark in enumerate(sight):
+        poses = np.broadcast_to(s.starts + np.array([step, 0.0, 0.0]), (n, n, 3)).copy()
+        seen = np.full((n, n), mark == "+") | np.eye(n, dtype=bool)
+        policy._follow_sight(SimpleNamespace(step=step, poses=poses, seen=seen), range(n))
+        view = policy._views(SimpleNamespace(poses=poses), [0])[0]
+        if np.allclose(view, poses[0]):
+            out.append("o")
+        elif np.allclose(view[:, :2], s.workspace / 2):
+            out.append("C")
+        else:
+            out.append(int(view[0, 0] - s.starts[0, 0]))  # the step it was taken at
+    return out
+
+
+def test_out_of_sight_the_common_view_is_the_last_whole_team_in_sight():
+    # two robots 6 m apart: in sight at steps 0-2, then not: the view of step 2 stays
+    assert _blind_views([[3.0, 3.0], [9.0, 3.0]], "+++--+-") == ["o", "o", "o", 2, 2, "o", 5]
+    # without the memory, the centre (the ablation)
+    assert _blind_views([[3.0, 3.0], [9.0, 3.0]], "++--", remember=False) == ["o", "o", "C", "C"]
+    # robot 0 sees both teammates, but they are 16 m apart: the team was never all in
+    # sight of each other, so nothing is remembered
+    assert _blind_views([[10.0, 3.0], [18.0, 3.0], [2.0, 3.0]], "++--") == ["o", "o", "C", "C"]
+
+
+def test_remembered_sight_ends_the_turn_back_at_the_edge_of_sight():
+    # allocation_radius_2 seed 5: the robots' goals lead out of each other's sight; on
+    # the centre view the shared order picks the other assignment, so both turned back
+    # at the edge every step for 100 steps. Remembering the last step in sight, they go on.
+    mission = load_mission("specs/stress/allocation_radius_2.epi")
+    scenario = mission.scenario(5)
+    centre = mission.parameters.replace(remember_sight=False)  # the ablation
+    flipping = simulate(scenario, make_policy("convention+rules", centre), seed=5)
+    assert not flipping.success
+    switches = (np.diff(flipping.focal[:, 0, 0]) != 0).sum()
+    assert switches >= 90
+    policy = make_policy("convention+rules", mission.parameters)  # remembers by default
+    steady = simulate(scenario, policy, seed=5)
+    assert steady.success and (np.diff(steady.focal[:, 0, 0]) != 0).sum() <= 1
