@@ -69,16 +69,23 @@ def _robots(n: int) -> str:
     return ", ".join(f"r{i}" for i in range(2, n + 1))
 
 
+def _central_goal(n: int) -> list[str]:
+    """A rendezvous of ``n`` robots, goals g1-g3 at random and g4 at the centre."""
+    return [
+        "mission rendezvous",
+        "workspace 30",
+        f"robot r1..r{n}: random at random",
+        "goal g1..g3 at random",
+        "goal g4 at (15, 15)",
+    ]
+
+
 def mission(kind: str, n: int) -> str:
     """The text of one mission file."""
     lines = [{**HEADER, **TRIED}[kind].format(n=n, extra=n + 1)]
     if kind == "closed_goal":
         lines += [
-            "mission rendezvous",
-            "workspace 30",
-            f"robot r1..r{n}: random at random",
-            "goal g1..g3 at random",
-            "goal g4 at (15, 15)",
+            *_central_goal(n),
             "knows " + ", ".join(f"r{i}" for i in range(1, n + 1)) + ": g1, g2, g3, g4",
             "sensing model paper noise 0.5 range 4 discovery 3",
             "event closing {",
@@ -105,13 +112,7 @@ def mission(kind: str, n: int) -> str:
             f"    ~B[r{pairs[0][0]}] closed(g3) & B[r{pairs[0][0]}] B[r3] closed(g3)",
         ]
     else:
-        lines += [
-            "mission rendezvous",
-            "workspace 30",
-            f"robot r1..r{n}: random at random",
-            "goal g1..g3 at random",
-            "goal g4 at (15, 15)",
-        ]
+        lines += _central_goal(n)
         if kind == "private_goal":
             lines += [
                 "knows r1: g1, g2, g3, g4",

@@ -191,16 +191,20 @@ def test_no_task_is_found_after_it_is_done(level):
 # -- the firing loop the simulators share -------------------------------------------------
 
 
-def test_firings_split_arrivals_from_perception_and_name_the_observers():
-    # r1 steps to within 7 m of t1 (from 8 m) and reaches it; r2, 3 m away, sees r1, r3
-    # (20 m away) does not
-    rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
+def _one_task_world(task_open: bool) -> World:
+    """r1 steps to within 7 m of t1 (from 8 m) and reaches it; r2, 3 m away, sees r1, r3
+    (20 m away) does not."""
     now = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
     before = now + np.array([[0.0, -8.0, 0.0], [0, 0, 0], [0, 0, 0]])
     visible = np.hypot(*(now[:, None, :2] - now[None, :, :2]).transpose(2, 0, 1)) <= 7.0
-    world = World(1, now, before, np.array([[0.0, 0.0]]), np.ones(1, bool),
-                  np.ones(1, bool), visible, 7.0, 1.5, ("range",) * 3,
-                  ("r1", "r2", "r3"), ("t1",))  # fmt: skip
+    flags = np.full(1, task_open)
+    return World(1, now, before, np.array([[0.0, 0.0]]), flags, flags, visible, 7.0, 1.5,
+                 ("range",) * 3, ("r1", "r2", "r3"), ("t1",))  # fmt: skip
+
+
+def test_firings_split_arrivals_from_perception_and_name_the_observers():
+    rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
+    world = _one_task_world(task_open=True)
     seen = [(rule.name, f.binding) for rule, f in firings(rules, world, arrivals=False)]
     assert seen == [("found", {"r": "r1", "t": "t1"})]  # r2 was within 7 m already
     done = firings(rules, world, arrivals=True)
@@ -212,10 +216,4 @@ def test_a_closed_goal_is_not_discovered_by_either_simulator():
     # The world of the test above with t1 closed (done): r1 comes within 7 m of it but
     # finds nothing; the rule lives in the firing loop, so the generic simulator has it too
     rules = load_mission("specs/collaborative/tasks_3.epi").parts.events
-    now = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [20.0, 0.0, 0.0]])
-    before = now + np.array([[0.0, -8.0, 0.0], [0, 0, 0], [0, 0, 0]])
-    visible = np.hypot(*(now[:, None, :2] - now[None, :, :2]).transpose(2, 0, 1)) <= 7.0
-    world = World(1, now, before, np.array([[0.0, 0.0]]), np.zeros(1, bool),
-                  np.zeros(1, bool), visible, 7.0, 1.5, ("range",) * 3,
-                  ("r1", "r2", "r3"), ("t1",))  # fmt: skip
-    assert firings(rules, world, arrivals=False) == []
+    assert firings(rules, _one_task_world(task_open=False), arrivals=False) == []
