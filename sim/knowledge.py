@@ -110,10 +110,8 @@ class TeamKnowledge:
         the logic layer's :meth:`~epistemica.del_.EpistemicState.observe` alone would
         record such a soft fact again, as the newest upgrade of a sequence.
         """
-        key = (observation.name, observation.args, observation.pre, observation.senses,
-               observation.outcome, observation.suggests, observation.aware)  # fmt: skip
         full, seen = observation.full, observation.observers
-        earlier = self._sightings.setdefault(key, [])
+        earlier = self._sightings.setdefault(observation.content, [])
         if any(full <= f and seen <= s for f, s in earlier):
             return False
         earlier.append((full, seen))

@@ -135,6 +135,13 @@ class Observation:
         """Every agent that is not oblivious of the event."""
         return self.full | self.partial
 
+    @property
+    def content(self) -> tuple:
+        """What the event is, without who observed it: two observations with the same
+        content are the same event seen by possibly different agents."""
+        return (self.name, self.args, self.pre, self.senses, self.outcome, self.suggests,
+                self.aware)  # fmt: skip
+
     def hard_fact(self, full: bool) -> Formula | None:
         """What an observer learns for certain: the precondition, and the sensed fact's
         outcome if it observed ``full``-y. ``None`` if nothing."""

@@ -156,16 +156,7 @@ class EpistemicState:
                 hint="build one with epistemica.del_.Observation(...)",
             )
         full, seen = self.bits(observation.full), self.bits(observation.observers)
-        key = (
-            observation.name,
-            observation.args,
-            observation.pre,
-            observation.senses,
-            observation.outcome,
-            observation.suggests,
-            observation.aware,
-        )
-        earlier = self._by_content.setdefault(key, [])
+        earlier = self._by_content.setdefault(observation.content, [])
         for i in earlier:
             if (
                 self._full[i] & full == full
