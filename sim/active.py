@@ -170,7 +170,8 @@ class ActiveInference(Policy):
                 if self._unsteady[robot] >= k:
                     self._blind[robot], self._unsteady[robot] = blind, 0
             self._sight_step[robot] = step
-        if self.parameters.remember_sight:
+        p = self.parameters
+        if p.remember_sight and p.common_view and self.order >= 2:  # only _views reads it
             self._remember_sight(observations, [r for r in robots if observations.seen[r].all()])
 
     def _remember_sight(self, observations: Observations, seeing: list) -> None:
