@@ -201,6 +201,9 @@ class TrialRun:
 
     def perceive(self, step: int):
         """The team's observations at ``step``, after this step's observation events."""
+        # The events first: a robot sees the world as this step's events left it (a goal
+        # an event opens now is not seen closed, and then known closed for good).
+        self._events(step, arrivals=False)
         settled = self.settled()
         before, before_closed = self.sensing.known_goals.copy(), self.sensing.known_done.copy()
         obs = self.sensing.observe(self.poses, step, settled, ~self.open)
@@ -209,7 +212,6 @@ class TrialRun:
             self.knowledge.discover(g, alone[i])
         for i, g in zip(*np.nonzero(obs.known_done & ~before_closed), strict=True):
             self.knowledge.notice_closed(g, alone[i])
-        self._events(step, arrivals=False)
         known_goals, known_done = obs.known_goals, obs.known_done
         if self.s.events:  # what the events taught: goals revealed, tasks seen done
             for i in range(self.s.n_robots):

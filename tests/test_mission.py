@@ -159,6 +159,18 @@ def test_an_event_teaches_its_observers_and_they_know_who_else_saw_it():
     assert mission.holds("B[b] ~K[a] closed(x)", model)
 
 
+def test_a_goal_opened_at_a_step_is_seen_open_at_that_step():
+    # a stands 3 m from z, within discovery range, when an event opens z at step 0: it sees
+    # the world as the event left it, never z closed (a known closing is for good); b,
+    # 20 m away, knows nothing of z, and a knows it
+    mission = parse_mission(TWO + "goal z at (5, 8) closed\nknows a, b: x, y\n"
+                            "sensing range 10 discovery 4\n"
+                            "event open { when step 0 opens z reveals z "
+                            "full robots if near(z, 5) }\n")  # fmt: skip
+    model = mission.model_of(mission.trial(1, 0, "convention").knowledge)
+    assert mission.holds("~B[a] closed(z) & B[a] B[b] closed(z)", model)
+
+
 def test_ranges_keep_their_zero_padding_as_in_spec_files():
     mission = parse_mission(
         "mission rendezvous\nrobot r01..r03: range at random\n"
