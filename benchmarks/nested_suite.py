@@ -1,9 +1,10 @@
 """Write the missions where nested knowledge decides by construction (specs/nested/).
 
-Four missions at 3 and 5 robots. In each, what a robot knows that a teammate does not
-know (and knows that the teammate does not know) decides where the team can meet or who
-takes which goal, and the robots see each other only within a few metres:
-they cannot read from motion what they cannot see.
+Five missions at 3 and 5 robots (``moved`` is ``relocated`` with the new place fixed 6 m
+from the old one, added after ``relocated`` missed its target: docs/results.md §7). In
+each, what a robot knows that a teammate does not know (and knows that the teammate does
+not know) decides where the team can meet or who takes which goal, and the robots see each
+other only within a few metres: they cannot read from motion what they cannot see.
 
     python benchmarks/nested_suite.py            # rewrites specs/nested/*.epi
     python benchmarks/nested_suite.py --tried DIR   # and the missions tried, not kept
@@ -38,6 +39,16 @@ HEADER = {
 # saw it and heads for g5 (first order, third_shared) waits for teammates who will go to
 # g4, find it shut and choose among the goals they know. Third order predicts that
 # choice and goes there.""",
+    "moved": """\
+# False belief, the place moved a few metres (a robots' Sally-Anne; rendezvous, {n}
+# robots). The team's meeting place, g4 at the centre, is moved at step 0 to g5, 6 m east
+# of it: g4 closes and g5 opens. Only robots within 10 m of either place see it; the
+# others still believe g4 open and do not know g5 exists, and those who saw it know that.
+# A robot that did not see it goes to g4 and finds it shut, but from there sees neither
+# g5 (3 m) nor a robot waiting at it (4 m), and chooses among the goals it knows. g5 lies
+# near the centre, so it is the cheapest goal for a robot that saw the move in most
+# trials: that robot (first order, third_shared) waits at g5 for teammates who never
+# come. Third order predicts where they go once they find g4 shut, and goes there.""",
     "new_goal": """\
 # Asymmetric observation (rendezvous, {n} robots). At the start a new goal opens at the centre
 # of the workspace, g4, the cheapest meeting place for most starts; only robots within 10 m
@@ -123,7 +134,9 @@ def mission(kind: str, n: int) -> str:
                 "    B[r1] B[r2] closed(g4) & ~B[r1] closed(g4)",
             ]
         else:
-            lines += ["goal g5 at random closed"] if kind == "relocated" else []
+            moved = kind in ("relocated", "moved")
+            place = "at random" if kind == "relocated" else "at (21, 15)"
+            lines += [f"goal g5 {place} closed"] if moved else []
             if kind == "new_goal":
                 lines[-1] = "goal g4 at (15, 15) closed"
             lines += [
@@ -132,7 +145,7 @@ def mission(kind: str, n: int) -> str:
                 + (": g1, g2, g3" if kind == "new_goal" else ": g1, g2, g3, g4"),
                 "sensing model paper noise 0.5 range 4 discovery 3",
             ]
-            if kind == "relocated":
+            if moved:
                 lines += [
                     "event relocate {",
                     "    when step 0",
@@ -165,7 +178,8 @@ def mission(kind: str, n: int) -> str:
                 ("r1 saw g4 open and believes r2 did not", 0,
                  "~B[r1] closed(g4) & B[r1] B[r2] closed(g4)")
                 if kind == "new_goal"
-                else ("r1 saw the move and believes r2 still heads for g4", 1,
+                else ("r1 saw the move and believes r2 still heads for g4",
+                      1 if kind == "relocated" else 1000,
                       "B[r1] closed(g4) & ~B[r1] closed(g5) & B[r1] B[r2] closed(g5)"
                       " & B[r1] ~B[r2] closed(g4)")
             )  # fmt: skip
