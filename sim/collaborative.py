@@ -184,7 +184,7 @@ def simulate_collaborative(
             f"expected a CollaborativeScenario, got {type(scenario).__name__}"
         )
     policy = make_collaborative_policy(level, parameters)
-    run = _Run(scenario, trial_streams(seed, scenario.n_robots), policy.shares_everything)
+    run = _Run(scenario, trial_streams(seed, scenario.n_robots), policy.shares)
     policy.start(scenario)
     for step in range(scenario.max_steps):
         run.perceive(step)
@@ -201,8 +201,10 @@ def simulate_collaborative(
 class _Run:
     """The mutable state of one trial."""
 
-    def __init__(self, s: CollaborativeScenario, streams, shared: bool) -> None:
-        self.s, self.streams, self.shared, self.n = s, streams, shared, s.n_robots
+    def __init__(self, s: CollaborativeScenario, streams, shares: str) -> None:
+        self.s, self.streams, self.n = s, streams, s.n_robots
+        self.shared = bool(shares)  # every event and sighting of a task reaches everyone
+        self.positions_shared = shares == "everything"
         self.poses = s.starts.copy()
         self.path = [self.poses.copy()]
         self.knowledge = TeamKnowledge(
@@ -235,7 +237,7 @@ class _Run:
         """Teammates and tasks in sight, tasks seen done, the mission's events."""
         s, k = self.s, self.knowledge
         seen = self.visible()
-        if self.shared:  # full communication: every robot knows where every robot is
+        if self.positions_shared:  # full communication: every robot knows where all are
             seen[:] = True
         self.last_seen[seen] = step
         rows, cols = np.nonzero(seen)

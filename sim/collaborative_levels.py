@@ -26,6 +26,10 @@ knows:
                    robot's patience (``rejoin``); a task as many teammates as it needs
                    have long been known to know of is presumed done (``stale_after``)
 ``oracle``         ``third`` with full communication: every robot observes every event
+                   and knows where every robot is
+``oracle-events``  ``third`` where every robot observes every event (news of a task
+                   spreads at once) but sees teammates only within range: what the
+                   oracle owes to news alone
 =================  ======================================================================
 
 Examples
@@ -54,13 +58,15 @@ __all__ = [
     "make_collaborative_policy",
 ]
 
-#: Level name -> (style, full communication).
+#: Level name -> (style, what every robot learns at once: "" nothing, "events" every
+#: event and task sighting, "everything" those and every robot's place).
 COLLABORATIVE_LEVELS = {
-    "convention": ("convention", False),
-    "first": ("first", False),
-    "third-shared": ("shared", False),
-    "third": ("third", False),
-    "oracle": ("third", True),
+    "convention": ("convention", ""),
+    "first": ("first", ""),
+    "third-shared": ("shared", ""),
+    "third": ("third", ""),
+    "oracle": ("third", "everything"),
+    "oracle-events": ("third", "events"),
 }
 EXPLORING, FETCHING, WAIT = -1, -2, -3
 
@@ -175,8 +181,13 @@ class CollaborativePolicy:
 
     def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
         self.name = name
-        self.style, self.shares_everything = COLLABORATIVE_LEVELS[name]
+        self.style, self.shares = COLLABORATIVE_LEVELS[name]
         self.parameters = parameters
+
+    @property
+    def shares_everything(self) -> bool:
+        """Whether every robot knows everything any robot observed (the oracle)."""
+        return self.shares == "everything"
 
     def start(self, scenario) -> None:
         s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters

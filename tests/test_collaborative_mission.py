@@ -11,15 +11,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica import SpecError
+from epistemica._mission_collaborative import COLLABORATIVE_STUDY_LEVELS
 from epistemica.cli import main
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
-from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim._streams import trial_streams
+from epistemica.sim.collaborative import CollaborativeScenario, _Run, simulate_collaborative
 from epistemica.sim.collaborative_levels import (
     COLLABORATIVE_LEVELS,
     CollaborativeParameters,
+    make_collaborative_policy,
 )
 from epistemica.sim.collaborative_sweep import lanes
 from epistemica.sim.events import EventRule, ObserverRule, Trigger, World, fire
@@ -71,7 +74,7 @@ def test_shipped_missions_compile_with_their_needs():
         s = m.scenario(0)
         assert m.kind == "collaborative"
         assert s.needs == needs[len(m.robots)]
-        assert m.study.levels == tuple(COLLABORATIVE_LEVELS)
+        assert m.study.levels == COLLABORATIVE_STUDY_LEVELS  # oracle-events: analysis only
         assert {r.trigger.kind for r in s.events} == {"within", "settles", "heads", "reached"}
 
 
@@ -182,9 +185,22 @@ def test_what_a_robot_knows_comes_from_sight_or_an_observed_event(seed, level):
         step = first[i, t]
         in_sight = gap[step, i, t] <= s.sensing_range
         told = any(e[0] <= step and i in e[3] and s.task_names[t] in e[2] for e in trial.events)
-        assert in_sight or told or (level == "oracle" and trial.knows[step, :, t].all())
-    if level == "oracle":  # full communication: everyone knows the same tasks
+        news = level.startswith("oracle")  # every sighting and event reaches everyone
+        assert in_sight or told or (news and trial.knows[step, :, t].all())
+    if news:  # everyone knows the same tasks
         assert (trial.knows == trial.knows[:, :1]).all()
+
+
+def test_oracle_events_spreads_news_of_a_task_but_not_where_teammates_are():
+    # r3, 32 m from r1 and 7 m sight: only the oracle tells it where r1 is
+    s = CollaborativeScenario([[5, 8], [5, 20], [28, 28]], [[5, 5]], (2,),
+                              workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
+    for level, where in (("third", False), ("oracle-events", False), ("oracle", True)):
+        trial = simulate_collaborative(s.replace(max_steps=1), level, seed=0)
+        assert trial.knows[0, :, 0].tolist() == [True, level != "third", level != "third"]
+        run = _Run(s, trial_streams(0, 3), make_collaborative_policy(level).shares)
+        run.perceive(0)
+        assert (run.last_seen[0, 2] == 0) == where
 
 
 def test_every_level_sees_the_same_world_on_a_seed():
