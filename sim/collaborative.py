@@ -203,7 +203,7 @@ class _Run:
 
     def __init__(self, s: CollaborativeScenario, streams, shares: str) -> None:
         self.s, self.streams, self.n = s, streams, s.n_robots
-        self.shared = bool(shares)  # every event and sighting of a task reaches everyone
+        self.news_shared = bool(shares)  # every event and task sighting reaches everyone
         self.positions_shared = shares == "everything"
         self.poses = s.starts.copy()
         self.path = [self.poses.copy()]
@@ -228,7 +228,7 @@ class _Run:
         self.completion: int | None = None
 
     def _observers(self, mask: np.ndarray) -> np.ndarray:
-        return np.ones(self.n, dtype=bool) if self.shared else mask
+        return np.ones(self.n, dtype=bool) if self.news_shared else mask
 
     def visible(self) -> np.ndarray:
         return distances(self.poses, self.poses[:, :2]) <= self.s.sensing_range
@@ -283,7 +283,7 @@ class _Run:
         )
         for rule, firing in firings(s.events, world, arrivals):
             observation = firing.observation
-            if self.shared:
+            if self.news_shared:
                 observation = replace(
                     observation, full=frozenset(s.robot_names), partial=frozenset()
                 )

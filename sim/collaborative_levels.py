@@ -34,8 +34,8 @@ knows:
 
 Examples
 --------
->>> make_collaborative_policy("third").name, make_collaborative_policy("oracle").shares_everything
-('third', True)
+>>> make_collaborative_policy("third").name, make_collaborative_policy("oracle").shares
+('third', 'everything')
 """
 
 from __future__ import annotations
@@ -183,11 +183,6 @@ class CollaborativePolicy:
         self.name = name
         self.style, self.shares = COLLABORATIVE_LEVELS[name]
         self.parameters = parameters
-
-    @property
-    def shares_everything(self) -> bool:
-        """Whether every robot knows everything any robot observed (the oracle)."""
-        return self.shares == "everything"
 
     def start(self, scenario) -> None:
         s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
