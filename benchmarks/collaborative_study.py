@@ -13,6 +13,8 @@ parameter changes after a colon, as in benchmarks/level_study.py:
     python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \\
         --seeds 1000-1029 --levels first,third,third:seek=false
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi \\
+        --prediction-error --seeds 0-99   # how far third predicts unseen teammates
     python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
         --trace third --seeds 17                          # one trial, step by step
     python benchmarks/collaborative_study.py specs/collaborative/tasks_3.epi \
@@ -26,10 +28,12 @@ import statistics
 import time
 from pathlib import Path
 
+import numpy as np
 from level_study import _level, _seeds, print_table, run_table
 
 from epistemica.mission import load_mission
 from epistemica.sim.collaborative import simulate_collaborative
+from epistemica.sim.collaborative_levels import CollaborativePolicy
 
 LEVELS = "convention,first,third-shared,third,oracle"
 PAIRS = ("first", "third-shared", "oracle")
@@ -98,6 +102,37 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
               f"{', '.join(names[o] for o in observers)}")  # fmt: skip
 
 
+def prediction_error(paths: list[str], seeds: list[int]) -> None:
+    """Median distance from where ``third``'s robots predict each teammate they do not see
+    to where it is, every step, against the mean distance of two random points in the
+    workspace (a wrapper around :meth:`CollaborativePolicy.decide` records it)."""
+    decide, gaps = CollaborativePolicy.decide, []
+
+    def recording(policy, view):
+        for i, j in zip(*np.nonzero(view.last_seen != view.step), strict=True):
+            if i != j:
+                since = view.step - max(view.last_seen[i, j], 0)
+                where = policy.predicted(view, i, j) - view.poses[j, :2]
+                gaps.append((since, float(np.hypot(*where))))
+        return decide(policy, view)
+
+    CollaborativePolicy.decide = recording
+    try:
+        for path in paths:
+            mission, gaps[:] = load_mission(path), []
+            for seed in seeds:
+                simulate_collaborative(mission.scenario(seed), "third", seed, mission.parameters)
+            since, gap = np.array(gaps).T
+            random = 0.5214 * mission.scenario(seeds[0]).workspace  # two uniform points
+            print(
+                f"{Path(path).stem}: median {np.median(gap):.1f} m (seen in the last 40 "
+                f"steps {np.median(gap[since <= 40]):.1f} m, longer ago "
+                f"{np.median(gap[since > 40]):.1f} m); two random points {random:.1f} m"
+            )
+    finally:
+        CollaborativePolicy.decide = decide
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="*")
@@ -108,7 +143,13 @@ def main() -> None:
     parser.add_argument(
         "--trace", metavar="LEVEL", help="print one trial (the first seed); LEVEL may carry changes"
     )
+    parser.add_argument(
+        "--prediction-error", action="store_true", help="how far third predicts unseen teammates"
+    )
     args = parser.parse_args()
+    if args.prediction_error:
+        prediction_error(args.missions, _seeds(args.seeds))
+        return
     if args.trace:
         trace(args.missions[0], args.trace, _seeds(args.seeds)[0])
         return
