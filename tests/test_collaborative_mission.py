@@ -180,12 +180,12 @@ def test_what_a_robot_knows_comes_from_sight_or_an_observed_event(seed, level):
     s = m.scenario(seed).replace(max_steps=80)
     trial = simulate_collaborative(s, level, seed, m.parameters)
     first = trial.knows.argmax(axis=0)  # (n, m) first step robot i knew task t
+    news = level.startswith("oracle")  # every sighting and event reaches everyone
     gap = np.hypot(*(trial.trajectory[:, :, None, :2] - s.tasks[None, None]).transpose(3, 0, 1, 2))
     for i, t in zip(*np.nonzero(trial.knows.any(axis=0)), strict=True):
         step = first[i, t]
         in_sight = gap[step, i, t] <= s.sensing_range
         told = any(e[0] <= step and i in e[3] and s.task_names[t] in e[2] for e in trial.events)
-        news = level.startswith("oracle")  # every sighting and event reaches everyone
         assert in_sight or told or (news and trial.knows[step, :, t].all())
     if news:  # everyone knows the same tasks
         assert (trial.knows == trial.knows[:, :1]).all()
