@@ -76,6 +76,11 @@ TRIED = {
 }
 
 
+#: The false-belief missions: where the meeting place moves (g5), and the trial of the
+#: claim checked after the move (one where r1 saw it and r2 did not).
+MOVES = {"relocated": ("at random", 1), "moved": ("at (21, 15)", 1000)}
+
+
 def _robots(n: int) -> str:
     return ", ".join(f"r{i}" for i in range(2, n + 1))
 
@@ -134,9 +139,8 @@ def mission(kind: str, n: int) -> str:
                 "    B[r1] B[r2] closed(g4) & ~B[r1] closed(g4)",
             ]
         else:
-            moved = kind in ("relocated", "moved")
-            place = "at random" if kind == "relocated" else "at (21, 15)"
-            lines += [f"goal g5 {place} closed"] if moved else []
+            move = MOVES.get(kind)
+            lines += [f"goal g5 {move[0]} closed"] if move else []
             if kind == "new_goal":
                 lines[-1] = "goal g4 at (15, 15) closed"
             lines += [
@@ -145,7 +149,7 @@ def mission(kind: str, n: int) -> str:
                 + (": g1, g2, g3" if kind == "new_goal" else ": g1, g2, g3, g4"),
                 "sensing model paper noise 0.5 range 4 discovery 3",
             ]
-            if moved:
+            if move:
                 lines += [
                     "event relocate {",
                     "    when step 0",
@@ -179,7 +183,7 @@ def mission(kind: str, n: int) -> str:
                  "~B[r1] closed(g4) & B[r1] B[r2] closed(g4)")
                 if kind == "new_goal"
                 else ("r1 saw the move and believes r2 still heads for g4",
-                      1 if kind == "relocated" else 1000,
+                      move[1],
                       "B[r1] closed(g4) & ~B[r1] closed(g5) & B[r1] B[r2] closed(g5)"
                       " & B[r1] ~B[r2] closed(g4)")
             )  # fmt: skip
