@@ -17,14 +17,17 @@ knows:
                    ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
                    done event); when those are too few, a knower fetches the nearest
                    teammate that does not know (an intercept: it goes where it predicts
-                   that teammate on its sweep, and once in sight heads for the task, so the
-                   teammate observes the heading event), or waits at the task when that
-                   teammate's sweep passes within sight of it in ``wait_horizon`` steps
+                   that teammate on its sweep, and once well in sight heads for the
+                   task, so the teammate observes the heading event), or waits at the
+                   task when that teammate's sweep passes within sight of it in
+                   ``wait_horizon`` steps
                    (a knower that waits while it knows another is out for helpers waits
                    ``backed_patience`` steps). Tasks enough robots it knows know of come
                    first (``complete_first``); news of one more knower renews a waiting
                    robot's patience (``rejoin``); a task as many teammates as it needs
-                   have long been known to know of is presumed done (``stale_after``)
+                   have long been known to know of is presumed done (``stale_after``); a
+                   lone knower with nobody to fetch looks for helpers ``seek_limit``
+                   steps, then waits at the task
 ``oracle``         ``third`` with full communication: every robot observes every event
                    and knows where every robot is
 ``oracle-events``  ``third`` where every robot observes every event (news of a task
@@ -123,6 +126,14 @@ class CollaborativeParameters:
         ``third``: a robot presumes a task done once at least as many teammates as it
         needs have been known to know of it for this many steps while the robot has not
         seen it open for as long (0: off).
+    seek_limit : int
+        ``third``: a robot that began looking for helpers for a task (``seek``) this many
+        steps ago waits at the task instead until its patience there runs out, and looks
+        anew after its hold (0: it looks on: robots that each know a task nobody else is
+        known to know of, on parallel sweeps, may never meet).
+    hail_range : float
+        ``third``: a fetcher heads back to the task once the teammate it fetches is in
+        sight within this fraction of the sensing range (1: as soon as it is in sight).
     """
 
     lane_factor: float = 2.0
@@ -140,6 +151,8 @@ class CollaborativeParameters:
     complete_first: bool = True
     rejoin: bool = True
     stale_after: int = 20
+    seek_limit: int = 20
+    hail_range: float = 0.8
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -198,6 +211,7 @@ class CollaborativePolicy:
         self.fetch_since = np.full(n, -1)
         self.gave_up = np.zeros((n, m, n), dtype=bool)
         self.backed = np.zeros(n, dtype=bool)
+        self.seeking_since = np.full((n, m), -1)
         self.open_now = np.zeros((n, m), dtype=bool)  # per robot: tasks open by its knowledge
 
     # -- what a robot predicts ------------------------------------------------------------
@@ -342,11 +356,21 @@ class CollaborativePolicy:
                     self.backed[i] = order.size > 1  # another knower fetches or seeks
                     return ("task", int(t))
                 if fetch is None:  # nobody it knows where to find: look for helpers
-                    return ("explore",) if self.parameters.seek else ("task", int(t))
+                    return ("explore",) if self._seeks(view.step, i, t) else ("task", int(t))
                 return ("fetch", int(t), fetch)
             if fetch is not None and fetch != WAIT:
                 taken[fetch] = True
         return ("explore",)
+
+    def _seeks(self, step: int, i: int, t: int) -> bool:
+        """Whether robot ``i`` looks for helpers for task ``t`` rather than waiting there
+        (``seek``, for at most ``seek_limit`` steps until its patience there runs out)."""
+        p = self.parameters
+        if not p.seek:
+            return False
+        if self.seeking_since[i, t] < 0:
+            self.seeking_since[i, t] = step
+        return not p.seek_limit or step - self.seeking_since[i, t] < p.seek_limit
 
     def _stand_ins(self, view: View, i: int, order: np.ndarray, need: int) -> np.ndarray:
         """The knowers robot ``i`` sends to a task (nearest first, ``order``): the
@@ -403,6 +427,7 @@ class CollaborativePolicy:
                     self.hold_until[i, t] = step + p.hold
                     self.held_knowers[i, t] = knowers
                     self.waiting_since[i] = -1
+                    self.seeking_since[i, t] = -1  # after the hold it looks for helpers anew
             else:
                 self.waiting_since[i] = -1
             return s.tasks[t], t
@@ -411,9 +436,11 @@ class CollaborativePolicy:
             t, j = choice[1], choice[2]
             if self.fetching[i] != j:
                 self.fetching[i], self.fetch_since[i] = j, step
-            if view.last_seen[i, j] == step:  # in sight: head for the task, it sees that
-                return s.tasks[t], t
             now = self.predicted(view, i, j)
+            if view.last_seen[i, j] == step and (
+                np.hypot(*(now - here)) <= p.hail_range * s.sensing_range
+            ):  # well in sight: head for the task, it sees that (and still does next step)
+                return s.tasks[t], t
             if step - self.fetch_since[i] >= p.intercept_limit:
                 self.gave_up[i, t, j] = True
             if p.meet_ahead:

@@ -147,6 +147,56 @@ def test_news_of_another_knower_renews_a_waiting_robots_patience():
     assert gave_up == {True: 91, False: 61}
 
 
+# -- a lone knower looks for helpers, then waits ---------------------------------------------
+
+
+def test_a_lone_knower_looks_for_helpers_for_a_while_then_waits_at_the_task():
+    # r1 stands at t1 (needs 2), which only it knows from step 50 on; it has not seen r2
+    # or r3 for more than 40 steps (`fetch_memory`), so it knows nobody to fetch. With
+    # `seek_limit` 20 it explores (looks for helpers) at steps 50-69, waits at t1 from 70
+    # until its patience (60) runs out at 130, explores on hold (40 steps) from 131 to
+    # 169, and looks anew from 170: waits again from 190.
+    # Without a limit it looks for helpers for good (three robots that each know a task
+    # nobody else is known to know of, on parallel sweeps, may never meet).
+    s = CollaborativeScenario(
+        [[10, 10, 0], [28, 28, 0], [2, 28, 0]], [[10, 10]], (2,),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    k.discover(0, np.array([True, False, False]))
+    unseen = np.full((3, 3), -1)
+    for limit, waits in ((20, [*range(70, 131), *range(190, 200)]), (0, [])):
+        policy = _policy(s, seek_limit=limit, stale_after=0)
+        steer = []
+        for step in range(50, 200):
+            np.fill_diagonal(unseen, step)
+            view = _view(k, s.starts, step, open_seen=np.full((3, 1), step), last_seen=unseen)
+            steer.append(int(policy.decide(view)[1][0]))
+        assert [50 + step for step, t in enumerate(steer) if t == 0] == waits
+        assert set(steer) <= {0, -1}
+
+
+# -- a fetcher turns back once the teammate will see it turn ---------------------------------
+
+
+@pytest.mark.parametrize(("gap", "hail_range", "steer"), [(6.5, 0.8, FETCHING), (5.0, 0.8, 0),
+                                                          (6.5, 1.0, 0)])  # fmt: skip
+def test_a_fetcher_heads_back_once_the_teammate_is_well_in_sight(gap, hail_range, steer):
+    # r1 alone knows t1 (needs 2) and fetches r2, in sight (7 m) `gap` m east. Turning back
+    # at the edge of sight, it would be out of sight by the time the heading event fires
+    # (r2 never learns; two fetchers can dither there for the whole `intercept_limit`):
+    # it goes on towards r2 until r2 is within 0.8 of the sensing range (5.6 m).
+    s = CollaborativeScenario(
+        [[20, 15, 0], [20 + gap, 15, 0]], [[3, 15]], (2,), workspace=30.0, sensing_range=7.0
+    )
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    k.discover(0, np.array([True, False]))
+    policy = _policy(s, hail_range=hail_range)
+    targets, steer_to = policy.decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
+    assert int(steer_to[0]) == steer
+    assert targets[0].tolist() == ([20 + gap, 15] if steer == FETCHING else [3, 15])
+
+
 # -- a teammate known to be on its sweep -------------------------------------------------
 
 
