@@ -17,8 +17,8 @@ knows:
                    ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
                    done event); when those are too few, a knower fetches the nearest
                    teammate that does not know (an intercept: it goes where it predicts
-                   that teammate on its sweep, and once well in sight heads for the
-                   task, so the teammate observes the heading event), or waits at the
+                   that teammate on its sweep, and once near enough heads for the task,
+                   so the teammate observes the heading event), or waits at the
                    task when that teammate's sweep passes within sight of it in
                    ``wait_horizon`` steps
                    (a knower that waits while it knows another is out for helpers waits
@@ -131,9 +131,6 @@ class CollaborativeParameters:
         steps ago waits at the task instead until its patience there runs out, and looks
         anew after its hold (0: it looks on: robots that each know a task nobody else is
         known to know of, on parallel sweeps, may never meet).
-    hail_range : float
-        ``third``: a fetcher heads back to the task once the teammate it fetches is in
-        sight within this fraction of the sensing range (1: as soon as it is in sight).
     """
 
     lane_factor: float = 2.0
@@ -152,7 +149,6 @@ class CollaborativeParameters:
     rejoin: bool = True
     stale_after: int = 20
     seek_limit: int = 20
-    hail_range: float = 0.8
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -362,6 +358,14 @@ class CollaborativePolicy:
                 taken[fetch] = True
         return ("explore",)
 
+    def _hail(self, i: int, j: int) -> float:
+        """How near robot ``i`` comes to a teammate ``j`` it fetches before it heads for the
+        task: near enough that ``j`` still sees it after both move a step apart (turning
+        back at the edge of sight, ``i`` would be out of sight when the heading event
+        fires; ``j`` may be turning away to fetch ``i`` for another task)."""
+        s = self.s
+        return s.sensing_range - (s.max_speed[i] + s.max_speed[j]) * s.dt
+
     def _seeks(self, step: int, i: int, t: int) -> bool:
         """Whether robot ``i`` looks for helpers for task ``t`` rather than waiting there
         (``seek``, for at most ``seek_limit`` steps until its patience there runs out)."""
@@ -437,10 +441,8 @@ class CollaborativePolicy:
             if self.fetching[i] != j:
                 self.fetching[i], self.fetch_since[i] = j, step
             now = self.predicted(view, i, j)
-            if view.last_seen[i, j] == step and (
-                np.hypot(*(now - here)) <= p.hail_range * s.sensing_range
-            ):  # well in sight: head for the task, it sees that (and still does next step)
-                return s.tasks[t], t
+            if view.last_seen[i, j] == step and np.hypot(*(now - here)) <= self._hail(i, j):
+                return s.tasks[t], t  # it sees i head for the task, even as both move apart
             if step - self.fetch_since[i] >= p.intercept_limit:
                 self.gave_up[i, t, j] = True
             if p.meet_ahead:

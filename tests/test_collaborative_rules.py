@@ -179,20 +179,19 @@ def test_a_lone_knower_looks_for_helpers_for_a_while_then_waits_at_the_task():
 # -- a fetcher turns back once the teammate will see it turn ---------------------------------
 
 
-@pytest.mark.parametrize(("gap", "hail_range", "steer"), [(6.5, 0.8, FETCHING), (5.0, 0.8, 0),
-                                                          (6.5, 1.0, 0)])  # fmt: skip
-def test_a_fetcher_heads_back_once_the_teammate_is_well_in_sight(gap, hail_range, steer):
-    # r1 alone knows t1 (needs 2) and fetches r2, in sight (7 m) `gap` m east. Turning back
-    # at the edge of sight, it would be out of sight by the time the heading event fires
-    # (r2 never learns; two fetchers can dither there for the whole `intercept_limit`):
-    # it goes on towards r2 until r2 is within 0.8 of the sensing range (5.6 m).
+@pytest.mark.parametrize(("gap", "steer"), [(6.5, FETCHING), (5.5, FETCHING), (5.0, 0)])
+def test_a_fetcher_heads_back_once_the_teammate_still_sees_it_after_a_step(gap, steer):
+    # r1 alone knows t1 (needs 2) and fetches r2, in sight (7 m) `gap` m east. Both move
+    # 1 m a step: turning back further than 7 - 2 = 5 m, r1 could be out of r2's sight by
+    # the time the heading event fires (r2 turning away too, to fetch r1 for a task of its
+    # own: two such fetchers dithered at the edge of sight for 40 steps). So it goes on
+    # towards r2, and heads for the task from 5 m.
     s = CollaborativeScenario(
         [[20, 15, 0], [20 + gap, 15, 0]], [[3, 15]], (2,), workspace=30.0, sensing_range=7.0
     )
     k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
     k.discover(0, np.array([True, False]))
-    policy = _policy(s, hail_range=hail_range)
-    targets, steer_to = policy.decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
+    targets, steer_to = _policy(s).decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
     assert int(steer_to[0]) == steer
     assert targets[0].tolist() == ([20 + gap, 15] if steer == FETCHING else [3, 15])
 
