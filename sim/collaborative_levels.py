@@ -25,7 +25,9 @@ knows:
                    ``backed_patience`` steps). Tasks enough robots it knows know of come
                    first (``complete_first``); news of one more knower renews a waiting
                    robot's patience (``rejoin``); a task as many teammates as it needs
-                   have long been known to know of is presumed done (``stale_after``); a
+                   have long been known to know of is presumed done (``stale_after``)
+                   until, with every task known and nothing to do, it goes to see
+                   (``verify``); a
                    lone knower with nobody to fetch looks for helpers ``seek_limit``
                    steps, then waits at the task
 ``oracle``         ``third`` with full communication: every robot observes every event
@@ -126,6 +128,11 @@ class CollaborativeParameters:
         ``third``: a robot presumes a task done once at least as many teammates as it
         needs have been known to know of it for this many steps while the robot has not
         seen it open for as long (0: off).
+    verify : bool
+        ``third``: a robot that knows of every task of the mission and has nothing to do
+        goes to see the nearest task it presumes done (``stale_after``) rather than
+        exploring: teammates known to know of a task may have been busy elsewhere, and
+        nothing is left to find.
     seek_limit : int
         ``third``: a robot that began looking for helpers for a task (``seek``) this many
         steps ago waits at the task instead until its patience there runs out, and looks
@@ -149,6 +156,7 @@ class CollaborativeParameters:
     rejoin: bool = True
     stale_after: int = 20
     seek_limit: int = 20
+    verify: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -280,8 +288,10 @@ class CollaborativePolicy:
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
         for i in range(n):
             done = k.knows_done((i,))
+            presumed = np.zeros_like(done)
             if aware is not None and self.parameters.stale_after:
-                done = done | self.presumed_done(view, i)
+                presumed = self.presumed_done(view, i) & ~done
+                done = done | presumed
             known = view.aware[i, i] & ~done
             self.open_now[i] = known
             waiting = self._waiting(view, i)
@@ -290,6 +300,10 @@ class CollaborativePolicy:
                 full |= aware[i].sum(axis=0) > self.held_knowers[i]
             available = known & ((self.hold_until[i] <= view.step) | full)
             choice = self._choose(view, i, available, aware, waiting)
+            if choice == ("explore",) and self.parameters.verify and presumed.any():
+                if view.aware[i, i].all():  # nothing left to find: go and see
+                    gaps = np.hypot(*(self.s.tasks - view.poses[i, :2]).T)
+                    choice = ("task", int(np.argmin(np.where(presumed, gaps, np.inf))))
             targets[i], steer_to[i] = self._act(view, i, choice, waiting)
         return targets, steer_to
 

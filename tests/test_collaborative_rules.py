@@ -97,6 +97,29 @@ def test_a_task_enough_teammates_knew_of_long_enough_is_presumed_done(
     assert policy.presumed_done(view, 0).tolist() == [presumed]
 
 
+@pytest.mark.parametrize(("tasks", "verify", "steer"), [(1, True, 0), (1, False, -1),
+                                                        (2, True, -1)])  # fmt: skip
+def test_a_robot_with_nothing_left_to_find_goes_to_see_a_task_it_presumes_done(
+    tasks, verify, steer
+):
+    # r1 presumes t1 done (r2 and r3 have known of it since step 5, it has not seen it
+    # open), so it has nothing to do. When t1 is the mission's only task, nothing is left
+    # to find: it goes to see t1 (teammates that knew of it may have been busy elsewhere).
+    # With a second task it has not found yet, it explores.
+    s = CollaborativeScenario(
+        [[2, 2, 0], [4, 2, 0], [6, 2, 0]], [[20, 20], [28, 2]][:tasks], (2,) * tasks,
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, tasks), dtype=bool))
+    k.discover(0, np.array([True, True, True]))
+    since = np.full((3, 3, tasks), -1)
+    since[0, :, 0] = 5
+    policy = _policy(s, stale_after=20, verify=verify)
+    view = _view(k, s.starts, 30, since=since, open_seen=np.full((3, tasks), -1))
+    assert policy.presumed_done(view, 0)[0]
+    assert int(policy.decide(view)[1][0]) == steer
+
+
 # -- tasks enough robots know of come first --------------------------------------------------
 
 
