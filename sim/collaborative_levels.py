@@ -79,7 +79,7 @@ EXPLORING, FETCHING, WAIT = -1, -2, -3
 @dataclass(frozen=True)
 class CollaborativeParameters:
     """Every constant of the collaborative levels, one set for every mission (chosen on
-    tuning seeds 1000-1029: docs/results.md, "Collaborative tasks found while exploring").
+    tuning seeds 1000-1199: docs/results.md, "Collaborative tasks found while exploring").
 
     Attributes
     ----------
