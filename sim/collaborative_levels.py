@@ -96,7 +96,10 @@ class CollaborativeParameters:
         many steps is waited for rather than fetched.
     fetch_memory : int
         ``third``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
-        others are is a guess).
+        others are is a guess). A teammate never seen counts as seen at the start, on its
+        way to its sweep (the convention says where that begins): fetching only teammates
+        really seen took 95.5 / 92.6 / 81.1 steps against 86.9 / 91.1 / 78.4 at 3 / 5 / 8
+        robots on tuning seeds 1000-1199.
     seek : bool
         ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
         on (it meets teammates to fetch) rather than waiting at the task.
