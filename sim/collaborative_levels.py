@@ -18,18 +18,16 @@ knows:
                    done event); when those are too few, a knower fetches the nearest
                    teammate that does not know (an intercept: it goes where it predicts
                    that teammate on its sweep, and once near enough heads for the task,
-                   so the teammate observes the heading event), or waits at the
-                   task when that teammate's sweep passes within sight of it in
-                   ``wait_horizon`` steps
-                   (a knower that waits while it knows another is out for helpers waits
-                   ``backed_patience`` steps). Tasks enough robots it knows know of come
-                   first (``complete_first``); news of one more knower renews a waiting
-                   robot's patience (``rejoin``); a task as many teammates as it needs
-                   have long been known to know of is presumed done (``stale_after``)
-                   until, with every task known and nothing to do, it goes to see
-                   (``verify``); a
-                   lone knower with nobody to fetch looks for helpers ``seek_limit``
-                   steps, then waits at the task
+                   so the teammate observes the heading event), or waits at the task
+                   when that teammate's sweep passes within sight of it in
+                   ``wait_horizon`` steps (a knower that waits while it knows another is
+                   out for helpers waits ``backed_patience`` steps); a lone knower with
+                   nobody to fetch looks for helpers ``seek_limit`` steps, then waits.
+                   Tasks enough robots it knows know of come first (``complete_first``);
+                   news of one more knower renews a waiting robot's patience
+                   (``rejoin``); a task as many teammates as it needs have long been
+                   known to know of is presumed done (``stale_after``) until, with every
+                   task known and nothing to do, it goes to see (``verify``)
 ``oracle``         ``third`` with full communication: every robot observes every event
                    and knows where every robot is
 ``oracle-events``  ``third`` where every robot observes every event (news of a task
@@ -303,12 +301,19 @@ class CollaborativePolicy:
                 full |= aware[i].sum(axis=0) > self.held_knowers[i]
             available = known & ((self.hold_until[i] <= view.step) | full)
             choice = self._choose(view, i, available, aware, waiting)
-            if choice == ("explore",) and self.parameters.verify and presumed.any():
-                if view.aware[i, i].all():  # nothing left to find: go and see
-                    gaps = np.hypot(*(self.s.tasks - view.poses[i, :2]).T)
-                    choice = ("task", int(np.argmin(np.where(presumed, gaps, np.inf))))
+            if choice == ("explore",) and self.parameters.verify:
+                choice = self._verify(view, i, presumed)
             targets[i], steer_to[i] = self._act(view, i, choice, waiting)
         return targets, steer_to
+
+    def _verify(self, view: View, i: int, presumed: np.ndarray) -> tuple:
+        """What robot ``i``, with nothing to do, does about the tasks it presumes done
+        (``presumed``): it goes to see the nearest once it knows of every task of the
+        mission (nothing is left to find), and explores otherwise."""
+        if not (presumed.any() and view.aware[i, i].all()):
+            return ("explore",)
+        gaps = np.hypot(*(self.s.tasks - view.poses[i, :2]).T)
+        return ("task", int(np.argmin(np.where(presumed, gaps, np.inf))))
 
     def _waiting(self, view: View, i: int) -> np.ndarray:
         """``(m,)`` teammates robot ``i`` sees standing at each task now."""
