@@ -21,7 +21,7 @@ knows:
                    so the teammate observes the heading event), or waits at the task
                    when that teammate's sweep passes within sight of it in
                    ``wait_horizon`` steps (a knower that waits while it knows another is
-                   out for helpers waits ``backed_patience`` steps); a lone knower with
+                   out for helpers waits ``backed_patience`` steps); a knower with
                    nobody to fetch looks for helpers ``seek_limit`` steps, then waits.
                    Tasks enough robots it knows know of come first (``complete_first``);
                    news of one more knower renews a waiting robot's patience
