@@ -50,7 +50,8 @@ from typing import NamedTuple
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.collaborative_sweep import Route, meeting_point, sweep
+from epistemica.sim.collaborative_sweep import meeting_point
+from epistemica.sim.collaborative_teammates import TeammateModel
 from epistemica.sim.knowledge import TeamKnowledge
 
 __all__ = [
@@ -139,6 +140,17 @@ class CollaborativeParameters:
         steps ago waits at the task instead until its patience there runs out, and looks
         anew after its hold (0: it looks on: robots that each know a task nobody else is
         known to know of, on parallel sweeps, may never meet).
+    resume : bool
+        ``third``, ``third-shared``: a teammate seen off its sweep and moving makes for the
+        waypoint its motion points at, then sweeps on
+        (:class:`~epistemica.sim.collaborative_teammates.TeammateModel`), rather than being
+        put on the nearest point of its sweep.
+    particles : int
+        ``third``, ``third-shared``: a teammate never seen started at one of a grid of
+        ``particles`` x ``particles`` starts, less those that would have put it in sight
+        (0: it reached its sweep after half the workspace's side). Prediction error of
+        unseen teammates, median on tuning seeds 1000-1039 at 3 / 5 / 8 robots: 12.1 /
+        13.9 / 17.5 m with neither, 8.2 / 10.2 / 12.4 m with both.
     """
 
     lane_factor: float = 2.0
@@ -158,6 +170,8 @@ class CollaborativeParameters:
     stale_after: int = 20
     seek_limit: int = 20
     verify: bool = True
+    resume: bool = True
+    particles: int = 12
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -205,7 +219,8 @@ class CollaborativePolicy:
     def start(self, scenario) -> None:
         s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
         self.s = s
-        self.routes = [Route(sweep(s, i, p.lane_factor)) for i in range(n)]
+        self.teammates = TeammateModel(s, p.lane_factor, p.particles, p.resume)
+        self.routes = self.teammates.routes
         self.pointer = np.zeros(n, dtype=int)
         self.waiting_since = np.full(n, -1)
         self.company = np.zeros(n, dtype=int)
@@ -223,18 +238,16 @@ class CollaborativePolicy:
 
     def arc(self, view: View, i: int, j: int) -> float:
         """Arc length of teammate ``j``'s sweep where robot ``i`` expects it now."""
-        speed, seen = self.s.max_speed[j], view.last_seen[i, j]
-        if seen < 0:  # never seen: on its sweep since it could reach the start
-            return (view.step - 0.5 * self.s.workspace / speed) * speed
-        return self.routes[j].project(view.estimates[i, j]) + (view.step - seen) * speed
+        return self.teammates.arc(view.step, i, j, view.estimates[i, j], int(view.last_seen[i, j]))
 
     def predicted(self, view: View, i: int, j: int, ahead: int = 0) -> np.ndarray:
         """Where robot ``i`` expects robot ``j`` ``ahead`` steps from now."""
         if i == j:
             return view.poses[i, :2]
-        if view.last_seen[i, j] == view.step and ahead == 0:
+        seen = int(view.last_seen[i, j])
+        if seen == view.step and ahead == 0:
             return view.estimates[i, j]
-        return self.routes[j].at(self.arc(view, i, j) + ahead * self.s.max_speed[j])
+        return self.teammates.place(view.step + ahead, i, j, view.estimates[i, j], seen)
 
     def on_sweep(self, view: View, i: int, j: int, open_tasks: np.ndarray) -> bool:
         """Whether robot ``i`` knows teammate ``j`` is still on its sweep: ``i`` knows of no
@@ -284,6 +297,7 @@ class CollaborativePolicy:
         """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
         heads to (-1 exploring, -2 fetching a teammate)."""
         n, k = self.s.n_robots, view.knowledge
+        self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
         aware = view.aware if self.style == "third" else None
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
