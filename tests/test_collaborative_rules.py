@@ -219,6 +219,25 @@ def test_a_fetcher_heads_back_once_the_teammate_still_sees_it_after_a_step(gap, 
     assert targets[0].tolist() == ([20 + gap, 15] if steer == FETCHING else [3, 15])
 
 
+@pytest.mark.parametrize(
+    ("horizon", "steer", "goes_to"), [(0, FETCHING, [15, 20]), (20, 0, [15, 5])]
+)
+def test_a_knower_waits_for_a_teammate_its_sweep_brings_within_the_horizon(horizon, steer, goes_to):
+    # 30 m, 7 m of sight: r2 (second of two) sweeps the lane x = 15 downwards, 1 m a step,
+    # and is at (15, 20) now. r1 alone knows t1 at (15, 5) (needs 2) and stands there. r2
+    # comes within 0.8 * 7 = 5.6 m of t1 at y = 10.6, after 9.4 steps: within a horizon
+    # of 20 steps r1 waits for it; with none it goes and fetches it where it is.
+    s = CollaborativeScenario(
+        [[15, 5, 0], [15, 20, 0]], [[15, 5]], (2,), workspace=30.0, sensing_range=7.0
+    )
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    k.discover(0, np.array([True, False]))
+    policy = _policy(s, wait_horizon=horizon)
+    targets, steer_to = policy.decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
+    assert int(steer_to[0]) == steer
+    assert targets[0].tolist() == goes_to
+
+
 # -- a teammate known to be on its sweep -------------------------------------------------
 
 
