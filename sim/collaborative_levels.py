@@ -19,9 +19,11 @@ knows:
                    teammate that does not know (an intercept: it goes where it predicts
                    that teammate on its sweep, and once near enough heads for the task,
                    so the teammate observes the heading event), or waits at the task
-                   when that teammate is predicted in sight of it (a knower that waits while it knows another is
-                   out for helpers waits ``backed_patience`` steps); a knower with
-                   nobody to fetch looks for helpers ``seek_limit`` steps, then waits.
+                   when that teammate is predicted in sight of it (a knower that waits
+                   while it knows another is out for helpers waits ``backed_patience``
+                   steps); a knower with nobody to fetch looks for helpers
+                   ``seek_limit`` steps, then waits. Teammates out of sight are
+                   predicted by :class:`TeammateModel` (``third-shared`` too).
                    Tasks enough robots it knows know of come first (``complete_first``);
                    news of one more knower renews a waiting robot's patience
                    (``rejoin``); a task as many teammates as it needs have long been
@@ -301,7 +303,8 @@ class CollaborativePolicy:
         """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
         heads to (-1 exploring, -2 fetching a teammate)."""
         n, k = self.s.n_robots, view.knowledge
-        self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
+        if self.style in ("third", "shared"):  # the levels that predict teammates
+            self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
         aware = view.aware if self.style == "third" else None
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
