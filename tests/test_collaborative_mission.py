@@ -317,7 +317,8 @@ def test_a_backed_waiter_waits_longer():
     # know); r3 is far away. r1, the nearer, waits while r2 is out for helpers: it gives up
     # after backed_patience steps, not patience (news of a knower, `rejoin`, is left out:
     # it would renew the patience when r2 comes back; so is `seek_limit`, which would
-    # bring r2 back to wait after 20 steps).
+    # bring r2 back to wait after 20 steps; and `fetch_together`, with which r1, seen by
+    # nobody else at the task, would go with r2).
     s = CollaborativeScenario([[5, 5, 0], [7, 5, 0], [45, 45, 0]], [[6, 8]], (3,),
                               workspace=50.0, sensing_range=7.0, max_steps=170,
                               events=_events())  # fmt: skip
@@ -327,7 +328,9 @@ def test_a_backed_waiter_waits_longer():
             s,
             "third",
             0,
-            CollaborativeParameters(backed_patience=backed, rejoin=False, seek_limit=0),
+            CollaborativeParameters(
+                backed_patience=backed, rejoin=False, seek_limit=0, fetch_together=False
+            ),
         )
         at_task = trial.targets[:, 0] == 0
         waited[backed] = int(np.argmin(at_task))  # the first step r1 steers elsewhere

@@ -147,7 +147,8 @@ def test_a_robot_joins_the_task_its_teammates_expect_it_at():
 def test_news_of_another_knower_renews_a_waiting_robots_patience():
     # r1 waits at t1 (needs 3), which r2 knows too; at step 30 r1 sees r3 find it. With
     # `rejoin` it waits 60 steps from then (gives up at 90), without it from step 0 (60);
-    # it steers elsewhere from the next step.
+    # it steers elsewhere from the next step. (`fetch_together` off: r2 and r3 never
+    # seen, r1 would go with r2 to fetch r3 rather than wait.)
     s = CollaborativeScenario(
         [[10, 10, 0], [28, 28, 0], [2, 28, 0]], [[10, 10]], (3,),
         workspace=30.0, sensing_range=7.0,
@@ -156,7 +157,7 @@ def test_news_of_another_knower_renews_a_waiting_robots_patience():
     for rejoin in (True, False):
         k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
         k.discover(0, np.array([True, True, False]))
-        policy = _policy(s, rejoin=rejoin, stale_after=0)
+        policy = _policy(s, rejoin=rejoin, stale_after=0, fetch_together=False)
         for step in range(120):
             if step == 30:
                 k.discover(0, np.array([True, False, True]))
@@ -236,6 +237,33 @@ def test_a_knower_waits_for_a_teammate_its_sweep_brings_within_the_horizon(horiz
     targets, steer_to = policy.decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
     assert int(steer_to[0]) == steer
     assert targets[0].tolist() == goes_to
+
+
+@pytest.mark.parametrize(
+    ("together", "starts", "steer", "goes_to"),
+    [
+        (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0]], FETCHING, [25, 15]),
+        (False, [[6, 15, 0], [12, 15, 0], [25, 15, 0]], 0, [5, 15]),
+        (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0], [25, 25, 0]], 0, [5, 15]),
+    ],
+)
+def test_the_nearest_knower_waits_only_if_someone_may_see_it_wait(together, starts, steer, goes_to):
+    # r1 and r2 found t1 (5, 15), which needs 3, together: each knows the other knows.
+    # r3, 20 m from t1 (out of 7 m sight of it), does not know; r2 fetches it. r1, the
+    # knower nearest t1, waits there to be seen by a teammate that does not know, but
+    # with three robots nobody is left to see it: it goes for r3 too. A fourth robot
+    # that does not know (at (25, 25)) may pass by: then r1 waits.
+    s = CollaborativeScenario(starts, [[5, 15]], (3,), workspace=30.0, sensing_range=7.0)
+    n = len(starts)
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((n, 1), dtype=bool))
+    k.discover(0, np.arange(n) < 2)
+    policy = _policy(s, fetch_together=together)
+    view = _view(k, s.starts, 50, open_seen=np.full((n, 1), 50))
+    assert view.aware[0, 1, 0] and view.aware[1, 0, 0] and not view.aware[0, 2, 0]
+    targets, steer_to = policy.decide(view)
+    assert int(steer_to[0]) == steer
+    assert targets[0].tolist() == goes_to
+    assert int(steer_to[1]) == FETCHING and targets[1].tolist() == [25, 15]
 
 
 # -- a teammate known to be on its sweep -------------------------------------------------
