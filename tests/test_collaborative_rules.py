@@ -244,7 +244,8 @@ def test_a_knower_waits_for_a_teammate_its_sweep_brings_within_the_horizon(horiz
     [
         (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0]], FETCHING, [25, 15]),
         (False, [[6, 15, 0], [12, 15, 0], [25, 15, 0]], 0, [5, 15]),
-        (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0], [25, 25, 0]], 0, [5, 15]),
+        (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0], [25, 17, 0]], 0, [5, 15]),
+        (True, [[6, 15, 0], [12, 15, 0], [25, 15, 0], [28, 28, 0]], FETCHING, [25, 15]),
     ],
 )
 def test_the_nearest_knower_waits_only_if_someone_may_see_it_wait(together, starts, steer, goes_to):
@@ -252,7 +253,9 @@ def test_the_nearest_knower_waits_only_if_someone_may_see_it_wait(together, star
     # r3, 20 m from t1 (out of 7 m sight of it), does not know; r2 fetches it. r1, the
     # knower nearest t1, waits there to be seen by a teammate that does not know, but
     # with three robots nobody is left to see it: it goes for r3 too. A fourth robot
-    # that does not know (at (25, 25)) may pass by: then r1 waits.
+    # that does not know may pass by if it is within `watch_range` (3) sensing ranges,
+    # 21 m, of t1: at (25, 17), 20.1 m away, it may, and r1 waits; at (28, 28), 26.4 m
+    # away, it is too far, and r1 goes for r3 too.
     s = CollaborativeScenario(starts, [[5, 15]], (3,), workspace=30.0, sensing_range=7.0)
     n = len(starts)
     k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((n, 1), dtype=bool))
