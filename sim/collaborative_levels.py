@@ -21,10 +21,10 @@ knows:
                    so the teammate observes the heading event), or waits at the task
                    when that teammate is predicted in sight of it (a knower that waits
                    while it knows another is out for helpers waits ``backed_patience``
-                   steps, and goes with it when nobody else is left to see it wait:
-                   ``fetch_together``); a knower with nobody to fetch looks for helpers
-                   ``seek_limit`` steps, then waits. Teammates out of sight are
-                   predicted by :class:`TeammateModel` (``third-shared`` too).
+                   steps, and goes with it when nobody else is near to see it wait:
+                   ``fetch_together``, ``watch_range``); a knower with nobody to fetch
+                   looks for helpers ``seek_limit`` steps, then waits. Teammates out of
+                   sight are predicted by :class:`TeammateModel` (``third-shared`` too).
                    Tasks enough robots it knows know of come first (``complete_first``);
                    news of one more knower renews a waiting robot's patience
                    (``rejoin``); a task as many teammates as it needs have long been
@@ -149,10 +149,10 @@ class CollaborativeParameters:
     fetch_together : bool
         ``third``: the knower nearest a task too few know of, which would wait there while
         another knower fetches a teammate, goes for that teammate too when no other
-        teammate that does not know of the task is left to see it wait (three robots:
-        two knowers and the one fetched). On tuning seeds 1000-1199 at 3 robots 76.4 ->
-        71.0 steps (paired -5.4 +- 1.5, faster in 72 trials, slower in 26); at 5 and 8
-        robots 85.5 -> 85.9, 74.0 -> 74.1.
+        teammate that does not know of the task is near enough to see it wait
+        (``watch_range``; with three robots, two knowers and the one fetched, none is).
+        On tuning seeds 1000-1199 at 3 robots 76.4 -> 71.0 steps (paired -5.4 +- 1.5,
+        faster in 72 trials, slower in 26); at 5 and 8 robots 85.5 -> 85.9, 74.0 -> 74.1.
     watch_range : float
         ``fetch_together``: a teammate counts as one that may see the knower wait only if
         predicted within this many sensing ranges of the task. 1 / 2 / 3 / unbounded:
