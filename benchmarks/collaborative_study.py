@@ -15,6 +15,8 @@ parameter changes after a colon, as in benchmarks/level_study.py:
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
     python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi \\
         --prediction-error --seeds 0-99   # how far third predicts unseen teammates
+    python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \
+        --time-use --seeds 1000-1049 --levels first,third,oracle-events  # robot-steps by use
     python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
         --trace third --seeds 17                          # one trial, step by step
     python benchmarks/collaborative_study.py specs/collaborative/tasks_3.epi \
@@ -102,6 +104,55 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
               f"{', '.join(names[o] for o in observers)}")  # fmt: skip
 
 
+USES = (
+    "exploring, knowing no open task",
+    "exploring, knowing one",
+    "fetching",
+    "going to a task",
+    "waiting at a task",
+)
+
+
+def time_use(paths: list[str], levels: list[str], seeds: list[int]) -> None:
+    """Mean robot-steps per trial by what the robot does: exploring while it knows of no
+    open task (news it lacks), exploring while it knows of one, fetching a teammate, going
+    to a task, waiting at one (within the completion radius of the task it steers to)."""
+    for path in paths:
+        mission = load_mission(path)
+        print(f"{Path(path).stem}, robot-steps per trial (seeds {seeds[0]}-{seeds[-1]}):")
+        print("| level | steps | " + " | ".join(USES) + " |")
+        print("|---|---|" + "---|" * len(USES))
+        for spec in levels:
+            level, changes = _level(spec)
+            parameters = mission.parameters.replace(**changes) if changes else mission.parameters
+            counts, steps = np.zeros(len(USES)), 0
+            for seed in seeds:
+                scenario = mission.scenario(seed)
+                trial = simulate_collaborative(scenario, level, seed, parameters)
+                counts += _uses(trial, scenario)
+                steps += trial.steps
+            cells = " | ".join(f"{c / len(seeds):.1f}" for c in counts)
+            print(f"| {spec} | {steps / len(seeds):.1f} | {cells} |")
+
+
+def _uses(trial, scenario) -> np.ndarray:
+    """Robot-steps of one trial per entry of :data:`USES`."""
+    target = trial.targets  # (steps, n)
+    step = np.arange(trial.steps)[:, None]
+    done = trial.tasks_done
+    open_then = (done[None] < 0) | (done[None] > step)  # (steps, m)
+    knows_open = (trial.knows & open_then[:, None, :]).any(axis=2)
+    heading = target >= 0
+    goal = scenario.tasks[np.where(heading, target, 0)]
+    at_task = np.hypot(*(trial.trajectory[:-1, :, :2] - goal).transpose(2, 0, 1))
+    waiting = heading & (at_task <= scenario.completion_radius)
+    exploring = target == -1
+    return np.array([
+        (exploring & ~knows_open).sum(), (exploring & knows_open).sum(),
+        (target == -2).sum(), (heading & ~waiting).sum(), waiting.sum(),
+    ])  # fmt: skip
+
+
 def prediction_error(paths: list[str], seeds: list[int]) -> None:
     """Median distance from where ``third``'s robots predict each teammate they do not see
     to where it is, every step, against the mean distance of two random points in the
@@ -146,9 +197,15 @@ def main() -> None:
     parser.add_argument(
         "--prediction-error", action="store_true", help="how far third predicts unseen teammates"
     )
+    parser.add_argument(
+        "--time-use", action="store_true", help="robot-steps per trial by what robots do"
+    )
     args = parser.parse_args()
     if args.prediction_error:
         prediction_error(args.missions, _seeds(args.seeds))
+        return
+    if args.time_use:
+        time_use(args.missions, args.levels.split(","), _seeds(args.seeds))
         return
     if args.trace:
         trace(args.missions[0], args.trace, _seeds(args.seeds)[0])
