@@ -24,7 +24,7 @@ from epistemica.sim.collaborative_levels import (
     CollaborativeParameters,
     make_collaborative_policy,
 )
-from epistemica.sim.collaborative_sweep import lanes
+from epistemica.sim.collaborative_sweep import Route, lanes, sweep
 from epistemica.sim.events import EventRule, ObserverRule, Trigger, World, fire
 from epistemica.sim.missions import distances
 from epistemica.sim.store import read_rows
@@ -231,6 +231,21 @@ def test_lanes_cover_the_workspace():
         x = lanes(w, r, f)  # every point of [0, w] within f * r / 2 of a lane
         grid = np.linspace(0, w, 101)
         assert (np.abs(grid[:, None] - x[None]).min(axis=1) <= f * r / 2 + 1e-9).all()
+
+
+@pytest.mark.parametrize("spec", SPECS)
+def test_the_sweep_sees_every_point_but_the_corners(spec):
+    # lanes end half a lane spacing from the edges (docs/simulation.md): the corner squares
+    # of that side may be out of sight, and nothing else is
+    s = load_mission(spec).scenario(0)
+    w, r = s.workspace, s.sensing_range
+    route = Route(sweep(s, 0, 2.0))
+    grid = np.stack(np.meshgrid(*[np.linspace(0, w, 61)] * 2), axis=-1).reshape(-1, 2)
+    unseen = np.array([route.gap(p) for p in grid]) > r + 1e-9
+    half = w / (2 * len(lanes(w, r, 2.0)))
+    edge = np.minimum(grid, w - grid)  # distance to the nearer edge, per axis
+    assert (edge[unseen] < half).all(axis=1).all()  # only in the corner squares
+    assert unseen.any() == (half * np.sqrt(2) > r)  # and there once the corner is too far
 
 
 def test_check_on_a_collaborative_mission_is_a_clean_error(capsys):
