@@ -155,7 +155,9 @@ class CollaborativeTrial(NamedTuple):
     ``tasks_done[t]`` is the step task ``t`` was done (-1: never); ``completion_step`` the
     step the last one was (None on failure); ``events`` ``(step, name, arguments,
     observers)``; ``targets`` ``(T, n)`` the task each robot steered to (-1: exploring,
-    -2: intercepting a teammate); ``knows`` ``(T, n, m)`` the tasks each robot knew of.
+    -2: intercepting a teammate); ``knows`` ``(T, n, m)`` the tasks each robot knew of;
+    ``aware_since`` ``(n, n, m)`` the first step robot ``i`` knew that robot ``j`` knows of
+    task ``t`` (``j == i``: of the task; -1 never).
     """
 
     success: bool
@@ -169,6 +171,7 @@ class CollaborativeTrial(NamedTuple):
     policy: str
     seed: int
     knowledge: TeamKnowledge
+    aware_since: np.ndarray | None = None
 
 
 def simulate_collaborative(
@@ -331,4 +334,5 @@ class _Run:
             policy=name,
             seed=int(seed),
             knowledge=self.knowledge,
+            aware_since=self.since.copy(),
         )

@@ -1,7 +1,7 @@
 """A collaborative trial as a results row and a trace document, so that its study is
 stored, resumed and summarised like every other mission's (:mod:`epistemica.sim.sweep`).
 
-The trace is an ``epistemica-trace`` v1 document with the fields every trial has (names,
+The trace is an ``epistemica-trace`` v2 document with the fields every trial has (names,
 places, poses, events) and ``kind: "collaborative"`` with what is particular to it:
 
 ================  ==========================================================================
@@ -9,6 +9,8 @@ places, poses, events) and ``kind: "collaborative"`` with what is particular to 
 ``tasks_done``    ``m`` steps each task was done (-1: never)
 ``steer_to``      ``(T, n)`` the task each robot steered to (-1 exploring, -2 fetching)
 ``knows``         ``(T, n, m)`` 1 where robot ``i`` knew of task ``t``
+``aware_since``   ``(n, n, m)`` the first step robot ``i`` knew that robot ``j`` knows of task
+                  ``t`` (-1 never): the nested knowledge at every step
 ``events``        ``[step, name, [arguments], [observers]]``, arguments by name
 ================  ==========================================================================
 
@@ -68,6 +70,7 @@ def collaborative_trace(s: CollaborativeScenario, trial: CollaborativeTrial) -> 
         "tasks_done": [int(d) for d in trial.tasks_done],
         "steer_to": np.asarray(trial.targets, dtype=int).tolist(),
         "knows": np.asarray(trial.knows, dtype=int).tolist(),
+        "aware_since": np.asarray(trial.aware_since, dtype=int).tolist(),
         "events": events,
     }
 

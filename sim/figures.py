@@ -34,10 +34,12 @@ __all__ = [
     "TraceFrame",
     "animate_trace",
     "animate_trial",
+    "draw_events",
     "focus_robot",
     "plot_trial",
     "pyplot",
     "save_figure",
+    "write_gif",
 ]
 
 _MAX_FRAMES = 60
@@ -395,29 +397,35 @@ class TraceFrame:
                 text.set_color("w" if np.isfinite(value) and value > 0.55 else "k")
 
     def _draw_events(self, step: int, since: int) -> None:
-        events = [e for e in self.trace["events"] if e[0] <= step]
-        lines = [_event_text(e, self.robots) for e in events[-_EVENT_LINES:]]
-        more = len(events) - len(lines)
-        head = [f"... {more} earlier"] if more > 0 else []
-        self.event_lines.set_text("\n".join(head + lines) if events else "(none yet)")
-        for event in events:
-            if event[0] > since:
-                for o in event[3]:
-                    self.transient.append(
-                        self.map_axes.plot(
-                            *self.poses[step, o, :2],
-                            "o",
-                            ms=22,
-                            mfc="none",
-                            mec=robot_colour(o),
-                            mew=2.5,
-                            gid=f"event:{event[1]}",
-                        )[0]
-                    )
+        self.transient += draw_events(self, step, since)
 
     def close(self) -> None:
         """Release the figure."""
         self.plt.close(self.fig)
+
+
+def draw_events(frame, step: int, since: int) -> list:
+    """List the events of ``frame.trace`` up to ``step`` in ``frame.event_lines`` and ring,
+    on ``frame.map_axes``, the observers of those after ``since``; the rings."""
+    events = [e for e in frame.trace["events"] if e[0] <= step]
+    lines = [_event_text(e, frame.robots) for e in events[-_EVENT_LINES:]]
+    more = len(events) - len(lines)
+    head = [f"... {more} earlier"] if more > 0 else []
+    frame.event_lines.set_text("\n".join(head + lines) if events else "(none yet)")
+    rings = []
+    for event in (e for e in events if e[0] > since):
+        for o in event[3]:
+            ring = frame.map_axes.plot(
+                *frame.poses[step, o, :2],
+                "o",
+                ms=22,
+                mfc="none",
+                mec=robot_colour(o),
+                mew=2.5,
+                gid=f"event:{event[1]}",
+            )
+            rings.append(ring[0])  # fmt: skip
+    return rings
 
 
 def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") -> int:
@@ -426,11 +434,15 @@ def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") 
     At most 60 frames (steps subsampled evenly, the first and last always shown); an event
     is ringed in the frame that first shows its step.
     """
+    return write_gif(TraceFrame(trace, mission), int(trace["steps"]), path, fps)
+
+
+def write_gif(frame, steps: int, path, fps: int = 6) -> int:
+    """Write ``frame`` (an object with ``fig``, ``draw(step, since)`` and ``close()``) at
+    most 60 steps of ``0..steps`` as an animated GIF, closing it; the frame count."""
     from PIL import Image
 
-    steps = int(trace["steps"])
     frames = np.unique(np.linspace(0, steps, min(steps + 1, _MAX_FRAMES)).astype(int))
-    frame = TraceFrame(trace, mission)
     images = []
     try:
         frame.fig.set_dpi(_GIF_DPI)

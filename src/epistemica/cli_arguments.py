@@ -26,6 +26,7 @@ examples:
   epistemica run specs/rendezvous.epi specs/nested/private_goal_3.epi   # one after another
   epistemica run specs/task_allocation.epi --trials 50    # the published trial count
   epistemica run specs/multi_task.epi --levels convention,third --no-gif
+  epistemica run specs/collaborative/tasks_5.epi          # who knows of which task, animated
   epistemica check specs/sensing_radius.epi --after 30 --seed 3 \\
       --formula "K[r1] assigned(r2, g2)"
 
@@ -88,7 +89,8 @@ def add_run_command(commands) -> None:
         metavar="SEED",
         help="the seed of the animated trial (default: the first seed where the last level "
         "succeeds and the one before it fails, else where the levels disagree, else the "
-        "first seed); the study's last level is animated",
+        "first seed); the study's last level is animated (a collaborative mission: third, "
+        "by default at the seed where it finishes most steps sooner than first)",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
 

@@ -21,7 +21,9 @@ from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
-from epistemica.sim.collaborative import COLLABORATIVE
+from epistemica.sim.collaborative import COLLABORATIVE, simulate_collaborative
+from epistemica.sim.collaborative_figures import animate_collaborative
+from epistemica.sim.collaborative_trace import collaborative_trace
 from epistemica.sim.figures import animate_trace
 from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.simulate import simulate
@@ -90,8 +92,11 @@ def _run_study(mission, args: argparse.Namespace) -> int:
         png = out.with_suffix(".png")
         plot_levels(cells, png, mission.name)
         print(f"figure: {png}")
-        if mission.kind == COLLABORATIVE:  # its trials keep no beliefs to draw
-            print("animation: none for a collaborative mission (its traces are stored)")
+        if mission.kind == COLLABORATIVE and not args.no_gif:
+            gif = out.with_suffix(".gif")
+            level, seed, why = _collaborative_trial(args.trial, rows, specs)
+            _animate_collaborative(mission, level, seed, gif)
+            print(f"animation ({level}, seed {seed}{why}): {gif}")
         elif not args.no_gif:
             gif = out.with_suffix(".gif")
             level, seed, why = _animated_trial(args.trial, rows, specs)
@@ -116,6 +121,32 @@ def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, i
     if seed is None:
         return level, specs[0].seed, ": the levels agree on every seed"
     return level, seed, ": the first where the levels disagree, the last succeeding if it can"
+
+
+def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
+    """The level and seed of a collaborative study's animated trial: ``third`` (else the
+    last level) at ``--trial``, else the seed where it gains most steps over ``first``
+    among the trials both solve (the first seed when it has no such trial)."""
+    levels = list(dict.fromkeys(s.reasoning for s in specs))
+    level = "third" if "third" in levels else levels[-1]
+    if chosen is not None:
+        return level, chosen, ""
+    steps = {(r["reasoning"], int(r["seed"])): r["steps"] for r in rows if r["success"]}
+    gains = {
+        seed: steps[("first", seed)] - steps[(level, seed)]
+        for _, seed in steps
+        if ("first", seed) in steps and (level, seed) in steps
+    }
+    if not gains or level == "first":
+        return level, specs[0].seed, ""
+    seed = min(gains, key=lambda s: (-gains[s], s))
+    return level, seed, f": {gains[seed]} steps sooner than first, the most of any seed"
+
+
+def _animate_collaborative(mission, level: str, seed: int, path: Path) -> None:
+    scenario = mission.scenario(seed)
+    trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+    animate_collaborative(collaborative_trace(scenario, trial), path, mission=mission.name)
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:

@@ -1,0 +1,179 @@
+"""An animation of a collaborative trial (:mod:`epistemica.sim.collaborative`) from its
+trace (:mod:`epistemica.sim.collaborative_trace`): what each robot knows, and what one
+robot knows its teammates know.
+
+The map shows the tasks (black stars labelled with how many robots each needs, crossed
+out once done), each robot (disc, trail, dashed sensing circle) with what it does
+(``explore``, ``fetch``, or the task it heads to) and rings around the robots that observed
+an event at that moment. Beside it: which robot knows of which task, and what one robot
+(the one that fetched teammates most often: its reason to fetch is a teammate that does
+not know) knows each teammate knows, both read from the trace's ``knows`` and
+``aware_since``; and the events observed so far with their observers.
+
+Examples
+--------
+>>> import os, tempfile
+>>> from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
+>>> from epistemica.sim.collaborative_trace import collaborative_trace
+>>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1).replace(max_steps=8)
+>>> trace = collaborative_trace(s, simulate_collaborative(s, "third", seed=1))
+>>> animate_collaborative(trace, os.path.join(tempfile.mkdtemp(), "t.gif"))
+9
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from epistemica.sim.figures import (
+    _FONT,
+    _draw_goals,
+    _limits,
+    _trace_title,
+    draw_events,
+    pyplot,
+    write_gif,
+)
+from epistemica.sim.palette import robot_colour
+
+__all__ = ["CollaborativeFrame", "animate_collaborative", "fetching_robot"]
+
+_ACTIONS = {-1: "explore", -2: "fetch"}
+
+
+def fetching_robot(trace: dict[str, Any]) -> int:
+    """The robot whose nested knowledge the animation shows: the one that fetched a
+    teammate on the most steps (the lowest index on a tie, robot 0 if none did)."""
+    steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, len(trace["robots"]))
+    return int(np.argmax((steer == -2).sum(axis=0)))
+
+
+class CollaborativeFrame:
+    """The animation's figure over a collaborative trace; :meth:`draw` shows one step.
+
+    Artists carry ``gid`` tags (``robot:NAME``, ``sensing:NAME``, ``event:NAME``) as in
+    :class:`~epistemica.sim.figures.TraceFrame`; :meth:`knows_at` and :meth:`nested_at` are
+    the two tables drawn beside the map.
+    """
+
+    def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
+        from matplotlib.patches import Circle
+
+        self.plt = plt = pyplot()
+        self.trace = trace
+        self.robots, self.tasks = list(trace["robots"]), list(trace["goals"])
+        n, m = len(self.robots), len(self.tasks)
+        self.poses = np.asarray(trace["poses"], dtype=float)
+        self.knows = np.asarray(trace["knows"], dtype=int).reshape(-1, n, m)
+        self.steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, n)
+        self.since = np.asarray(trace["aware_since"], dtype=int).reshape(n, n, m)
+        self.done = np.asarray(trace["tasks_done"], dtype=int)
+        self.places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        self.focus = fetching_robot(trace) if focus is None else focus
+        self.title = _trace_title(trace, mission)
+        self.fig = fig = plt.figure(figsize=(13.0, 7.0))
+        grid = fig.add_gridspec(3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.0, 0.8))
+        self.map_axes = ax = fig.add_subplot(grid[:, 0])
+        self.knows_axes = fig.add_subplot(grid[0, 1])
+        self.nested_axes = fig.add_subplot(grid[1, 1])
+        self.events_axes = fig.add_subplot(grid[2, 1])
+        _draw_goals(ax, self.places, self.tasks, trace["success_radius"])
+        for (x, y), k in zip(self.places, trace["needs"], strict=True):  # robots it needs
+            ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
+                        fontsize=_FONT)  # fmt: skip
+        _limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
+        colours = [robot_colour(i) for i in range(n)]
+        self.trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
+        self.discs = [
+            ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
+            for name, c in zip(self.robots, colours, strict=True)
+        ]
+        self.sensing = []
+        for i, name in enumerate(self.robots):
+            circle = Circle(tuple(self.poses[0, i, :2]), trace["sensing_range"], fill=False,
+                            ls="--", lw=1.0, ec=colours[i], gid=f"sensing:{name}")  # fmt: skip
+            ax.add_patch(circle)
+            self.sensing.append(circle)
+        ax.legend(handles=self.discs, fontsize=_FONT, loc="upper left",
+                  bbox_to_anchor=(-0.02, -0.06), ncol=min(n, 8), frameon=False)  # fmt: skip
+        others = [j for j in range(n) if j != self.focus]
+        self.knows_image = self._table(
+            self.knows_axes, self.robots, range(n), "which robot knows of which task"
+        )
+        self.nested_image = self._table(
+            self.nested_axes,
+            [self.robots[j] for j in others],
+            others,
+            f"what {self.robots[self.focus]} knows each teammate knows of",
+        )
+        self.others = others
+        self.events_axes.axis("off")
+        self.events_axes.set_title("events observed (and by whom)", fontsize=_FONT, loc="left")
+        self.event_lines = self.events_axes.text(
+            0.0, 1.0, "", va="top", ha="left", fontsize=_FONT, family="monospace"
+        )
+        self.transient: list = []
+        self.heading = fig.suptitle("", fontsize=_FONT + 1)
+        fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
+
+    def _table(self, ax, names: list[str], robots, title: str):
+        image = ax.imshow(np.zeros((len(names), len(self.tasks))), cmap="Greys", vmin=0,
+                          vmax=1.6, aspect="auto", interpolation="nearest")  # fmt: skip
+        ax.set_xticks(np.arange(len(self.tasks)), self.tasks, fontsize=_FONT)
+        ax.set_yticks(np.arange(len(names)), names, fontsize=_FONT)
+        for label, i in zip(ax.get_yticklabels(), robots, strict=True):
+            label.set_color(robot_colour(i))
+            label.set_fontweight("bold")
+        ax.set_title(title + " (dark: knows; columns of tasks done: grey)", fontsize=_FONT,
+                     loc="left")  # fmt: skip
+        return image
+
+    def knows_at(self, step: int) -> np.ndarray:
+        """``(n, m)`` 1 where robot ``i`` knew of task ``t`` at ``step``."""
+        return self.knows[min(step, len(self.knows) - 1)]
+
+    def nested_at(self, step: int) -> np.ndarray:
+        """``(n - 1, m)`` 1 where the focus robot knew at ``step`` that each teammate (in
+        robot order, the focus robot left out) knows of task ``t``."""
+        since = self.since[self.focus, self.others]
+        return ((since >= 0) & (since <= step)).astype(int)
+
+    def draw(self, step: int, since: int | None = None) -> list:
+        """Show ``step`` (events of steps after ``since`` ringed on the map); the artists."""
+        for artist in self.transient:
+            artist.remove()
+        self.transient.clear()
+        ax, pose = self.map_axes, self.poses[step]
+        decided = min(step, len(self.steer) - 1)
+        for i in range(len(self.robots)):
+            self.trails[i].set_data(self.poses[: step + 1, i, 0], self.poses[: step + 1, i, 1])
+            self.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
+            self.sensing[i].center = (pose[i, 0], pose[i, 1])
+            target = int(self.steer[decided, i]) if decided >= 0 else -1
+            action = _ACTIONS.get(target) or f"→{self.tasks[target]}"
+            self.transient.append(ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,
+                                          fontsize=_FONT - 1, color=robot_colour(i)))  # fmt: skip
+        finished = (self.done >= 0) & (self.done <= step)
+        for t in np.flatnonzero(finished):
+            self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])
+        shade = np.where(finished[None], 0.35, 0.0)  # done columns grey
+        self.knows_image.set_data(np.maximum(self.knows_at(step), shade))
+        self.nested_image.set_data(np.maximum(self.nested_at(step), shade))
+        self._draw_events(step, step - 1 if since is None else since)
+        self.heading.set_text(f"{self.title}   step {step}")
+        return [*self.trails, *self.discs, *self.transient, self.heading]
+
+    def _draw_events(self, step: int, since: int) -> None:
+        self.transient += draw_events(self, step, since)
+
+    def close(self) -> None:
+        """Release the figure."""
+        self.plt.close(self.fig)
+
+
+def animate_collaborative(trace: dict[str, Any], path, fps: int = 6, mission: str = "") -> int:
+    """Write an animated GIF of a collaborative trial's trace (see the module docstring);
+    the frame count (at most 60, steps subsampled evenly)."""
+    return write_gif(CollaborativeFrame(trace, mission), int(trace["steps"]), path, fps)
