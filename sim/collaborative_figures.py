@@ -28,12 +28,12 @@ from typing import Any
 import numpy as np
 
 from epistemica.sim.figures import (
-    _FONT,
-    _draw_goals,
-    _limits,
-    _trace_title,
+    FONT_SIZE,
     draw_events,
+    draw_goals,
     pyplot,
+    set_map_limits,
+    trace_title,
     write_gif,
 )
 from epistemica.sim.palette import robot_colour
@@ -72,18 +72,18 @@ class CollaborativeFrame:
         self.done = np.asarray(trace["tasks_done"], dtype=int)
         self.places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
         self.focus = fetching_robot(trace) if focus is None else focus
-        self.title = _trace_title(trace, mission)
+        self.title = trace_title(trace, mission)
         self.fig = fig = plt.figure(figsize=(13.0, 7.0))
         grid = fig.add_gridspec(3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.0, 0.8))
         self.map_axes = ax = fig.add_subplot(grid[:, 0])
         self.knows_axes = fig.add_subplot(grid[0, 1])
         self.nested_axes = fig.add_subplot(grid[1, 1])
         self.events_axes = fig.add_subplot(grid[2, 1])
-        _draw_goals(ax, self.places, self.tasks, trace["success_radius"])
+        draw_goals(ax, self.places, self.tasks, trace["success_radius"])
         for (x, y), k in zip(self.places, trace["needs"], strict=True):  # robots it needs
             ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
-                        fontsize=_FONT)  # fmt: skip
-        _limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
+                        fontsize=FONT_SIZE)  # fmt: skip
+        set_map_limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
         colours = [robot_colour(i) for i in range(n)]
         self.trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
         self.discs = [
@@ -96,7 +96,7 @@ class CollaborativeFrame:
                             ls="--", lw=1.0, ec=colours[i], gid=f"sensing:{name}")  # fmt: skip
             ax.add_patch(circle)
             self.sensing.append(circle)
-        ax.legend(handles=self.discs, fontsize=_FONT, loc="upper left",
+        ax.legend(handles=self.discs, fontsize=FONT_SIZE, loc="upper left",
                   bbox_to_anchor=(-0.02, -0.06), ncol=min(n, 8), frameon=False)  # fmt: skip
         others = [j for j in range(n) if j != self.focus]
         self.knows_image = self._table(
@@ -110,23 +110,23 @@ class CollaborativeFrame:
         )
         self.others = others
         self.events_axes.axis("off")
-        self.events_axes.set_title("events observed (and by whom)", fontsize=_FONT, loc="left")
+        self.events_axes.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
         self.event_lines = self.events_axes.text(
-            0.0, 1.0, "", va="top", ha="left", fontsize=_FONT, family="monospace"
+            0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace"
         )
         self.transient: list = []
-        self.heading = fig.suptitle("", fontsize=_FONT + 1)
+        self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
         fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
 
     def _table(self, ax, names: list[str], robots, title: str):
         image = ax.imshow(np.zeros((len(names), len(self.tasks))), cmap="Greys", vmin=0,
                           vmax=1.6, aspect="auto", interpolation="nearest")  # fmt: skip
-        ax.set_xticks(np.arange(len(self.tasks)), self.tasks, fontsize=_FONT)
-        ax.set_yticks(np.arange(len(names)), names, fontsize=_FONT)
+        ax.set_xticks(np.arange(len(self.tasks)), self.tasks, fontsize=FONT_SIZE)
+        ax.set_yticks(np.arange(len(names)), names, fontsize=FONT_SIZE)
         for label, i in zip(ax.get_yticklabels(), robots, strict=True):
             label.set_color(robot_colour(i))
             label.set_fontweight("bold")
-        ax.set_title(title + " (dark: knows; columns of tasks done: grey)", fontsize=_FONT,
+        ax.set_title(title + " (dark: knows; columns of tasks done: grey)", fontsize=FONT_SIZE,
                      loc="left")  # fmt: skip
         return image
 
@@ -153,8 +153,9 @@ class CollaborativeFrame:
             self.sensing[i].center = (pose[i, 0], pose[i, 1])
             target = int(self.steer[decided, i]) if decided >= 0 else -1
             action = _ACTIONS.get(target) or f"→{self.tasks[target]}"
-            self.transient.append(ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,
-                                          fontsize=_FONT - 1, color=robot_colour(i)))  # fmt: skip
+            label = ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,
+                            fontsize=FONT_SIZE - 1, color=robot_colour(i))  # fmt: skip
+            self.transient.append(label)
         finished = (self.done >= 0) & (self.done <= step)
         for t in np.flatnonzero(finished):
             self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])

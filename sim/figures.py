@@ -30,20 +30,24 @@ from epistemica.sim.trace import trial_trace
 from epistemica.sim.trial import Trial
 
 __all__ = [
+    "FONT_SIZE",
     "ROBOT_COLOURS",
     "TraceFrame",
     "animate_trace",
     "animate_trial",
     "draw_events",
+    "draw_goals",
     "focus_robot",
     "plot_trial",
     "pyplot",
     "save_figure",
+    "set_map_limits",
+    "trace_title",
     "write_gif",
 ]
 
 _MAX_FRAMES = 60
-_FONT = 10
+FONT_SIZE = 10
 _EVENT_LINES = 6
 _GIF_DPI = 72
 
@@ -91,7 +95,7 @@ def _title(scenario: Scenario, trial: Trial) -> str:
     return f"{scenario.mission}, {scenario.n_robots} robots, {levels}, seed {trial.seed}: {outcome}"
 
 
-def _trace_title(trace: dict[str, Any], mission: str = "") -> str:
+def trace_title(trace: dict[str, Any], mission: str = "") -> str:
     steps = trace["steps"]
     outcome = f"success at step {steps}" if trace["success"] else f"failed ({steps} steps)"
     levels = ", ".join(dict.fromkeys(trace["policies"]))
@@ -99,18 +103,23 @@ def _trace_title(trace: dict[str, Any], mission: str = "") -> str:
     return f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']}: {outcome}"
 
 
-def _draw_goals(ax, goals: np.ndarray, names, radius: float) -> None:
+def draw_goals(ax, goals: np.ndarray, names, radius: float) -> None:
     from matplotlib.patches import Circle
 
     for (x, y), name in zip(goals, names, strict=True):
         ax.add_patch(Circle((x, y), radius, color="0.8", alpha=0.5, linewidth=0, gid="goal-area"))
         ax.plot(x, y, marker="*", markersize=15, color="k", markeredgecolor="w", gid=f"goal:{name}")
         ax.annotate(
-            name, (x, y), textcoords="offset points", xytext=(7, 5), fontsize=_FONT, weight="bold"
+            name,
+            (x, y),
+            textcoords="offset points",
+            xytext=(7, 5),
+            fontsize=FONT_SIZE,
+            weight="bold",
         )
 
 
-def _limits(ax, positions: np.ndarray, goals: np.ndarray, workspace: float) -> None:
+def set_map_limits(ax, positions: np.ndarray, goals: np.ndarray, workspace: float) -> None:
     pts = np.concatenate([positions.reshape(-1, 2), goals.reshape(-1, 2)])
     pts = pts[np.isfinite(pts).all(axis=1)]
     low = np.minimum(pts.min(axis=0), 0.0) - 1
@@ -118,9 +127,9 @@ def _limits(ax, positions: np.ndarray, goals: np.ndarray, workspace: float) -> N
     ax.set_xlim(low[0], high[0])
     ax.set_ylim(low[1], high[1])
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)", fontsize=_FONT)
-    ax.set_ylabel("y (m)", fontsize=_FONT)
-    ax.tick_params(labelsize=_FONT)
+    ax.set_xlabel("x (m)", fontsize=FONT_SIZE)
+    ax.set_ylabel("y (m)", fontsize=FONT_SIZE)
+    ax.tick_params(labelsize=FONT_SIZE)
 
 
 def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
@@ -139,7 +148,7 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
-    _draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius)
+    draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius)
     for i, name in enumerate(scenario.robot_names):
         path_i = trial.trajectory[:, i]
         colour = robot_colour(i)
@@ -147,9 +156,11 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
         ax.plot(path_i[:, 0], path_i[:, 1], "-", color=colour, linewidth=1.6, label=label)
         ax.plot(*path_i[0, :2], "o", color=colour, markeredgecolor="k")
         ax.plot(*path_i[-1, :2], "s", color=colour, markeredgecolor="k")
-    _limits(ax, trial.trajectory[:, :, :2], scenario.goals, scenario.workspace)
-    ax.set_title(_title(scenario, trial), fontsize=_FONT)
-    ax.legend(fontsize=_FONT, loc="upper right", title="o start, ■ end", title_fontsize=_FONT)
+    set_map_limits(ax, trial.trajectory[:, :, :2], scenario.goals, scenario.workspace)
+    ax.set_title(_title(scenario, trial), fontsize=FONT_SIZE)
+    ax.legend(
+        fontsize=FONT_SIZE, loc="upper right", title="o start, ■ end", title_fontsize=FONT_SIZE
+    )
     fig.tight_layout()
     save_figure(fig, path, "png")
     plt.close(fig)
@@ -191,7 +202,7 @@ class TraceFrame:
         self.modelled = np.asarray(trace["modelled"], dtype=float)
         self.estimates = np.asarray(trace["estimates"], dtype=float)
         self.focus = focus_robot(trace) if focus is None else focus
-        self.title = _trace_title(trace, mission)
+        self.title = trace_title(trace, mission)
         n = len(self.robots)
         self.fig = fig = plt.figure(figsize=(13.0, 7.0))
         grid = fig.add_gridspec(
@@ -202,8 +213,8 @@ class TraceFrame:
         self.sets_axes = fig.add_subplot(grid[1, 1])
         self.events_axes = fig.add_subplot(grid[2, 1])
         goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
-        _draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
-        _limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
+        draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
+        set_map_limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
         self.sensing = self._sensing_circles()
         ax = self.map_axes
         colours = [robot_colour(i) for i in range(n)]
@@ -235,11 +246,11 @@ class TraceFrame:
         self._belief_panel()
         self._sets_panel()
         self.events_axes.axis("off")
-        self.events_axes.set_title("events observed (and by whom)", fontsize=_FONT, loc="left")
+        self.events_axes.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
         self.event_lines = self.events_axes.text(
-            0.0, 1.0, "", va="top", ha="left", fontsize=_FONT, family="monospace"
+            0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace"
         )
-        self.heading = fig.suptitle("", fontsize=_FONT + 1)
+        self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
         fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
 
     def _sensing_circles(self) -> list:
@@ -274,7 +285,7 @@ class TraceFrame:
             extra.append(Line2D([], [], ls="--", color="0.3", label="sensing radius"))
         self.map_axes.legend(
             handles=[*self.discs, *extra],
-            fontsize=_FONT,
+            fontsize=FONT_SIZE,
             loc="upper left",
             bbox_to_anchor=(-0.02, -0.08),
             ncol=3,
@@ -286,15 +297,15 @@ class TraceFrame:
         self.belief_image = ax.imshow(
             np.zeros((n, m)), cmap="Greys", vmin=0, vmax=1, aspect="auto", interpolation="nearest"
         )
-        ax.set_xticks(np.arange(m), self.goals if m <= 12 else [""] * m, fontsize=_FONT)
-        ax.set_yticks(np.arange(n), self.robots, fontsize=_FONT)
+        ax.set_xticks(np.arange(m), self.goals if m <= 12 else [""] * m, fontsize=FONT_SIZE)
+        ax.set_yticks(np.arange(n), self.robots, fontsize=FONT_SIZE)
         for i, label in enumerate(ax.get_yticklabels()):
             label.set_color(robot_colour(i))
             label.set_fontweight("bold")
-        ax.set_title("each robot's belief that a goal is its own", fontsize=_FONT, loc="left")
+        ax.set_title("each robot's belief that a goal is its own", fontsize=FONT_SIZE, loc="left")
         small = n * m <= 48
         self.belief_numbers = [
-            [ax.text(g, i, "", ha="center", va="center", fontsize=_FONT) for g in range(m)]
+            [ax.text(g, i, "", ha="center", va="center", fontsize=FONT_SIZE) for g in range(m)]
             for i in range(n)
         ] if small else []  # fmt: skip
 
@@ -317,11 +328,13 @@ class TraceFrame:
             ax.set_yscale("log")
         else:
             ax.set_ylim(bottom=0)
-        ax.set_ylabel("configurations", fontsize=_FONT)
-        ax.set_xlabel("step", fontsize=_FONT)
-        ax.tick_params(labelsize=_FONT)
-        ax.set_title("configuration sets: own (solid), nested (dashed)", fontsize=_FONT, loc="left")
-        ax.legend(fontsize=_FONT, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
+        ax.set_ylabel("configurations", fontsize=FONT_SIZE)
+        ax.set_xlabel("step", fontsize=FONT_SIZE)
+        ax.tick_params(labelsize=FONT_SIZE)
+        ax.set_title(
+            "configuration sets: own (solid), nested (dashed)", fontsize=FONT_SIZE, loc="left"
+        )
+        ax.legend(fontsize=FONT_SIZE, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
         self.cursor = ax.axvline(0, color="0.4", lw=0.8)
 
     def draw(self, step: int, since: int | None = None) -> list:
@@ -362,7 +375,7 @@ class TraceFrame:
         self.reader = self.focus if self.focus in kept else kept[0]
         self.reading = self.sets_axes.text(
             1.01, -0.3, "", transform=self.sets_axes.transAxes, va="top", ha="left",
-            fontsize=_FONT, family="monospace", gid="reading",
+            fontsize=FONT_SIZE, family="monospace", gid="reading",
         )  # fmt: skip
 
     def _draw_reading(self, step: int) -> None:
