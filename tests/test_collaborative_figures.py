@@ -99,3 +99,23 @@ def test_run_animates_the_trial_third_gains_most_on(tmp_path, capsys, monkeypatc
     best = min(gains, key=lambda s: (-gains[s], s))
     assert f"animation (third, seed {best}: {gains[best]} steps sooner than first" in out
     assert Image.open(tmp_path / "runs" / "small.gif").n_frames > 1
+
+
+def test_the_animated_seed_without_a_gain_and_when_chosen():
+    from types import SimpleNamespace
+
+    from epistemica.cli_run import _collaborative_trial
+
+    specs = [SimpleNamespace(reasoning=lv, seed=s) for lv in ("first", "third") for s in (4, 5)]
+    rows = [
+        {"reasoning": "first", "seed": 4, "steps": 50, "success": 1},
+        {"reasoning": "third", "seed": 4, "steps": 58, "success": 1},
+        {"reasoning": "first", "seed": 5, "steps": 60, "success": 1},
+        {"reasoning": "third", "seed": 5, "steps": 61, "success": 1},
+    ]
+    assert _collaborative_trial(None, rows, specs) == (
+        "third", 5, ": no sooner than first on any seed, the least behind"
+    )  # fmt: skip
+    rows[3]["steps"] = 40
+    assert _collaborative_trial(None, rows, specs)[:2] == ("third", 5)
+    assert _collaborative_trial(4, rows, specs) == ("third", 4, "")

@@ -140,6 +140,8 @@ def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[s
     if not gains or level == "first":
         return level, specs[0].seed, ""
     seed = min(gains, key=lambda s: (-gains[s], s))
+    if gains[seed] <= 0:
+        return level, seed, ": no sooner than first on any seed, the least behind"
     return level, seed, f": {gains[seed]} steps sooner than first, the most of any seed"
 
 
