@@ -31,7 +31,10 @@ from epistemica.sim.figures import (
     FONT_SIZE,
     draw_events,
     draw_goals,
+    event_panel,
+    move_robots,
     pyplot,
+    robot_artists,
     set_map_limits,
     trace_title,
     write_gif,
@@ -59,8 +62,6 @@ class CollaborativeFrame:
     """
 
     def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
-        from matplotlib.patches import Circle
-
         self.plt = plt = pyplot()
         self.trace = trace
         self.robots, self.tasks = list(trace["robots"]), list(trace["goals"])
@@ -84,21 +85,12 @@ class CollaborativeFrame:
             ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
                         fontsize=FONT_SIZE)  # fmt: skip
         set_map_limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
-        colours = [robot_colour(i) for i in range(n)]
-        self.trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
-        self.discs = [
-            ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
-            for name, c in zip(self.robots, colours, strict=True)
-        ]
-        self.sensing = []
-        for i, name in enumerate(self.robots):
-            circle = Circle(tuple(self.poses[0, i, :2]), trace["sensing_range"], fill=False,
-                            ls="--", lw=1.0, ec=colours[i], gid=f"sensing:{name}")  # fmt: skip
-            ax.add_patch(circle)
-            self.sensing.append(circle)
+        self.trails, self.discs, self.sensing = robot_artists(
+            ax, self.robots, self.poses[0], trace["sensing_range"]
+        )
         ax.legend(handles=self.discs, fontsize=FONT_SIZE, loc="upper left",
                   bbox_to_anchor=(-0.02, -0.06), ncol=min(n, 8), frameon=False)  # fmt: skip
-        others = [j for j in range(n) if j != self.focus]
+        self.others = others = [j for j in range(n) if j != self.focus]
         self.knows_image = self._table(
             self.knows_axes, self.robots, range(n), "which robot knows of which task"
         )
@@ -108,12 +100,7 @@ class CollaborativeFrame:
             others,
             f"what {self.robots[self.focus]} knows each teammate knows of",
         )
-        self.others = others
-        self.events_axes.axis("off")
-        self.events_axes.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
-        self.event_lines = self.events_axes.text(
-            0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace"
-        )
+        self.event_lines = event_panel(self.events_axes)
         self.transient: list = []
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
         fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
@@ -147,10 +134,8 @@ class CollaborativeFrame:
         self.transient.clear()
         ax, pose = self.map_axes, self.poses[step]
         decided = min(step, len(self.steer) - 1)
+        move_robots(self, step)
         for i in range(len(self.robots)):
-            self.trails[i].set_data(self.poses[: step + 1, i, 0], self.poses[: step + 1, i, 1])
-            self.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
-            self.sensing[i].center = (pose[i, 0], pose[i, 1])
             target = int(self.steer[decided, i]) if decided >= 0 else -1
             action = _ACTIONS.get(target) or f"→{self.tasks[target]}"
             label = ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,

@@ -37,9 +37,12 @@ __all__ = [
     "animate_trial",
     "draw_events",
     "draw_goals",
+    "event_panel",
     "focus_robot",
+    "move_robots",
     "plot_trial",
     "pyplot",
+    "robot_artists",
     "save_figure",
     "set_map_limits",
     "trace_title",
@@ -215,14 +218,11 @@ class TraceFrame:
         goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
         draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
         set_map_limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
-        self.sensing = self._sensing_circles()
         ax = self.map_axes
+        self.trails, self.discs, self.sensing = robot_artists(
+            ax, self.robots, self.poses[0], trace.get("sensing_range")
+        )
         colours = [robot_colour(i) for i in range(n)]
-        self.trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
-        self.discs = [
-            ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
-            for name, c in zip(self.robots, colours, strict=True)
-        ]
         self.estimate_marks = [
             [
                 ax.plot(
@@ -245,34 +245,9 @@ class TraceFrame:
         self._map_legend()
         self._belief_panel()
         self._sets_panel()
-        self.events_axes.axis("off")
-        self.events_axes.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
-        self.event_lines = self.events_axes.text(
-            0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace"
-        )
+        self.event_lines = event_panel(self.events_axes)
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
         fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
-
-    def _sensing_circles(self) -> list:
-        from matplotlib.patches import Circle
-
-        radius = self.trace.get("sensing_range")
-        if radius is None:
-            return []
-        circles = []
-        for i, name in enumerate(self.robots):
-            circle = Circle(
-                tuple(self.poses[0, i, :2]),
-                radius,
-                fill=False,
-                ls="--",
-                lw=1.0,
-                ec=robot_colour(i),
-                gid=f"sensing:{name}",
-            )
-            self.map_axes.add_patch(circle)
-            circles.append(circle)
-        return circles
 
     def _map_legend(self) -> None:
         from matplotlib.lines import Line2D
@@ -344,15 +319,12 @@ class TraceFrame:
         self.transient.clear()
         pose, ax = self.poses[step], self.map_axes
         decided = min(step, len(self.belief) - 1)
+        move_robots(self, step)
         for i in range(len(self.robots)):
-            self.trails[i].set_data(self.poses[: step + 1, i, 0], self.poses[: step + 1, i, 1])
-            self.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
             dx, dy = 1.2 * np.cos(pose[i, 2]), 1.2 * np.sin(pose[i, 2])
             self.transient.append(
                 ax.arrow(pose[i, 0], pose[i, 1], dx, dy, width=0.12, color=robot_colour(i))
             )
-            if self.sensing:
-                self.sensing[i].center = (pose[i, 0], pose[i, 1])
         if decided >= 0:
             self._draw_estimates(decided, pose)
             self._draw_belief(decided)
@@ -415,6 +387,44 @@ class TraceFrame:
     def close(self) -> None:
         """Release the figure."""
         self.plt.close(self.fig)
+
+
+def robot_artists(ax, robots: list[str], start: np.ndarray, sensing_range: float | None):
+    """``(trails, discs, sensing circles)`` of ``robots`` on ``ax``, the circles (none
+    without a sensing range) centred on their ``start`` places."""
+    from matplotlib.patches import Circle
+
+    colours = [robot_colour(i) for i in range(len(robots))]
+    trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
+    discs = [
+        ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
+        for name, c in zip(robots, colours, strict=True)
+    ]
+    circles = []
+    for i, name in enumerate(robots if sensing_range is not None else []):
+        circle = Circle(tuple(start[i, :2]), sensing_range, fill=False, ls="--", lw=1.0,
+                        ec=colours[i], gid=f"sensing:{name}")  # fmt: skip
+        ax.add_patch(circle)
+        circles.append(circle)
+    return trails, discs, circles
+
+
+def move_robots(frame, step: int) -> None:
+    """Put ``frame``'s trails, discs and sensing circles (:func:`robot_artists`) at
+    ``step`` of ``frame.poses``."""
+    pose = frame.poses[step]
+    for i in range(len(frame.robots)):
+        frame.trails[i].set_data(frame.poses[: step + 1, i, 0], frame.poses[: step + 1, i, 1])
+        frame.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
+        if frame.sensing:
+            frame.sensing[i].center = (pose[i, 0], pose[i, 1])
+
+
+def event_panel(ax):
+    """Turn ``ax`` into the list of events observed; its text (see :func:`draw_events`)."""
+    ax.axis("off")
+    ax.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
+    return ax.text(0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace")
 
 
 def draw_events(frame, step: int, since: int) -> list:
