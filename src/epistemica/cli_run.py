@@ -92,13 +92,12 @@ def _run_study(mission, args: argparse.Namespace) -> int:
         png = out.with_suffix(".png")
         plot_levels(cells, png, mission.name)
         print(f"figure: {png}")
+        gif = out.with_suffix(".gif")
         if mission.kind == COLLABORATIVE and not args.no_gif:
-            gif = out.with_suffix(".gif")
             level, seed, why = _collaborative_trial(args.trial, rows, specs)
             _animate_collaborative(mission, level, seed, gif)
             print(f"animation ({level}, seed {seed}{why}): {gif}")
         elif not args.no_gif:
-            gif = out.with_suffix(".gif")
             level, seed, why = _animated_trial(args.trial, rows, specs)
             _animate(mission, level, seed, gif)
             print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
