@@ -141,6 +141,25 @@ def test_a_robot_joins_the_task_its_teammates_expect_it_at():
         assert int(steer_to[1]) == int(steer_to[2]) == 1  # r2 and r3 go to t2 either way
 
 
+def test_a_knower_with_nobody_free_to_fetch_joins_the_teammates_busy_elsewhere():
+    # r1 alone knows t2 (needs 2); all three know t1 (needs 2), and r2 and r3, nearer,
+    # go there. Nobody is free to fetch for t2: with `join_busy` r1 goes to t1, where r2
+    # and r3 will be free and in its sight once t1 is done; without it, it looks for
+    # helpers (explores).
+    s = CollaborativeScenario(
+        [[10, 20, 0], [22, 6, 0], [27, 8, 0]], [[25, 5], [5, 25]], (2, 2),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
+    k.discover(0, np.array([True, True, True]))
+    k.discover(1, np.array([True, False, False]))
+    for join_busy, r1 in ((True, 0), (False, -1)):
+        policy = _policy(s, join_busy=join_busy)
+        targets, steer_to = policy.decide(_view(k, s.starts, 10))
+        assert steer_to.tolist() == [r1, 0, 0]
+        assert (targets[0].tolist() == [25.0, 5.0]) == join_busy
+
+
 # -- news of a knower renews patience ----------------------------------------------------
 
 
