@@ -11,8 +11,9 @@ knows:
 ``convention``     the nearest task it knows of, not known done
 ``first``          its own knowledge: the known task it expects done soonest (nearest,
                    less ``join_bonus`` m per teammate it sees waiting there)
-``third-shared``   takes every teammate to know what it knows: per task (in index order)
-                   the ``needs`` robots nearest it go; a robot not among them explores
+``third-shared``   takes every teammate to know what it knows: per task (first the one
+                   whose ``needs`` nearest robots assemble soonest: ``soonest``) the
+                   ``needs`` robots nearest it go; a robot not among them explores
 ``third``          the same over the teammates it knows know the task (the chain
                    ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
                    done event); when those are too few, a knower fetches the nearest
@@ -168,6 +169,13 @@ class CollaborativeParameters:
         and in its sight, to be told. Paired on tuning seeds 1000-1199 at 3 / 5 / 8 robots:
         -2.5 +- 0.8 / -0.5 +- 0.7 / -0.2 +- 0.1 steps; on 1200-1399: -3.4 +- 0.7 / -0.5 +-
         0.3 / +0.3 +- 0.3.
+    soonest : bool
+        ``third``, ``third-shared``: tasks go to robots coalition by coalition, first the
+        task whose ``needs`` nearest free knowers assemble soonest (the farthest of them is
+        nearest), rather than in index order (a robot 30 m off no longer walks past a task
+        teammates wait at for one that comes first in the mission). Paired for ``third``
+        at 3 / 5 / 8 robots, on tuning seeds 1000-1199: -1.8 +- 0.8 / -0.7 +- 0.9 / -0.3 +-
+        0.9 steps; on 1200-1399: -1.2 +- 0.6 / -2.1 +- 0.8 / -2.1 +- 0.9.
     resume : bool
         ``third``, ``third-shared``: a teammate seen off its sweep and moving makes for the
         waypoint its motion points at, then sweeps on
@@ -203,6 +211,7 @@ class CollaborativeParameters:
     fetch_together: bool = True
     watch_range: float = 3.0
     join_busy: bool = True
+    soonest: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -386,7 +395,8 @@ class CollaborativePolicy:
         return self._assign(view, i, tasks, aware)
 
     def _assign(self, view: View, i: int, tasks: np.ndarray, aware) -> tuple:
-        """Robot ``i``'s view of who does what, task by task in index order."""
+        """Robot ``i``'s view of who does what, task by task: the coalition that assembles
+        soonest first (``soonest``; else in index order)."""
         n, s = self.s.n_robots, self.s
         where = np.array([self.predicted(view, i, j) for j in range(n)])
         taken = np.zeros(n, dtype=bool)
@@ -396,6 +406,8 @@ class CollaborativePolicy:
             # those expect i there (they cannot know of its other tasks)
             short = aware[i][:, tasks].sum(axis=0) < np.asarray(s.needs)[tasks]
             tasks = tasks[np.argsort(short, kind="stable")]
+        if self.parameters.soonest:
+            tasks = self._soonest_first(i, tasks, aware, where)
         for t in tasks:
             if aware is None:  # third-shared: everyone knows what i knows
                 knowers = np.ones(n, dtype=bool)
@@ -433,6 +445,33 @@ class CollaborativePolicy:
             if fetch is not None and fetch != WAIT:
                 taken[fetch] = True
         return ("explore",)
+
+    def _soonest_first(self, i: int, tasks: np.ndarray, aware, where) -> np.ndarray:
+        """``tasks`` reordered (``soonest``): repeatedly the task whose ``needs`` nearest
+        free knowers (by ``where``) assemble soonest, those knowers then taken; then the
+        tasks too few free robots know of, in the order given."""
+        n, s = self.s.n_robots, self.s
+        knowers = np.ones((n, len(tasks)), dtype=bool) if aware is None else aware[i][:, tasks]
+        knowers = knowers.copy()
+        knowers[i] = True
+        gaps = np.hypot(*(where[:, None, :] - s.tasks[tasks][None]).transpose(2, 0, 1))
+        needs = np.asarray(s.needs)[tasks]
+        free, left, order = np.ones(n, dtype=bool), list(range(len(tasks))), []
+        while left:
+            best, cost = None, np.inf
+            for c in left:
+                ok = knowers[:, c] & free
+                if ok.sum() >= needs[c]:
+                    far = np.sort(gaps[ok, c])[needs[c] - 1]
+                    if far < cost:
+                        best, cost = c, far
+            if best is None:
+                break
+            ok = np.flatnonzero(knowers[:, best] & free)
+            free[ok[np.argsort(gaps[ok, best], kind="stable")[: needs[best]]]] = False
+            order.append(best)
+            left.remove(best)
+        return tasks[order + left]
 
     def _nearest(self, view: View, i: int, tasks: np.ndarray) -> int:
         """The task of ``tasks`` nearest robot ``i``."""

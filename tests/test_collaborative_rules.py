@@ -127,6 +127,7 @@ def test_a_robot_joins_the_task_its_teammates_expect_it_at():
     # r1 knows t1 (needs 2) alone, and t2 (needs 3) with r2 and r3, who know only t2 and
     # that r1 knows it: they expect r1 at t2. In index order r1 would deal with t1 first
     # (too few know: it fetches or waits there); completable tasks first, it goes to t2.
+    # (`soonest` off: it would put t2 first for another reason, its coalition is at hand.)
     s = CollaborativeScenario(
         [[5, 15, 0], [25, 5, 0], [27, 7, 0]], [[3, 16], [28, 5]], (2, 3),
         workspace=30.0, sensing_range=7.0,
@@ -135,7 +136,7 @@ def test_a_robot_joins_the_task_its_teammates_expect_it_at():
     k.discover(0, np.array([True, False, False]))
     k.discover(1, np.array([True, True, True]))
     for complete_first, r1 in ((True, {1}), (False, {0, FETCHING})):
-        policy = _policy(s, complete_first=complete_first)
+        policy = _policy(s, complete_first=complete_first, soonest=False)
         _, steer_to = policy.decide(_view(k, s.starts, 10))
         assert int(steer_to[0]) in r1
         assert int(steer_to[1]) == int(steer_to[2]) == 1  # r2 and r3 go to t2 either way
@@ -158,6 +159,27 @@ def test_a_knower_with_nobody_free_to_fetch_joins_the_teammates_busy_elsewhere()
         targets, steer_to = policy.decide(_view(k, s.starts, 10))
         assert steer_to.tolist() == [r1, 0, 0]
         assert (targets[0].tolist() == [25.0, 5.0]) == join_busy
+
+
+def test_the_coalition_that_assembles_soonest_goes_first():
+    # All three know t1 (25, 25) and t2 (5, 5), each needing two. In index order t1 goes
+    # first to its two nearest, r3 (7 m off) and r1 (28 m; r2 ties and comes later), and
+    # r2 is left alone with t2. With `soonest` t2 goes first, to r1 and r2 beside it (the
+    # farther is 1.4 m off, against 28 m for t1's pair), and r3 is left alone with t1.
+    # (`join_busy` off: the one left alone would join the pair, busy at the other task.)
+    s = CollaborativeScenario(
+        [[4, 6, 0], [6, 4, 0], [20, 20, 0]], [[25, 25], [5, 5]], (2, 2),
+        workspace=30.0, sensing_range=7.0,
+    )  # fmt: skip
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
+    k.discover(0, np.array([True, True, True]))
+    k.discover(1, np.array([True, True, True]))
+    for soonest, pair, alone in ((True, (0, 1), 2), (False, (0, 2), 1)):
+        policy = _policy(s, soonest=soonest, join_busy=False)
+        _, steer_to = policy.decide(_view(k, s.starts, 10))
+        first = 1 if soonest else 0
+        assert [int(steer_to[r]) for r in pair] == [first, first]
+        assert int(steer_to[alone]) != first
 
 
 # -- news of a knower renews patience ----------------------------------------------------
