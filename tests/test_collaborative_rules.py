@@ -123,18 +123,25 @@ def test_a_robot_with_nothing_left_to_find_goes_to_see_a_task_it_presumes_done(
 # -- tasks enough robots know of come first --------------------------------------------------
 
 
+def _three_robots_knowing(starts, tasks, needs, knowers):
+    """Three robots at ``starts`` and tasks at ``tasks``; task ``t`` found by the robots
+    ``knowers[t]`` (a mask) together, so each of them knows who else knows it."""
+    s = CollaborativeScenario(starts, tasks, needs, workspace=30.0, sensing_range=7.0)
+    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, len(tasks)), dtype=bool))
+    for t, mask in enumerate(knowers):
+        k.discover(t, np.array(mask))
+    return s, k
+
+
 def test_a_robot_joins_the_task_its_teammates_expect_it_at():
     # r1 knows t1 (needs 2) alone, and t2 (needs 3) with r2 and r3, who know only t2 and
     # that r1 knows it: they expect r1 at t2. In index order r1 would deal with t1 first
     # (too few know: it fetches or waits there); completable tasks first, it goes to t2.
     # (`soonest` off: it would put t2 first for another reason, its coalition is at hand.)
-    s = CollaborativeScenario(
+    s, k = _three_robots_knowing(
         [[5, 15, 0], [25, 5, 0], [27, 7, 0]], [[3, 16], [28, 5]], (2, 3),
-        workspace=30.0, sensing_range=7.0,
+        [[True, False, False], [True, True, True]],
     )  # fmt: skip
-    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
-    k.discover(0, np.array([True, False, False]))
-    k.discover(1, np.array([True, True, True]))
     for complete_first, r1 in ((True, {1}), (False, {0, FETCHING})):
         policy = _policy(s, complete_first=complete_first, soonest=False)
         _, steer_to = policy.decide(_view(k, s.starts, 10))
@@ -147,13 +154,10 @@ def test_a_knower_with_nobody_free_to_fetch_joins_the_teammates_busy_elsewhere()
     # go there. Nobody is free to fetch for t2: with `join_busy` r1 goes to t1, where r2
     # and r3 will be free and in its sight once t1 is done; without it, it looks for
     # helpers (explores).
-    s = CollaborativeScenario(
+    s, k = _three_robots_knowing(
         [[10, 20, 0], [22, 6, 0], [27, 8, 0]], [[25, 5], [5, 25]], (2, 2),
-        workspace=30.0, sensing_range=7.0,
+        [[True, True, True], [True, False, False]],
     )  # fmt: skip
-    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
-    k.discover(0, np.array([True, True, True]))
-    k.discover(1, np.array([True, False, False]))
     for join_busy, r1 in ((True, 0), (False, -1)):
         policy = _policy(s, join_busy=join_busy)
         targets, steer_to = policy.decide(_view(k, s.starts, 10))
@@ -167,13 +171,10 @@ def test_the_coalition_that_assembles_soonest_goes_first():
     # r2 is left alone with t2. With `soonest` t2 goes first, to r1 and r2 beside it (the
     # farther is 1.4 m off, against 28 m for t1's pair), and r3 is left alone with t1.
     # (`join_busy` off: the one left alone would join the pair, busy at the other task.)
-    s = CollaborativeScenario(
+    s, k = _three_robots_knowing(
         [[4, 6, 0], [6, 4, 0], [20, 20, 0]], [[25, 25], [5, 5]], (2, 2),
-        workspace=30.0, sensing_range=7.0,
+        [[True, True, True], [True, True, True]],
     )  # fmt: skip
-    k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 2), dtype=bool))
-    k.discover(0, np.array([True, True, True]))
-    k.discover(1, np.array([True, True, True]))
     for soonest, pair, alone in ((True, (0, 1), 2), (False, (0, 2), 1)):
         policy = _policy(s, soonest=soonest, join_busy=False)
         _, steer_to = policy.decide(_view(k, s.starts, 10))
