@@ -451,8 +451,8 @@ class CollaborativePolicy:
         free knowers (by ``where``) assemble soonest, those knowers then taken; then the
         tasks too few free robots know of, in the order given."""
         n, s = self.s.n_robots, self.s
+        # a fresh array either way (indexing by the array ``tasks`` copies)
         knowers = np.ones((n, len(tasks)), dtype=bool) if aware is None else aware[i][:, tasks]
-        knowers = knowers.copy()
         knowers[i] = True
         gaps = np.hypot(*(where[:, None, :] - s.tasks[tasks][None]).transpose(2, 0, 1))
         needs = np.asarray(s.needs)[tasks]
