@@ -9,8 +9,15 @@ fingerprints of one version, then compare another version against them:
     python benchmarks/trial_fingerprints.py --compare before.jsonl
 
 ``--sample`` chooses the set: ``stress`` (every stress-suite variant at 3 and 5 robots, four
-levels, seeds 0-1, and the 10-robot radius and hardest cells at seed 0) or ``shipped``
-(every mission file under specs/, its own levels, seeds 0-2).
+levels, seeds 0-1, and the 10-robot radius and hardest cells at seed 0), ``shipped``
+(every mission file under specs/, its own levels, seeds 0-2), ``nested`` (every file of
+specs/nested/, its own levels, seeds 0-9) or ``collaborative`` (specs/collaborative/, every
+collaborative level, seeds 0-99).
+
+The ``nested`` and ``collaborative`` samples hash what the stored trace of the trial says
+(success, steps, every pose, each event's step, name and observers, and for collaborative
+trials when each task was done and where each robot steered), so that they compare across
+versions whose in-memory trial records differ.
 """
 
 from __future__ import annotations
@@ -25,13 +32,24 @@ import numpy as np
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials
+from epistemica.sim.sweep import run_trial
+from epistemica.sim.trace import decode
 
 ROOT = Path(__file__).resolve().parents[1]
 STRESS_LEVELS = ("convention", "first", "third", "third-shared")
 
 
+COLLABORATIVE_LEVELS = ("convention", "first", "third-shared", "third", "oracle", "oracle-events")
+
+
 def _cases(sample: str) -> list[tuple[Path, str, int]]:
     stress = ROOT / "specs" / "stress"
+    if sample == "nested":
+        files = sorted(ROOT.glob("specs/nested/*.epi"))
+        return [(f, level, seed) for f in files for level in _levels(f) for seed in range(10)]
+    if sample == "collaborative":
+        files = sorted(ROOT.glob("specs/collaborative/*.epi"))
+        return [(f, lv, seed) for f in files for lv in COLLABORATIVE_LEVELS for seed in range(100)]
     if sample == "shipped":
         files = sorted(ROOT.glob("specs/*.epi"))
         return [(f, level, seed) for f in files for level in _levels(f) for seed in range(3)]
@@ -48,6 +66,22 @@ def _cases(sample: str) -> list[tuple[Path, str, int]]:
 
 def _levels(path: Path) -> tuple[str, ...]:
     return load_mission(path).study.levels
+
+
+def trace_fingerprint(path: Path, level: str, seed: int) -> dict:
+    """The outcome of one trial and a hash of its stored trace's observable record."""
+    spec = mission_trials(load_mission(path), [level], 1, seed)[0]
+    trace = decode(run_trial(spec)["trace"])
+    record = {key: trace.get(key) for key in ("success", "steps", "poses", "tasks_done")}
+    record["events"] = [[e[0], e[1], e[-1]] for e in trace["events"]]
+    record["steer_to"] = trace.get("steer_to")
+    digest = hashlib.sha256(json.dumps(record).encode())
+    return {
+        "trial": f"{path.stem}/{level}/{seed}",
+        "success": bool(trace["success"]),
+        "steps": int(trace["steps"]),
+        "hash": digest.hexdigest()[:16],
+    }
 
 
 def fingerprint(path: Path, level: str, seed: int) -> dict:
@@ -71,16 +105,20 @@ def fingerprint(path: Path, level: str, seed: int) -> dict:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sample", choices=("stress", "shipped"), default="stress")
+    parser.add_argument(
+        "--sample", choices=("stress", "shipped", "nested", "collaborative"), default="stress"
+    )
     group = parser.add_mutually_exclusive_group(required=True)
     group.add_argument("--write", metavar="FILE", help="write the fingerprints (JSON lines)")
     group.add_argument("--compare", metavar="FILE", help="compare against stored fingerprints")
     args = parser.parse_args()
     cases = _cases(args.sample)
+    by_trace = args.sample in ("nested", "collaborative")
+    fingerprint_of = trace_fingerprint if by_trace else fingerprint
     if args.write:
         with open(args.write, "w", encoding="utf-8") as out:
             for case in cases:
-                out.write(json.dumps(fingerprint(*case)) + "\n")
+                out.write(json.dumps(fingerprint_of(*case)) + "\n")
                 out.flush()
         print(f"{len(cases)} trials written to {args.write}")
         return 0
@@ -91,7 +129,7 @@ def main() -> int:
             stored[row["trial"]] = row
     same = differ = 0
     for case in cases:
-        now = fingerprint(*case)
+        now = fingerprint_of(*case)
         before = stored.get(now["trial"])
         if before is None:
             continue
