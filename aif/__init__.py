@@ -35,7 +35,7 @@ from epistemica.aif.belief import (
     uniform_belief,
 )
 from epistemica.aif.configurations import (
-    MISSIONS,
+    FAMILIES,
     count_configurations,
     filter_configurations,
     shared_configurations,
@@ -92,7 +92,7 @@ __all__ = [
     "BEARING",
     "DEFAULT_HEADING_CHANGES",
     "DEFAULT_SPEEDS",
-    "MISSIONS",
+    "FAMILIES",
     "PUBLISHED_WEIGHT",
     "RANGE",
     "SENSORS",

@@ -22,6 +22,7 @@ import math
 from collections.abc import Callable, Sequence
 from functools import lru_cache
 from math import factorial, prod
+from typing import NamedTuple
 
 import numpy as np
 
@@ -29,15 +30,13 @@ from epistemica.aif._validate import positive_int
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
-    "MISSIONS",
+    "FAMILIES",
     "count_configurations",
     "filter_configurations",
     "shared_configurations",
     "valid_configurations",
 ]
 
-#: Mission names understood by :func:`valid_configurations`.
-MISSIONS = ("rendezvous", "allocation", "capacity", "all")
 
 # Refuse to materialise unconstrained sets larger than this (rows).
 _MAX_ROWS = 50_000_000
@@ -64,23 +63,17 @@ def count_configurations(mission: str, n_robots: int, n_goals: int, capacities=N
     3
     """
     n, m = _check_counts(n_robots, n_goals)
-    if mission == "rendezvous":
-        return m
-    if mission == "allocation":
-        return factorial(m) // factorial(m - n) if n <= m else 0
-    if mission == "capacity":
-        caps = check_capacities(capacities, n, m)
-        return factorial(n) // prod(factorial(int(c)) for c in caps)
-    if mission == "all":
-        return m**n
-    raise _unknown_mission(mission)
+    return _family(mission).count(n, m, capacities)
 
 
-def _unknown_mission(mission) -> InvalidArgumentError:
-    return InvalidArgumentError(
-        f"unknown mission {mission!r}",
-        hint=f"use one of {', '.join(repr(x) for x in MISSIONS)}",
-    )
+def _family(mission) -> _Family:
+    family = _FAMILIES.get(mission) if isinstance(mission, str) else None
+    if family is None:
+        raise InvalidArgumentError(
+            f"unknown mission {mission!r}",
+            hint=f"use one of {', '.join(repr(x) for x in FAMILIES)}",
+        )
+    return family
 
 
 def check_capacities(capacities, n: int, m: int) -> np.ndarray:
@@ -204,16 +197,8 @@ def valid_configurations(
     [[0, 1], [0, 2], [1, 0], [1, 2], [2, 0], [2, 1]]
     """
     n, m = _check_counts(n_robots, n_goals)
-    if mission == "rendezvous":
-        rows = np.repeat(np.arange(m, dtype=index_dtype(m))[:, None], n, axis=1)
-    elif mission == "allocation":
-        rows = _allocation(n, m)
-    elif mission == "capacity":
-        rows = _capacity(n, m, check_capacities(capacities, n, m))
-    elif mission == "all":
-        rows = _all(n, m)
-    else:
-        raise _unknown_mission(mission)
+    family = _family(mission)
+    rows = family.build(n, m, capacities)
     if where is not None:
         rows = filter_configurations(rows, where)
     return rows
@@ -273,3 +258,36 @@ def filter_configurations(
             hint="an empty valid set leaves nothing to believe in; relax the filter",
         )
     return kept
+
+
+class _Family(NamedTuple):
+    """A family of configurations: how many there are, and how to build them, for ``n``
+    robots, ``m`` goals and (capacity) the capacities."""
+
+    count: Callable[[int, int, object], int]
+    build: Callable[[int, int, object], np.ndarray]
+
+
+def _count_capacity(n: int, m: int, capacities) -> int:
+    caps = check_capacities(capacities, n, m)
+    return factorial(n) // prod(factorial(int(c)) for c in caps)
+
+
+#: Family name -> how to count and build it: the one table of configuration families.
+_FAMILIES: dict[str, _Family] = {
+    "rendezvous": _Family(
+        lambda n, m, caps: m,
+        lambda n, m, caps: np.repeat(np.arange(m, dtype=index_dtype(m))[:, None], n, axis=1),
+    ),
+    "allocation": _Family(
+        lambda n, m, caps: factorial(m) // factorial(m - n) if n <= m else 0,
+        lambda n, m, caps: _allocation(n, m),
+    ),
+    "capacity": _Family(
+        _count_capacity, lambda n, m, caps: _capacity(n, m, check_capacities(caps, n, m))
+    ),
+    "all": _Family(lambda n, m, caps: m**n, lambda n, m, caps: _all(n, m)),
+}
+#: The configuration families understood by :func:`valid_configurations` (the simulator's
+#: goal-mission kinds use the first three: :mod:`epistemica.sim.kinds`).
+FAMILIES: tuple[str, ...] = tuple(_FAMILIES)

@@ -30,6 +30,8 @@ Two robots, two goals, a perfectly symmetric rendezvous: the shared order prefer
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
@@ -180,28 +182,21 @@ def plausible_configurations(
     c = as_finite(cost, "cost", ndim=2)
     n, m = c.shape
     within = nonnegative(within, "within")
-    if mission == "rendezvous":
+    if mission not in _SLOTS:
+        raise InvalidArgumentError(
+            f"no cost bound for mission {mission!r}",
+            hint=f"use {', '.join(_SLOTS)}",
+        )
+    slots_of = _SLOTS[mission]
+    if slots_of is None:  # everyone at one goal: the goals within the margin
         total = c.sum(axis=0)
         goals = np.flatnonzero(total <= total.min() + within)
         return np.repeat(goals[:, None], n, axis=1).astype(index_dtype(m))
-    if mission == "allocation":
-        if n > m:
-            raise InvalidArgumentError(
-                f"allocation needs pairwise distinct goals, but {n} robots > {m} goals",
-                hint="use n_robots <= n_goals",
-            )
-        slots, state = c, np.ones((1, m), dtype=np.int64)
-    elif mission == "capacity":
-        caps = check_capacities(capacities, n, m)
-        slots, state = np.repeat(c, caps, axis=1), caps[None, :].astype(np.int64)
-    else:
-        raise InvalidArgumentError(
-            f"no cost bound for mission {mission!r}",
-            hint="use rendezvous, allocation or capacity",
-        )
+    caps = slots_of(n, m, capacities)
+    slots, state = np.repeat(c, caps, axis=1), caps[None, :].astype(np.int64)
     rows_r, cols_r = linear_sum_assignment(slots)
     bound = slots[rows_r, cols_r].sum() + within
-    slot_goal = np.arange(m) if mission == "allocation" else np.repeat(np.arange(m), caps)
+    slot_goal = np.repeat(np.arange(m), caps)
     best = np.empty(n, dtype=np.intp)
     best[rows_r] = slot_goal[cols_r]
     # Expand the most decided robots first (largest gap between their two cheapest goals):
@@ -241,3 +236,20 @@ def plausible_configurations(
         out[:, order[r]] = goal[at]
         at = parent[at]
     return out[np.lexsort(out.T[::-1])]
+
+
+def _one_slot_each(n: int, m: int, capacities) -> np.ndarray:
+    if n > m:
+        raise InvalidArgumentError(
+            f"allocation needs pairwise distinct goals, but {n} robots > {m} goals",
+            hint="use n_robots <= n_goals",
+        )
+    return np.ones(m, dtype=np.int64)
+
+
+#: Configuration family -> the robots each goal takes (``None``: all at one goal).
+_SLOTS: dict[str, Callable[[int, int, object], np.ndarray] | None] = {
+    "rendezvous": None,
+    "allocation": _one_slot_each,
+    "capacity": lambda n, m, capacities: check_capacities(capacities, n, m),
+}

@@ -7,7 +7,7 @@ completion step against first, third-shared and the oracle on the trials both so
 (the two mean completion steps over those trials, and their relative change). A level may carry
 parameter changes after a colon, as in benchmarks/level_study.py:
 ``third:fetch_memory=40;seek=false`` (fields of
-:class:`epistemica.sim.collaborative_levels.CollaborativeParameters`).
+:class:`epistemica.sim.policies.collaborative_levels.CollaborativeParameters`).
 
     python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi --seeds 0-99
     python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \\
@@ -34,8 +34,8 @@ import numpy as np
 from level_study import _level, _seeds, print_table, run_table
 
 from epistemica.mission import load_mission
-from epistemica.sim.collaborative import simulate_collaborative
-from epistemica.sim.collaborative_levels import CollaborativePolicy
+from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim.policies.collaborative_levels import CollaborativePolicy
 
 LEVELS = "convention,first,third-shared,third,oracle"
 PAIRS = ("first", "third-shared", "oracle")

@@ -1,4 +1,4 @@
-"""Benchmark: what the environment (epistemica.sim.env) costs over simulate for one trial.
+"""Benchmark: what the environment (epistemica.sim.engine.env) costs over simulate for one trial.
 
 For each mission file, level and seed, the same trial is run twice: by
 ``simulate(scenario, level, seed)``, and through ``MissionEnv(scenario)`` (built once, then
@@ -24,7 +24,7 @@ from pathlib import Path
 
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
-from epistemica.sim.env import MissionEnv
+from epistemica.sim.engine.env import MissionEnv
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = ("rendezvous.epi", "events/door_closes.epi", "nested/relocated_5.epi", "multi_task.epi")

@@ -1,6 +1,6 @@
 """Time a trial spends updating and querying the team's knowledge.
 
-Every public method of :class:`epistemica.sim.knowledge.TeamKnowledge` is wrapped with a
+Every public method of :class:`epistemica.sim.engine.knowledge.TeamKnowledge` is wrapped with a
 timer (outermost calls only), then stress-suite trials run; the script prints, per trial,
 the median over ``--repeats`` runs of the time inside those methods and of the whole trial.
 It runs unchanged against an older checkout whose TeamKnowledge kept its own bitsets, so the
@@ -19,7 +19,7 @@ from pathlib import Path
 
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
-from epistemica.sim.knowledge import TeamKnowledge
+from epistemica.sim.engine.knowledge import TeamKnowledge
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (

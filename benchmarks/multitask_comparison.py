@@ -21,7 +21,7 @@ import sys
 import numpy as np
 
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.store import read_rows
+from epistemica.sim.study.store import read_rows
 
 # paper-results.md, mean completion step (150 for failures), 150 trials per team size.
 PUBLISHED_ZERO = {2: 107.4, 3: 99.4, 4: 89.8, 5: 81.6, 6: 71.9, 7: 68.1, 8: 61.9}

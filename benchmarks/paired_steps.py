@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from epistemica.sim.store import read_rows
+from epistemica.sim.study.store import read_rows
 
 
 def main(path: str, a: str, b: str) -> None:

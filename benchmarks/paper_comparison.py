@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import sys
 
-from epistemica.sim.report import summarise
-from epistemica.sim.store import read_rows
+from epistemica.sim.study.report import summarise
+from epistemica.sim.study.store import read_rows
 
 # paper-results.md: (robots, goals) -> (zero, first, higher), percent of 50 trials.
 RENDEZVOUS = {

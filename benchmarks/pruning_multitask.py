@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.report import wilson_interval
+from epistemica.sim.study.report import wilson_interval
 
 
 def main() -> None:

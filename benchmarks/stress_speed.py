@@ -15,7 +15,7 @@ from pathlib import Path
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials
-from epistemica.sim.sweep import run_trial
+from epistemica.sim.study.sweep import run_trial
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (

@@ -18,8 +18,8 @@ from pathlib import Path
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials, run_study
-from epistemica.sim.report import summarise, wilson_interval
-from epistemica.sim.store import ResultStore
+from epistemica.sim.study.report import summarise, wilson_interval
+from epistemica.sim.study.store import ResultStore
 
 ROOT = Path(__file__).resolve().parents[1]
 LEVELS = ("convention", "first", "third", "third-shared", "third-unpruned")

@@ -3,7 +3,7 @@
 Runs the same sweep (in this process, one worker, so that the comparison is not blurred by
 process start-up) with and without traces, ``--repeats`` times each in alternation, into
 fresh results files; prints the median seconds of each, the overhead, and the size of the
-stored traces (compressed JSON, :mod:`epistemica.sim.trace`) per trial and per 100 steps,
+stored traces (compressed JSON, :mod:`epistemica.sim.study.trace`) per trial and per 100 steps,
 by team size.
 
     python benchmarks/trace_storage.py --repeats 5
@@ -18,8 +18,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from epistemica.sim.store import ResultStore
-from epistemica.sim.sweep import plan_sweep, run_sweep
+from epistemica.sim.study.store import ResultStore
+from epistemica.sim.study.sweep import plan_sweep, run_sweep
 
 
 def timed_sweep(specs, folder: Path, name: str, traces: bool) -> float:

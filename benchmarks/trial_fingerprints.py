@@ -32,8 +32,8 @@ import numpy as np
 
 from epistemica.mission import load_mission
 from epistemica.run import mission_trials
-from epistemica.sim.sweep import run_trial
-from epistemica.sim.trace import decode
+from epistemica.sim.study.sweep import run_trial
+from epistemica.sim.study.trace import decode
 
 ROOT = Path(__file__).resolve().parents[1]
 STRESS_LEVELS = ("convention", "first", "third", "third-shared")

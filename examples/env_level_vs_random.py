@@ -1,8 +1,9 @@
 """One of our reasoning levels and a random policy, side by side, through the environment.
 
-Both drive every robot of ``specs/rendezvous.epi`` through :class:`epistemica.sim.env.MissionEnv`
-on the same seeds (the same layouts and the same noise); the level's actions come from
-``env.level_actions``, the random ones from the action spaces (seeded).
+Both drive every robot of ``specs/rendezvous.epi`` through
+:class:`epistemica.sim.engine.env.MissionEnv` on the same seeds (the same layouts and the same
+noise); the level's actions come from ``env.level_actions``, the random ones from the action
+spaces (seeded).
 
     python examples/env_level_vs_random.py --level convention --trials 5
 """
@@ -13,7 +14,7 @@ import argparse
 from pathlib import Path
 
 from epistemica.mission import load_mission
-from epistemica.sim.env import MissionEnv
+from epistemica.sim.engine.env import MissionEnv
 
 MISSION = Path(__file__).resolve().parents[1] / "specs" / "rendezvous.epi"
 

@@ -1,22 +1,14 @@
-"""Kinematic multi-robot simulation: missions, reasoning levels, baselines.
+"""Kinematic multi-robot simulation: missions, reasoning levels, baselines, studies.
 
 Imported as ``epistemica.sim``. Depends on ``epistemica.aif`` and ``epistemica.del_``,
-never on the package root. One module per concept:
+never on the package root. Four subpackages, by concern:
 
-- :mod:`~epistemica.sim.scenario`: :class:`Scenario`, the world and its rules;
-- :mod:`~epistemica.sim.sensing`: observation models and what each robot knows;
-- :mod:`~epistemica.sim.missions`: when a mission holds;
-- :mod:`~epistemica.sim.policy`: the policy interface;
-- :mod:`~epistemica.sim.baselines`: greedy (``"zero"``) and the convention;
-- :mod:`~epistemica.sim.active`: the active-inference levels, with their parts
-  :mod:`~epistemica.sim.configuration_sets`, :mod:`~epistemica.sim.search` and their
-  parameters :mod:`~epistemica.sim.parameters`;
-- :mod:`~epistemica.sim.levels`: the table of level names;
-- :mod:`~epistemica.sim.events`: observation events (triggers, effects, observers);
-- :mod:`~epistemica.sim.worlds`: configurations as worlds of the logic;
-- :mod:`~epistemica.sim.tasking`: multitask upper level (which tasks now);
-- :mod:`~epistemica.sim.simulate`: :func:`simulate`, one trial;
-- :mod:`~epistemica.sim.trial`: :class:`Trial`, its record.
+- :mod:`~epistemica.sim.engine`: the world of a trial (:class:`Scenario`), perception,
+  events and the team's knowledge, and the one loop (:func:`simulate`, :class:`Trial`);
+- :mod:`~epistemica.sim.kinds`: the kinds of mission (:data:`KINDS`), one object each;
+- :mod:`~epistemica.sim.policies`: the policy interface, the baselines, the
+  active-inference levels and their parts, and the one level registry (:data:`LEVELS`);
+- :mod:`~epistemica.sim.study`: sweeps, the results file, reports, traces and figures.
 
 Examples
 --------
@@ -26,20 +18,21 @@ Examples
 (True, (3, 3))
 """
 
-from epistemica.sim.active import ActiveInference
-from epistemica.sim.baselines import Convention, Greedy
-from epistemica.sim.levels import LEVELS, REASONING, make_policy
-from epistemica.sim.missions import mission_holds
-from epistemica.sim.parameters import ActiveParameters
-from epistemica.sim.policy import Decisions, FunctionPolicy, Policy, steer
-from epistemica.sim.scenario import MISSIONS, OBSERVATIONS, Scenario
-from epistemica.sim.sensing import Observations, Sensing
-from epistemica.sim.simulate import simulate
-from epistemica.sim.trial import Trial
+from epistemica.sim.engine.scenario import OBSERVATIONS, Scenario
+from epistemica.sim.engine.sensing import Observations, Sensing
+from epistemica.sim.engine.simulate import simulate
+from epistemica.sim.engine.trial import Trial
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.kinds.registry import KINDS, kind_named, mission_holds
+from epistemica.sim.policies.active import ActiveInference
+from epistemica.sim.policies.baselines import Convention, Greedy
+from epistemica.sim.policies.levels import LEVELS, REASONING, make_policy
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.policy import Decisions, FunctionPolicy, Policy, steer
 
 __all__ = [
+    "KINDS",
     "LEVELS",
-    "MISSIONS",
     "OBSERVATIONS",
     "REASONING",
     "ActiveInference",
@@ -48,11 +41,13 @@ __all__ = [
     "Decisions",
     "FunctionPolicy",
     "Greedy",
+    "MissionKind",
     "Observations",
     "Policy",
     "Scenario",
     "Sensing",
     "Trial",
+    "kind_named",
     "make_policy",
     "mission_holds",
     "simulate",

@@ -15,7 +15,7 @@ from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import MissionWorld, team_trials
 from epistemica.sim import Scenario
-from epistemica.sim.store import read_rows
+from epistemica.sim.study.store import read_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -12,8 +12,8 @@ from epistemica.cli import main
 from epistemica.del_ import Observation, parse_formula
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
-from epistemica.sim.knowledge import TeamKnowledge
-from epistemica.sim.worlds import fact_mask
+from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.engine.worlds import fact_mask
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,5 +1,5 @@
 """The animation of a collaborative trial and the nested knowledge its trace keeps
-(sim/collaborative_figures.py, sim/collaborative_trace.py's ``aware_since``)."""
+(sim/study/collaborative_figures.py, sim/study/collaborative_trace.py's ``aware_since``)."""
 
 from pathlib import Path
 
@@ -10,13 +10,13 @@ from PIL import Image
 
 from epistemica.cli import main
 from epistemica.mission import load_mission
-from epistemica.sim.collaborative import simulate_collaborative
-from epistemica.sim.collaborative_figures import (
+from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim.study.collaborative_figures import (
     CollaborativeFrame,
     animate_collaborative,
     fetching_robot,
 )
-from epistemica.sim.collaborative_trace import collaborative_trace
+from epistemica.sim.study.collaborative_trace import collaborative_trace
 
 SPEC = str(Path(__file__).resolve().parents[1] / "specs/collaborative/tasks_3.epi")
 

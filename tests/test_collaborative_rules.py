@@ -1,26 +1,26 @@
 """The rules of the collaborative levels, each on a small scene worked by hand
-(sim/collaborative_levels.py, sim/collaborative_sweep.py)."""
+(sim/policies/collaborative_levels.py, sim/policies/collaborative_sweep.py)."""
 
 import numpy as np
 import pytest
 
 from epistemica.mission import load_mission
-from epistemica.sim.collaborative import CollaborativeScenario, simulate_collaborative
-from epistemica.sim.collaborative_levels import (
+from epistemica.sim.engine.events import World, firings, observer_indices
+from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.kinds.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim.policies.collaborative_levels import (
     FETCHING,
     CollaborativeParameters,
     View,
-    make_collaborative_policy,
 )
-from epistemica.sim.collaborative_sweep import Route, meeting_point
-from epistemica.sim.events import World, firings, observer_indices
-from epistemica.sim.knowledge import TeamKnowledge
+from epistemica.sim.policies.collaborative_sweep import Route, meeting_point
+from epistemica.sim.policies.levels import make_level
 
 LANE = Route(np.array([[5.0, 0.0], [5.0, 30.0], [15.0, 30.0]]))  # up x = 5, then east
 
 
 def _policy(scenario, **changes):
-    policy = make_collaborative_policy("third", CollaborativeParameters().replace(**changes))
+    policy = make_level("collaborative", "third", CollaborativeParameters().replace(**changes))
     policy.start(scenario)
     return policy
 

@@ -1,4 +1,4 @@
-"""Where a robot expects a teammate it does not see (sim/collaborative_teammates.py): the
+"""Where a robot expects a teammate it does not see (sim/policies/collaborative_teammates.py): the
 starts a never-seen teammate may have had, and the waypoint a teammate seen off its
 sweep makes for, each on a scene worked by hand or as a law."""
 
@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from epistemica.sim.collaborative_teammates import TeammateModel
+from epistemica.sim.policies.collaborative_teammates import TeammateModel
 
 
 def _world(workspace: float = 40.0, sensing_range: float = 10.0) -> SimpleNamespace:

@@ -168,7 +168,7 @@ def import_graph() -> tuple[nx.DiGraph, list[str]]:
 def test_every_layer_is_found():
     layers = {_layer(m) for m in MODULES}
     assert layers == set(range(len(LAYERS)))
-    assert "epistemica.del_.errors" in MODULES and "epistemica.sim.simulate" in MODULES
+    assert "epistemica.del_.errors" in MODULES and "epistemica.sim.engine.simulate" in MODULES
 
 
 def test_no_import_cycle():

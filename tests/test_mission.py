@@ -16,7 +16,11 @@ from epistemica.del_.errors import EpistemicaError, SourceError
 from epistemica.del_.state.explicit import knowledge_mask
 from epistemica.mission import load_mission, parse_mission
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.worlds import ConfigurationTable, configuration_model, configuration_structure
+from epistemica.sim.engine.worlds import (
+    ConfigurationTable,
+    configuration_model,
+    configuration_structure,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if is_mission_file(str(p)))
@@ -52,7 +56,7 @@ def test_shipped_missions_compile_and_their_claims_hold(path):
             if claim.after is not None:
                 model = mission.model_after(claim.after, claim.seed, claim.level)
             assert mission.holds(claim.check.formula, model) == claim.check.expected
-    if mission.kind == "collaborative":  # its own loop: tests/test_collaborative_mission.py
+    if mission.kind.joint:  # its own loop: tests/test_collaborative_mission.py
         trial = mission.trial(5, seed=1, level="convention")
     else:
         trial = simulate(scenario.replace(max_steps=5), "convention", seed=1)
@@ -320,7 +324,7 @@ def test_mutated_missions_compile_or_fail_cleanly(path, data):
     mission.scenario()  # a mission that compiles is a valid simulator world
 
 
-AFTER = [p for p in SHIPPED if load_mission(p).kind not in ("multitask", "collaborative")]
+AFTER = [p for p in SHIPPED if not load_mission(p).kind.tasks]
 
 
 @pytest.mark.parametrize("path", AFTER, ids=lambda p: p.stem)

@@ -17,7 +17,7 @@ from epistemica import load_mission, parse_mission
 from epistemica.del_ import InvalidArgumentError, Observation, PlausibilityModel, parse_formula
 from epistemica.del_.errors import SpecError
 from epistemica.sim import Scenario
-from epistemica.sim.worlds import fact_mask
+from epistemica.sim.engine.worlds import fact_mask
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "specs" / "belief" / "closed_goal_revision.epi"

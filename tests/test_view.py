@@ -20,7 +20,7 @@ from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.trace import encode, trial_trace
+from epistemica.sim.study.trace import encode, trial_trace
 from epistemica.view import trial_page
 
 SPECS = Path(__file__).resolve().parents[1] / "specs"

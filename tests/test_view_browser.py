@@ -25,8 +25,8 @@ from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
-from epistemica.sim.trace import trial_trace
+from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
+from epistemica.sim.study.trace import trial_trace
 
 CHROMIUM = next(
     (p for p in map(shutil.which, ("chromium", "chromium-browser", "google-chrome")) if p), None

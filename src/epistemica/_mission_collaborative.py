@@ -1,9 +1,9 @@
 """A collaborative mission file's world and parameters (``mission collaborative``).
 
 Its tasks say how many robots they need (``task t1 at random needs 3``); what is placed
-``at random`` is drawn from the trial seed (:func:`epistemica.sim.draws.draw_layout`), as
+``at random`` is drawn from the trial seed (:func:`epistemica.sim.engine.draws.draw_layout`), as
 in every mission; ``policy NAME VALUE`` lines set
-:class:`~epistemica.sim.collaborative_levels.CollaborativeParameters`.
+:class:`~epistemica.sim.policies.collaborative_levels.CollaborativeParameters`.
 """
 
 from __future__ import annotations
@@ -11,18 +11,15 @@ from __future__ import annotations
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError, SpecError
-from epistemica.sim.collaborative import CollaborativeScenario
-from epistemica.sim.collaborative_levels import CollaborativeParameters
-from epistemica.sim.draws import draw_layout
+from epistemica.sim.engine.draws import draw_layout
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
+from epistemica.sim.policies.collaborative_levels import CollaborativeParameters
 
-__all__ = ["COLLABORATIVE_STUDY_LEVELS", "collaborative_parameters", "collaborative_scenario"]
-
-#: The levels a collaborative mission's study compares unless its ``levels`` line says.
-COLLABORATIVE_STUDY_LEVELS = ("convention", "first", "third-shared", "third", "oracle")
+__all__ = ["collaborative_parameters", "collaborative_scenario"]
 
 
 def collaborative_scenario(mission: Any, seed: int) -> CollaborativeScenario:
-    """The :class:`~epistemica.sim.collaborative.CollaborativeScenario` of trial ``seed``."""
+    """The :class:`~epistemica.sim.kinds.collaborative.CollaborativeScenario` of trial ``seed``."""
     p, n, m = mission.parts, len(mission.robots), len(mission.goals)
     options = p.options
     workspace = options.get("workspace", 40.0)

@@ -24,9 +24,10 @@ from epistemica._mission_parts import GoalSpec, MissionCheck, MissionParts, Robo
 from epistemica._mission_plausibility import PlausibilityOrder, plausibility_order
 from epistemica.del_ import FORMULA_GRAMMAR, Check, Formula
 from epistemica.del_.language.parser import syntax_error
-from epistemica.sim.collaborative import COLLABORATIVE
-from epistemica.sim.events import EventRule, ObserverRule
-from epistemica.sim.scenario import MISSIONS, OBSERVATIONS
+from epistemica.sim.engine.events import EventRule, ObserverRule
+from epistemica.sim.engine.scenario import OBSERVATIONS
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.kinds.registry import KINDS
 
 __all__ = ["compile_events", "compile_text", "everyone_observes"]
 
@@ -69,7 +70,7 @@ class MissionCompiler(MissionScope):
         super().__init__(source, filename)
         self.team = team
         self.library = library
-        self.kind: str | None = None
+        self.kind: MissionKind | None = None
         self.kind_token: Any = None
         self.is_tasks = False
         self.options: dict[str, Any] = {}
@@ -113,9 +114,9 @@ class MissionCompiler(MissionScope):
         token = node.children[0]
         if self.kind is not None:
             raise self.error("the mission is declared twice", token, "keep one 'mission' line")
-        if str(token) not in (*MISSIONS, COLLABORATIVE):
-            raise self.unknown("mission", token, (*MISSIONS, COLLABORATIVE))
-        self.kind, self.kind_token = str(token), token
+        if str(token) not in KINDS:
+            raise self.unknown("mission", token, tuple(KINDS))
+        self.kind, self.kind_token = KINDS[str(token)], token
 
     def workspace_decl(self, node: Tree) -> None:
         size, bounded = node.children

@@ -3,7 +3,7 @@
 Helper of :mod:`epistemica._mission_compiler`. An event is an action model written in the
 spec language's syntax (``announces``, ``senses``, ``suggests``, ``full``/``partial``
 observers with ``if`` conditions) plus a ``when`` trigger and world effects; it compiles
-into a :class:`~epistemica.sim.events.EventRule`. Every name is checked: a robot, a goal, a
+into a :class:`~epistemica.sim.engine.events.EventRule`. Every name is checked: a robot, a goal, a
 parameter of the event, or (in observer conditions) a quantity the simulator has. The
 library events (``settle``, ``complete``) are written in the same syntax in ``events.epi``
 next to this module (compiled by :func:`epistemica.mission.library_rules`).
@@ -16,7 +16,7 @@ from typing import Any
 from lark import Token, Tree
 
 from epistemica.del_ import Formula
-from epistemica.sim.events import EventRule, ObserverRule, Trigger
+from epistemica.sim.engine.events import EventRule, ObserverRule, Trigger
 
 __all__ = ["compile_event"]
 

@@ -16,7 +16,7 @@ from lark import Token, Tree
 from epistemica._mission_parts import GoalSpec, RobotSpec
 from epistemica.del_ import Formula, build_imported_formula, range_names
 from epistemica.del_.errors import EpistemicaError, SpecError
-from epistemica.sim.events import expand
+from epistemica.sim.engine.events import expand
 
 __all__ = ["KEYWORDS", "LIMITS", "MAX_NUMBER", "MissionScope"]
 

@@ -18,11 +18,10 @@ from lark import Token
 from epistemica._mission_plausibility import check_orders
 from epistemica.del_ import Check, Formula
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.collaborative import COLLABORATIVE
-from epistemica.sim.collaborative_levels import COLLABORATIVE_LEVELS
-from epistemica.sim.events import EventRule
-from epistemica.sim.levels import REASONING
-from epistemica.sim.obstacles import CLEARANCE, polygon, polygon_distance
+from epistemica.sim.engine.events import EventRule
+from epistemica.sim.engine.obstacles import CLEARANCE, polygon, polygon_distance
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.policies.levels import level_names
 
 __all__ = ["DEFAULT_STEPS", "GoalSpec", "MissionCheck", "MissionParts", "RobotSpec", "assemble"]
 
@@ -69,7 +68,7 @@ class MissionCheck:
 class MissionParts:
     """Everything a mission file declares, checked (see docs/language.md)."""
 
-    kind: str
+    kind: MissionKind
     robots: tuple[RobotSpec, ...]
     goals: tuple[GoalSpec, ...]
     capacities: tuple[int, ...] | None
@@ -136,17 +135,17 @@ def assemble(comp: Any) -> MissionParts:
 
 def _check_kind(comp: Any) -> None:
     kind = comp.kind
-    if (kind in ("multitask", COLLABORATIVE)) != comp.is_tasks:
-        want = "task" if kind in ("multitask", COLLABORATIVE) else "goal"
+    if kind.tasks != comp.is_tasks:
+        want = "task" if kind.tasks else "goal"
         raise comp.error(
             f"a {kind} mission declares {want}s",
             comp.kind_token,
             f"declare its places with '{want} NAME at (x, y)'",
         )
     needs = [g for g in comp.goals.values() if g.needs is not None]
-    if kind == COLLABORATIVE:
+    if kind.joint:
         _check_needs(comp)
-    elif kind == "capacity":
+    elif kind.capacities:
         missing = [g for g in comp.goals.values() if g.needs is None]
         if missing:
             raise comp.error(
@@ -207,7 +206,7 @@ def _check_steps(comp: Any) -> None:
 
 def _check_levels(comp: Any) -> None:
     seen = set()
-    known = tuple(COLLABORATIVE_LEVELS) if comp.kind == COLLABORATIVE else REASONING
+    known = level_names(comp.kind)
     for token in comp.level_tokens:
         name = str(token).replace("_", "-")
         if name not in known:
@@ -224,7 +223,7 @@ def _check_levels(comp: Any) -> None:
 
 def _capacities(comp: Any) -> tuple[int, ...] | None:
     """Robots each goal (capacity) or task (collaborative) needs."""
-    if comp.kind not in ("capacity", COLLABORATIVE):
+    if not (comp.kind.capacities or comp.kind.joint):
         return None
     return tuple(int(g.needs) for g in comp.goals.values())
 

@@ -80,7 +80,7 @@ def plausibility_order(comp: Any, node: Tree) -> PlausibilityOrder:
                     f"first given at line {earlier.token.line}; list all levels in one line",
                 )
         names.append(name)
-    if comp.kind in ("multitask", "collaborative"):
+    if comp.kind.tasks:
         raise comp.error(
             f"a {comp.kind} mission has no configurations to rank",
             node,

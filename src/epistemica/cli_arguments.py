@@ -262,7 +262,7 @@ _VIEW_EXAMPLES = """\
 examples:
   epistemica view specs/rendezvous.epi                  # simulate its first trial, last level
   epistemica view specs/nested/relocated_3.epi --trial 4 --level first -o relocated.html
-  epistemica view trace.json                            # a trace (epistemica.sim.trace)
+  epistemica view trace.json                            # a trace (epistemica.sim.study.trace)
   epistemica show specs/puzzles/muddy_children.epi --html muddy.html   # a model's page
 
 exit status: 0 written, 2 bad input

@@ -21,13 +21,13 @@ from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
-from epistemica.sim.collaborative import COLLABORATIVE, simulate_collaborative
-from epistemica.sim.collaborative_figures import animate_collaborative
-from epistemica.sim.collaborative_trace import collaborative_trace
-from epistemica.sim.figures import animate_trace
-from epistemica.sim.report import disputed_seed, format_table, plot_levels, summarise
-from epistemica.sim.simulate import simulate
-from epistemica.sim.trace import trial_trace
+from epistemica.sim.engine.simulate import simulate
+from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim.study.collaborative_figures import animate_collaborative
+from epistemica.sim.study.collaborative_trace import collaborative_trace
+from epistemica.sim.study.figures import animate_trace
+from epistemica.sim.study.report import disputed_seed, format_table, plot_levels, summarise
+from epistemica.sim.study.trace import trial_trace
 from epistemica.view import trial_page
 
 __all__ = ["check_mission", "is_mission_file", "run_mission"]
@@ -72,7 +72,7 @@ def _run_study(mission, args: argparse.Namespace) -> int:
     specs = mission_trials(mission, levels, trials, args.seed)
     out = Path(args.out) if args.out else Path("runs") / f"{mission.name}.sqlite"
     out.parent.mkdir(parents=True, exist_ok=True)
-    tasks = mission.kind in ("multitask", COLLABORATIVE)
+    tasks = mission.kind.tasks
     print(
         f"{mission.filename}: {mission.kind}, {len(mission.robots)} robots, "
         f"{len(mission.goals)} {'tasks' if tasks else 'goals'}; "
@@ -93,7 +93,7 @@ def _run_study(mission, args: argparse.Namespace) -> int:
         plot_levels(cells, png, mission.name)
         print(f"figure: {png}")
         gif = out.with_suffix(".gif")
-        if mission.kind == COLLABORATIVE and not args.no_gif:
+        if mission.kind.joint and not args.no_gif:
             level, seed, why = _collaborative_trial(args.trial, rows, specs)
             _animate_collaborative(mission, level, seed, gif)
             print(f"animation ({level}, seed {seed}{why}): {gif}")
@@ -109,7 +109,7 @@ def _run_study(mission, args: argparse.Namespace) -> int:
 
 def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
     """The level, seed and reason of the animated trial: the study's last (highest) level
-    at ``--trial``, else at the seed :func:`~epistemica.sim.report.disputed_seed` picks (the
+    at ``--trial``, else at the seed :func:`~epistemica.sim.study.report.disputed_seed` picks (the
     first where the last level succeeds and the one before it fails, or else where the
     levels disagree)."""
     level = specs[-1].reasoning

@@ -13,7 +13,7 @@ from epistemica.cli_json import print_json
 from epistemica.cli_options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.figures import animate_trial, plot_trial
+from epistemica.sim.study.figures import animate_trial, plot_trial
 
 __all__ = ["check_writable", "run_simulate"]
 

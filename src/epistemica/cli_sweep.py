@@ -20,9 +20,9 @@ from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.run import team_trials
-from epistemica.sim.report import format_table, plot_results, summarise
-from epistemica.sim.store import ResultStore, read_rows
-from epistemica.sim.sweep import plan_sweep, run_sweep
+from epistemica.sim.study.report import format_table, plot_results, summarise
+from epistemica.sim.study.store import ResultStore, read_rows
+from epistemica.sim.study.sweep import plan_sweep, run_sweep
 
 __all__ = ["Stored", "run_report", "run_sweep_command", "store_trials"]
 

@@ -6,8 +6,8 @@ and no network. The assets are in ``src/epistemica/pages/`` (``page.html``, ``vi
 ``trial_view.js``, ``model_view.js``), shipped as package data. This module imports no
 simulator code, so that ``show --html`` starts as fast as ``show``.
 
-- :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.trace`) replayed with
-  the panels of the animation (:mod:`epistemica.sim.figures`); a slider scrubs, a button
+- :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.study.trace`) replayed with
+  the panels of the animation (:mod:`epistemica.sim.study.figures`); a slider scrubs, a button
   plays and pauses.
 - :func:`model_page`: a model as ``epistemica show --json`` writes it (worlds, relations per
   agent, designated worlds), the spec's claims with their truth sets computed by

@@ -37,7 +37,6 @@ from pathlib import Path
 import numpy as np
 
 from epistemica._mission_collaborative import (
-    COLLABORATIVE_STUDY_LEVELS,
     collaborative_parameters,
     collaborative_scenario,
 )
@@ -49,7 +48,6 @@ from epistemica._mission_compiler import (
     everyone_observes,
 )
 from epistemica._mission_plausibility import initial_beliefs, plausibility_model
-from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.del_ import (
     Formula,
     KnowledgeStructure,
@@ -59,20 +57,21 @@ from epistemica.del_ import (
 )
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.input_files import read_input
-from epistemica.sim.collaborative import COLLABORATIVE, simulate_collaborative
-from epistemica.sim.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
-from epistemica.sim.events import EventRule, expand
-from epistemica.sim.knowledge import TeamKnowledge, initial_knowledge
-from epistemica.sim.parameters import ActiveParameters
-from epistemica.sim.scenario import Scenario
-from epistemica.sim.simulate import simulate
-from epistemica.sim.trial import Trial
-from epistemica.sim.worlds import (
+from epistemica.sim.engine.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
+from epistemica.sim.engine.events import EventRule, expand
+from epistemica.sim.engine.knowledge import TeamKnowledge, initial_knowledge
+from epistemica.sim.engine.scenario import Scenario
+from epistemica.sim.engine.simulate import simulate
+from epistemica.sim.engine.trial import Trial
+from epistemica.sim.engine.worlds import (
     MAX_CONFIGURATIONS,
     configuration_model,
     configuration_structure,
     fact_mask,
 )
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim.policies.parameters import ActiveParameters
 
 __all__ = [
     "LIBRARY",
@@ -142,8 +141,9 @@ class Mission:
     ----------
     name : str
         The file's stem.
-    kind : str
-        ``"rendezvous"``, ``"allocation"``, ``"capacity"`` or ``"multitask"``.
+    kind : MissionKind
+        The mission's kind (:data:`epistemica.sim.kinds.registry.KINDS`; ``str(kind)`` is
+        its name in the file).
     robots, goals : tuple of str
         Names, in declaration order (goals are the tasks of a multitask mission).
     checks : tuple of MissionCheck
@@ -156,7 +156,7 @@ class Mission:
     """
 
     name: str
-    kind: str
+    kind: MissionKind
     robots: tuple[str, ...]
     goals: tuple[str, ...]
     checks: tuple[MissionCheck, ...]
@@ -175,9 +175,9 @@ class Mission:
     def scenario(self, seed: int | None = None) -> Scenario:
         """The :class:`~epistemica.sim.Scenario` of trial ``seed`` (default the study's
         first seed): what is placed ``at random`` is drawn from the seed
-        (:mod:`epistemica.sim.draws`), the rest as written."""
+        (:mod:`epistemica.sim.engine.draws`), the rest as written."""
         seed = self.study.seed if seed is None else int(seed)
-        if self.kind == COLLABORATIVE:  # its own world: tasks that need several robots
+        if self.kind.joint:  # its own world: tasks that need several robots
             return collaborative_scenario(self, seed)
         p, n, m = self.parts, len(self.robots), len(self.goals)
         options = dict(p.options)
@@ -251,11 +251,11 @@ class Mission:
         """The valid configurations after ``valid`` and ``initially`` (None: the whole
         set of the mission kind, unconstrained, or a multitask mission)."""
         p = self.parts
-        if self.kind in ("multitask", COLLABORATIVE):
+        if self.kind.tasks:
             return None
         n, m = len(self.robots), len(self.goals)
         constraints = p.valid + p.initially
-        total = count_configurations(self.kind, n, m, p.capacities)
+        total = self.kind.count(n, m, p.capacities)
         if total == 0:
             raise self._error("the mission kind allows no configuration of these robots")
         if not constraints:
@@ -265,7 +265,7 @@ class Mission:
                 f"{total} configurations are too many to constrain with 'valid'",
                 f"at most {ENUMERATION_LIMIT}: fewer robots or goals",
             )
-        rows = valid_configurations(self.kind, n, m, p.capacities)
+        rows = self.kind.configurations(n, m, p.capacities)
         for fact in constraints:
             rows = rows[fact_mask(fact, rows, self.robots, self.goals)]
         if rows.shape[0] == 0:
@@ -279,22 +279,17 @@ class Mission:
 
     def configurations(self) -> np.ndarray:
         """The valid configurations, ``(k, n)`` goal indices (not for multitask)."""
-        if self.kind in ("multitask", COLLABORATIVE):
-            raise InvalidArgumentError(
-                f"a {self.kind} mission has no fixed configuration set",
-                hint="its configurations are chosen every step from the open tasks",
-            )
         table = self._table
         if table is not None:
             return table
         p = self.parts
-        return valid_configurations(self.kind, len(self.robots), len(self.goals), p.capacities)
+        return self.kind.configurations(len(self.robots), len(self.goals), p.capacities)
 
     @functools.cached_property
     def parameters(self) -> ActiveParameters:
         """The active-inference levels' parameters: the defaults, changed by the file's
         ``policy`` lines (a collaborative mission's: ``CollaborativeParameters``)."""
-        if self.kind == COLLABORATIVE:
+        if self.kind.joint:
             return collaborative_parameters(self, _policy_value)
         out = ActiveParameters()
         for name, text, token in self.parts.policy:
@@ -317,7 +312,7 @@ class Mission:
     def knowledge(self, seed: int | None = None) -> TeamKnowledge:
         """The team's epistemic state at the start of trial ``seed``: the goals each robot
         knows, the facts it was told (``learns``); in a collaborative mission, no task."""
-        if self.kind == COLLABORATIVE:
+        if self.kind.joint:  # every task is found while exploring
             return TeamKnowledge(
                 self.robots, self.goals, np.zeros((len(self.robots), len(self.goals)))
             )
@@ -335,7 +330,7 @@ class Mission:
         short = scenario.replace(max_steps=max(min(int(steps), scenario.max_steps), 1))
         if steps == 0:
             short = short.replace(max_steps=1)
-        if self.kind == COLLABORATIVE:
+        if self.kind.joint:
             return simulate_collaborative(short, level, seed, self.parameters)
         return simulate(
             short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
@@ -345,13 +340,13 @@ class Mission:
         """The model over the valid configurations after what ``knowledge`` holds (the
         group semantics of :mod:`epistemica.del_.state`): a Kripke model, or a knowledge
         structure on BDDs when the configurations are too many to list."""
-        if self.kind in ("multitask", COLLABORATIVE):
+        if self.kind.tasks:
             raise InvalidArgumentError(
                 f"a {self.kind} mission has no explicit model over configurations",
                 hint="its configurations are chosen every step from the open tasks",
             )
         p, n, m = self.parts, len(self.robots), len(self.goals)
-        total = count_configurations(self.kind, n, m, p.capacities)
+        total = self.kind.count(n, m, p.capacities)
         if total > MAX_CONFIGURATIONS:  # symbolic: the configurations are never listed
             constraints = p.valid + p.initially
             return configuration_structure(
@@ -368,7 +363,7 @@ class Mission:
         if not self.parts.plausibility:
             return self.model_of(self.knowledge())
         p = self.parts
-        total = count_configurations(self.kind, len(self.robots), len(self.goals), p.capacities)
+        total = self.kind.count(len(self.robots), len(self.goals), p.capacities)
         if total > MAX_CONFIGURATIONS:  # the symbolic backend has no plausibility here yet
             token = p.plausibility[0].token
             raise SpecError(
@@ -409,7 +404,6 @@ def parse_mission(text: str, filename: str = "<string>", team: int | None = None
     """
     parts = compile_text(text, filename, library_rules(), team)
     defaults = Study()
-    defaults_levels = COLLABORATIVE_STUDY_LEVELS if parts.kind == COLLABORATIVE else defaults.levels
     mission = Mission(
         name=Path(filename).stem if filename != "<string>" else "mission",
         kind=parts.kind,
@@ -419,7 +413,9 @@ def parse_mission(text: str, filename: str = "<string>", team: int | None = None
         study=Study(
             trials=defaults.trials if parts.trials is None else parts.trials,
             seed=defaults.seed if parts.seed is None else parts.seed,
-            levels=defaults_levels if parts.levels is None else tuple(n for n, _ in parts.levels),
+            levels=parts.kind.study_levels
+            if parts.levels is None
+            else tuple(n for n, _ in parts.levels),
         ),
         filename=filename,
         source=text,

@@ -1,10 +1,10 @@
 """Running a mission file's study: its trials, stored, summarised, drawn.
 
 A mission's trial is (mission text, level, seed): a
-:class:`~epistemica.sim.sweep.TrialSpec` over the file as a :class:`MissionWorld`, whose id
+:class:`~epistemica.sim.study.sweep.TrialSpec` over the file as a :class:`MissionWorld`, whose id
 hashes the three, so a study interrupted at any moment resumes with the trials it misses, and
 the same file gives the same trials on every machine. Trials run through the simulator's
-sweep machinery (:func:`epistemica.sim.sweep.run_sweep`: local processes, results in
+sweep machinery (:func:`epistemica.sim.study.sweep.run_sweep`: local processes, results in
 SQLite written by the driving process only).
 
 Examples
@@ -27,14 +27,12 @@ from dataclasses import dataclass
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import Mission, load_mission, parse_mission
-from epistemica.sim.collaborative import COLLABORATIVE
-from epistemica.sim.collaborative_levels import make_collaborative_policy
-from epistemica.sim.collaborative_trace import collaborative_columns
-from epistemica.sim.levels import make_policy
-from epistemica.sim.parameters import ActiveParameters
-from epistemica.sim.scenario import Scenario
-from epistemica.sim.store import ResultStore
-from epistemica.sim.sweep import TrialSpec, check_trials, run_sweep
+from epistemica.sim.engine.scenario import Scenario
+from epistemica.sim.policies.levels import make_level
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.study.collaborative_trace import collaborative_columns
+from epistemica.sim.study.store import ResultStore
+from epistemica.sim.study.sweep import TrialSpec, check_trials, run_sweep
 
 __all__ = ["CollaborativeWorld", "MissionWorld", "mission_trials", "run_study", "team_trials"]
 
@@ -46,7 +44,7 @@ def _compiled(source: str, filename: str, team: int | None) -> Mission:
 
 @dataclass(frozen=True)
 class MissionWorld:
-    """A mission file as a :class:`~epistemica.sim.sweep.World`: its text (compiled once
+    """A mission file as a :class:`~epistemica.sim.study.sweep.World`: its text (compiled once
     per process) and, for a file whose robots are ``r1..rN``, the team size N; a trial's id
     is its text, N, level and seed."""
 
@@ -60,8 +58,8 @@ class MissionWorld:
 
     @property
     def mission(self) -> str:
-        """The mission kind (the results table's ``mission`` column)."""
-        return self.compiled.kind
+        """The mission kind's name (the results table's ``mission`` column)."""
+        return self.compiled.kind.name
 
     @property
     def robots(self) -> int:
@@ -95,8 +93,8 @@ class MissionWorld:
 @dataclass(frozen=True)
 class CollaborativeWorld(MissionWorld):
     """A collaborative mission file (``mission collaborative``) as a world: its trials run
-    in their own loop (:func:`~epistemica.sim.collaborative.simulate_collaborative`) and are
-    stored like any other (:mod:`epistemica.sim.collaborative_trace`)."""
+    in their own loop (:func:`~epistemica.sim.kinds.collaborative.simulate_collaborative`) and are
+    stored like any other (:mod:`epistemica.sim.study.collaborative_trace`)."""
 
     def outcome(self, reasoning: str, seed: int, traces: bool = True) -> dict:
         """The outcome columns of the trial's results row."""
@@ -115,13 +113,13 @@ def mission_trials(
     levels = list(mission.study.levels if levels is None else levels)
     trials = mission.study.trials if trials is None else trials
     levels = list(dict.fromkeys(levels))  # a level named twice runs once
-    collaborative = mission.kind == COLLABORATIVE
     for level in levels:  # unknown names fail here, not in a worker
-        (make_collaborative_policy if collaborative else make_policy)(level)
+        make_level(mission.kind, level)
     first = mission.study.seed if seed is None else seed
     check_trials(trials, first)
-    kind = CollaborativeWorld if collaborative else MissionWorld
-    world = kind(mission.source, mission.filename, mission.team)
+    # a joint mission's trials run in their own loop
+    world_type = CollaborativeWorld if mission.kind.joint else MissionWorld
+    world = world_type(mission.source, mission.filename, mission.team)
     return [TrialSpec(world, level, first + t) for level in levels for t in range(trials)]
 
 

@@ -1,12 +1,12 @@
 """``epistemica view FILE``: a trial's replay as one self-contained HTML page.
 
-:func:`trial_page` replays a trace (:mod:`epistemica.sim.trace`) with the panels of the
-animation (:mod:`epistemica.sim.figures`): the map with sensing radii, estimates and
+:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`) with the panels of the
+animation (:mod:`epistemica.sim.study.figures`): the map with sensing radii, estimates and
 events, each robot's belief, the configuration-set sizes (own and one robot's model of each
 teammate's) and the events; a slider scrubs, a button plays and pauses.
 
 ``view`` writes the replay page of one trial (:func:`trial_page`)
-from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.trace.encode`),
+from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.study.trace.encode`),
 from a results file whose rows carry traces (an SQLite ``trials`` table with a ``trace``
 column), or from a mission file (the trial is simulated). The page is one self-contained
 file: open it in any browser, offline. ``show --html`` is :mod:`epistemica.model_view`.
@@ -25,9 +25,9 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.html_view import check_writable, page, write_page
 from epistemica.input_files import file_kind, read_input
 from epistemica.mission import parse_mission
-from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
-from epistemica.sim.simulate import simulate
-from epistemica.sim.trace import FORMAT, decode, trial_trace
+from epistemica.sim.engine.simulate import simulate
+from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
+from epistemica.sim.study.trace import FORMAT, decode, trial_trace
 
 __all__ = ["read_trace", "run_view", "trial_page"]
 
@@ -109,12 +109,13 @@ def trial_page(trace: dict[str, Any], mission: str = "") -> str:
     """The replay page of a trial's trace (``epistemica-trace`` v1) as HTML text."""
     if not isinstance(trace, dict) or trace.get("format") != FORMAT:
         raise InvalidArgumentError(
-            "not an epistemica trace", hint="traces are written by epistemica.sim.trace"
+            "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
         )
     if trace.get("kind") == "collaborative":
         raise InvalidArgumentError(
             "a collaborative trial's trace has no beliefs or configuration sets to replay",
-            hint="read it with epistemica.sim.store.read_trace; the page replays other missions",
+            hint="read it with epistemica.sim.study.store.read_trace; "
+            "the page replays other missions",
         )
     levels = ", ".join(dict.fromkeys(trace["policies"]))
     outcome = "success" if trace["success"] else "failure"

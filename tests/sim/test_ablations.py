@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.levels import LEVELS, make_policy
+from epistemica.sim.policies.levels import LEVELS, make_policy
 
 
 @pytest.mark.parametrize("level", ["first-priormode", "third-priormode", "convention+rules"])

@@ -1,4 +1,4 @@
-"""Anticipating teammates from what they can conceive of (sim/anticipation.py).
+"""Anticipating teammates from what they can conceive of (sim/policies/anticipation.py).
 
 Laws of :func:`anticipated_prior` over random configuration tables, sets and priors, a
 hand-worked three-robot case, and the closed loop: on the mission where one robot alone
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from epistemica.aif.configurations import valid_configurations
 from epistemica.mission import parse_mission
 from epistemica.sim import simulate
-from epistemica.sim.anticipation import anticipated_prior, goal_distribution
+from epistemica.sim.policies.anticipation import anticipated_prior, goal_distribution
 
 
 @st.composite

@@ -1,4 +1,5 @@
-"""Pluggable dynamics and sensors, disc robots and obstacles (sim/dynamics.py, sim/obstacles.py)."""
+"""Pluggable dynamics and sensors, disc robots and obstacles (sim/engine/dynamics.py and
+obstacles.py)."""
 
 from __future__ import annotations
 
@@ -11,8 +12,8 @@ from epistemica.aif.motion import move
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.mission import parse_mission
 from epistemica.sim import FunctionPolicy, Scenario, simulate
-from epistemica.sim.dynamics import HonestSensor, PaperSensor, Unicycle
-from epistemica.sim.obstacles import inside, line_of_sight, polygon, resolve_contacts
+from epistemica.sim.engine.dynamics import HonestSensor, PaperSensor, Unicycle
+from epistemica.sim.engine.obstacles import inside, line_of_sight, polygon, resolve_contacts
 
 WALL = [[10, 5], [20, 5], [20, 7], [10, 7]]
 

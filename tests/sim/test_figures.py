@@ -14,10 +14,10 @@ import pytest
 from epistemica.cli import main
 from epistemica.del_.errors import EpistemicaError
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.figures import TraceFrame, animate_trial, focus_robot, plot_trial
-from epistemica.sim.palette import ROBOT_COLOURS
-from epistemica.sim.report import plot_results, study_order, summarise
-from epistemica.sim.trace import trial_trace
+from epistemica.sim.study.figures import TraceFrame, animate_trial, focus_robot, plot_trial
+from epistemica.sim.study.palette import ROBOT_COLOURS
+from epistemica.sim.study.report import plot_results, study_order, summarise
+from epistemica.sim.study.trace import trial_trace
 
 PIL = pytest.importorskip("PIL.Image")
 SPECS = Path(__file__).resolve().parents[2] / "specs"
@@ -213,7 +213,7 @@ def test_the_teammate_types_a_robot_reads_are_recorded_and_drawn():
 
 
 def test_a_version_1_trace_is_still_read_and_drawn(relocated):
-    from epistemica.sim.trace import decode, encode
+    from epistemica.sim.study.trace import decode, encode
 
     _s, _trial, trace = relocated
     old = {**trace, "version": 1, "events": [[9, "settle", [1, 0], [0, 1]]]}
@@ -283,7 +283,7 @@ def test_report_figure_in_study_order_with_markers_and_styles(tmp_path, monkeypa
 
 
 def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
-    from epistemica.sim.store import ResultStore
+    from epistemica.sim.study.store import ResultStore
 
     db = tmp_path / "r.sqlite"
     with ResultStore(db) as store:
@@ -310,7 +310,7 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
 def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys):
-    from epistemica.sim.store import ResultStore
+    from epistemica.sim.study.store import ResultStore
 
     db = tmp_path / "r.sqlite"
     with ResultStore(db) as store:

@@ -20,11 +20,11 @@ from epistemica.aif.configurations import valid_configurations
 from epistemica.del_ import KripkeModel, Observation, parse_formula
 from epistemica.mission import library_event, load_mission
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.active import ActiveInference
-from epistemica.sim.configuration_sets import nested_sets
-from epistemica.sim.knowledge import TeamKnowledge
-from epistemica.sim.levels import make_policy
-from epistemica.sim.worlds import fact_mask
+from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.engine.worlds import fact_mask
+from epistemica.sim.policies.active import ActiveInference
+from epistemica.sim.policies.configuration_sets import nested_sets
+from epistemica.sim.policies.levels import make_policy
 
 
 def settle(knowledge, robot, goal, observers):
@@ -284,7 +284,7 @@ def test_unseen_teammates_meet_at_the_goal_of_the_common_view():
 def test_the_convention_pins_settled_robots_as_the_table_would(data):
     # The convention solves a reduced assignment with the settled robots pinned instead of
     # enumerating every configuration; both must pick the same configuration.
-    from epistemica.sim.baselines import Convention
+    from epistemica.sim.policies.baselines import Convention
 
     n = data.draw(st.integers(2, 4))
     kind = data.draw(st.sampled_from(["allocation", "rendezvous"]))

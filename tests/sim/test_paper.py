@@ -7,7 +7,8 @@ import pytest
 from scipy.stats import binomtest
 
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.paper import (
+from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.paper import (
     BEARING,
     BLANK,
     RANGE,
@@ -18,7 +19,6 @@ from epistemica.sim.paper import (
     product_softmax,
     sampled_permutations,
 )
-from epistemica.sim.sensing import Observations
 
 
 def _types(views):

@@ -18,8 +18,8 @@ import pytest
 from epistemica.cli import main
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.provenance import code_version, package_version, source_hash
-from epistemica.sim.store import (
+from epistemica.sim.study.provenance import code_version, package_version, source_hash
+from epistemica.sim.study.store import (
     FORMAT,
     SCHEMA_VERSION,
     ResultStore,
@@ -27,8 +27,8 @@ from epistemica.sim.store import (
     read_rows,
     read_trace,
 )
-from epistemica.sim.sweep import plan_sweep, run_sweep
-from epistemica.sim.trace import trial_trace
+from epistemica.sim.study.sweep import plan_sweep, run_sweep
+from epistemica.sim.study.trace import trial_trace
 
 SPECS = plan_sweep(["rendezvous", "allocation"], [2, 3], None, ["zero", "convention"], 2)
 
@@ -303,7 +303,7 @@ def test_sweeps_opening_and_closing_one_file_at_once_wait_for_each_other(tmp_pat
     path = tmp_path / "busy.sqlite"
     ResultStore(path).close()
     script = (
-        "import sys\nfrom epistemica.sim.store import ResultStore\n"
+        "import sys\nfrom epistemica.sim.study.store import ResultStore\n"
         "for _ in range(30):\n    ResultStore(sys.argv[1], resume=True).close()\n"
     )
     runs = [subprocess.Popen([sys.executable, "-c", script, str(path)], stderr=subprocess.PIPE,

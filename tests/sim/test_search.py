@@ -6,8 +6,8 @@ import pytest
 
 from epistemica.mission import parse_mission
 from epistemica.sim import simulate
-from epistemica.sim.parameters import ActiveParameters
-from epistemica.sim.policy import FunctionPolicy
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.policy import FunctionPolicy
 
 # r1 stands at g1 for good; r2 waits there with it; r3 waits at g2, 28 m away, out of
 # sight. Only a search brings r3 over; r2 leaving r1 to search as well is wasted.

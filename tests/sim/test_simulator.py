@@ -17,9 +17,9 @@ from epistemica.sim import (
     mission_holds,
     simulate,
 )
-from epistemica.sim._streams import trial_streams
-from epistemica.sim.policy import Decisions
-from epistemica.sim.sensing import Sensing
+from epistemica.sim.engine._streams import trial_streams
+from epistemica.sim.engine.sensing import Sensing
+from epistemica.sim.policies.policy import Decisions
 
 FAST = settings(max_examples=25, deadline=None)
 

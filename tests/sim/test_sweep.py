@@ -15,9 +15,9 @@ import pytest
 
 from epistemica.cli import main
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.report import summarise, wilson_interval
-from epistemica.sim.store import OUTCOME_COLUMNS, ResultStore, read_rows
-from epistemica.sim.sweep import ProtocolWorld, TrialSpec, plan_sweep, run_sweep, run_trial
+from epistemica.sim.study.report import summarise, wilson_interval
+from epistemica.sim.study.store import OUTCOME_COLUMNS, ResultStore, read_rows
+from epistemica.sim.study.sweep import ProtocolWorld, TrialSpec, plan_sweep, run_sweep, run_trial
 
 GRID = dict(
     missions=["rendezvous", "allocation"],

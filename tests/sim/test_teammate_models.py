@@ -11,8 +11,8 @@ import pytest
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.levels import make_policy
-from epistemica.sim.parameters import ActiveParameters
+from epistemica.sim.policies.levels import make_policy
+from epistemica.sim.policies.parameters import ActiveParameters
 
 STRESS = Path(__file__).resolve().parents[2] / "specs" / "stress"
 
@@ -67,7 +67,7 @@ def test_a_team_scored_together_reads_its_teammates_as_each_robot_alone_would():
     the step before; robot by robot (as when robots decide apart) they must read the same."""
     from types import SimpleNamespace
 
-    from epistemica.sim.teammate_models import TeammateModels
+    from epistemica.sim.policies.teammate_models import TeammateModels
 
     s = Scenario("rendezvous", [[0, 0, 0], [30, 0, 0], [10, 15, 0]], [[2, 0], [30, 12], [10, 5]],
                  ["range"] * 3)  # fmt: skip

@@ -216,7 +216,7 @@
   });
 
   el("h2", {}, right, "Relations per agent");
-  // Agents take the robots' palette (epistemica.sim.palette.ROBOT_COLOURS).
+  // Agents take the robots' palette (epistemica.sim.study.palette.ROBOT_COLOURS).
   const palette = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
     "#e377c2", "#17becf", "#bcbd22"];
   for (const [k, agent] of model.agents.entries()) {

@@ -1,0 +1,428 @@
+"""The simulator as a reinforcement-learning environment: PettingZoo and Gymnasium.
+
+:class:`MissionEnv` is a PettingZoo ``ParallelEnv`` over a :class:`~epistemica.sim.Scenario`
+or a mission file (anything with a ``scenario(seed)`` method, such as
+:func:`epistemica.mission.load_mission`'s :class:`~epistemica.mission.Mission`: each reset
+draws that seed's layout). Every robot is an agent, named as in the mission (``r1``,
+``r2``, ...), except the robots given to one of our reasoning levels with ``teammates``.
+:class:`RobotEnv` is the Gymnasium view of one robot among such scripted teammates.
+Both need the ``env`` extra: ``pip install "epistemica[env]"``.
+
+The environment steps the simulator's own :class:`~epistemica.sim.engine.simulate.TrialRun`
+(perception, events, knowledge, dynamics, contacts): given the controls a level would
+choose (:meth:`MissionEnv.level_actions`), it runs exactly the trial
+:func:`~epistemica.sim.engine.simulate` runs for the same seed.
+
+Spaces (robot ``i``, ``n`` robots, ``m`` goals, ``R`` event rules):
+
+=================  ============================================================================
+``pose``           ``(3,)`` float32: its own true pose ``x, y`` (m), heading (rad)
+``teammates``      ``(n, 2)`` float32: where it places every robot (noisy, the last estimate
+                   for one out of range or sight; its own row exact)
+``seen``           ``MultiBinary(n)``: robot ``j`` was observed at this step
+``goals``          ``(m, 2)`` float32: the goals it knows of (zeros for the others)
+``known_goals``    ``MultiBinary(m)``: the goals it knows of (discovered within range, told,
+                   revealed by an event)
+``closed``         ``MultiBinary(m)``: goals it knows closed (tasks done, doors shut)
+``events``         ``MultiBinary(R)`` (only when the mission has events): it observed an event
+                   of rule ``k`` that taught it something, since its last observation
+``step``           ``Discrete(max_steps + 1)``: the step
+action             ``Box`` float64 ``(speed, heading change)`` in ``[0, max_speed] x
+                   [-max_turn, max_turn]`` of that robot (values outside are clipped)
+=================  ============================================================================
+
+Reward (shared by the team, the same for every agent): the mission's progress made at
+this step, ``Δ(held / dwell)`` (steps on which the mission held, towards the ``dwell``
+that ends the trial) or, for a multitask mission, ``Δ(tasks done / tasks)``; a trial that
+succeeds collects 1 in total. Plus ``shaping`` times the change of a potential, minus the
+mean distance (in workspaces) from each robot to its nearest open goal beyond the success
+radius (potential-based, so it does not change which policies are optimal). Every agent is
+terminated when the mission succeeds, truncated at the step limit; the observation then
+returned does not advance the sensors (the last one, with each robot's own pose updated),
+so that the trial stays the simulator's. ``render()`` draws the trial so far with
+:func:`epistemica.sim.study.figures.plot_trial` (``render_mode="rgb_array"``, matplotlib
+needed).
+
+Examples
+--------
+>>> from epistemica.sim import Scenario
+>>> env = MissionEnv(Scenario.paper("rendezvous", 3, 3, seed=0))
+>>> observations, infos = env.reset(seed=0)
+>>> env.agents, observations["r1"]["teammates"].shape
+(['r1', 'r2', 'r3'], (3, 2))
+>>> while env.agents:  # everyone plays the convention, through the environment
+...     observations, rewards, terminations, truncations, infos = env.step(
+...         env.level_actions("convention"))
+>>> trial = env.trial()
+>>> trial.success, round(sum(env.returns.values()) / 3, 3) > 0.9
+(True, True)
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+import numpy as np
+
+from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.sim.engine._env_view import action_space, agent_views, observation_space, potential
+from epistemica.sim.engine._streams import trial_streams
+from epistemica.sim.engine.scenario import Scenario
+from epistemica.sim.engine.simulate import TrialRun, policy_groups
+from epistemica.sim.engine.trial import Trial
+from epistemica.sim.study.figures import plot_trial, pyplot
+
+try:
+    import gymnasium
+    from gymnasium import spaces
+    from pettingzoo import ParallelEnv
+except ImportError as exc:  # pragma: no cover - the env extra is missing
+    raise EpistemicaError(
+        "epistemica.sim.engine.env needs gymnasium and pettingzoo",
+        hint='install the env extra: pip install "epistemica[env]"',
+    ) from exc
+
+__all__ = ["MissionEnv", "RobotEnv"]
+
+#: The name a robot driven through the environment has in a trial's ``policies``.
+EXTERNAL = "env"
+
+
+class MissionEnv(ParallelEnv):
+    """Every robot of a mission as a PettingZoo agent (see the module notes).
+
+    Parameters
+    ----------
+    source : Scenario or object with ``scenario(seed)``
+        The world: one fixed scenario, or a mission whose layout each reset draws.
+    teammates : mapping, optional
+        Robot (name or index) to reasoning level (``"third"``, ``"convention"``, ...):
+        those robots are driven by the level and are not agents.
+    parameters : ActiveParameters, optional
+        Parameters of the active-inference levels.
+    shaping : float
+        Weight of the potential-based shaping term of the reward (0: progress only).
+    render_mode : {"rgb_array", None}
+    seed : int, optional
+        Seed of the first reset without one (default: the mission's first seed, or 0);
+        each later reset without a seed takes the next one.
+
+    A mission's ``teammate`` line (an ad hoc teammate) is not applied: every robot is an
+    agent unless ``teammates`` says otherwise (``teammates=mission.policies(seed)`` scripts
+    the one of trial ``seed``).
+    """
+
+    metadata: ClassVar[dict] = {
+        "render_modes": ["rgb_array"],
+        "name": "epistemica_mission_v0",
+        "render_fps": 4,
+    }
+
+    def __init__(
+        self,
+        source,
+        teammates: Mapping | None = None,
+        *,
+        parameters=None,
+        shaping: float = 1.0,
+        render_mode: str | None = None,
+        seed: int | None = None,
+    ) -> None:
+        if not isinstance(source, Scenario) and not callable(getattr(source, "scenario", None)):
+            raise InvalidArgumentError(
+                f"expected a Scenario or a mission, got {type(source).__name__}",
+                hint="pass Scenario.paper(...) or epistemica.mission.load_mission(path)",
+            )
+        if getattr(getattr(source, "kind", None), "joint", False):
+            raise InvalidArgumentError(
+                "collaborative missions run in their own loop, which the environment does "
+                "not step yet",
+                hint="run it with 'epistemica run FILE', or use a rendezvous, allocation, "
+                "capacity or multitask mission",
+            )
+        if render_mode not in (None, "rgb_array"):
+            raise InvalidArgumentError(
+                f"render_mode {render_mode!r} is not supported", hint='use "rgb_array" or None'
+            )
+        study = getattr(getattr(source, "study", None), "seed", 0)
+        self.source, self.parameters, self.render_mode = source, parameters, render_mode
+        self.shaping = float(shaping)
+        self.scenario = self._scenario(study if seed is None else seed)
+        s = self.scenario
+        self.scripted = self._scripted(teammates or {})
+        self.possible_agents = [r for i, r in enumerate(s.robot_names) if i not in self.scripted]
+        if not self.possible_agents:
+            raise InvalidArgumentError(
+                "every robot is a scripted teammate: no agent is left",
+                hint="leave at least one robot out of `teammates`",
+            )
+        self._index = {name: i for i, name in enumerate(s.robot_names)}
+        self._observation_space = observation_space(spaces, s)
+        self._action_spaces = {r: action_space(spaces, s, self._index[r]) for r in s.robot_names}
+        self._next_seed = study if seed is None else int(seed)
+        self.agents: list[str] = []
+        self.run: TrialRun | None = None
+
+    # -- PettingZoo's interface ------------------------------------------------------
+
+    def observation_space(self, agent: str):
+        """The observation space (the same object for every agent, every call)."""
+        return self._observation_space
+
+    def action_space(self, agent: str):
+        """The agent's action space (the same object every call)."""
+        return self._action_spaces[agent]
+
+    def reset(self, seed: int | None = None, options: dict | None = None):
+        """Start trial ``seed`` (default: the next seed); returns observations and infos."""
+        if seed is None:
+            seed = self._next_seed
+        self.seed_ = int(seed)
+        self._next_seed = self.seed_ + 1
+        s = self.scenario = self._scenario(self.seed_)
+        self.streams = trial_streams(self.seed_, s.n_robots)
+        self.run = TrialRun(s, self.streams)
+        self.groups = self._start(self.scripted)
+        self._advisors: dict[str, list] = {}
+        self.step_count, self._mark = 0, 0
+        self.agents = list(self.possible_agents)
+        self.returns = dict.fromkeys(self.agents, 0.0)
+        self._progress, self._potential = 0.0, self._current_potential()
+        self.observations = self.run.perceive(0)
+        return self._views(), self._infos()
+
+    def step(self, actions: Mapping):
+        """Apply every live agent's ``(speed, heading change)``; the scripted teammates
+        decide for themselves."""
+        run, s, t = self._running(), self.scenario, self.step_count
+        if not self.agents:
+            raise InvalidArgumentError("the trial is over", hint="call reset() for another")
+        controls = np.zeros((s.n_robots, 2))
+        missing = [a for a in self.agents if a not in actions]
+        if missing:
+            raise InvalidArgumentError(
+                f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
+            )
+        controls[[self._index[a] for a in self.agents]] = _actions(self.agents, actions)
+        run.decide(t, self.observations, self.groups, controls)
+        success = run.advance(t, controls)
+        self.step_count = t + 1
+        progress = self._current_progress()
+        now = self._current_potential()
+        reward = progress - self._progress + self.shaping * (now - self._potential)
+        self._progress, self._potential = progress, now
+        over = success or self.step_count >= s.max_steps
+        if over:
+            self.observations = self.observations._replace(poses=self._final_poses())
+        else:
+            self.observations = run.perceive(self.step_count)
+        agents = self.agents
+        observations, infos = self._views(), self._infos()
+        rewards = dict.fromkeys(agents, float(reward))
+        for agent in agents:
+            self.returns[agent] += float(reward)
+        terminations = dict.fromkeys(agents, bool(success))
+        truncations = dict.fromkeys(agents, bool(over and not success))
+        if over:
+            self.agents = []
+        return observations, rewards, terminations, truncations, infos
+
+    def render(self):
+        """The trial so far as an RGB image ``(height, width, 3)`` uint8 (or None)."""
+        if self.render_mode is None:
+            return None
+        self._running()
+        buffer = io.BytesIO()
+        plot_trial(self.scenario, self.trial(), buffer)
+        buffer.seek(0)
+        image = pyplot().imread(buffer, format="png")
+        return (np.asarray(image)[..., :3] * 255).round().astype(np.uint8)
+
+    def close(self) -> None:
+        self.run = None
+
+    # -- beyond the interface ----------------------------------------------------------
+
+    def level_actions(self, level: str) -> dict[str, np.ndarray]:
+        """The actions ``level`` would choose for every live agent at this step.
+
+        The level keeps its own state across steps (its beliefs, search timers): call it
+        at every step from the reset on. Given these actions every step, the environment
+        runs :func:`~epistemica.sim.engine.simulate`'s trial of the same seed.
+        """
+        self._running()
+        if level not in self._advisors:
+            robots = [self._index[a] for a in self.possible_agents]
+            self._advisors[level] = self._start(dict.fromkeys(robots, level))
+        controls = np.zeros((self.scenario.n_robots, 2))
+        for policy, robots in self._advisors[level]:
+            controls[robots] = policy.decide(self.observations, robots).controls
+        return {a: controls[self._index[a]] for a in self.agents}
+
+    def trial(self) -> Trial:
+        """The record of the trial so far (a :class:`~epistemica.sim.Trial`)."""
+        run = self._running()
+        names = [EXTERNAL] * self.scenario.n_robots
+        for policy, robots in self.groups:
+            for r in robots:
+                names[r] = policy.name
+        return run.trial(tuple(names), self.seed_)
+
+    # -- helpers -------------------------------------------------------------------------
+
+    def _scenario(self, seed: int) -> Scenario:
+        if isinstance(self.source, Scenario):
+            return self.source
+        return self.source.scenario(seed)
+
+    def _scripted(self, teammates: Mapping) -> dict[int, str]:
+        s, out = self.scenario, {}
+        for robot, level in teammates.items():
+            if isinstance(robot, str) and robot in s.robot_names:
+                robot = s.robot_names.index(robot)
+            if isinstance(robot, bool) or not isinstance(robot, int | np.integer):
+                raise InvalidArgumentError(
+                    f"teammates names robot {robot!r}",
+                    hint=f"robots: {', '.join(s.robot_names)} (or indices 0..{s.n_robots - 1})",
+                )
+            if not 0 <= robot < s.n_robots:
+                raise InvalidArgumentError(
+                    f"teammates names robot {robot}", hint=f"indices 0..{s.n_robots - 1}"
+                )
+            out[int(robot)] = level
+        if out:  # build the policies once now: an unknown level fails here, not at reset
+            policy_groups(s.n_robots, next(iter(out.values())), out, self.parameters)
+        return out
+
+    def _start(self, levels: Mapping[int, Any]) -> list:
+        """Policy groups for ``levels`` (robot -> level), started on this trial's streams."""
+        if not levels:
+            return []
+        s = self.scenario
+        groups = policy_groups(s.n_robots, next(iter(levels.values())), levels, self.parameters)
+        policy_streams = trial_streams(self.seed_, s.n_robots).policy  # fresh, unshared
+        started = []
+        for policy, robots in groups:
+            robots = np.array([r for r in robots if r in levels], dtype=int)
+            if robots.size:
+                policy.start(s, robots, [policy_streams[r] for r in robots])
+                started.append((policy, robots))
+        return started
+
+    def _running(self) -> TrialRun:
+        if self.run is None:
+            raise InvalidArgumentError("the environment has no trial", hint="call reset() first")
+        return self.run
+
+    def _views(self) -> dict[str, dict]:
+        run = self._running()
+        new = run.events[self._mark :]
+        self._mark = len(run.events)
+        robots = [self._index[a] for a in self.agents]
+        views = agent_views(self.scenario, self.observations, self.step_count, new, robots)
+        return {a: views[self._index[a]] for a in self.agents}
+
+    def _infos(self) -> dict[str, dict]:
+        run = self._running()
+        info = {"step": self.step_count, "held": run.held, "success": bool(run.success)}
+        return {a: dict(info) for a in self.agents}
+
+    def _current_progress(self) -> float:
+        run, s = self._running(), self.scenario
+        if s.kind.tasks:
+            return float(np.count_nonzero(run.done >= 0)) / s.n_goals
+        return min(run.held, s.dwell) / s.dwell
+
+    def _current_potential(self) -> float:
+        run = self._running()
+        if not self.shaping:
+            return 0.0
+        return potential(self.scenario, run.poses, run.open)
+
+    def _final_poses(self) -> np.ndarray:
+        poses = self.observations.poses.copy()
+        index = np.arange(self.scenario.n_robots)
+        poses[index, index] = self._running().poses
+        return poses
+
+
+def _actions(agents: list[str], actions: Mapping) -> np.ndarray:
+    """The agents' actions as ``(k, 2)`` finite floats, or an error naming the first bad one."""
+    try:
+        values = np.array([actions[a] for a in agents], dtype=float)
+    except (TypeError, ValueError):
+        values = None
+    if values is not None and values.shape == (len(agents), 2) and np.isfinite(values).all():
+        return values
+    for agent in agents:
+        value = actions[agent]
+        try:
+            good = np.shape(value) == (2,) and bool(np.isfinite(np.asarray(value, float)).all())
+        except (TypeError, ValueError):
+            good = False
+        if not good:
+            raise InvalidArgumentError(
+                f"the action of {agent} must be two finite numbers, got {value!r}",
+                hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
+            )
+    raise AssertionError("unreachable: some action was malformed")  # pragma: no cover
+
+
+class RobotEnv(gymnasium.Env):
+    """One robot of a mission as a Gymnasium environment, its teammates driven by a level.
+
+    Parameters
+    ----------
+    source : Scenario or object with ``scenario(seed)``
+    robot : str or int
+        The robot the learner drives (default the first).
+    teammates : str
+        The reasoning level of every other robot (default ``"third"``).
+    **options
+        ``parameters``, ``shaping``, ``render_mode``, ``seed`` of :class:`MissionEnv`.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario
+    >>> env = RobotEnv(Scenario.paper("rendezvous", 2, 2, seed=1), teammates="convention")
+    >>> observation, info = env.reset(seed=1)
+    >>> observation["pose"].shape, env.action_space.shape
+    ((3,), (2,))
+    """
+
+    metadata: ClassVar[dict] = MissionEnv.metadata
+
+    def __init__(self, source, robot: str | int = 0, teammates: str = "third", **options) -> None:
+        first = MissionEnv(source, **{k: v for k, v in options.items() if k != "render_mode"})
+        names = first.scenario.robot_names
+        if isinstance(robot, str) and robot in names:
+            robot = names.index(robot)
+        if isinstance(robot, bool) or not isinstance(robot, int) or not 0 <= robot < len(names):
+            raise InvalidArgumentError(
+                f"no robot {robot!r} in this mission", hint=f"robots: {', '.join(names)}"
+            )
+        others = {j: teammates for j in range(len(names)) if j != robot}
+        self.multi = MissionEnv(source, others, **options)
+        self.agent = names[robot]
+        self.render_mode = self.multi.render_mode
+        self.observation_space = self.multi.observation_space(self.agent)
+        self.action_space = self.multi.action_space(self.agent)
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        observations, infos = self.multi.reset(seed=seed, options=options)
+        return observations[self.agent], infos[self.agent]
+
+    def step(self, action):
+        out = self.multi.step({self.agent: action})
+        observations, rewards, terminations, truncations, infos = (x[self.agent] for x in out)
+        return observations, rewards, terminations, truncations, infos
+
+    def render(self):
+        return self.multi.render()
+
+    def trial(self) -> Trial:
+        """The record of the trial so far."""
+        return self.multi.trial()

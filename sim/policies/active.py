@@ -1,0 +1,419 @@
+"""Active-inference levels ``"first"``, ``"second"`` and ``"third"`` in the simulator.
+
+Each robot runs :class:`epistemica.aif.Controller` at its order over the valid
+configurations of the goals it knows of. The parts, each with one job:
+
+- :mod:`~epistemica.sim.policies.configuration_sets`: which configurations a robot reasons over,
+  and, nested, which of them it knows each teammate keeps;
+- :mod:`~epistemica.sim.policies.search`: the rendezvous search for missing teammates;
+- :class:`~epistemica.sim.policies.explore.Explorer`: a robot that knows too few goals sweeps the
+  workspace;
+- this module: the team prior (from the common view), the controllers (one team call per
+  shared controller) and the record of each decision.
+
+Every rule and constant is a field of :class:`~epistemica.sim.policies.parameters.ActiveParameters`.
+The control grid respects the robot's limits: four speeds up to its ``max_speed`` and
+heading changes that include "straight ahead" (the full turn when allowed, else nine values
+in ``[-max_turn, max_turn]``).
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from epistemica.aif.controller import Controller
+from epistemica.aif.decision import Decision
+from epistemica.aif.information import entropy
+from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
+from epistemica.aif.prior import shared_rank, team_log_prior
+from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.anticipation import anticipated_prior
+from epistemica.sim.policies.baselines import Convention
+from epistemica.sim.policies.configuration_sets import ConfigurationSets, nested_sets
+from epistemica.sim.policies.explore import Explorer
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.policy import Decisions, Policy, steer
+from epistemica.sim.policies.search import RendezvousSearch
+from epistemica.sim.policies.teammate_models import TeammateModels
+
+__all__ = ["ORDERS", "ActiveInference"]
+
+#: Order of reasoning of each active-inference level.
+ORDERS = {"first": 1, "second": 2, "third": 3}
+
+
+def _grid(max_speed: float, max_turn: float, headings: int) -> np.ndarray:
+    speeds = max_speed * np.array([0.0, 1 / 3, 2 / 3, 1.0])
+    if max_turn >= np.pi and headings == len(DEFAULT_HEADING_CHANGES):
+        changes = DEFAULT_HEADING_CHANGES
+    elif max_turn >= np.pi:
+        changes = np.linspace(-np.pi, np.pi, headings, endpoint=False)
+    else:
+        changes = np.linspace(-max_turn, max_turn, headings + 1)
+    return control_grid(speeds, changes)
+
+
+class ActiveInference(Policy):
+    """Expected-free-energy control at a given order of reasoning.
+
+    Parameters
+    ----------
+    order : {1, 2, 3}
+        Order of reasoning.
+    parameters : ActiveParameters, optional
+        Rules and constants (default :class:`ActiveParameters`).
+    **changes
+        Parameters to change from ``parameters`` (fields of
+        :class:`~epistemica.sim.policies.parameters.ActiveParameters`, or controller arguments).
+
+    Examples
+    --------
+    >>> ActiveInference(3, lone_wait=30).parameters.lone_wait
+    30
+    >>> ActiveInference(3, nested=False).name
+    'third-shared'
+    """
+
+    def __init__(self, order: int, parameters: ActiveParameters | None = None, **changes) -> None:
+        base = ActiveParameters() if parameters is None else parameters
+        self.parameters = base.replace(**changes) if changes else base
+        self.order = int(order)
+        self.name = {v: k for k, v in ORDERS.items()}.get(self.order, f"order-{order}")
+        if not self.parameters.pruning:
+            self.name += "-unpruned"
+        elif not self.parameters.nested:
+            self.name += "-shared"
+        if not self.parameters.free_energy:
+            self.name += "-priormode"
+
+    def start(self, scenario, robots, generators) -> None:
+        super().start(scenario, robots, generators)
+        p = self.parameters
+        self._controllers: dict[tuple, Controller] = {}
+        # Keyed by the controller object, weakly: per-step controllers come and go, and
+        # an id() of a collected one may be reused by the next.
+        self._ranks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._beliefs: dict[int, tuple[Controller, np.ndarray]] = {}  # robot -> (ctrl, q)
+        self._sets = ConfigurationSets(scenario, p)
+        # Too few goals known for any valid configuration: sweep the workspace for more,
+        # then fall back to the convention on what is known.
+        self._convention = Convention()
+        self._convention.start(scenario, robots, generators)
+        spacing = scenario.discovery_range or min(scenario.sensing_range or 10.0, 10.0)
+        self._explorer = Explorer(scenario.workspace, spacing, scenario.n_robots)
+        # Knowing that a teammate does not know of one's goal is second-order knowledge:
+        # only the nested levels have it.
+        aware_of_others = self.order >= 2 and p.nested
+        self._search = RendezvousSearch(
+            scenario,
+            spacing,
+            p.lone_wait,
+            p.look,
+            p.anchor_check,
+            p.unaware_wait if aware_of_others else p.lone_wait,
+        )
+        self._teammates = (
+            TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
+            if p.teammate_models and p.free_energy and self.order >= 2
+            else None
+        )
+        # The common-view switch of each robot (True: teammates out of sight), the steps
+        # its sight has disagreed with it, and the step it was last advanced.
+        n = scenario.n_robots
+        self._blind = np.zeros(n, dtype=bool)
+        self._unsteady = np.zeros(n, dtype=int)
+        self._sight_step = np.full(n, -1)
+        # Each robot's estimate of the team's poses at the last step it saw the whole
+        # team in sight of each other (``remember_sight``).
+        self._team_sight: dict[int, np.ndarray] = {}
+
+    # -- controllers and priors ----------------------------------------------------------
+
+    def _controller(self, robot: int, goals: np.ndarray, rows, shared: bool) -> Controller:
+        s = self.scenario
+        if not shared:  # a set of its own each step: no caching
+            return self._build(robot, goals, rows())
+        key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
+        ctrl = self._controllers.get(key)
+        if ctrl is None:
+            ctrl = self._build(robot, goals, rows())
+            if len(self._controllers) > 64:  # multitask subsets change: bound the cache
+                self._controllers.clear()
+            self._controllers[key] = ctrl
+        return ctrl
+
+    def _build(self, robot: int, goals: np.ndarray, rows: np.ndarray) -> Controller:
+        s, p = self.scenario, self.parameters
+        options = {"position_noise": s.position_noise, **dict(p.controller)}
+        grid = _grid(s.max_speed[robot], s.max_turn[robot], p.headings)
+        return Controller(
+            s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
+        )
+
+    def _follow_sight(self, observations: Observations, robots) -> None:
+        """Advance each robot's common-view switch by this step's sight (once per step).
+
+        A robot's switch follows whether it sees every teammate, but only after the
+        change has lasted ``sight_hysteresis`` steps (``ActiveParameters``).
+        """
+        step, k = observations.step, self.parameters.sight_hysteresis
+        for robot in robots:
+            if self._sight_step[robot] == step:
+                continue
+            blind = not observations.seen[robot].all()
+            if self._sight_step[robot] < 0 or blind == self._blind[robot]:
+                self._blind[robot], self._unsteady[robot] = blind, 0
+            else:
+                self._unsteady[robot] += 1
+                if self._unsteady[robot] >= k:
+                    self._blind[robot], self._unsteady[robot] = blind, 0
+            self._sight_step[robot] = step
+        p = self.parameters
+        if p.remember_sight and p.common_view and self.order >= 2:  # only _views reads it
+            self._remember_sight(observations, [r for r in robots if observations.seen[r].all()])
+
+    def _remember_sight(self, observations: Observations, seeing: list) -> None:
+        """Keep the estimates of each robot of ``seeing`` (it sees every teammate) whose
+        estimates put every pair of robots within the sensing range: the whole team in
+        sight of each other."""
+        reach = self.scenario.sensing_range
+        if not seeing or reach is None:
+            return
+        x = observations.poses[seeing][..., :2]  # (R, n, 2)
+        gaps = x[:, :, None] - x[:, None]  # (R, n, n, 2)
+        together = (np.hypot(gaps[..., 0], gaps[..., 1]) <= reach).all(axis=(1, 2))
+        for robot, whole in zip(seeing, together, strict=True):
+            if whole:
+                self._team_sight[robot] = observations.poses[robot].copy()
+
+    def _private(self, robot: int) -> bool:
+        """Whether the robot may use what it privately reads of its teammates: not while
+        the team coordinates on the common view (some teammate out of its sight)."""
+        return not (self.parameters.common_view and self._blind[robot])
+
+    def _views(self, observations: Observations, robots) -> np.ndarray:
+        """``(R, n, 3)`` the poses each robot's team prior is computed from."""
+        views = observations.poses[list(robots)]
+        if self.order < 2 or not self.parameters.common_view:
+            return views
+        blind = self._blind[list(robots)]
+        if blind.any():
+            views = views.copy()
+            for j in np.flatnonzero(blind):
+                remembered = self._team_sight.get(int(robots[j]))
+                if remembered is None:
+                    views[j, :, :2] = self.scenario.workspace / 2
+                else:
+                    views[j] = remembered
+        return views
+
+    def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:
+        """Each robot's prior from its own view ``views[j]`` (``None``: uniform)."""
+        p = self.parameters
+        log_prior = np.zeros((len(robots), ctrl.configurations.shape[0]))
+        if p.prior_scale is not None:
+            rank = self._ranks.get(ctrl)
+            if rank is None:
+                rank = self._ranks[ctrl] = shared_rank(ctrl.goals, ctrl.configurations)
+            log_prior += team_log_prior(
+                views, ctrl.goals, ctrl.configurations, p.prior_scale, p.tie_weight, rank
+            )
+        for j, robot in enumerate(robots):
+            remembered = self._beliefs.get(robot)
+            if p.memory > 0 and remembered is not None and remembered[0] is ctrl:
+                with np.errstate(divide="ignore"):
+                    log_prior[j] += p.memory * np.log(remembered[1])
+        top = log_prior.max(axis=1, keepdims=True)
+        prior = np.exp(np.maximum(log_prior - top, p.log_prior_floor))
+        # Each row normalised alone: a 1-D sum rounds as the single robot's call did.
+        return [q / q.sum() if lp.any() else None for q, lp in zip(prior, log_prior, strict=True)]
+
+    # -- the step ------------------------------------------------------------------------
+
+    def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
+        n, m = self.scenario.n_robots, self.scenario.n_goals
+        out = Decisions.of(np.zeros((len(robots), 2)), np.full((len(robots), n), -1))
+        out = out._replace(goal_belief=np.zeros((len(robots), m)))
+        out = out._replace(unpruned=np.zeros(len(robots), dtype=int))
+        out = out._replace(modelled=np.zeros((len(robots), n), dtype=int))
+        # Robots that share a controller (same goals, set and limits) decide in one team
+        # call, which returns what their separate decide calls would, bit for bit.
+        groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
+        self._follow_sight(observations, robots)
+        self._explorer.visit(observations.poses[robots, robots], robots)
+        searching = (
+            self._search.searchers(observations, robots)
+            if self.parameters.search
+            else np.zeros(len(robots), dtype=bool)
+        )
+        for row, robot in enumerate(robots):
+            if searching[row]:
+                target = self._search.target(observations, robot)
+                if target is not None:
+                    self._steer(out, row, robot, observations.poses[robot, robot], target)
+                    continue
+            choice = self._sets.choose(observations, robot)
+            if choice.goals.size == 0:
+                self._explore(out, row, observations, robot)
+                continue
+            if self._knows_more(observations, robot):
+                self._decide_nested(out, row, observations, robot, choice)
+                continue
+            out.unpruned[row] = -1
+            ctrl = self._controller(robot, choice.goals, choice.rows, choice.shared)
+            groups.setdefault(id(ctrl), (ctrl, choice.goals, []))[2].append((row, robot))
+        for ctrl, goals, members in groups.values():
+            rows, team = zip(*members, strict=True)
+            priors = self._priors(ctrl, self._views(observations, team), team)
+            if self._teammates is not None:
+                private = [self._private(robot) for robot in team]
+                priors = self._teammates.mix(
+                    team, observations, goals, ctrl.configurations, priors, private
+                )
+            if self.parameters.free_energy:
+                decisions = ctrl.decide_team(observations.poses, team, priors)
+            else:
+                decisions = [
+                    self._prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
+                    for robot, prior in zip(team, priors, strict=True)
+                ]
+            for row, robot, d in zip(rows, team, decisions, strict=True):
+                self._record(out, row, robot, ctrl, goals, d)
+        if self._teammates is not None:  # what each robot reads of its teammates, for the record
+            types = np.stack([self._teammates.posterior(int(robot)) for robot in robots])
+            out = out._replace(teammate_types=types)
+        return out
+
+    def _explore(self, out: Decisions, row: int, observations: Observations, robot: int) -> None:
+        """Too few goals known for any valid configuration: head for the nearest part of
+        the workspace not swept yet; when all is swept, the convention's move on the goals
+        it knows."""
+        pose = observations.poses[robot, robot]
+        target = self._explorer.target(robot, pose)
+        if target is None and observations.known_goals[robot].any():
+            d = self._convention.decide(observations, np.array([robot]))
+            out.controls[row], out.focal[row] = d.controls[0], d.focal[0]
+            return
+        if target is not None:
+            self._steer(out, row, robot, pose, target)
+
+    def _prior_mode(self, ctrl: Controller, robot: int, pose, prior) -> Decision:
+        """The ablation of expected free energy: straight for the robot's own goal in the
+        prior's most probable configuration (the first on ties; uniform when ``None``)."""
+        k = ctrl.configurations.shape[0]
+        belief = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
+        focal = int(np.argmax(belief))
+        target = ctrl.goals[ctrl.configurations[focal, robot]]
+        s = self.scenario
+        control = steer(pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt)
+        empty = np.zeros(0)
+        return Decision((float(control[0, 0]), float(control[0, 1])), -1, empty, empty, belief,
+                        focal)  # fmt: skip
+
+    def _steer(self, out: Decisions, row: int, robot: int, pose, target) -> None:
+        """Drive ``robot`` straight for ``target`` (exploring and searching)."""
+        s = self.scenario
+        out.controls[row] = steer(
+            pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt
+        )[0]
+
+    def _knows_more(self, observations: Observations, robot: int) -> bool:
+        """Whether events, told facts or private goals make the robot's own set, or those
+        of the teammates it models, differ from the unpruned one."""
+        knowledge = observations.knowledge
+        if not self.parameters.pruning or knowledge is None:
+            return False
+        if self.scenario.kind.tasks:
+            return False
+        return knowledge.constrains((robot,)) or (
+            self.order >= 2 and knowledge.private_goals(robot)
+        )
+
+    def _decide_nested(self, out, row, observations, robot, choice) -> None:
+        """Decide over nested configuration sets: the robot's own belief over its ``B`` set,
+        its model of each teammate over the set it knows that teammate keeps; the
+        controller's table is their union, each perspective's prior the team prior
+        restricted to its set."""
+        rows = choice.rows()
+        sets = nested_sets(
+            observations.knowledge,
+            self.scenario.sensors,
+            robot,
+            self.order,
+            choice.goals[rows],
+            self.parameters.nested,
+            self.parameters.revision,
+        )
+        keep = sets.union
+        ctrl = self._controller(robot, choice.goals, lambda: rows[keep], shared=False)
+        base = self._priors(ctrl, self._views(observations, (robot,)), (robot,))[0]
+        base = np.full(int(keep.sum()), 1.0) if base is None else base
+        if self._teammates is not None:  # every perspective starts from the type mixture
+            base = self._teammates.mix(
+                [robot], observations, choice.goals, ctrl.configurations, [base],
+                [self._private(robot)],
+            )[0]  # fmt: skip
+
+        def restricted(mask: np.ndarray) -> np.ndarray:
+            p = np.where(mask[keep], base, 0.0)
+            total = p.sum()
+            return p / total if total > 0 else base  # a chain with no set: no restriction
+
+        own = restricted(sets.own)
+        unaware = self._unaware(sets)
+        if unaware:
+            view = self._views(observations, (robot,))[0]
+
+            def redecide(teammate: int, goal: int) -> np.ndarray:
+                moved = view.copy()
+                moved[teammate, :2] = ctrl.goals[goal]
+                prior = self._priors(ctrl, moved[None], (robot,))[0]
+                return np.full(len(base), 1.0) if prior is None else prior
+
+            own = anticipated_prior(
+                ctrl.configurations,
+                base / base.sum(),
+                robot,
+                sets.own[keep],
+                {j: m[keep] for j, m in unaware.items()},
+                {jk: m[keep] for jk, m in sets.triples.items()},
+                redecide,
+            )
+        if self.parameters.free_energy:
+            d = ctrl.decide(
+                robot,
+                observations.poses[robot],
+                prior=own,
+                modelled_priors=[restricted(m) for m in sets.modelled] or None,
+            )
+        else:
+            d = self._prior_mode(ctrl, robot, observations.poses[robot, robot], own)
+        out.unpruned[row] = rows.shape[0]
+        self._record(out, row, robot, ctrl, choice.goals, d)
+        out.considered[row] = int(sets.own.sum())
+        out.modelled[row] = out.considered[row]
+        for j, mask in sets.pairs.items():
+            out.modelled[row, j] = int(mask.sum())
+
+    def _unaware(self, sets) -> dict:
+        """The teammates to predict from their sets (order 2 and above, with nested sets):
+        those that cannot conceive of some configuration the robot keeps."""
+        if self.order < 2 or not self.parameters.anticipate or not self.parameters.nested:
+            return {}
+        return {j: m for j, m in sets.pairs.items() if (sets.own & ~m).any()}
+
+    def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
+        if self.parameters.memory > 0:
+            self._beliefs[robot] = (ctrl, d.belief)
+        out.controls[row] = d.control
+        out.focal[row] = goals[ctrl.configurations[d.focal]]
+        out.entropy[row] = entropy(d.belief)
+        out.considered[row] = ctrl.configurations.shape[0]
+        if out.unpruned[row] < 0:
+            out.unpruned[row] = out.considered[row]
+        out.modelled[row] = out.considered[row]
+        own = goals[ctrl.configurations[:, robot]]
+        m = out.goal_belief.shape[1]
+        out.goal_belief[row] = np.bincount(own, weights=d.belief, minlength=m)

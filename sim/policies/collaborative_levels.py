@@ -1,0 +1,590 @@
+"""The levels of a collaborative mission: who goes to which task, who explores, who fetches
+a teammate (:mod:`epistemica.sim.kinds.collaborative`).
+
+Every level sweeps the workspace in lanes (a boustrophedon, each robot starting at a lane
+of its own, a convention every robot knows) while it has nothing better to do, and waits at
+a task it goes to; after ``patience`` steps of waiting in vain it explores again for
+``hold`` steps before it may come back. They differ in what a robot does with what it
+knows:
+
+=================  ======================================================================
+``convention``     the nearest task it knows of, not known done
+``first``          its own knowledge: the known task it expects done soonest (nearest,
+                   less ``join_bonus`` m per teammate it sees waiting there)
+``third-shared``   takes every teammate to know what it knows: per task (first the one
+                   whose ``needs`` nearest robots assemble soonest: ``soonest``) the
+                   ``needs`` robots nearest it go; a robot not among them explores
+``third``          the same over the teammates it knows know the task (the chain
+                   ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
+                   done event); when those are too few, a knower fetches the nearest
+                   teammate that does not know (an intercept: it goes where it predicts
+                   that teammate on its sweep, and once near enough heads for the task,
+                   so the teammate observes the heading event), or waits at the task
+                   when that teammate is predicted in sight of it (a knower that waits
+                   while it knows another is out for helpers waits ``backed_patience``
+                   steps, and goes with it when nobody else is near to see it wait:
+                   ``fetch_together``, ``watch_range``); a knower with nobody to fetch
+                   joins the teammates it expects busy at another task (``join_busy``)
+                   or, with none, looks for helpers ``seek_limit`` steps, then waits.
+                   Teammates out of sight are predicted by :class:`TeammateModel`
+                   (``third-shared`` too).
+                   Tasks enough robots it knows know of come first (``complete_first``);
+                   news of one more knower renews a waiting robot's patience
+                   (``rejoin``); a task as many teammates as it needs have long been
+                   known to know of is presumed done (``stale_after``) until, with every
+                   task known and nothing to do, it goes to see (``verify``)
+``oracle``         ``third`` with full communication: every robot observes every event
+                   and knows where every robot is
+``oracle-events``  ``third`` where every robot observes every event (news of a task
+                   spreads at once) but sees teammates only within range: what the
+                   oracle owes to news alone
+=================  ======================================================================
+
+Examples
+--------
+>>> p = CollaborativePolicy("oracle", CollaborativeParameters())
+>>> p.style, p.shares
+('third', 'everything')
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import NamedTuple
+
+import numpy as np
+
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.policies.collaborative_sweep import meeting_point
+from epistemica.sim.policies.collaborative_teammates import TeammateModel
+
+__all__ = [
+    "COLLABORATIVE_LEVELS",
+    "CollaborativeParameters",
+    "CollaborativePolicy",
+    "View",
+]
+
+#: Level name -> (style, what every robot learns at once: "" nothing, "events" every
+#: event and task sighting, "everything" those and every robot's place).
+COLLABORATIVE_LEVELS = {
+    "convention": ("convention", ""),
+    "first": ("first", ""),
+    "third-shared": ("shared", ""),
+    "third": ("third", ""),
+    "oracle": ("third", "everything"),
+    "oracle-events": ("third", "events"),
+}
+EXPLORING, FETCHING, WAIT = -1, -2, -3
+
+
+@dataclass(frozen=True)
+class CollaborativeParameters:
+    """Every constant of the collaborative levels, one set for every mission (chosen on
+    tuning seeds 1000-1199: docs/results.md, "Collaborative tasks found while exploring").
+
+    Attributes
+    ----------
+    lane_factor : float
+        Lane spacing of the sweep, in sensing ranges (2 leaves no gap between lanes).
+    patience, hold : int
+        Steps a robot waits at a task before exploring again; steps before it may return.
+    join_bonus : float
+        ``first``: metres a task seems nearer per teammate seen waiting there.
+    intercept_limit : int
+        ``third``: steps a robot looks for a teammate it fetches before it gives up on it.
+    wait_horizon : int
+        ``third``: a teammate whose predicted sweep passes within sight of the task in this
+        many steps is waited for rather than fetched (0: only one in sight of it now).
+        With teammates predicted as :class:`TeammateModel` does, 0 / 10 / 20 / 40 took
+        76.4 / 76.5 / 80.4 / 93.4 steps at 3 robots, 85.5 / 85.6 / 87.1 / 89.6 at 5 and
+        74.0 / 75.0 / 75.3 / 75.6 at 8 (tuning seeds 1000-1199): a fetcher brings the
+        teammate sooner than its sweep would.
+    fetch_memory : int
+        ``third``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
+        others are is a guess). A teammate never seen counts as seen at the start, on its
+        way to its sweep (the convention says where that begins): fetching only teammates
+        really seen took 95.5 / 92.6 / 81.1 steps against 86.9 / 91.1 / 78.4 at 3 / 5 / 8
+        robots on tuning seeds 1000-1199.
+    seek : bool
+        ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
+        on (it meets teammates to fetch) rather than waiting at the task.
+    backed_patience : int
+        ``third``: steps a robot waits at a task while it knows a teammate that knows the
+        task is out fetching or looking for helpers for it (``patience`` otherwise).
+    stand_in : bool
+        ``third``: a knower of a task not among the ones it would send goes in place of
+        each chosen teammate whose place it does not know (not seen for ``fetch_memory``
+        steps): that teammate's own view, and so its choice, may differ.
+    sweep_memory : int
+        ``third``: a teammate not seen for longer than ``fetch_memory`` (at most this many
+        steps) is still fetched when the robot knows it is on its sweep: it knows of no
+        open task the robot knows that teammate knows, and its predicted sweep since it
+        was last seen passed in sight of no open task the robot knows (0: off).
+    meet_ahead : bool
+        ``third``: a fetcher goes to the first place of the teammate's predicted sweep it
+        can reach in time (:func:`~epistemica.sim.policies.collaborative_sweep.meeting_point`),
+        rather than to where the teammate is now, and picks the teammate it brings to the
+        task soonest.
+    complete_first : bool
+        ``third``: a robot assigns the tasks that enough robots it knows know of (itself
+        included) before those that too few know of, rather than in index order.
+    rejoin : bool
+        ``third``: news of one more robot that knows of a task renews the patience of a
+        robot waiting there, and a task a robot put on hold is open to it again as soon as
+        it knows of more robots that know of it than when it gave up waiting.
+    stale_after : int
+        ``third``: a robot presumes a task done once at least as many teammates as it
+        needs have been known to know of it for this many steps while the robot has not
+        seen it open for as long (0: off).
+    verify : bool
+        ``third``: a robot that knows of every task of the mission and has nothing to do
+        goes to see the nearest task it presumes done (``stale_after``) rather than
+        exploring: teammates known to know of a task may have been busy elsewhere, and
+        nothing is left to find.
+    seek_limit : int
+        ``third``: a robot that began looking for helpers for a task (``seek``) this many
+        steps ago waits at the task instead until its patience there runs out, and looks
+        anew after its hold (0: it looks on: robots that each know a task nobody else is
+        known to know of, on parallel sweeps, may never meet).
+    fetch_together : bool
+        ``third``: the knower nearest a task too few know of, which would wait there while
+        another knower fetches a teammate, goes for that teammate too when no other
+        teammate that does not know of the task is near enough to see it wait
+        (``watch_range``; with three robots, two knowers and the one fetched, none is).
+        On tuning seeds 1000-1199 at 3 robots 76.4 -> 71.0 steps (paired -5.4 +- 1.5,
+        faster in 72 trials, slower in 26); at 5 and 8 robots 85.5 -> 85.9, 74.0 -> 74.1.
+    watch_range : float
+        ``fetch_together``: a teammate counts as one that may see the knower wait only if
+        predicted within this many sensing ranges of the task. 1 / 2 / 3 / unbounded:
+        71.0 at 3 robots for each, 83.5 / 83.3 / 83.6 / 85.9 at 5, 75.6 / 75.3 / 74.2 /
+        74.1 at 8 (tuning seeds 1000-1199; 3 against unbounded at 5 robots, paired:
+        -2.2 +- 1.1, faster in 26 trials, slower in 19).
+    join_busy : bool
+        ``third``: a knower of a task too few know of, with no free teammate it knows where
+        to find, goes to the nearest task it expects teammates at (sent there by its own
+        assignment) rather than looking for helpers: once that task is done they are free
+        and in its sight, to be told. Paired on tuning seeds 1000-1199 at 3 / 5 / 8 robots:
+        -2.5 +- 0.8 / -0.5 +- 0.7 / -0.2 +- 0.1 steps; on 1200-1399: -3.4 +- 0.7 / -0.5 +-
+        0.3 / +0.3 +- 0.3.
+    soonest : bool
+        ``third``, ``third-shared``: tasks go to robots coalition by coalition, first the
+        task whose ``needs`` nearest free knowers assemble soonest (the farthest of them is
+        nearest), rather than in index order (a robot 30 m off no longer walks past a task
+        teammates wait at for one that comes first in the mission). Paired for ``third``
+        at 3 / 5 / 8 robots, on tuning seeds 1000-1199: -1.8 +- 0.8 / -0.7 +- 0.9 / -0.3 +-
+        0.9 steps; on 1200-1399: -1.2 +- 0.6 / -2.1 +- 0.8 / -2.1 +- 0.9.
+    resume : bool
+        ``third``, ``third-shared``: a teammate seen off its sweep and moving makes for the
+        waypoint its motion points at, then sweeps on
+        (:class:`~epistemica.sim.policies.collaborative_teammates.TeammateModel`), rather than being
+        put on the nearest point of its sweep.
+    particles : int
+        ``third``, ``third-shared``: a teammate never seen started at one of a grid of
+        ``particles`` x ``particles`` starts, less those that would have put it in sight
+        (0: it reached its sweep after half the workspace's side). Prediction error of
+        unseen teammates, median on tuning seeds 1000-1039 at 3 / 5 / 8 robots: 12.1 /
+        13.9 / 17.5 m with neither, 8.2 / 10.2 / 12.4 m with both.
+    """
+
+    lane_factor: float = 2.0
+    patience: int = 60
+    hold: int = 40
+    join_bonus: float = 10.0
+    intercept_limit: int = 40
+    wait_horizon: int = 0
+    fetch_memory: int = 40
+    seek: bool = True
+    backed_patience: int = 150
+    stand_in: bool = False
+    sweep_memory: int = 0
+    meet_ahead: bool = False
+    complete_first: bool = True
+    rejoin: bool = True
+    stale_after: int = 20
+    seek_limit: int = 20
+    verify: bool = True
+    resume: bool = True
+    particles: int = 12
+    fetch_together: bool = True
+    watch_range: float = 3.0
+    join_busy: bool = True
+    soonest: bool = True
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+                raise InvalidArgumentError(
+                    f"{f.name} must be a finite number >= 0, got {value!r}",
+                    hint="see CollaborativeParameters",
+                )
+        if self.lane_factor <= 0:
+            raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
+
+    def replace(self, **changes) -> CollaborativeParameters:
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            raise InvalidArgumentError(
+                f"unknown collaborative parameter {sorted(unknown)[0]!r}",
+                hint=f"one of {', '.join(f.name for f in fields(self))}",
+            )
+        return replace(self, **changes)
+
+
+class View(NamedTuple):
+    """What the robots have at one step (each reads only its own rows)."""
+
+    step: int
+    poses: np.ndarray  # (n, 3) true poses (robot i reads row i only)
+    estimates: np.ndarray  # (n, n, 2) where robot i last saw robot j
+    last_seen: np.ndarray  # (n, n) step robot i last saw robot j (-1 never)
+    knowledge: TeamKnowledge
+    aware: np.ndarray  # (n, n, m) robot i knows that robot j knows of task t (j == i: it does)
+    since: np.ndarray  # (n, n, m) the first step aware[i, j, t] held (-1: not yet)
+    open_seen: np.ndarray  # (n, m) the last step robot i saw task t not done (-1: never)
+
+
+class CollaborativePolicy:
+    """One level of :data:`COLLABORATIVE_LEVELS` for the whole team (each robot decides
+    from its own view)."""
+
+    def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
+        self.name = name
+        self.style, self.shares = COLLABORATIVE_LEVELS[name]
+        self.parameters = parameters
+
+    def start(self, scenario) -> None:
+        s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
+        self.s = s
+        self.teammates = TeammateModel(s, p.lane_factor, p.particles, p.resume)
+        self.routes = self.teammates.routes
+        self.pointer = np.zeros(n, dtype=int)
+        self.waiting_since = np.full(n, -1)
+        self.company = np.zeros(n, dtype=int)
+        self.hold_until = np.zeros((n, m), dtype=int)
+        self.held_knowers = np.zeros((n, m), dtype=int)
+        self.knowers = np.zeros(n, dtype=int)
+        self.fetching = np.full(n, -1)
+        self.fetch_since = np.full(n, -1)
+        self.gave_up = np.zeros((n, m, n), dtype=bool)
+        self.backed = np.zeros(n, dtype=bool)
+        self.seeking_since = np.full((n, m), -1)
+        self.open_now = np.zeros((n, m), dtype=bool)  # per robot: tasks open by its knowledge
+
+    # -- what a robot predicts ------------------------------------------------------------
+
+    def arc(self, view: View, i: int, j: int) -> float:
+        """Arc length of teammate ``j``'s sweep where robot ``i`` expects it now."""
+        return self.teammates.arc(view.step, i, j, view.estimates[i, j], int(view.last_seen[i, j]))
+
+    def predicted(self, view: View, i: int, j: int, ahead: int = 0) -> np.ndarray:
+        """Where robot ``i`` expects robot ``j`` ``ahead`` steps from now."""
+        if i == j:
+            return view.poses[i, :2]
+        seen = int(view.last_seen[i, j])
+        if seen == view.step and ahead == 0:
+            return view.estimates[i, j]
+        return self.teammates.place(view.step + ahead, i, j, view.estimates[i, j], seen)
+
+    def on_sweep(self, view: View, i: int, j: int, open_tasks: np.ndarray) -> bool:
+        """Whether robot ``i`` knows teammate ``j`` is still on its sweep: ``i`` knows of no
+        open task (``open_tasks``, by ``i``'s knowledge) that it knows ``j`` knows of, and
+        ``j``'s predicted sweep since ``i`` last saw it passed in sight of none of them
+        (else ``j`` found one). A task ``i`` does not know of may still have drawn ``j``
+        away: ``sweep_memory`` bounds how long ``i`` trusts this."""
+        if (view.aware[i, j] & open_tasks).any():
+            return False
+        seen = view.last_seen[i, j]
+        if seen >= 0 and self.routes[j].gap(view.estimates[i, j]) > 0.5 * self.s.sensing_range:
+            return False  # last seen off its sweep (at a task): where it resumed is unknown
+        tasks = self.s.tasks[open_tasks]
+        if tasks.size == 0:
+            return True
+        speed, now = self.s.max_speed[j], self.arc(view, i, j)
+        since = max(view.step - max(view.last_seen[i, j], 0), 0)
+        start = max(now - since * speed, 0.0)  # now < 0: still on its way to its sweep
+        path = self.routes[j].along(np.arange(start, max(now, start) + 1e-9, 2.0))
+        gap = np.hypot(*(path[:, None, :] - tasks[None]).transpose(2, 0, 1))
+        return bool(gap.min() > self.s.sensing_range)
+
+    def meet(self, view: View, i: int, j: int) -> tuple[int, np.ndarray] | None:
+        """Where robot ``i`` meets teammate ``j`` on ``j``'s predicted sweep
+        (:func:`~epistemica.sim.policies.collaborative_sweep.meeting_point`)."""
+        return meeting_point(
+            view.poses[i, :2],
+            float(self.s.max_speed[i]),
+            self.routes[j],
+            self.arc(view, i, j),
+            float(self.s.max_speed[j]),
+            0.8 * self.s.sensing_range,
+            self.parameters.intercept_limit,
+        )
+
+    def presumed_done(self, view: View, i: int) -> np.ndarray:
+        """``(m,)`` the tasks robot ``i`` presumes done (``stale_after``): at least as many
+        teammates as a task needs have been known to know of it that long, and ``i`` has
+        not seen it open for as long."""
+        old = view.step - self.parameters.stale_after
+        knew = (view.since[i] >= 0) & (view.since[i] <= old)
+        knew[i] = False
+        return (knew.sum(axis=0) >= np.asarray(self.s.needs)) & (view.open_seen[i] < old)
+
+    # -- decisions --------------------------------------------------------------------------
+
+    def decide(self, view: View) -> tuple[np.ndarray, np.ndarray]:
+        """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
+        heads to (-1 exploring, -2 fetching a teammate)."""
+        n, k = self.s.n_robots, view.knowledge
+        if self.style in ("third", "shared"):  # the levels that predict teammates
+            self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
+        targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
+        aware = view.aware if self.style == "third" else None
+        self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
+        for i in range(n):
+            done = k.knows_done((i,))
+            presumed = np.zeros_like(done)
+            if aware is not None and self.parameters.stale_after:
+                presumed = self.presumed_done(view, i) & ~done
+                done = done | presumed
+            known = view.aware[i, i] & ~done
+            self.open_now[i] = known
+            waiting = self._waiting(view, i)
+            full = waiting >= np.asarray(self.s.needs) - 1  # it would complete them: go
+            if aware is not None and self.parameters.rejoin:  # a new knower: try again
+                full |= aware[i].sum(axis=0) > self.held_knowers[i]
+            available = known & ((self.hold_until[i] <= view.step) | full)
+            choice = self._choose(view, i, available, aware, waiting)
+            if choice == ("explore",) and self.parameters.verify:
+                choice = self._verify(view, i, presumed)
+            targets[i], steer_to[i] = self._act(view, i, choice, waiting)
+        return targets, steer_to
+
+    def _verify(self, view: View, i: int, presumed: np.ndarray) -> tuple:
+        """What robot ``i``, with nothing to do, does about the tasks it presumes done
+        (``presumed``): it goes to see the nearest once it knows of every task of the
+        mission (nothing is left to find), and explores otherwise."""
+        if not (presumed.any() and view.aware[i, i].all()):
+            return ("explore",)
+        return ("task", self._nearest(view, i, np.flatnonzero(presumed)))
+
+    def _waiting(self, view: View, i: int) -> np.ndarray:
+        """``(m,)`` teammates robot ``i`` sees standing at each task now."""
+        sees = view.last_seen[i] == view.step
+        sees[i] = False
+        gap = np.hypot(
+            *(view.estimates[i, sees][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1)
+        )
+        return (gap <= 2 * self.s.completion_radius).sum(axis=0)
+
+    def _choose(self, view: View, i: int, available: np.ndarray, aware, waiting) -> tuple:
+        """``("task", t)``, ``("fetch", t, j)``, or ``("explore",)``."""
+        tasks = np.flatnonzero(available)
+        self.backed[i] = False
+        if tasks.size == 0:
+            return ("explore",)
+        here = view.poses[i, :2]
+        gaps = np.hypot(*(self.s.tasks[tasks] - here).T)
+        if self.style == "convention":
+            return ("task", int(tasks[np.argmin(gaps)]))
+        if self.style == "first":
+            score = gaps - self.parameters.join_bonus * waiting[tasks]
+            return ("task", int(tasks[np.argmin(score)]))
+        return self._assign(view, i, tasks, aware)
+
+    def _assign(self, view: View, i: int, tasks: np.ndarray, aware) -> tuple:
+        """Robot ``i``'s view of who does what, task by task: the coalition that assembles
+        soonest first (``soonest``; else in index order)."""
+        n, s = self.s.n_robots, self.s
+        where = np.array([self.predicted(view, i, j) for j in range(n)])
+        taken = np.zeros(n, dtype=bool)
+        sent_to = np.full(n, -1)  # the task i expects each teammate at
+        if aware is not None and self.parameters.complete_first:
+            # tasks enough robots know of first (i among them): the teammates that know only
+            # those expect i there (they cannot know of its other tasks)
+            short = aware[i][:, tasks].sum(axis=0) < np.asarray(s.needs)[tasks]
+            tasks = tasks[np.argsort(short, kind="stable")]
+        if self.parameters.soonest:
+            tasks = self._soonest_first(i, tasks, aware, where)
+        for t in tasks:
+            if aware is None:  # third-shared: everyone knows what i knows
+                knowers = np.ones(n, dtype=bool)
+            else:
+                knowers = aware[i, :, t].copy()
+                knowers[i] = True
+            free = np.flatnonzero(knowers & ~taken)
+            gap = np.hypot(*(where[free] - s.tasks[t]).T)
+            order = free[np.argsort(gap, kind="stable")]
+            need = s.needs[t]
+            if order.size >= need or aware is None:
+                chosen = order[:need]
+                if self.parameters.stand_in and aware is not None and i not in chosen:
+                    chosen = self._stand_ins(view, i, order, need)
+                taken[chosen] = True
+                sent_to[chosen] = t
+                if i in chosen:
+                    return ("task", int(t))
+                continue
+            taken[order] = True  # too few know: they wait, or fetch those who do not
+            fetch = self._recruit(view, i, t, knowers | taken, where)
+            if i in order:
+                if fetch == WAIT or (
+                    order.size > 1
+                    and i == order[0]
+                    and self._watched(t, fetch, knowers | taken, where)
+                ):
+                    self.backed[i] = order.size > 1  # another knower fetches or seeks
+                    return ("task", int(t))
+                if fetch is None and self.parameters.join_busy and (sent_to >= 0).any():
+                    return ("task", self._nearest(view, i, sent_to[sent_to >= 0]))
+                if fetch is None:  # nobody it knows where to find: look for helpers
+                    return ("explore",) if self._seeks(view.step, i, t) else ("task", int(t))
+                return ("fetch", int(t), fetch)
+            if fetch is not None and fetch != WAIT:
+                taken[fetch] = True
+        return ("explore",)
+
+    def _soonest_first(self, i: int, tasks: np.ndarray, aware, where) -> np.ndarray:
+        """``tasks`` reordered (``soonest``): repeatedly the task whose ``needs`` nearest
+        free knowers (by ``where``) assemble soonest, those knowers then taken; then the
+        tasks too few free robots know of, in the order given."""
+        n, s = self.s.n_robots, self.s
+        # a fresh array either way (indexing by the array ``tasks`` copies)
+        knowers = np.ones((n, len(tasks)), dtype=bool) if aware is None else aware[i][:, tasks]
+        knowers[i] = True
+        gaps = np.hypot(*(where[:, None, :] - s.tasks[tasks][None]).transpose(2, 0, 1))
+        needs = np.asarray(s.needs)[tasks]
+        free, left, order = np.ones(n, dtype=bool), list(range(len(tasks))), []
+        while left:
+            best, cost = None, np.inf
+            for c in left:
+                ok = knowers[:, c] & free
+                if ok.sum() >= needs[c]:
+                    far = np.sort(gaps[ok, c])[needs[c] - 1]
+                    if far < cost:
+                        best, cost = c, far
+            if best is None:
+                break
+            ok = np.flatnonzero(knowers[:, best] & free)
+            free[ok[np.argsort(gaps[ok, best], kind="stable")[: needs[best]]]] = False
+            order.append(best)
+            left.remove(best)
+        return tasks[order + left]
+
+    def _nearest(self, view: View, i: int, tasks: np.ndarray) -> int:
+        """The task of ``tasks`` nearest robot ``i``."""
+        gaps = np.hypot(*(self.s.tasks[tasks] - view.poses[i, :2]).T)
+        return int(tasks[np.argmin(gaps)])
+
+    def _watched(self, t: int, fetch: int | None, busy: np.ndarray, where) -> bool:
+        """Whether a knower waiting at task ``t`` may be seen there by a teammate that does
+        not know of it: one neither busy (a knower, or sent to another task) nor the
+        teammate being fetched, predicted (``where``) within ``watch_range`` sensing ranges
+        of the task (else nobody is near to see it wait: it fetches too)."""
+        p = self.parameters
+        if not p.fetch_together or fetch is None or fetch == WAIT:
+            return True
+        near = np.hypot(*(where - self.s.tasks[t]).T) <= p.watch_range * self.s.sensing_range
+        near[fetch] = False
+        return bool((near & ~busy).any())
+
+    def _hail(self, i: int, j: int) -> float:
+        """How near robot ``i`` comes to a teammate ``j`` it fetches before it heads for the
+        task: near enough that ``j`` still sees it after both move a step apart (turning
+        back at the edge of sight, ``i`` would be out of sight when the heading event
+        fires; ``j`` may be turning away to fetch ``i`` for another task)."""
+        s = self.s
+        return s.sensing_range - (s.max_speed[i] + s.max_speed[j]) * s.dt
+
+    def _seeks(self, step: int, i: int, t: int) -> bool:
+        """Whether robot ``i`` looks for helpers for task ``t`` rather than waiting there
+        (``seek``, for at most ``seek_limit`` steps until its patience there runs out)."""
+        p = self.parameters
+        if not p.seek:
+            return False
+        if self.seeking_since[i, t] < 0:
+            self.seeking_since[i, t] = step
+        return not p.seek_limit or step - self.seeking_since[i, t] < p.seek_limit
+
+    def _stand_ins(self, view: View, i: int, order: np.ndarray, need: int) -> np.ndarray:
+        """The knowers robot ``i`` sends to a task (nearest first, ``order``): the
+        ``need`` nearest, and one more for each of those whose place it does not know."""
+        recent = view.last_seen[i] >= view.step - self.parameters.fetch_memory
+        recent[i] = True
+        unsure = int((~recent[order[:need]]).sum())
+        return order[: need + unsure]
+
+    def _recruit(self, view: View, i: int, t: int, excluded: np.ndarray, where) -> int | None:
+        """The teammate robot ``i`` would fetch for task ``t`` (:data:`WAIT`: its sweep
+        brings it by; None: no teammate it knows where to find)."""
+        p, step = self.parameters, view.step
+        recent = view.last_seen[i] >= step - p.fetch_memory
+        allowed = ~excluded & ~self.gave_up[i, t]
+        known = recent.copy()
+        if p.sweep_memory:  # teammates it knows are sweeping: it knows where they are
+            longer = allowed & ~recent & (view.last_seen[i] >= step - p.sweep_memory)
+            for j in np.flatnonzero(longer):
+                known[j] = self.on_sweep(view, i, j, self.open_now[i])
+        candidates = np.flatnonzero(allowed & known)
+        if candidates.size == 0:
+            return None
+        gap = np.hypot(*(where[candidates] - self.s.tasks[t]).T)
+        if p.meet_ahead:  # steps to meet it, then metres from there to the task
+            for c, j in enumerate(candidates):
+                met = self.meet(view, i, j)
+                if met is not None:
+                    gap[c] = met[0] + np.hypot(*(met[1] - self.s.tasks[t]))
+        j = int(candidates[np.argmin(gap)])
+        if not recent[j]:  # a task it does not know of may have drawn j away: go and see
+            return j
+        horizon, sight = self.parameters.wait_horizon, 0.8 * self.s.sensing_range
+        for ahead in range(0, horizon + 1, 5):
+            if np.hypot(*(self.predicted(view, i, j, ahead) - self.s.tasks[t])) <= sight:
+                return WAIT  # its sweep brings it by: wait at the task
+        return j
+
+    def _act(self, view: View, i: int, choice: tuple, waiting) -> tuple[np.ndarray, int]:
+        s, p, step = self.s, self.parameters, view.step
+        here = view.poses[i, :2]
+        if choice[0] != "fetch":
+            self.fetching[i], self.fetch_since[i] = -1, -1
+        if choice[0] == "task":
+            t = choice[1]
+            if np.hypot(*(here - s.tasks[t])) <= s.completion_radius:
+                knowers = int(view.aware[i, :, t].sum())
+                news = p.rejoin and knowers > self.knowers[i]  # one more knows: it may come
+                if self.waiting_since[i] < 0 or waiting[t] > self.company[i] or news:
+                    self.waiting_since[i] = step  # a teammate joined: patience anew
+                self.company[i], self.knowers[i] = waiting[t], knowers
+                patience = p.backed_patience if self.backed[i] else p.patience
+                if step - self.waiting_since[i] >= patience:
+                    self.hold_until[i, t] = step + p.hold
+                    self.held_knowers[i, t] = knowers
+                    self.waiting_since[i] = -1
+                    self.seeking_since[i, t] = -1  # after the hold it looks for helpers anew
+            else:
+                self.waiting_since[i] = -1
+            return s.tasks[t], t
+        self.waiting_since[i] = -1
+        if choice[0] == "fetch":
+            t, j = choice[1], choice[2]
+            if self.fetching[i] != j:
+                self.fetching[i], self.fetch_since[i] = j, step
+            now = self.predicted(view, i, j)
+            if view.last_seen[i, j] == step and np.hypot(*(now - here)) <= self._hail(i, j):
+                return s.tasks[t], t  # it sees i head for the task, even as both move apart
+            if step - self.fetch_since[i] >= p.intercept_limit:
+                self.gave_up[i, t, j] = True
+            if p.meet_ahead:
+                if np.hypot(*(now - here)) <= 0.5 * s.sensing_range:
+                    self.gave_up[i, t, j] = True  # not where its sweep puts it: it left it
+                met = self.meet(view, i, j)
+                if met is not None:
+                    return met[1], FETCHING
+            return now, FETCHING
+        route = self.routes[i]
+        while np.hypot(*(route.points[self.pointer[i]] - here)) < 1.0:
+            self.pointer[i] = (self.pointer[i] + 1) % len(route.points)
+        return route.points[self.pointer[i]], EXPLORING

@@ -1,0 +1,204 @@
+"""The reasoning levels: one registry, keyed by mission kind, from a level's name to the
+policy that plays it.
+
+Every list of levels (the command line's ``--reasoning`` and ``--levels``, a mission's
+``levels`` and ``teammate`` lines, the reports, the environment) comes from
+:data:`KIND_LEVELS`: for each kind of :data:`~epistemica.sim.kinds.registry.KINDS`, its table
+of levels. Goal and multitask missions share :data:`LEVELS`; joint (collaborative) missions
+have theirs, :data:`JOINT_LEVELS`. A level is a policy class with the settings that define
+it; ``make_level(kind, name, parameters)`` builds a fresh one, the levels taking the
+mission's parameters (:func:`parameters_for`:
+:class:`~epistemica.sim.policies.parameters.ActiveParameters` or
+:class:`~epistemica.sim.policies.collaborative_levels.CollaborativeParameters`; the
+level's own settings, such as ``nested=False`` for ``third-shared``, always win).
+
+Examples
+--------
+>>> make_policy("third-shared").parameters.nested
+False
+>>> make_policy("third", ActiveParameters(lone_wait=40)).parameters.lone_wait
+40
+>>> "convention-reverse" in REASONING
+True
+>>> level_names("collaborative")[:3]
+('convention', 'first', 'third-shared')
+>>> make_level("collaborative", "oracle").shares
+'everything'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, NamedTuple
+
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.kinds.registry import KINDS, kind_named
+from epistemica.sim.policies.active import ORDERS, ActiveInference
+from epistemica.sim.policies.baselines import Convention, Greedy, Stationary
+from epistemica.sim.policies.collaborative_levels import (
+    COLLABORATIVE_LEVELS,
+    CollaborativeParameters,
+    CollaborativePolicy,
+)
+from epistemica.sim.policies.paper import PAPER_LEVELS, PaperPolicy
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.policy import Policy
+
+__all__ = [
+    "JOINT_LEVELS",
+    "KIND_LEVELS",
+    "LEVELS",
+    "REASONING",
+    "Level",
+    "level_names",
+    "make_level",
+    "make_policy",
+    "parameters_for",
+]
+
+
+class Level(NamedTuple):
+    """A level: what it is, and how to build its policy from the active parameters."""
+
+    description: str
+    build: Callable[[Any], Any]
+
+
+def _active(order: int, **settings) -> Callable[[ActiveParameters], Policy]:
+    return lambda parameters: ActiveInference(order, parameters.replace(**settings))
+
+
+def _named(name: str, build: Callable[[ActiveParameters], Policy]):
+    """``build`` with the policy renamed (a level defined by its settings)."""
+
+    def named(parameters: ActiveParameters) -> Policy:
+        policy = build(parameters)
+        policy.name = name
+        return policy
+
+    return named
+
+
+def _table() -> dict[str, Level]:
+    levels = {
+        "zero": Level("greedy: the nearest goal it knows", lambda p: Greedy()),
+        "convention": Level(
+            "least total distance from its own view (a shared convention)",
+            lambda p: Convention(),
+        ),
+    }
+    for name, order in ORDERS.items():
+        levels[name] = Level(f"active inference at order {order}", _active(order))
+    for name, order in ORDERS.items():
+        levels[f"{name}-unpruned"] = Level(
+            f"order {order}, ignoring observed events (ablation)", _active(order, pruning=False)
+        )
+    for name, order in list(ORDERS.items())[1:]:
+        levels[f"{name}-shared"] = Level(
+            f"order {order}, every teammate taken to have seen what it saw (ablation)",
+            _active(order, nested=False),
+        )
+    for name, order in ORDERS.items():
+        levels[f"{name}-priormode"] = Level(
+            f"order {order}, straight to the prior's most probable configuration (ablation "
+            "of expected free energy)",
+            _active(order, free_energy=False),
+        )
+    levels["convention+rules"] = Level(
+        "the convention on the common view with every rule of the active levels (search, "
+        "exploration, pruning), no inference",
+        _named("convention+rules", _active(2, free_energy=False, nested=False, anticipate=False)),
+    )
+    levels["convention-reverse"] = Level(
+        "the convention with the opposite tie-break (an ad hoc teammate)",
+        lambda p: Convention(tie_break="reverse"),
+    )
+    levels["stationary"] = Level(
+        "stops on a goal drawn at random at its first step and never leaves it (an ad hoc "
+        "teammate)",
+        lambda p: Stationary(),
+    )
+    for name in PAPER_LEVELS:
+        levels[name] = Level(
+            "the authors' released algorithm", lambda p, name=name: PaperPolicy(name)
+        )
+    return levels
+
+
+#: Level name -> :class:`Level`.
+LEVELS: dict[str, Level] = _table()
+#: The level names, in the order of :data:`LEVELS`.
+REASONING: tuple[str, ...] = tuple(LEVELS)
+
+_JOINT_DESCRIPTIONS = {
+    "convention": "the sweep convention, a task done by whoever finds it with enough robots",
+    "first": "first order: tasks it knows of, teammates as it sees them",
+    "third-shared": "every rule of third, every teammate taken to know what it knows (ablation)",
+    "third": "who knows which task, nested: fetching and waiting by what teammates know",
+    "oracle": "third's rules with full communication (news and places): an upper bound",
+    "oracle-events": "third's rules with every event and sighting shared, places not",
+}
+
+
+def _joint(name: str) -> Level:
+    description = _JOINT_DESCRIPTIONS.get(name, f"the collaborative level {name}")
+    return Level(description, lambda p: CollaborativePolicy(name, p))
+
+
+#: The levels of joint (collaborative) missions: name -> :class:`Level`.
+JOINT_LEVELS: dict[str, Level] = {name: _joint(name) for name in COLLABORATIVE_LEVELS}
+#: Mission kind name -> its levels (name -> :class:`Level`): the one registry.
+KIND_LEVELS: dict[str, dict[str, Level]] = {
+    name: JOINT_LEVELS if kind.joint else LEVELS for name, kind in KINDS.items()
+}
+
+
+def level_names(kind: str | MissionKind) -> tuple[str, ...]:
+    """The names of the levels that play missions of ``kind``, in the registry's order."""
+    return tuple(KIND_LEVELS[kind_named(kind).name])
+
+
+def parameters_for(kind: str | MissionKind) -> type:
+    """The parameter type of ``kind``'s levels (a mission's ``policy`` line sets one)."""
+    return CollaborativeParameters if kind_named(kind).joint else ActiveParameters
+
+
+def make_level(kind: str | MissionKind, name, parameters=None):
+    """A fresh policy for the level ``name`` of missions of ``kind`` (a
+    :class:`~epistemica.sim.policies.policy.Policy` is returned as it is, for goal kinds).
+
+    Examples
+    --------
+    >>> make_level("allocation", "third").order
+    3
+    """
+    kind = kind_named(kind)
+    if not kind.joint:
+        return make_policy(name, parameters)
+    table = KIND_LEVELS[kind.name]
+    level = table.get(name) if isinstance(name, str) else None
+    if level is None:
+        raise InvalidArgumentError(
+            f"unknown {kind} level {name!r}", hint=f"use one of {', '.join(table)}"
+        )
+    return level.build(CollaborativeParameters() if parameters is None else parameters)
+
+
+def make_policy(name: str | Policy, parameters: ActiveParameters | None = None) -> Policy:
+    """A fresh policy for a level name (a :class:`Policy` is returned as it is).
+
+    Examples
+    --------
+    >>> make_policy("third").order
+    3
+    """
+    if isinstance(name, Policy):
+        return name
+    level = LEVELS.get(name) if isinstance(name, str) else None
+    if level is None:
+        raise InvalidArgumentError(
+            f"unknown reasoning level {name!r}",
+            hint=f"use one of {', '.join(REASONING)}, or pass a Policy object",
+        )
+    return level.build(ActiveParameters() if parameters is None else parameters)

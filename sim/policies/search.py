@@ -1,0 +1,218 @@
+"""The rendezvous search: a group that waited at a goal for the rest of the team goes to
+look for it.
+
+In rendezvous with a sensing range, a robot standing at a goal that sees some teammates
+there and the others nowhere knows the mission does not hold (it would see the whole team)
+and that no one it can see is coming. After ``lone_wait`` steps it leaves to look for the
+rest: first where it saw missing teammates settle, then at the other goals it knows, then
+sweeping the workspace (:class:`~epistemica.sim.policies.explore.Explorer`). Everyone in
+such a group knows the same, so the group leaves together. A searcher stops when it sees a teammate
+settled where none stood when it left (the settle it then observes is its newest, and
+wins). Each search doubles the robot's next wait: two groups that left at once and crossed
+unseen would otherwise keep missing each other.
+
+A group that holds a teammate that never searches (a greedy or stationary robot) must not
+leave it: every other teammate has to come there in the end, and a group that leaves
+crosses the ones that come. Everyone of the team's own level in a group counts its wait
+from the step it stands still (the step its teammates see it settle), so the group leaves
+at one step; a member still seen settling at that goal ``anchor_check`` steps later, and
+until ``lone_wait`` steps after, is an *anchor*: the searcher goes back and waits there.
+When it has stood there ``anchor_check`` steps without seeing an anchor settle (one that
+only left later than the rest), it searches on.
+
+A group that knows that a teammate it does not see has never heard of its goal knows that
+teammate is not on its way: it waits ``unaware_wait`` steps instead of ``lone_wait``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from epistemica.sim.engine.events import STILL
+from epistemica.sim.engine.scenario import Scenario
+from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.explore import Explorer
+
+__all__ = ["RendezvousSearch"]
+
+
+class RendezvousSearch:
+    """Who searches, and where, for the robots of one trial.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    spacing : float
+        Cell spacing of the sweep (the discovery range).
+    lone_wait : int
+        Steps a group waits before its first search.
+    look : float
+        A goal counts as looked at from this fraction of the sensing range.
+    anchor_check : int
+        Steps after leaving from which a member of the group still seen settling at the
+        goal is an anchor (0: never).
+    unaware_wait : int, optional
+        Steps a group waits instead when it knows that a teammate it does not see does
+        not know of its goal (default ``lone_wait``: a level that does not reason about
+        what teammates know).
+    """
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        spacing: float,
+        lone_wait: int,
+        look: float,
+        anchor_check: int,
+        unaware_wait: int | None = None,
+    ) -> None:
+        n = scenario.n_robots
+        self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
+        self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
+        self.anchor_check = int(anchor_check)
+        self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
+        self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
+        self.since = np.zeros(n, dtype=int)  # steps since the search started
+        self.unseen = np.zeros(n, dtype=int)  # steps back at the goal not seeing an anchor
+        self.sweep = Explorer(scenario.workspace, spacing, n)
+        self.waiting = np.zeros(n, dtype=int)
+        self.left = np.full(n, -1)  # the goal a searcher left (-1: not searching)
+        self.group = np.zeros((n, n), dtype=bool)  # who stayed there with it
+        self.searches = np.zeros(n, dtype=int)
+        self.mark = np.zeros(n, dtype=int)  # settles it had seen when it left
+        self.checked = np.zeros((n, scenario.n_goals), dtype=bool)
+        self.last = np.full((n, 2), np.nan)  # each robot's own position a step before
+
+    def applies(self) -> bool:
+        """Whether the scenario calls for searching (rendezvous with a sensing range)."""
+        return self.scenario.kind.gathers and self.scenario.sensing_range is not None
+
+    def searchers(self, observations: Observations, robots: np.ndarray) -> np.ndarray:
+        """``(len(robots),)`` which of ``robots`` search this step (state updated)."""
+        s = self.scenario
+        if not self.applies():
+            return np.zeros(len(robots), dtype=bool)
+        rows = np.arange(len(robots))
+        pose = observations.poses[robots, robots, :2]
+        d = np.hypot(*(pose[:, None] - s.goals[None]).transpose(2, 0, 1))
+        own = np.where(d.min(axis=1) <= s.success_radius, d.argmin(axis=1), -1)
+        # A robot counts its wait from the step it stands still, the step its teammates
+        # see it settle: the group's waits then start, and end, together.
+        still = np.hypot(*(pose - self.last[robots]).T) < STILL
+        self.last[robots] = pose
+        at, fresh, count = self._settles(observations, robots)
+        seen = observations.seen[robots].copy()
+        seen[rows, robots] = False
+        everyone = seen.sum(axis=1) == s.n_robots - 1
+        together = (~seen | (at == own[:, None])).all(axis=1)  # all in sight stand here
+        left, group = self.left[robots], self.group[robots]
+        # Found: a teammate settled at another goal, or one that settled at the goal the
+        # searcher left after it left (a newcomer there).
+        elsewhere = seen & (at >= 0) & (at != left[:, None])
+        newcomer = fresh & ~group & (at == left[:, None])
+        found = (elsewhere | newcomer).any(axis=1)
+        searching = (left >= 0) & ~found
+        waiting = (own >= 0) & ~everyone & together & ~searching
+        self.waiting[robots] = np.where(waiting, self.waiting[robots] + still, 0)
+        patience = np.where(
+            self._unaware(observations, robots, own, seen, waiting),
+            self.unaware_wait,
+            self.lone_wait,
+        )
+        start = self.waiting[robots] >= patience * 2 ** self.searches[robots]
+        self.searches[robots] += start
+        if start.any():
+            self.sweep.visited[robots[start]] = False  # a new search sweeps anew
+            self.checked[robots[start]] = False
+            self.group[robots[start]] = seen[start] & (at[start] == own[start, None])
+            self.mark[robots[start]] = count[start]
+        self.left[robots] = np.where(start, own, np.where(searching, left, -1))
+        self._watch(observations, robots, start)
+        return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
+
+    def _unaware(self, observations: Observations, robots, own, seen, waiting) -> np.ndarray:
+        """``(len(robots),)`` which waiting robots know that a teammate they do not see
+        does not know of the goal they wait at: that teammate is not on its way."""
+        out = np.zeros(len(robots), dtype=bool)
+        knowledge = observations.knowledge
+        if knowledge is None or self.unaware_wait == self.lone_wait:
+            return out
+        for row in np.flatnonzero(waiting):
+            robot = int(robots[row])
+            for teammate in np.flatnonzero(~seen[row]):
+                if (
+                    teammate != robot
+                    and not knowledge.knows_goals((robot, int(teammate)))[own[row]]
+                ):
+                    out[row] = True
+                    break
+        return out
+
+    def _watch(self, observations: Observations, robots: np.ndarray, start: np.ndarray) -> None:
+        """A searcher that sees a member of the group it left still settle at that goal,
+        ``anchor_check`` steps on, goes back to wait with it; one waiting there that
+        sees no anchor settle for ``anchor_check`` steps searches on."""
+        if self.anchor_check == 0 or observations.settles is None:
+            return
+        k = self.anchor_check
+        for row, robot in enumerate(robots):
+            self.since[robot] = 0 if start[row] else self.since[robot] + 1
+            settles = observations.settles[robot]
+            goal = self.anchor[robot]
+            if goal >= 0:
+                pose = observations.poses[robot, robot, :2]
+                back = np.hypot(*(pose - self.scenario.goals[goal])) <= self.scenario.success_radius
+                seen = (settles[self.anchors[robot]] == goal).any()
+                self.unseen[robot] = self.unseen[robot] + 1 if back and not seen else 0
+                if self.unseen[robot] >= k:
+                    self.left[robot], self.anchor[robot] = goal, -1
+                continue
+            goal = self.left[robot]
+            if goal < 0 or not k <= self.since[robot] <= self.lone_wait:
+                continue
+            stayed = self.group[robot] & (settles == goal)
+            if stayed.any():
+                self.anchor[robot], self.anchors[robot], self.unseen[robot] = goal, stayed, 0
+
+    def _settles(self, observations: Observations, robots: np.ndarray):
+        """Where each robot last saw each teammate settle (a noisy view of a position
+        cannot tell "at my goal" from "near it"; a settle event can), which of those are
+        new since it left, and how many settles it has seen."""
+        n = self.scenario.n_robots
+        at = np.full((len(robots), n), -1)
+        fresh = np.zeros((len(robots), n), dtype=bool)
+        count = np.zeros(len(robots), dtype=int)
+        if observations.knowledge is None:
+            return at, fresh, count
+        for row, robot in enumerate(robots):
+            events = observations.knowledge.settled((robot,))  # newest first
+            count[row] = len(events)
+            for teammate, goal in reversed(events):
+                at[row, teammate] = goal  # oldest first: the newest wins
+            for teammate, _ in events[: max(len(events) - self.mark[robot], 0)]:
+                fresh[row, teammate] = True
+        return at, fresh, count
+
+    def target(self, observations: Observations, robot: int) -> np.ndarray | None:
+        """Where a searcher heads: the goals where it last saw a missing teammate settle,
+        then the other goals it knows, then the nearest cell not swept; None when all
+        are searched."""
+        s, pose = self.scenario, observations.poses[robot, robot]
+        if self.anchor[robot] >= 0:
+            return s.goals[self.anchor[robot]]
+        self.sweep.visit(pose[None, :2], [robot])
+        distance = np.hypot(*(s.goals - pose[:2]).T)
+        self.checked[robot] |= distance <= self.look * s.sensing_range
+        clues = np.zeros(s.n_goals, dtype=bool)
+        if observations.knowledge is not None:
+            for teammate, goal in observations.knowledge.settled((robot,)):
+                if teammate != robot and not self.group[robot, teammate]:
+                    clues[goal] = True
+        # The team can only be waiting at a goal: first where missing teammates were
+        # seen to settle, then the other goals the robot knows, then the whole workspace.
+        unchecked = ~self.checked[robot]
+        for candidates in (clues & unchecked, observations.known_goals[robot] & unchecked):
+            if candidates.any():
+                goals = np.flatnonzero(candidates)
+                return s.goals[goals[np.argmin(distance[goals])]]
+        return self.sweep.target(robot, pose)
