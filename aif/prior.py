@@ -199,6 +199,16 @@ def plausible_configurations(
     slot_goal = np.repeat(np.arange(m), caps)
     best = np.empty(n, dtype=np.intp)
     best[rows_r] = slot_goal[cols_r]
+    return _within_bound(c, state, bound, best, limit)
+
+
+def _within_bound(
+    c: np.ndarray, state: np.ndarray, bound: float, best: np.ndarray, limit: int
+) -> np.ndarray:
+    """Every configuration of cost ``c`` (``(n, m)``) within ``bound``, goal slots left in
+    ``state`` (``(1, m)``), expanding robot by robot with a beam of ``limit`` prefixes that
+    always keeps ``best``'s (the least-cost configuration); in lexicographic order."""
+    n, m = c.shape
     # Expand the most decided robots first (largest gap between their two cheapest goals):
     # their costly alternatives are cut at the first levels, where prefixes are few.
     ranked = np.sort(c, axis=1)

@@ -34,7 +34,7 @@ import numpy as np
 from level_study import _level, _seeds, print_table, run_table
 
 from epistemica.mission import load_mission
-from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim import simulate
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy
 
 LEVELS = "convention,first,third-shared,third,oracle"
@@ -46,7 +46,7 @@ def run_one(job: tuple[str, str, int]) -> tuple[str, str, int, bool, int]:
     mission = load_mission(path)
     level, changes = _level(spec)
     parameters = mission.parameters.replace(**changes) if changes else mission.parameters
-    trial = simulate_collaborative(mission.scenario(seed), level, seed, parameters)
+    trial = simulate(mission.scenario(seed), level, seed, parameters=parameters)
     return path, spec, seed, bool(trial.success), int(trial.steps)
 
 
@@ -62,7 +62,7 @@ def speed(path: str, repeats: int = 5) -> None:
                 max_steps=200, needs=(len(mission.robots),) * len(scenario.needs)
             )
             started = time.perf_counter()
-            trial = simulate_collaborative(scenario, level, seed, mission.parameters)
+            trial = simulate(scenario, level, seed, parameters=mission.parameters)
             times.append(time.perf_counter() - started)
         print(f"  {level}: median {statistics.median(times):.2f} s ({trial.steps} steps)")
 
@@ -74,7 +74,7 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
     scenario = mission.scenario(seed)
     level, changes = _level(level)
     parameters = mission.parameters.replace(**changes) if changes else mission.parameters
-    trial = simulate_collaborative(scenario, level, seed, parameters)
+    trial = simulate(scenario, level, seed, parameters=parameters)
     names, tasks = scenario.robot_names, scenario.task_names
     print(f"{Path(path).stem} {level} seed {seed}: success {trial.success}, {trial.steps} steps")
     print("tasks: " + ", ".join(
@@ -86,7 +86,7 @@ def trace(path: str, level: str, seed: int, every: int = 10) -> None:
         print(f"step {step}")
         for i, name in enumerate(names):
             x, y = trial.trajectory[step, i, :2]
-            target = int(trial.targets[step, i])
+            target = int(trial.steer_to[step, i])
             known = [tasks[t] for t in range(len(tasks)) if trial.knows[step, i, t]]
             print(f"  {name} ({x:5.1f}, {y:5.1f}) {steer.get(target, tasks[target]):>8}  "
                   f"knows {', '.join(known) or '-'}")  # fmt: skip
@@ -128,7 +128,7 @@ def time_use(paths: list[str], levels: list[str], seeds: list[int]) -> None:
             counts, steps = np.zeros(len(USES)), 0
             for seed in seeds:
                 scenario = mission.scenario(seed)
-                trial = simulate_collaborative(scenario, level, seed, parameters)
+                trial = simulate(scenario, level, seed, parameters=parameters)
                 counts += _uses(trial, scenario)
                 steps += trial.steps
             cells = " | ".join(f"{c / len(seeds):.1f}" for c in counts)
@@ -137,7 +137,7 @@ def time_use(paths: list[str], levels: list[str], seeds: list[int]) -> None:
 
 def _uses(trial, scenario) -> np.ndarray:
     """Robot-steps of one trial per entry of :data:`USES`."""
-    target = trial.targets  # (steps, n)
+    target = trial.steer_to  # (steps, n)
     step = np.arange(trial.steps)[:, None]
     done = trial.tasks_done
     open_then = (done[None] < 0) | (done[None] > step)  # (steps, m)
@@ -172,7 +172,7 @@ def prediction_error(paths: list[str], seeds: list[int]) -> None:
         for path in paths:
             mission, gaps[:] = load_mission(path), []
             for seed in seeds:
-                simulate_collaborative(mission.scenario(seed), "third", seed, mission.parameters)
+                simulate(mission.scenario(seed), "third", seed, parameters=mission.parameters)
             since, gap = np.array(gaps).T
             random = 0.5214 * mission.scenario(seeds[0]).workspace  # two uniform points
             print(

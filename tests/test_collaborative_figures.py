@@ -10,20 +10,20 @@ from PIL import Image
 
 from epistemica.cli import main
 from epistemica.mission import load_mission
-from epistemica.sim.kinds.collaborative import simulate_collaborative
+from epistemica.sim import simulate
 from epistemica.sim.study.collaborative_figures import (
     CollaborativeFrame,
     animate_collaborative,
     fetching_robot,
 )
-from epistemica.sim.study.collaborative_trace import collaborative_trace
+from epistemica.sim.study.trace import trial_trace
 
 SPEC = str(Path(__file__).resolve().parents[1] / "specs/collaborative/tasks_3.epi")
 
 
 def _trial(seed: int, steps: int = 120, level: str = "third"):
     scenario = load_mission(SPEC).scenario(seed).replace(max_steps=steps)
-    return scenario, simulate_collaborative(scenario, level, seed)
+    return scenario, simulate(scenario, level, seed)
 
 
 @settings(max_examples=12, deadline=None)
@@ -47,9 +47,9 @@ def test_aware_since_is_the_knowledge_and_knowledge_is_true(seed, level):
 
 def test_the_frame_draws_what_the_trace_says():
     s, trial = _trial(1)
-    trace = collaborative_trace(s, trial)
+    trace = trial_trace(s, trial)
     focus = fetching_robot(trace)
-    fetched = (trial.targets == -2).sum(axis=0)
+    fetched = (trial.steer_to == -2).sum(axis=0)
     assert fetched[focus] == fetched.max() and fetched.max() > 0  # third fetches on seed 1
     frame = CollaborativeFrame(trace, "tasks_3")
     try:
@@ -74,7 +74,7 @@ def test_the_frame_draws_what_the_trace_says():
 def test_the_animation_has_one_frame_a_step_up_to_sixty(tmp_path):
     s, trial = _trial(1)
     path = tmp_path / "t.gif"
-    count = animate_collaborative(collaborative_trace(s, trial), path, mission="tasks_3")
+    count = animate_collaborative(trial_trace(s, trial), path, mission="tasks_3")
     assert count == min(trial.steps + 1, 60)
     assert Image.open(path).n_frames == count
 
@@ -89,7 +89,7 @@ def test_run_animates_the_trial_third_gains_most_on(tmp_path, capsys, monkeypatc
     steps = {}
     for level in ("first", "third"):
         for seed in range(3):
-            trial = simulate_collaborative(m.scenario(seed), level, seed, m.parameters)
+            trial = simulate(m.scenario(seed), level, seed, parameters=m.parameters)
             steps[level, seed] = trial.steps if trial.success else None
     gains = {
         seed: steps["first", seed] - steps["third", seed]

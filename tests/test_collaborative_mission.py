@@ -16,9 +16,10 @@ from epistemica.del_ import parse_formula
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
+from epistemica.sim import simulate
 from epistemica.sim.engine.events import EventRule, ObserverRule, Trigger, World, fire
 from epistemica.sim.engine.missions import distances
-from epistemica.sim.kinds.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.collaborative_levels import (
     COLLABORATIVE_LEVELS,
     CollaborativeParameters,
@@ -148,7 +149,7 @@ def test_heading_is_seen_by_the_robots_in_sight_of_the_mover():
 def test_a_task_is_done_when_enough_robots_stand_at_it_at_once():
     s = CollaborativeScenario([[5, 5], [5, 6], [25, 25]], [[5, 7], [24, 25]], (2, 3),
                               workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
-    trial = simulate_collaborative(s, "convention", seed=0)
+    trial = simulate(s, "convention", seed=0)
     # t1: both robots start within 2 m and see it at once: done after the first step
     assert trial.tasks_done[0] == 1
     # t2 needs all three: never done before the step all three stand within 1.5 m of it
@@ -164,8 +165,8 @@ def test_a_finder_seen_by_a_teammate_tells_it_and_one_out_of_sight_does_not():
     seen = CollaborativeScenario([[5, 8], [5, 14.5], [28, 28]], tasks, needs,
                                  workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
     unseen = seen.replace(starts=np.array([[5, 8, 0], [5, 20, 0], [28, 28, 0]]))
-    a = simulate_collaborative(seen, "first", seed=0, parameters=None)
-    b = simulate_collaborative(unseen, "first", seed=0)
+    a = simulate(seen, "first", seed=0, parameters=None)
+    b = simulate(unseen, "first", seed=0)
     # r2 is 9.5 m from the task: it learns of it from the found event (it sees r1, 6.5 m)
     assert a.knows[0, 1, 0] and not b.knows[0, 1, 0]
     assert a.knowledge.knows_goals((0, 1))[0]  # r1 knows r2 saw it find the task
@@ -177,7 +178,7 @@ def test_a_finder_seen_by_a_teammate_tells_it_and_one_out_of_sight_does_not():
 def test_what_a_robot_knows_comes_from_sight_or_an_observed_event(seed, level):
     m = load_mission(SPECS[0])
     s = m.scenario(seed).replace(max_steps=80)
-    trial = simulate_collaborative(s, level, seed, m.parameters)
+    trial = simulate(s, level, seed, parameters=m.parameters)
     first = trial.knows.argmax(axis=0)  # (n, m) first step robot i knew task t
     news = level.startswith("oracle")  # every sighting and event reaches everyone
     gap = np.hypot(*(trial.trajectory[:, :, None, :2] - s.tasks[None, None]).transpose(3, 0, 1, 2))
@@ -195,12 +196,12 @@ def test_oracle_events_spreads_news_of_a_task_but_not_where_teammates_are(monkey
     s = CollaborativeScenario([[5, 8], [5, 20], [28, 28]], [[5, 5]], (2,),
                               workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
     views = []
-    decide = CollaborativePolicy.decide
+    plan = CollaborativePolicy.plan
     monkeypatch.setattr(
-        CollaborativePolicy, "decide", lambda self, view: views.append(view) or decide(self, view)
+        CollaborativePolicy, "plan", lambda self, view: views.append(view) or plan(self, view)
     )
     for level, where in (("third", False), ("oracle-events", False), ("oracle", True)):
-        trial = simulate_collaborative(s.replace(max_steps=1), level, seed=0)
+        trial = simulate(s.replace(max_steps=1), level, seed=0)
         assert trial.knows[0, :, 0].tolist() == [True, level != "third", level != "third"]
         assert (views[-1].last_seen[0, 2] == 0) == where  # what robot 1 knows of robot 3
 
@@ -208,7 +209,7 @@ def test_oracle_events_spreads_news_of_a_task_but_not_where_teammates_are(monkey
 def test_every_level_sees_the_same_world_on_a_seed():
     m = load_mission(SPECS[0])
     s = m.scenario(7).replace(max_steps=30)
-    starts = {lv: simulate_collaborative(s, lv, 7).trajectory[0] for lv in COLLABORATIVE_LEVELS}
+    starts = {lv: simulate(s, lv, 7).trajectory[0] for lv in COLLABORATIVE_LEVELS}
     assert all(np.array_equal(v, starts["third"]) for v in starts.values())
 
 
@@ -222,7 +223,7 @@ def test_bad_scenarios_and_parameters_are_refused():
     with pytest.raises(InvalidArgumentError, match="unknown collaborative parameter"):
         CollaborativeParameters().replace(speed=3)
     with pytest.raises(InvalidArgumentError, match="unknown collaborative level"):
-        simulate_collaborative(CollaborativeScenario([[0, 0]], [[5, 5]], (1,)), "zero")
+        simulate(CollaborativeScenario([[0, 0]], [[5, 5]], (1,)), "zero")
 
 
 def test_lanes_cover_the_workspace():
@@ -276,8 +277,8 @@ def test_run_stores_collaborative_trials_and_resumes(capsys, tmp_path, monkeypat
     assert len(rows) == 4 and "4 trials run, 0 already stored" in first
     m = load_mission(path)
     for row in rows:  # each row is the trial simulated again, independently
-        trial = simulate_collaborative(m.scenario(row["seed"]), row["reasoning"], row["seed"],
-                                       m.parameters)  # fmt: skip
+        scenario, seed = m.scenario(row["seed"]), row["seed"]
+        trial = simulate(scenario, row["reasoning"], seed, parameters=m.parameters)
         assert (row["success"], row["steps"]) == (int(trial.success), trial.steps)
         assert row["completion_step"] == trial.completion_step
         assert row["mission"] == "collaborative" and (row["robots"], row["goals"]) == (3, 3)
@@ -293,8 +294,8 @@ def test_a_stored_collaborative_trace_is_the_trial(tmp_path):
     m = load_mission(_small(tmp_path, steps=80))
     spec = mission_trials(m, ["third"], 1, seed=3)[0]
     row = run_trial(spec)
-    trace, trial = decode(row["trace"]), simulate_collaborative(m.scenario(3), "third", 3,
-                                                                m.parameters)  # fmt: skip
+    trace = decode(row["trace"])
+    trial = simulate(m.scenario(3), "third", 3, parameters=m.parameters)
     assert trace["kind"] == "collaborative" and trace["steps"] == trial.steps
     assert np.allclose(trace["poses"], trial.trajectory, atol=0.006)
     assert trace["knows"] == trial.knows.astype(int).tolist()
@@ -341,15 +342,15 @@ def test_a_backed_waiter_waits_longer():
                               events=_events())  # fmt: skip
     waited = {}
     for backed in (60, 150):
-        trial = simulate_collaborative(
+        trial = simulate(
             s,
             "third",
             0,
-            CollaborativeParameters(
+            parameters=CollaborativeParameters(
                 backed_patience=backed, rejoin=False, seek_limit=0, fetch_together=False
             ),
         )
-        at_task = trial.targets[:, 0] == 0
+        at_task = trial.steer_to[:, 0] == 0
         waited[backed] = int(np.argmin(at_task))  # the first step r1 steers elsewhere
         assert at_task[: waited[backed]].all() and not trial.success
     assert waited[60] >= 60 and waited[150] >= waited[60] + 20

@@ -5,13 +5,14 @@ import numpy as np
 import pytest
 
 from epistemica.mission import load_mission
+from epistemica.sim import simulate
 from epistemica.sim.engine.events import World, firings, observer_indices
+from epistemica.sim.engine.joint import JointView
 from epistemica.sim.engine.knowledge import TeamKnowledge
-from epistemica.sim.kinds.collaborative import CollaborativeScenario, simulate_collaborative
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.collaborative_levels import (
     FETCHING,
     CollaborativeParameters,
-    View,
 )
 from epistemica.sim.policies.collaborative_sweep import Route, meeting_point
 from epistemica.sim.policies.levels import make_level
@@ -25,7 +26,7 @@ def _policy(scenario, **changes):
     return policy
 
 
-def _view(k: TeamKnowledge, poses, step, since=None, open_seen=None, last_seen=None) -> View:
+def _view(k: TeamKnowledge, poses, step, since=None, open_seen=None, last_seen=None) -> JointView:
     """What the robots have at ``step``: every robot sees every other now (unless
     ``last_seen`` says otherwise), and has known what it knows since step 0."""
     poses = np.asarray(poses, dtype=float)
@@ -37,7 +38,7 @@ def _view(k: TeamKnowledge, poses, step, since=None, open_seen=None, last_seen=N
     open_seen = np.full((n, k.m), -1) if open_seen is None else np.asarray(open_seen)
     last_seen = np.full((n, n), step) if last_seen is None else np.asarray(last_seen)
     estimates = np.repeat(poses[None, :, :2], n, axis=0)
-    return View(step, poses, estimates, last_seen, k, aware, since, open_seen)
+    return JointView(step, poses, estimates, last_seen, k, aware, since, open_seen)
 
 
 # -- where a robot meets a teammate on its sweep ----------------------------------------------
@@ -117,7 +118,7 @@ def test_a_robot_with_nothing_left_to_find_goes_to_see_a_task_it_presumes_done(
     policy = _policy(s, stale_after=20, verify=verify)
     view = _view(k, s.starts, 30, since=since, open_seen=np.full((3, tasks), -1))
     assert policy.presumed_done(view, 0)[0]
-    assert int(policy.decide(view)[1][0]) == steer
+    assert int(policy.plan(view)[1][0]) == steer
 
 
 # -- tasks enough robots know of come first --------------------------------------------------
@@ -144,7 +145,7 @@ def test_a_robot_joins_the_task_its_teammates_expect_it_at():
     )  # fmt: skip
     for complete_first, r1 in ((True, {1}), (False, {0, FETCHING})):
         policy = _policy(s, complete_first=complete_first, soonest=False)
-        _, steer_to = policy.decide(_view(k, s.starts, 10))
+        _, steer_to = policy.plan(_view(k, s.starts, 10))
         assert int(steer_to[0]) in r1
         assert int(steer_to[1]) == int(steer_to[2]) == 1  # r2 and r3 go to t2 either way
 
@@ -160,7 +161,7 @@ def test_a_knower_with_nobody_free_to_fetch_joins_the_teammates_busy_elsewhere()
     )  # fmt: skip
     for join_busy, r1 in ((True, 0), (False, -1)):
         policy = _policy(s, join_busy=join_busy)
-        targets, steer_to = policy.decide(_view(k, s.starts, 10))
+        targets, steer_to = policy.plan(_view(k, s.starts, 10))
         assert steer_to.tolist() == [r1, 0, 0]
         assert (targets[0].tolist() == [25.0, 5.0]) == join_busy
 
@@ -177,7 +178,7 @@ def test_the_coalition_that_assembles_soonest_goes_first():
     )  # fmt: skip
     for soonest, pair, alone in ((True, (0, 1), 2), (False, (0, 2), 1)):
         policy = _policy(s, soonest=soonest, join_busy=False)
-        _, steer_to = policy.decide(_view(k, s.starts, 10))
+        _, steer_to = policy.plan(_view(k, s.starts, 10))
         first = 1 if soonest else 0
         assert [int(steer_to[r]) for r in pair] == [first, first]
         assert int(steer_to[alone]) != first
@@ -206,7 +207,7 @@ def test_news_of_another_knower_renews_a_waiting_robots_patience():
             unseen = np.full((3, 3), -1)
             np.fill_diagonal(unseen, step)
             view = _view(k, s.starts, step, open_seen=np.full((3, 1), step), last_seen=unseen)
-            _, steer_to = policy.decide(view)
+            _, steer_to = policy.plan(view)
             if steer_to[0] != 0:
                 gave_up[rejoin] = step
                 break
@@ -237,7 +238,7 @@ def test_a_lone_knower_looks_for_helpers_for_a_while_then_waits_at_the_task():
         for step in range(50, 200):
             np.fill_diagonal(unseen, step)
             view = _view(k, s.starts, step, open_seen=np.full((3, 1), step), last_seen=unseen)
-            steer.append(int(policy.decide(view)[1][0]))
+            steer.append(int(policy.plan(view)[1][0]))
         assert [50 + step for step, t in enumerate(steer) if t == 0] == waits
         assert set(steer) <= {0, -1}
 
@@ -257,7 +258,7 @@ def test_a_fetcher_heads_back_once_the_teammate_still_sees_it_after_a_step(gap, 
     )
     k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
     k.discover(0, np.array([True, False]))
-    targets, steer_to = _policy(s).decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
+    targets, steer_to = _policy(s).plan(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
     assert int(steer_to[0]) == steer
     assert targets[0].tolist() == ([20 + gap, 15] if steer == FETCHING else [3, 15])
 
@@ -276,7 +277,7 @@ def test_a_knower_waits_for_a_teammate_its_sweep_brings_within_the_horizon(horiz
     k = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
     k.discover(0, np.array([True, False]))
     policy = _policy(s, wait_horizon=horizon)
-    targets, steer_to = policy.decide(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
+    targets, steer_to = policy.plan(_view(k, s.starts, 50, open_seen=np.full((2, 1), 50)))
     assert int(steer_to[0]) == steer
     assert targets[0].tolist() == goes_to
 
@@ -305,7 +306,7 @@ def test_the_nearest_knower_waits_only_if_someone_may_see_it_wait(together, star
     policy = _policy(s, fetch_together=together)
     view = _view(k, s.starts, 50, open_seen=np.full((n, 1), 50))
     assert view.aware[0, 1, 0] and view.aware[1, 0, 0] and not view.aware[0, 2, 0]
-    targets, steer_to = policy.decide(view)
+    targets, steer_to = policy.plan(view)
     assert int(steer_to[0]) == steer
     assert targets[0].tolist() == goes_to
     assert int(steer_to[1]) == FETCHING and targets[1].tolist() == [25, 15]
@@ -345,7 +346,7 @@ def test_a_teammate_is_known_on_its_sweep_until_it_could_have_found_a_task():
 def test_no_task_is_found_after_it_is_done(level):
     mission = load_mission("specs/collaborative/tasks_5.epi")
     for seed in range(4):
-        trial = simulate_collaborative(mission.scenario(seed), level, seed, mission.parameters)
+        trial = simulate(mission.scenario(seed), level, seed, parameters=mission.parameters)
         done = {mission.scenario(seed).task_names[t]: d for t, d in enumerate(trial.tasks_done)}
         for step, name, args, _ in trial.events:
             if name == "found":

@@ -7,9 +7,11 @@ on another checkout: ``EPISTEMICA_SOURCE=/path/to/checkout pytest tests/test_imp
 
 - The graph of imports between project modules (``if TYPE_CHECKING:`` blocks left out, as
   they never run) has no cycle. Importing ``a.b.c`` first runs ``a/__init__.py`` and
-  ``a/b/__init__.py``, so those edges are in the graph too. The command-line dispatcher's
-  table of command modules (``COMMANDS`` in ``cli.py``, loaded by name so that start-up
-  stays short) counts as imports.
+  ``a/b/__init__.py``, so those edges are in the graph too. A module imported by name
+  (``importlib.import_module``, ``__import__``) is an edge too: a name written in the
+  module, or one of a table of modules it loads by name (the command-line dispatcher's
+  ``COMMANDS``, del/'s lazy exports), so that start-up stays short; an import by a name
+  the test cannot read is flagged.
 - Layers import only the layers before them: ``del_ <- aif <- sim <- root``.
 - No ``import`` of a project module sits inside a function: a deferred import hides an
   edge of the graph (the usual way a cycle is papered over). Optional third-party
@@ -127,18 +129,67 @@ def _targets(module: str, node: ast.Import | ast.ImportFrom) -> list[tuple[str, 
     return targets
 
 
-def _registry_targets(tree: ast.Module) -> list[str]:
-    """The modules named in a ``COMMANDS = {...}`` table (``"module:function"``, loaded by
-    name)."""
+def _registry_targets(module: str, tree: ast.Module) -> list[str]:
+    """The modules named in a module-level table loaded by name: a dict literal whose string
+    keys or values name project modules, absolutely (``"module:function"``: the command-line
+    dispatcher's ``COMMANDS``) or relative to a package (del/'s lazy ``_SOURCES``)."""
     found = []
     for node in tree.body:
-        if isinstance(node, (ast.Assign, ast.AnnAssign)):
-            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
-            names = [t.id for t in targets if isinstance(t, ast.Name)]
-            if "COMMANDS" in names and isinstance(node.value, ast.Dict):
-                values = [v.value for v in node.value.values if isinstance(v, ast.Constant)]
-                found += [v.partition(":")[0] for v in values if v.partition(":")[0] in MODULES]
+        value = node.value if isinstance(node, (ast.Assign, ast.AnnAssign)) else None
+        if not isinstance(value, ast.Dict):
+            continue
+        for item in [*value.keys, *value.values]:
+            if isinstance(item, ast.Constant) and isinstance(item.value, str):
+                name = item.value.partition(":")[0]
+                relative = f"{module}.{name}" if _is_package(module) else ""
+                found += [m for m in (name, relative) if m in MODULES and m != module]
     return found
+
+
+#: Calls that import a module by name.
+DYNAMIC = ("import_module", "__import__")
+
+
+def _dynamic_imports(module: str, tree: ast.Module) -> tuple[list[str], list[str]]:
+    """The project modules imported by name (``importlib.import_module``, ``__import__``)
+    whose name is written in the module (a literal, or a module-level string constant), and
+    the call sites whose target cannot be read so. A call whose module keeps a table of
+    the modules it loads (:func:`_registry_targets`) is read through the table, and a
+    package may load its own submodules (``f"{__name__}.{name}"``) on attribute access."""
+    constants = {
+        target.id: node.value.value
+        for node in tree.body
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Constant)
+        for target in node.targets
+        if isinstance(target, ast.Name) and isinstance(node.value.value, str)
+    }
+    has_table = bool(_registry_targets(module, tree))
+    edges, unread = [], []
+    for call in ast.walk(tree):
+        if not isinstance(call, ast.Call):
+            continue
+        func = call.func
+        name = getattr(func, "attr", None) or getattr(func, "id", None)
+        if name not in DYNAMIC or not call.args:
+            continue
+        arg = call.args[0]
+        text = arg.value if isinstance(arg, ast.Constant) else None
+        if isinstance(arg, ast.Name):
+            text = constants.get(arg.id)
+        if isinstance(text, str):
+            if text.split(".")[0] != "epistemica":
+                continue  # a third-party library, loaded when first needed
+            if text in MODULES:
+                edges.append(text)
+                continue
+        own_submodule = (
+            isinstance(arg, ast.JoinedStr)
+            and _is_package(module)
+            and "__name__" in ast.unparse(arg.values[0])
+        )
+        if not (own_submodule or has_table):
+            unread.append(f"{module}:{call.lineno} {ast.unparse(call)}")
+    return edges, unread
 
 
 def _ancestors(name: str) -> list[str]:
@@ -153,7 +204,8 @@ def import_graph() -> tuple[nx.DiGraph, list[str]]:
     from_root = []
     for module, (_, tree) in MODULES.items():
         edges = [edge for node in _runtime_imports(tree) for edge in _targets(module, node)]
-        edges += [(target, []) for target in _registry_targets(tree)]
+        edges += [(target, []) for target in _registry_targets(module, tree)]
+        edges += [(target, []) for target in _dynamic_imports(module, tree)[0]]
         for target, names in edges:
             if target == "epistemica.del_" and names and _layer(module) == 0:
                 from_root.append(f"{module}: from epistemica.del_ import {', '.join(names)}")
@@ -185,6 +237,25 @@ def test_layers_import_only_the_layers_before_them():
     # every import of a subpackage first runs the root's __init__ (lazy re-exports only)
     upward = [f"{a} -> {b}" for a, b in graph.edges if _layer(b) > _layer(a) and b != "epistemica"]
     assert not upward, "imports against the layers:\n" + "\n".join(sorted(upward))
+
+
+def test_every_import_by_name_of_a_project_module_is_an_edge_of_the_graph():
+    unread = [
+        site for module, (_, tree) in MODULES.items() for site in _dynamic_imports(module, tree)[1]
+    ]
+    assert not unread, "imports by a name the graph cannot read:\n" + "\n".join(unread)
+    graph, _ = import_graph()
+    assert graph.has_edge("epistemica", "epistemica.mission")  # the root's lazy re-exports
+    assert graph.has_edge("epistemica.cli", "epistemica.cli_run")  # the dispatcher's table
+
+
+def test_an_import_by_a_computed_name_is_flagged():
+    tree = ast.parse("import importlib\ndef load(n):\n    return importlib.import_module(n)\n")
+    assert _dynamic_imports("epistemica.run", tree)[1] == [
+        "epistemica.run:3 importlib.import_module(n)"
+    ]
+    tree = ast.parse("__import__('epistemica.mission')\n")
+    assert _dynamic_imports("epistemica.run", tree) == (["epistemica.mission"], [])
 
 
 def test_no_del_module_imports_from_its_package_root():

@@ -293,7 +293,7 @@ class MissionEnv(ParallelEnv):
                 )
             out[int(robot)] = level
         if out:  # build the policies once now: an unknown level fails here, not at reset
-            policy_groups(s.n_robots, next(iter(out.values())), out, self.parameters)
+            policy_groups(s.n_robots, next(iter(out.values())), out, self.parameters, s.kind)
         return out
 
     def _start(self, levels: Mapping[int, Any]) -> list:
@@ -301,7 +301,9 @@ class MissionEnv(ParallelEnv):
         if not levels:
             return []
         s = self.scenario
-        groups = policy_groups(s.n_robots, next(iter(levels.values())), levels, self.parameters)
+        groups = policy_groups(
+            s.n_robots, next(iter(levels.values())), levels, self.parameters, s.kind
+        )
         policy_streams = trial_streams(self.seed_, s.n_robots).policy  # fresh, unshared
         started = []
         for policy, robots in groups:

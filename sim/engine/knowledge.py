@@ -89,6 +89,7 @@ class TeamKnowledge:
         #: ``closed[g]``: the fact "no robot goes to goal ``g``" (a task done, a goal closed).
         self.closed = tuple(closed_fact(self.robots, g) for g in self.goals)
         self._closed_goal = {fact: g for g, fact in enumerate(self.closed)}
+        self._closed_by: dict[tuple[int, bool], int] = {}  # (observation, fully) -> goal
         if known_goals is not None:
             known = np.asarray(known_goals, dtype=bool)
             for g in range(self.m):
@@ -174,13 +175,27 @@ class TeamKnowledge:
         return np.array([atoms <= aware for atoms in self._goal_atoms])
 
     def knows_done(self, chain: Chain) -> np.ndarray:
-        """``(m,)`` the goals (tasks) the chain knows closed (done)."""
+        """``(m,)`` the goals (tasks) the chain knows closed (done): the hard facts of the
+        observations its group saw, read by observation index (each observation's fact is
+        compared with the ``closed`` facts once, not at every query)."""
         out = np.zeros(self.m, dtype=bool)
-        for fact in self.state.hard(chain):
-            g = self._closed_goal.get(fact)
-            if g is not None:
+        fully = set(self.state.observed(chain, fully=True))
+        for i in self.state.observed(chain):
+            g = self._closes(i, i in fully)
+            if g >= 0:
                 out[g] = True
         return out
+
+    def _closes(self, index: int, fully: bool) -> int:
+        """The goal whose ``closed`` fact observation ``index`` teaches (seen ``fully`` or
+        not), -1 for none; computed once per observation."""
+        key = (index, fully)
+        goal = self._closed_by.get(key)
+        if goal is None:
+            fact = self.state.observations[index].hard_fact(fully)
+            goal = self._closed_goal.get(fact, -1) if fact is not None else -1
+            self._closed_by[key] = goal
+        return goal
 
     def private_goals(self, robot: int) -> bool:
         """Whether ``robot`` knows of a goal that it does not know every teammate knows."""

@@ -249,8 +249,8 @@ class Scenario:
             set_(self, name, int(value))
         self._check_goal_knowledge(n, m)
         self._check_mission(n, m)
-        self._check_epistemics(n, m)
-        self._check_contacts(starts, goals)
+        _check_epistemics(self, n, m)
+        _check_contacts(self, starts, goals)
         for name, value in (("starts", starts), ("goals", goals)):
             value.setflags(write=False)
             set_(self, name, value)
@@ -284,82 +284,6 @@ class Scenario:
         if kind.count(n, m, self.capacities) == 0:
             # Building the (empty) set raises the specific error: too few goals, ...
             kind.configurations(n, m, self.capacities)
-
-    def _check_epistemics(self, n: int, m: int) -> None:
-        set_ = object.__setattr__
-        for name, count, prefix in (("robot_names", n, "r"), ("goal_names", m, "g")):
-            names = getattr(self, name)
-            names = tuple(f"{prefix}{i + 1}" for i in range(count)) if names is None else names
-            if len(names) != count or len(set(names)) != count:
-                raise _fail(f"{name} must be {count} distinct names, got {names!r}", "one each")
-            set_(self, name, tuple(str(x) for x in names))
-        events = tuple(self.events)
-        for rule in events:
-            if not isinstance(rule, EventRule):
-                raise _fail(
-                    f"events must be EventRule objects, got {rule!r}",
-                    "compile them from a mission file, or use "
-                    "epistemica.mission.library_event('settle', 'nearby')",
-                )
-        set_(self, "events", events)
-        closed = np.zeros(m, dtype=bool) if self.closed is None else np.array(self.closed)
-        if closed.shape != (m,) or closed.dtype != bool:
-            raise _fail(f"closed must be {m} booleans, got {closed!r}", "one per goal")
-        closed.setflags(write=False)
-        set_(self, "closed", closed)
-        for name in ("told", "suggested"):
-            facts = []
-            for observers, formula in getattr(self, name):
-                mask = np.asarray(observers, dtype=bool)
-                if mask.shape != (n,):
-                    raise _fail(f"{name} observers must be {n} booleans", "one per robot")
-                facts.append((tuple(bool(x) for x in mask), formula))
-            set_(self, name, tuple(facts))
-        if self.valid is None:
-            return
-        if self.kind.tasks:
-            raise _fail(f"`valid` is not used by a {self.mission} mission", "drop it")
-        rows = np.array(self.valid)
-        if rows.ndim != 2 or rows.shape[1] != n or rows.shape[0] == 0:
-            raise _fail(f"valid must be (k, {n}) goal indices, got {rows.shape}", "one per robot")
-        if not np.issubdtype(rows.dtype, np.integer) or rows.min() < 0 or rows.max() >= m:
-            raise _fail(f"valid must hold goal indices 0..{m - 1}", "one row per configuration")
-        rows.setflags(write=False)
-        set_(self, "valid", rows)
-
-    def _check_contacts(self, starts: np.ndarray, goals: np.ndarray) -> None:
-        set_ = object.__setattr__
-        if self.dynamics is None:
-            set_(self, "dynamics", Unicycle())
-        elif not isinstance(self.dynamics, Dynamics):
-            raise _fail(
-                f"dynamics must have a step(poses, controls, dt) method, got {self.dynamics!r}",
-                "use epistemica.sim.engine.dynamics.Unicycle(), or an object of your own",
-            )
-        n = starts.shape[0]
-        if self.robot_radius is not None:
-            radius = _per_robot(self.robot_radius, "robot_radius", n, 0.0, self.workspace)
-            radius.setflags(write=False)
-            set_(self, "robot_radius", radius)
-        obstacles = tuple(polygon(p) for p in self.obstacles)
-        set_(self, "obstacles", obstacles)
-        radii = np.zeros(n) if self.robot_radius is None else self.robot_radius
-        for k, poly in enumerate(obstacles):
-            for i, start in enumerate(starts[:, :2]):
-                if polygon_distance(start, start, poly) < max(radii[i], CLEARANCE):
-                    raise _fail(
-                        f"robot {i} starts at {start.tolist()}, in obstacle {k}",
-                        "move the start (or the obstacle); a place drawn at random may fall "
-                        "in an obstacle: place robots explicitly when there are obstacles",
-                    )
-            hit = inside(goals, poly)
-            if hit.any():
-                g = int(np.argmax(hit))
-                raise _fail(
-                    f"goal {g} at {goals[g].tolist()} lies in obstacle {k}: no robot can reach it",
-                    "move the goal (or the obstacle); a place drawn at random may fall in "
-                    "an obstacle: place goals explicitly when there are obstacles",
-                )
 
     @property
     def sensor(self) -> Sensor:
@@ -461,6 +385,86 @@ class Scenario:
         starts = np.column_stack([layout.starts, np.zeros(n)])
         task_goals, sensors = layout.goals, layout.sensors
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
+
+
+def _check_epistemics(scenario: Scenario, n: int, m: int) -> None:
+    """Names, events, closed goals, told and suggested facts, the table of valid rows."""
+    set_ = object.__setattr__
+    for name, count, prefix in (("robot_names", n, "r"), ("goal_names", m, "g")):
+        names = getattr(scenario, name)
+        names = tuple(f"{prefix}{i + 1}" for i in range(count)) if names is None else names
+        if len(names) != count or len(set(names)) != count:
+            raise _fail(f"{name} must be {count} distinct names, got {names!r}", "one each")
+        set_(scenario, name, tuple(str(x) for x in names))
+    events = tuple(scenario.events)
+    for rule in events:
+        if not isinstance(rule, EventRule):
+            raise _fail(
+                f"events must be EventRule objects, got {rule!r}",
+                "compile them from a mission file, or use "
+                "epistemica.mission.library_event('settle', 'nearby')",
+            )
+    set_(scenario, "events", events)
+    closed = np.zeros(m, dtype=bool) if scenario.closed is None else np.array(scenario.closed)
+    if closed.shape != (m,) or closed.dtype != bool:
+        raise _fail(f"closed must be {m} booleans, got {closed!r}", "one per goal")
+    closed.setflags(write=False)
+    set_(scenario, "closed", closed)
+    for name in ("told", "suggested"):
+        facts = []
+        for observers, formula in getattr(scenario, name):
+            mask = np.asarray(observers, dtype=bool)
+            if mask.shape != (n,):
+                raise _fail(f"{name} observers must be {n} booleans", "one per robot")
+            facts.append((tuple(bool(x) for x in mask), formula))
+        set_(scenario, name, tuple(facts))
+    if scenario.valid is None:
+        return
+    if scenario.kind.tasks:
+        raise _fail(f"`valid` is not used by a {scenario.mission} mission", "drop it")
+    rows = np.array(scenario.valid)
+    if rows.ndim != 2 or rows.shape[1] != n or rows.shape[0] == 0:
+        raise _fail(f"valid must be (k, {n}) goal indices, got {rows.shape}", "one per robot")
+    if not np.issubdtype(rows.dtype, np.integer) or rows.min() < 0 or rows.max() >= m:
+        raise _fail(f"valid must hold goal indices 0..{m - 1}", "one row per configuration")
+    rows.setflags(write=False)
+    set_(scenario, "valid", rows)
+
+
+def _check_contacts(scenario: Scenario, starts: np.ndarray, goals: np.ndarray) -> None:
+    """Dynamics, robot radii and obstacles: no start and no goal inside an obstacle."""
+    set_ = object.__setattr__
+    if scenario.dynamics is None:
+        set_(scenario, "dynamics", Unicycle())
+    elif not isinstance(scenario.dynamics, Dynamics):
+        raise _fail(
+            f"dynamics must have a step(poses, controls, dt) method, got {scenario.dynamics!r}",
+            "use epistemica.sim.engine.dynamics.Unicycle(), or an object of your own",
+        )
+    n = starts.shape[0]
+    if scenario.robot_radius is not None:
+        radius = _per_robot(scenario.robot_radius, "robot_radius", n, 0.0, scenario.workspace)
+        radius.setflags(write=False)
+        set_(scenario, "robot_radius", radius)
+    obstacles = tuple(polygon(p) for p in scenario.obstacles)
+    set_(scenario, "obstacles", obstacles)
+    radii = np.zeros(n) if scenario.robot_radius is None else scenario.robot_radius
+    for k, poly in enumerate(obstacles):
+        for i, start in enumerate(starts[:, :2]):
+            if polygon_distance(start, start, poly) < max(radii[i], CLEARANCE):
+                raise _fail(
+                    f"robot {i} starts at {start.tolist()}, in obstacle {k}",
+                    "move the start (or the obstacle); a place drawn at random may fall "
+                    "in an obstacle: place robots explicitly when there are obstacles",
+                )
+        hit = inside(goals, poly)
+        if hit.any():
+            g = int(np.argmax(hit))
+            raise _fail(
+                f"goal {g} at {goals[g].tolist()} lies in obstacle {k}: no robot can reach it",
+                "move the goal (or the obstacle); a place drawn at random may fall in "
+                "an obstacle: place goals explicitly when there are obstacles",
+            )
 
 
 def _count(value, name: str, limit: int) -> int:

@@ -21,13 +21,16 @@ import numpy as np
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.engine._streams import trial_streams
 from epistemica.sim.engine.events import STILL, World, firings, observer_indices
+from epistemica.sim.engine.joint import JointRun
 from epistemica.sim.engine.knowledge import assignment, initial_knowledge
 from epistemica.sim.engine.missions import distances, realises
 from epistemica.sim.engine.obstacles import resolve_contacts
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Sensing
 from epistemica.sim.engine.trial import Trial
-from epistemica.sim.policies.levels import make_policy
+from epistemica.sim.kinds.base import MissionKind
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
+from epistemica.sim.policies.levels import make_level
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import Policy
 
@@ -35,7 +38,11 @@ __all__ = ["TrialRun", "policy_groups", "simulate"]
 
 
 def policy_groups(
-    n: int, reasoning, policies: Mapping | None, parameters: ActiveParameters | None
+    n: int,
+    reasoning,
+    policies: Mapping | None,
+    parameters: ActiveParameters | None,
+    kind: str | MissionKind,
 ) -> list[tuple[Policy, np.ndarray]]:
     chosen: dict[int, object] = dict.fromkeys(range(n), reasoning)
     for robot, value in (policies or {}).items():
@@ -46,21 +53,22 @@ def policy_groups(
             )
         chosen[int(robot)] = value
     """The policies of a team, each with the robots it drives (``reasoning`` for every
-    robot, ``policies`` overriding it per robot; one instance per distinct level)."""
+    robot, ``policies`` overriding it per robot; one instance per distinct level of the
+    levels of ``kind``)."""
     instances: dict[object, Policy] = {}
     members: dict[int, list[int]] = {}
     for robot in range(n):
         value = chosen[robot]
         key = id(value) if isinstance(value, Policy) else value
         if key not in instances:
-            instances[key] = make_policy(value, parameters)
+            instances[key] = make_level(kind, value, parameters)
         members.setdefault(id(instances[key]), []).append(robot)
     by_id = {id(p): p for p in instances.values()}
     return [(by_id[k], np.array(v)) for k, v in members.items()]
 
 
 def simulate(
-    scenario: Scenario,
+    scenario: Scenario | CollaborativeScenario,
     reasoning="third",
     seed: int = 0,
     *,
@@ -71,39 +79,41 @@ def simulate(
 
     Parameters
     ----------
-    scenario : Scenario
-        The world.
+    scenario : Scenario or CollaborativeScenario
+        The world (a joint mission's is a
+        :class:`~epistemica.sim.kinds.collaborative.CollaborativeScenario`).
     reasoning : str or Policy
-        The level of every robot: a name of :data:`epistemica.sim.policies.levels.REASONING`
-        (``"zero"``, ``"convention"``, ``"first"``, ``"third"``, the ablations and the
-        ``"paper-*"`` levels), or a :class:`~epistemica.sim.policies.policy.Policy`.
+        The level of every robot: a name of the levels of the scenario's kind
+        (:func:`epistemica.sim.policies.levels.level_names`: for goal missions ``"zero"``,
+        ``"convention"``, ``"first"``, ``"third"``, the ablations and the ``"paper-*"``
+        levels), or a :class:`~epistemica.sim.policies.policy.Policy`.
     seed : int
         Trial seed: observation and process noise, and any policy randomness. The same
         seed gives the same noise for every level.
     policies : mapping, optional
         Robot index to level name or policy, overriding ``reasoning`` for that robot.
-    parameters : ActiveParameters, optional
-        Rules and constants of the active-inference levels named (default
-        :class:`~epistemica.sim.policies.parameters.ActiveParameters`; a mission's ``policy`` line).
+    parameters : ActiveParameters or CollaborativeParameters, optional
+        Rules and constants of the levels named (default: the kind's,
+        :func:`~epistemica.sim.policies.levels.parameters_for`; a mission's ``policy`` line).
 
     Returns
     -------
     Trial
     """
-    if not isinstance(scenario, Scenario):
+    if not isinstance(scenario, Scenario | CollaborativeScenario):
         raise InvalidArgumentError(
             f"expected a Scenario, got {type(scenario).__name__}",
             hint="build one with Scenario(...) or Scenario.paper(...)",
         )
     s, n = scenario, scenario.n_robots
     streams = trial_streams(seed, n)
-    groups = policy_groups(n, reasoning, policies, parameters)
+    groups = policy_groups(n, reasoning, policies, parameters, s.kind)
     names = [""] * n
     for policy, robots in groups:
         policy.start(s, robots, [streams.policy[r] for r in robots])
         for r in robots:
             names[r] = policy.name
-    run = TrialRun(s, streams)
+    run = _run(s, streams, groups)
     for step in range(s.max_steps):
         obs = run.perceive(step)
         controls = np.empty((n, 2))
@@ -113,6 +123,20 @@ def simulate(
         if run.advance(step, controls):
             break
     return run.trial(tuple(names), seed)
+
+
+def _run(s, streams, groups) -> TrialRun | JointRun:
+    """The run state of the scenario's kind: a joint mission's world is the joint run's,
+    with what the team's levels share (full communication: ``oracle``)."""
+    if not s.kind.joint:
+        return TrialRun(s, streams)
+    shares = {getattr(policy, "shares", "") for policy, _ in groups}
+    if len(shares) > 1:
+        raise InvalidArgumentError(
+            "levels that share what they see and levels that do not play the same world",
+            hint="give every robot of a collaborative mission one level",
+        )
+    return JointRun(s, streams, shares.pop())
 
 
 def _checked(controls: np.ndarray, policy: Policy, count: int) -> np.ndarray:

@@ -41,7 +41,7 @@ class Trial:
         ``(steps, n)`` entropy (nats) of each robot's belief (NaN without one).
     considered : numpy.ndarray
         ``(steps, n)`` configurations each robot considered.
-    unpruned : numpy.ndarray
+    unpruned : numpy.ndarray or None
         ``(steps, n)`` configurations each robot had before pruning by what it knows
         (equal to ``considered`` where nothing was pruned).
     modelled : numpy.ndarray
@@ -72,6 +72,14 @@ class Trial:
     knowledge : TeamKnowledge
         The team's epistemic state at the end of the trial (every observation, goals
         discovered included): what ``epistemica check --after`` checks claims on.
+    steer_to : numpy.ndarray or None
+        Joint missions: ``(steps, n)`` the task each robot steered to (-1 exploring, -2
+        fetching a teammate, -3 waiting for helpers).
+    knows : numpy.ndarray or None
+        Joint missions: ``(steps, n, m)`` the tasks each robot knew of when it decided.
+    aware_since : numpy.ndarray or None
+        Joint missions: ``(n, n, m)`` the first step robot ``i`` knew that robot ``j`` knows
+        of task ``t`` (``j == i``: of the task; -1 never).
     """
 
     success: bool
@@ -82,7 +90,7 @@ class Trial:
     focal: np.ndarray
     entropy: np.ndarray
     considered: np.ndarray
-    unpruned: np.ndarray
+    unpruned: np.ndarray | None
     modelled: np.ndarray
     estimates: np.ndarray
     goal_belief: np.ndarray
@@ -92,6 +100,9 @@ class Trial:
     events: tuple = ()
     knowledge: Any = field(default=None, repr=False)
     teammate_types: np.ndarray | None = field(default=None, repr=False)
+    steer_to: np.ndarray | None = field(default=None, repr=False)
+    knows: np.ndarray | None = field(default=None, repr=False)
+    aware_since: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> dict:
         """A JSON-ready dictionary of the outcome (no per-step arrays).

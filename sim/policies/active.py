@@ -31,6 +31,7 @@ from epistemica.aif.prior import shared_rank, team_log_prior
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.anticipation import anticipated_prior
 from epistemica.sim.policies.baselines import Convention
+from epistemica.sim.policies.common_view import CommonView
 from epistemica.sim.policies.configuration_sets import ConfigurationSets, nested_sets
 from epistemica.sim.policies.explore import Explorer
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -119,15 +120,7 @@ class ActiveInference(Policy):
             if p.teammate_models and p.free_energy and self.order >= 2
             else None
         )
-        # The common-view switch of each robot (True: teammates out of sight), the steps
-        # its sight has disagreed with it, and the step it was last advanced.
-        n = scenario.n_robots
-        self._blind = np.zeros(n, dtype=bool)
-        self._unsteady = np.zeros(n, dtype=int)
-        self._sight_step = np.full(n, -1)
-        # Each robot's estimate of the team's poses at the last step it saw the whole
-        # team in sight of each other (``remember_sight``).
-        self._team_sight: dict[int, np.ndarray] = {}
+        self.common_view = CommonView(scenario, p, self.order)
 
     # -- controllers and priors ----------------------------------------------------------
 
@@ -151,63 +144,6 @@ class ActiveInference(Policy):
         return Controller(
             s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
         )
-
-    def _follow_sight(self, observations: Observations, robots) -> None:
-        """Advance each robot's common-view switch by this step's sight (once per step).
-
-        A robot's switch follows whether it sees every teammate, but only after the
-        change has lasted ``sight_hysteresis`` steps (``ActiveParameters``).
-        """
-        step, k = observations.step, self.parameters.sight_hysteresis
-        for robot in robots:
-            if self._sight_step[robot] == step:
-                continue
-            blind = not observations.seen[robot].all()
-            if self._sight_step[robot] < 0 or blind == self._blind[robot]:
-                self._blind[robot], self._unsteady[robot] = blind, 0
-            else:
-                self._unsteady[robot] += 1
-                if self._unsteady[robot] >= k:
-                    self._blind[robot], self._unsteady[robot] = blind, 0
-            self._sight_step[robot] = step
-        p = self.parameters
-        if p.remember_sight and p.common_view and self.order >= 2:  # only _views reads it
-            self._remember_sight(observations, [r for r in robots if observations.seen[r].all()])
-
-    def _remember_sight(self, observations: Observations, seeing: list) -> None:
-        """Keep the estimates of each robot of ``seeing`` (it sees every teammate) whose
-        estimates put every pair of robots within the sensing range: the whole team in
-        sight of each other."""
-        reach = self.scenario.sensing_range
-        if not seeing or reach is None:
-            return
-        x = observations.poses[seeing][..., :2]  # (R, n, 2)
-        gaps = x[:, :, None] - x[:, None]  # (R, n, n, 2)
-        together = (np.hypot(gaps[..., 0], gaps[..., 1]) <= reach).all(axis=(1, 2))
-        for robot, whole in zip(seeing, together, strict=True):
-            if whole:
-                self._team_sight[robot] = observations.poses[robot].copy()
-
-    def _private(self, robot: int) -> bool:
-        """Whether the robot may use what it privately reads of its teammates: not while
-        the team coordinates on the common view (some teammate out of its sight)."""
-        return not (self.parameters.common_view and self._blind[robot])
-
-    def _views(self, observations: Observations, robots) -> np.ndarray:
-        """``(R, n, 3)`` the poses each robot's team prior is computed from."""
-        views = observations.poses[list(robots)]
-        if self.order < 2 or not self.parameters.common_view:
-            return views
-        blind = self._blind[list(robots)]
-        if blind.any():
-            views = views.copy()
-            for j in np.flatnonzero(blind):
-                remembered = self._team_sight.get(int(robots[j]))
-                if remembered is None:
-                    views[j, :, :2] = self.scenario.workspace / 2
-                else:
-                    views[j] = remembered
-        return views
 
     def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:
         """Each robot's prior from its own view ``views[j]`` (``None``: uniform)."""
@@ -241,7 +177,7 @@ class ActiveInference(Policy):
         # Robots that share a controller (same goals, set and limits) decide in one team
         # call, which returns what their separate decide calls would, bit for bit.
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
-        self._follow_sight(observations, robots)
+        self.common_view.follow(observations, robots)
         self._explorer.visit(observations.poses[robots, robots], robots)
         searching = (
             self._search.searchers(observations, robots)
@@ -266,9 +202,9 @@ class ActiveInference(Policy):
             groups.setdefault(id(ctrl), (ctrl, choice.goals, []))[2].append((row, robot))
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
-            priors = self._priors(ctrl, self._views(observations, team), team)
+            priors = self._priors(ctrl, self.common_view.views(observations, team), team)
             if self._teammates is not None:
-                private = [self._private(robot) for robot in team]
+                private = [self.common_view.private(robot) for robot in team]
                 priors = self._teammates.mix(
                     team, observations, goals, ctrl.configurations, priors, private
                 )
@@ -348,12 +284,12 @@ class ActiveInference(Policy):
         )
         keep = sets.union
         ctrl = self._controller(robot, choice.goals, lambda: rows[keep], shared=False)
-        base = self._priors(ctrl, self._views(observations, (robot,)), (robot,))[0]
+        base = self._priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]
         base = np.full(int(keep.sum()), 1.0) if base is None else base
         if self._teammates is not None:  # every perspective starts from the type mixture
             base = self._teammates.mix(
                 [robot], observations, choice.goals, ctrl.configurations, [base],
-                [self._private(robot)],
+                [self.common_view.private(robot)],
             )[0]  # fmt: skip
 
         def restricted(mask: np.ndarray) -> np.ndarray:
@@ -364,7 +300,7 @@ class ActiveInference(Policy):
         own = restricted(sets.own)
         unaware = self._unaware(sets)
         if unaware:
-            view = self._views(observations, (robot,))[0]
+            view = self.common_view.views(observations, (robot,))[0]
 
             def redecide(teammate: int, goal: int) -> np.ndarray:
                 moved = view.copy()

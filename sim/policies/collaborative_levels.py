@@ -51,20 +51,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
-from typing import NamedTuple
 
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.engine.joint import JointView as View
 from epistemica.sim.policies.collaborative_sweep import meeting_point
 from epistemica.sim.policies.collaborative_teammates import TeammateModel
+from epistemica.sim.policies.policy import Decisions, Policy
 
 __all__ = [
     "COLLABORATIVE_LEVELS",
     "CollaborativeParameters",
     "CollaborativePolicy",
-    "View",
+    "toward",
 ]
 
 #: Level name -> (style, what every robot learns at once: "" nothing, "events" every
@@ -187,6 +187,30 @@ class CollaborativeParameters:
         (0: it reached its sweep after half the workspace's side). Prediction error of
         unseen teammates, median on tuning seeds 1000-1039 at 3 / 5 / 8 robots: 12.1 /
         13.9 / 17.5 m with neither, 8.2 / 10.2 / 12.4 m with both.
+
+    The geometry of sight and sweeps (set once, before any tuning; not tuned since):
+
+    off_sweep : float
+        ``third``: a teammate last seen farther than this many sensing ranges from its
+        sweep is off it (at a task): where it resumed is unknown (``sweep_memory``).
+    sight_fraction : float
+        Sensing ranges within which a robot counts on being seen: where a fetcher meets a
+        teammate on its sweep (``meet_ahead``) and whom ``wait_horizon`` waits for.
+    horizon_step : int
+        ``wait_horizon``: steps between the predicted places it checks (at least 1).
+    lost_range : float
+        ``meet_ahead``: a fetcher this many sensing ranges from where it predicts the
+        teammate, without seeing it, gives up on it (it left its sweep).
+    waypoint_reach : float
+        Metres within which a robot has reached the next waypoint of its sweep.
+    rejoin_gap : float
+        ``resume``: metres within which a teammate seen is back on its sweep.
+    still_fraction : float
+        ``resume``: a teammate seen to move less than this fraction of its top speed in a
+        step is standing, and shows no waypoint it makes for.
+    heading_slack : float
+        ``resume``: waypoints whose direction is within this cosine of the teammate's
+        motion are the one it makes for (the same point on later laps of the sweep).
     """
 
     lane_factor: float = 2.0
@@ -212,6 +236,14 @@ class CollaborativeParameters:
     watch_range: float = 3.0
     join_busy: bool = True
     soonest: bool = True
+    off_sweep: float = 0.5
+    sight_fraction: float = 0.8
+    horizon_step: int = 5
+    lost_range: float = 0.5
+    waypoint_reach: float = 1.0
+    rejoin_gap: float = 1.0
+    still_fraction: float = 0.3
+    heading_slack: float = 0.01
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -223,6 +255,8 @@ class CollaborativeParameters:
                 )
         if self.lane_factor <= 0:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
+        if self.horizon_step < 1:
+            raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}
@@ -234,32 +268,29 @@ class CollaborativeParameters:
         return replace(self, **changes)
 
 
-class View(NamedTuple):
-    """What the robots have at one step (each reads only its own rows)."""
-
-    step: int
-    poses: np.ndarray  # (n, 3) true poses (robot i reads row i only)
-    estimates: np.ndarray  # (n, n, 2) where robot i last saw robot j
-    last_seen: np.ndarray  # (n, n) step robot i last saw robot j (-1 never)
-    knowledge: TeamKnowledge
-    aware: np.ndarray  # (n, n, m) robot i knows that robot j knows of task t (j == i: it does)
-    since: np.ndarray  # (n, n, m) the first step aware[i, j, t] held (-1: not yet)
-    open_seen: np.ndarray  # (n, m) the last step robot i saw task t not done (-1: never)
-
-
-class CollaborativePolicy:
-    """One level of :data:`COLLABORATIVE_LEVELS` for the whole team (each robot decides
-    from its own view)."""
+class CollaborativePolicy(Policy):
+    """One level of :data:`COLLABORATIVE_LEVELS` (each robot decides from its own rows of
+    the joint run's view, :class:`~epistemica.sim.engine.joint.JointView`)."""
 
     def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
         self.name = name
         self.style, self.shares = COLLABORATIVE_LEVELS[name]
         self.parameters = parameters
 
-    def start(self, scenario) -> None:
+    def start(self, scenario, robots=None, generators=None) -> None:
+        """Called once per trial (``robots`` default: the whole team, which it drives)."""
+        robots = range(scenario.n_robots) if robots is None else robots
+        generators = [None] * len(robots) if generators is None else generators
+        super().start(scenario, robots, generators)
         s, n, m, p = scenario, scenario.n_robots, scenario.n_tasks, self.parameters
         self.s = s
-        self.teammates = TeammateModel(s, p.lane_factor, p.particles, p.resume)
+        self.teammates = TeammateModel(
+            s,
+            p.lane_factor,
+            p.particles,
+            p.resume,
+            (p.rejoin_gap, p.still_fraction, p.heading_slack),
+        )
         self.routes = self.teammates.routes
         self.pointer = np.zeros(n, dtype=int)
         self.waiting_since = np.full(n, -1)
@@ -298,7 +329,8 @@ class CollaborativePolicy:
         if (view.aware[i, j] & open_tasks).any():
             return False
         seen = view.last_seen[i, j]
-        if seen >= 0 and self.routes[j].gap(view.estimates[i, j]) > 0.5 * self.s.sensing_range:
+        off = self.parameters.off_sweep * self.s.sensing_range
+        if seen >= 0 and self.routes[j].gap(view.estimates[i, j]) > off:
             return False  # last seen off its sweep (at a task): where it resumed is unknown
         tasks = self.s.tasks[open_tasks]
         if tasks.size == 0:
@@ -319,7 +351,7 @@ class CollaborativePolicy:
             self.routes[j],
             self.arc(view, i, j),
             float(self.s.max_speed[j]),
-            0.8 * self.s.sensing_range,
+            self.parameters.sight_fraction * self.s.sensing_range,
             self.parameters.intercept_limit,
         )
 
@@ -334,7 +366,21 @@ class CollaborativePolicy:
 
     # -- decisions --------------------------------------------------------------------------
 
-    def decide(self, view: View) -> tuple[np.ndarray, np.ndarray]:
+    def decide(self, observations: View, robots: np.ndarray) -> Decisions:
+        """The controls of ``robots`` towards their targets (:meth:`plan`), and the task
+        each heads to (``Decisions.steer_to``)."""
+        targets, steer_to = self.plan(observations)
+        s, n = self.s, self.s.n_robots
+        controls = toward(observations.poses, targets, s.max_speed, s.max_turn, s.dt)[robots]
+        return Decisions(
+            controls,
+            np.full((len(robots), n), -1),
+            np.full(len(robots), np.nan),
+            np.zeros(len(robots), dtype=int),
+            steer_to=steer_to[robots],
+        )
+
+    def plan(self, view: View) -> tuple[np.ndarray, np.ndarray]:
         """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
         heads to (-1 exploring, -2 fetching a teammate)."""
         n, k = self.s.n_robots, view.knowledge
@@ -539,8 +585,8 @@ class CollaborativePolicy:
         j = int(candidates[np.argmin(gap)])
         if not recent[j]:  # a task it does not know of may have drawn j away: go and see
             return j
-        horizon, sight = self.parameters.wait_horizon, 0.8 * self.s.sensing_range
-        for ahead in range(0, horizon + 1, 5):
+        horizon, sight = p.wait_horizon, p.sight_fraction * self.s.sensing_range
+        for ahead in range(0, horizon + 1, p.horizon_step):
             if np.hypot(*(self.predicted(view, i, j, ahead) - self.s.tasks[t])) <= sight:
                 return WAIT  # its sweep brings it by: wait at the task
         return j
@@ -578,13 +624,35 @@ class CollaborativePolicy:
             if step - self.fetch_since[i] >= p.intercept_limit:
                 self.gave_up[i, t, j] = True
             if p.meet_ahead:
-                if np.hypot(*(now - here)) <= 0.5 * s.sensing_range:
+                if np.hypot(*(now - here)) <= p.lost_range * s.sensing_range:
                     self.gave_up[i, t, j] = True  # not where its sweep puts it: it left it
                 met = self.meet(view, i, j)
                 if met is not None:
                     return met[1], FETCHING
             return now, FETCHING
         route = self.routes[i]
-        while np.hypot(*(route.points[self.pointer[i]] - here)) < 1.0:
+        while np.hypot(*(route.points[self.pointer[i]] - here)) < self.parameters.waypoint_reach:
             self.pointer[i] = (self.pointer[i] + 1) % len(route.points)
         return route.points[self.pointer[i]], EXPLORING
+
+
+def toward(poses: np.ndarray, targets: np.ndarray, max_speed, max_turn, dt: float) -> np.ndarray:
+    """Controls ``(n, 2)`` that turn each robot towards its target (within ``max_turn``)
+    and move it at most ``max_speed``, never past the target.
+
+    As :func:`~epistemica.sim.policies.policy.steer`, with the heading change wrapped to
+    ``[-pi, pi)`` rather than ``(-pi, pi]``: the collaborative levels were tuned, and
+    their trials recorded, with this one.
+
+    Examples
+    --------
+    >>> toward(np.array([[0.0, 0.0, 0.0]]), np.array([[0.0, 0.5]]), 1.0, np.pi, 1.0).round(4)
+    array([[0.5   , 1.5708]])
+    """
+    delta = targets - poses[:, :2]
+    distance = np.hypot(delta[:, 0], delta[:, 1])
+    change = np.arctan2(delta[:, 1], delta[:, 0]) - poses[:, 2]
+    change = (change + np.pi) % (2 * np.pi) - np.pi
+    change = np.where(distance > 0, np.clip(change, -max_turn, max_turn), 0.0)
+    speed = np.minimum(max_speed, distance / dt)
+    return np.column_stack([speed, change])

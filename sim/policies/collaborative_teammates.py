@@ -58,11 +58,24 @@ class TeammateModel:
     resume : bool
         Whether a teammate seen off its sweep and moving is taken to make for the waypoint
         its motion points at (else it is projected onto the nearest point of its sweep).
+    motion : (float, float, float)
+        ``rejoin_gap``, ``still_fraction``, ``heading_slack`` of
+        :class:`~epistemica.sim.policies.collaborative_levels.CollaborativeParameters`.
     """
 
-    def __init__(self, scenario, lane_factor: float, particles: int, resume: bool) -> None:
+    def __init__(
+        self,
+        scenario,
+        lane_factor: float,
+        particles: int,
+        resume: bool,
+        motion: tuple[float, float, float] = (1.0, 0.3, 0.01),
+    ) -> None:
         s, n = scenario, scenario.n_robots
         self.s, self.resume_on = s, resume
+        # what a teammate seen shows of its way back to its sweep (CollaborativeParameters:
+        # rejoin_gap, still_fraction, heading_slack)
+        self.rejoin_gap, self.still_fraction, self.heading_slack = motion
         self.routes = [Route(sweep(s, j, lane_factor)) for j in range(n)]
         self.resume = np.full((n, n), -1)  # waypoint i saw j make for, off its sweep
         self.prev_estimates = np.zeros((n, n, 2))
@@ -106,17 +119,17 @@ class TeammateModel:
     def _note_resume(self, step: int, i: int, j: int, here: np.ndarray) -> None:
         """The waypoint robot ``i`` sees teammate ``j`` make for (off its sweep, moving)."""
         route = self.routes[j]
-        if route.gap(here) <= 1.0:
+        if route.gap(here) <= self.rejoin_gap:
             self.resume[i, j] = -1
             return
         if self.prev_seen[i, j] != step - 1:
             return
         motion = here - self.prev_estimates[i, j]
-        if np.hypot(*motion) < 0.3 * self.s.max_speed[j]:
+        if np.hypot(*motion) < self.still_fraction * self.s.max_speed[j]:
             return  # standing (at a task): where it goes next is not shown
         to = route.points - here
         cos = (to @ motion) / np.maximum(np.hypot(*to.T) * np.hypot(*motion), 1e-9)
-        ahead = np.flatnonzero(cos >= cos.max() - 0.01)  # the same point on later laps
+        ahead = np.flatnonzero(cos >= cos.max() - self.heading_slack)  # later laps too
         expected = self._nominal(step, j)
         self.resume[i, j] = int(ahead[np.argmin(np.abs(route.cumulative[ahead] - expected))])
 

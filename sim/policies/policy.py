@@ -62,6 +62,9 @@ class Decisions(NamedTuple):
         ``(r, n, T)``: each deciding robot's posterior over the behaviour library
         :data:`epistemica.aif.teammates.TYPES` of every robot (its own row unused);
         ``None``: no teammate models.
+    steer_to : numpy.ndarray or None
+        ``(r,)`` joint missions: the task each robot heads to (-1 exploring, -2 fetching a
+        teammate, -3 waiting for helpers); ``None`` elsewhere.
     """
 
     controls: np.ndarray
@@ -72,6 +75,7 @@ class Decisions(NamedTuple):
     unpruned: np.ndarray | None = None
     modelled: np.ndarray | None = None
     teammate_types: np.ndarray | None = None
+    steer_to: np.ndarray | None = None
 
     @classmethod
     def of(cls, controls, focal, entropy=None, considered=None) -> Decisions:

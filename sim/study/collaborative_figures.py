@@ -1,5 +1,5 @@
 """An animation of a collaborative trial (:mod:`epistemica.sim.kinds.collaborative`) from its
-trace (:mod:`epistemica.sim.study.collaborative_trace`): what each robot knows, and what one
+trace (:func:`epistemica.sim.study.trace.trial_trace`): what each robot knows, and what one
 robot knows its teammates know.
 
 The map shows the tasks (black stars labelled with how many robots each needs, crossed
@@ -13,10 +13,11 @@ not know) knows each teammate knows, both read from the trace's ``knows`` and
 Examples
 --------
 >>> import os, tempfile
->>> from epistemica.sim.kinds.collaborative import CollaborativeScenario, simulate_collaborative
->>> from epistemica.sim.study.collaborative_trace import collaborative_trace
+>>> from epistemica.sim import simulate
+>>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+>>> from epistemica.sim.study.trace import trial_trace
 >>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1).replace(max_steps=8)
->>> trace = collaborative_trace(s, simulate_collaborative(s, "third", seed=1))
+>>> trace = trial_trace(s, simulate(s, "third", seed=1))
 >>> animate_collaborative(trace, os.path.join(tempfile.mkdtemp(), "t.gif"))
 9
 """

@@ -209,11 +209,7 @@ def _default_goals(mission: str, n: int) -> int:
 def run_trial(spec: TrialSpec, traces: bool = True) -> dict:
     """Run one trial and return its result row (see :data:`epistemica.sim.study.store.COLUMNS`),
     with its per-step trace (:mod:`epistemica.sim.study.trace`, compressed) unless ``traces`` is
-    False. A world with an ``outcome(reasoning, seed, traces)`` method runs its own kind
-    of trial and returns the outcome columns."""
-    own = getattr(spec.world, "outcome", None)
-    if own is not None:  # a world with trials of its own kind (a collaborative mission)
-        return spec_columns(spec) | own(spec.reasoning, spec.seed, traces)
+    False. A joint mission's trials keep no configuration sets (``unpruned`` is None)."""
     started = time.perf_counter()
     scenario = spec.scenario()
     trial = spec.simulate(scenario)
@@ -225,9 +221,15 @@ def run_trial(spec: TrialSpec, traces: bool = True) -> dict:
         "wall_time": elapsed,
         "decision_ms": float(np.mean(trial.decision_time) * 1e3) if trial.steps else 0.0,
         "considered": float(np.mean(trial.considered)) if trial.steps else 0.0,
-        "unpruned": float(np.mean(trial.unpruned)) if trial.steps else 0.0,
+        "unpruned": _mean(trial.unpruned, trial.steps),
         "trace": encode(trial_trace(scenario, trial)) if traces else None,
     }
+
+
+def _mean(values: np.ndarray | None, steps: int) -> float | None:
+    if values is None:
+        return None
+    return float(np.mean(values)) if steps else 0.0
 
 
 def spec_columns(spec: TrialSpec) -> dict:

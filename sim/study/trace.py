@@ -32,6 +32,14 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
                     behaviour when it decided (2 decimals; ``null`` where it kept none)
 ==================  ==========================================================================
 
+A trial of a joint (collaborative) mission carries ``kind: "collaborative"`` and, in place
+of beliefs and configuration sets, its task ledger: ``needs`` (robots per task),
+``tasks_done`` (``m``: the step each task was done, -1 never), ``steer_to`` (``(T, n)``: the
+task each robot headed to, -1 exploring, -2 fetching a teammate, -3 waiting), ``knows``
+(``(T, n, m)``: the tasks each robot knew of) and ``aware_since`` (``(n, n, m)``: the first
+step robot ``i`` knew that robot ``j`` knows of task ``t``); its events name their
+arguments as the rule bound them.
+
 Examples
 --------
 >>> from epistemica.sim import Scenario, simulate
@@ -55,6 +63,7 @@ from epistemica.aif.teammates import TYPES
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
 
 __all__ = ["FORMAT", "READABLE", "VERSION", "decode", "encode", "trial_trace"]
 
@@ -69,8 +78,10 @@ def _rounded(array: np.ndarray, decimals: int) -> list:
     return np.where(np.isfinite(out), out, np.nan).tolist()
 
 
-def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
+def trial_trace(scenario: Scenario | CollaborativeScenario, trial: Trial) -> dict[str, Any]:
     """The trace document of ``trial`` (a trial of ``scenario``)."""
+    if scenario.kind.joint:
+        return _joint_trace(scenario, trial)
     named = _argument_namer(scenario)
     events = [
         [int(e[0]), str(e[1]), named(e[1], e[2:-1]), [int(o) for o in e[-1]]] for e in trial.events
@@ -98,6 +109,37 @@ def trial_trace(scenario: Scenario, trial: Trial) -> dict[str, Any]:
         "estimates": _rounded(trial.estimates, 1),
         "events": events,
         **_teammate_types(trial),
+    }
+
+
+def _joint_trace(s: CollaborativeScenario, trial: Trial) -> dict[str, Any]:
+    """The trace of a joint trial: the shared fields and the task ledger."""
+    events = [
+        [int(step), str(name), [str(a) for a in args], [int(o) for o in observers]]
+        for step, name, args, observers in trial.events
+    ]
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "kind": s.kind.trace_kind,
+        "robots": list(s.robot_names),
+        "goals": list(s.task_names),
+        "goal_positions": np.round(s.tasks, 2).tolist(),
+        "needs": [int(k) for k in s.needs],
+        "workspace": float(s.workspace),
+        "sensing_range": float(s.sensing_range),
+        "success_radius": float(s.completion_radius),
+        "sensors": list(s.sensors),
+        "policies": list(trial.policies),
+        "seed": int(trial.seed),
+        "success": bool(trial.success),
+        "steps": int(trial.steps),
+        "poses": np.round(trial.trajectory, 2).tolist(),
+        "tasks_done": [int(d) for d in trial.tasks_done],
+        "steer_to": np.asarray(trial.steer_to, dtype=int).tolist(),
+        "knows": np.asarray(trial.knows, dtype=int).tolist(),
+        "aware_since": np.asarray(trial.aware_since, dtype=int).tolist(),
+        "events": events,
     }
 
 

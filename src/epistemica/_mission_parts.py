@@ -175,7 +175,7 @@ def _check_needs(comp: Any) -> None:
             "a collaborative mission has no claims yet: its robots' knowledge is about "
             "tasks found, not about goal configurations",
             comp.kind_token,
-            "remove the 'check' lines; inspect CollaborativeTrial.knowledge instead",
+            "remove the 'check' lines; inspect Trial.knowledge instead",
         )
     for task in comp.goals.values():
         if task.needs is None:

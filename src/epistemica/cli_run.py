@@ -22,9 +22,7 @@ from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
 from epistemica.sim.engine.simulate import simulate
-from epistemica.sim.kinds.collaborative import simulate_collaborative
 from epistemica.sim.study.collaborative_figures import animate_collaborative
-from epistemica.sim.study.collaborative_trace import collaborative_trace
 from epistemica.sim.study.figures import animate_trace
 from epistemica.sim.study.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.study.trace import trial_trace
@@ -146,8 +144,8 @@ def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[s
 
 def _animate_collaborative(mission, level: str, seed: int, path: Path) -> None:
     scenario = mission.scenario(seed)
-    trial = simulate_collaborative(scenario, level, seed, mission.parameters)
-    animate_collaborative(collaborative_trace(scenario, trial), path, mission=mission.name)
+    trial = simulate(scenario, level, seed=seed, parameters=mission.parameters)
+    animate_collaborative(trial_trace(scenario, trial), path, mission=mission.name)
 
 
 def _animate(mission, level: str, seed: int, path: Path) -> None:

@@ -70,7 +70,6 @@ from epistemica.sim.engine.worlds import (
     fact_mask,
 )
 from epistemica.sim.kinds.base import MissionKind
-from epistemica.sim.kinds.collaborative import simulate_collaborative
 from epistemica.sim.policies.parameters import ActiveParameters
 
 __all__ = [
@@ -330,8 +329,6 @@ class Mission:
         short = scenario.replace(max_steps=max(min(int(steps), scenario.max_steps), 1))
         if steps == 0:
             short = short.replace(max_steps=1)
-        if self.kind.joint:
-            return simulate_collaborative(short, level, seed, self.parameters)
         return simulate(
             short, level, seed=seed, policies=self.policies(seed), parameters=self.parameters
         )

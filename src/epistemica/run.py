@@ -30,11 +30,10 @@ from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.policies.levels import make_level
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.study.collaborative_trace import collaborative_columns
 from epistemica.sim.study.store import ResultStore
 from epistemica.sim.study.sweep import TrialSpec, check_trials, run_sweep
 
-__all__ = ["CollaborativeWorld", "MissionWorld", "mission_trials", "run_study", "team_trials"]
+__all__ = ["MissionWorld", "mission_trials", "run_study", "team_trials"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -90,19 +89,6 @@ class MissionWorld:
         return self.compiled.policies(seed)
 
 
-@dataclass(frozen=True)
-class CollaborativeWorld(MissionWorld):
-    """A collaborative mission file (``mission collaborative``) as a world: its trials run
-    in their own loop (:func:`~epistemica.sim.kinds.collaborative.simulate_collaborative`) and are
-    stored like any other (:mod:`epistemica.sim.study.collaborative_trace`)."""
-
-    def outcome(self, reasoning: str, seed: int, traces: bool = True) -> dict:
-        """The outcome columns of the trial's results row."""
-        return collaborative_columns(
-            self.compiled.scenario(seed), reasoning, seed, self.parameters, traces
-        )
-
-
 def mission_trials(
     mission: Mission,
     levels: Sequence[str] | None = None,
@@ -117,9 +103,7 @@ def mission_trials(
         make_level(mission.kind, level)
     first = mission.study.seed if seed is None else seed
     check_trials(trials, first)
-    # a joint mission's trials run in their own loop
-    world_type = CollaborativeWorld if mission.kind.joint else MissionWorld
-    world = world_type(mission.source, mission.filename, mission.team)
+    world = MissionWorld(mission.source, mission.filename, mission.team)
     return [TrialSpec(world, level, first + t) for level in levels for t in range(trials)]
 
 

@@ -391,9 +391,9 @@ def _common_view_switches(k: int, sight: str) -> str:
     for step, mark in enumerate(sight):
         seen = np.array([[True, mark == "+"], [mark == "+", True]])
         observations = SimpleNamespace(step=step, poses=poses, seen=seen)
-        policy._follow_sight(observations, [0, 1])
-        policy._follow_sight(observations, [0, 1])  # a second call in a step changes nothing
-        view = policy._views(observations, [0])[0]
+        policy.common_view.follow(observations, [0, 1])
+        policy.common_view.follow(observations, [0, 1])  # a second call in a step changes nothing
+        view = policy.common_view.views(observations, [0])[0]
         out += "C" if np.allclose(view[:, :2], s.workspace / 2) else "o"
     return out
 
@@ -423,8 +423,8 @@ def _blind_views(starts, sight: str, remember: bool = True) -> list:
     for step, mark in enumerate(sight):
         poses = np.broadcast_to(s.starts + np.array([step, 0.0, 0.0]), (n, n, 3)).copy()
         seen = np.full((n, n), mark == "+") | np.eye(n, dtype=bool)
-        policy._follow_sight(SimpleNamespace(step=step, poses=poses, seen=seen), range(n))
-        view = policy._views(SimpleNamespace(poses=poses), [0])[0]
+        policy.common_view.follow(SimpleNamespace(step=step, poses=poses, seen=seen), range(n))
+        view = policy.common_view.views(SimpleNamespace(poses=poses), [0])[0]
         if np.allclose(view, poses[0]):
             out.append("o")
         elif np.allclose(view[:, :2], s.workspace / 2):
