@@ -8,7 +8,7 @@ on another checkout: ``EPISTEMICA_SOURCE=/path/to/checkout pytest tests/test_imp
 - The graph of imports between project modules (``if TYPE_CHECKING:`` blocks left out, as
   they never run) has no cycle. Importing ``a.b.c`` first runs ``a/__init__.py`` and
   ``a/b/__init__.py``, so those edges are in the graph too. The command-line dispatcher's
-  table of command modules (``COMMANDS`` in ``cli.py``, loaded by name so that start-up
+  table of command modules (``COMMANDS`` in ``cli/__init__.py``, loaded by name so that start-up
   stays short) counts as imports.
 - Layers import only the layers before them: ``del_ <- aif <- sim <- root``.
 - No ``import`` of a project module sits inside a function: a deferred import hides an

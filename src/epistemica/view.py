@@ -20,7 +20,6 @@ import sqlite3
 from pathlib import Path
 from typing import Any
 
-from epistemica.cli_exit import EXIT_OK
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.html_view import check_writable, page, write_page
 from epistemica.input_files import file_kind, read_input
@@ -102,7 +101,7 @@ def run_view(args: argparse.Namespace) -> int:
     html = trial_page(*read_trace(args.file, args.trial, args.level))
     write_page(out, html)
     print(f"wrote {out} ({len(html.encode()) / 1024:.0f} kB): open it in a browser")
-    return EXIT_OK
+    return 0  # EXIT_OK; not imported, as epistemica.cli dispatches to this module
 
 
 def trial_page(trace: dict[str, Any], mission: str = "") -> str:

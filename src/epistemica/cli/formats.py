@@ -3,7 +3,7 @@
 Helper of :mod:`epistemica.cli` (imported when the parser is built, so it imports nothing
 heavy). ``check``, ``plan`` and ``show`` accept, besides a ``.epi`` spec, an EPDDL task
 (``DOMAIN.epddl PROBLEM.epddl [-l LIBRARY.epddl ...]``) and an SMCDEL file (``.smcdel``),
-read by :mod:`epistemica.cli_inputs`; ``export`` (:mod:`epistemica.cli_export`) writes a
+read by :mod:`epistemica.cli.inputs`; ``export`` (:mod:`epistemica.cli.export`) writes a
 spec as EPDDL or in SMCDEL's text format.
 """
 

@@ -1,7 +1,7 @@
 """``epistemica export``: a spec written as EPDDL or in SMCDEL's text format.
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs (arguments in
-:mod:`epistemica.cli_formats`).
+:mod:`epistemica.cli.formats`).
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from epistemica.cli_exit import EXIT_OK
+from epistemica.cli.exit import EXIT_OK
 from epistemica.del_.formats.epddl_export import to_epddl
 from epistemica.del_.formats.smcdel import to_smcdel
 from epistemica.del_.spec import load_spec

@@ -1,7 +1,7 @@
 """The arguments of the simulator's commands (``run``, the mission options of ``check``,
 ``simulate``, ``sweep``, ``report``): argparse only, so that building the parser (and
 ``epistemica --help``) imports none of numpy, scipy or the simulator. Their handlers are
-in ``cli_run``, ``cli_simulate`` and ``cli_sweep``, loaded by :data:`epistemica.cli.COMMANDS`
+in ``cli.run``, ``cli.simulate`` and ``cli.sweep``, loaded by :data:`epistemica.cli.COMMANDS`
 when a command runs.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from epistemica.cli_options import add_scenario_options
+from epistemica.cli.options import add_scenario_options
 
 __all__ = [
     "add_check_options",

@@ -1,7 +1,7 @@
 """``epistemica plan``: search for a plan reaching the spec's goal, or check one.
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs; ``--implicit`` and
-``--verify`` are in :mod:`epistemica.cli_coordination`. Plan steps are numbered from 1 in
+``--verify`` are in :mod:`epistemica.cli.coordination`. Plan steps are numbered from 1 in
 every output, text and JSON alike. Exit status 0 when a (valid) plan was found, 1 when no
 plan exists or the plan is not valid.
 
@@ -15,11 +15,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
-from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_inputs import is_foreign, load_input, plank_line
-from epistemica.cli_json import print_json
-from epistemica.cli_policy import plan_policy_command, verify_policy_command
+from epistemica.cli.coordination import plan_implicit, print_steps, verify_plan
+from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli.inputs import is_foreign, load_input, plank_line
+from epistemica.cli.json_output import print_json
+from epistemica.cli.policy import plan_policy_command, verify_policy_command
 from epistemica.del_ import KripkeModel, describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.planning.symbolic_search import (

@@ -13,9 +13,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from epistemica.cli_exit import EXIT_INTERRUPTED
-from epistemica.cli_json import print_json
-from epistemica.cli_sweep import store_trials
+from epistemica.cli.exit import EXIT_INTERRUPTED
+from epistemica.cli.json_output import print_json
+from epistemica.cli.sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.html_view import write_page

@@ -9,8 +9,8 @@ from __future__ import annotations
 import argparse
 import os
 
-from epistemica.cli_json import print_json
-from epistemica.cli_options import scenario_options
+from epistemica.cli.json_output import print_json
+from epistemica.cli.options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.figures import animate_trial, plot_trial

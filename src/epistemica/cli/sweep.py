@@ -16,8 +16,8 @@ import sys
 import time
 from dataclasses import dataclass
 
-from epistemica.cli_exit import EXIT_INTERRUPTED
-from epistemica.cli_options import scenario_options
+from epistemica.cli.exit import EXIT_INTERRUPTED
+from epistemica.cli.options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.run import team_trials
 from epistemica.sim.report import format_table, plot_results, summarise

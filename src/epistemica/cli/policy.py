@@ -1,6 +1,6 @@
 """``epistemica plan --implicit --policy``: implicitly coordinated policies.
 
-Helper of :mod:`epistemica.cli_plan`. ``--policy`` searches for a policy that branches on
+Helper of :mod:`epistemica.cli.plan`. ``--policy`` searches for a policy that branches on
 what the acting agent observes (:func:`epistemica.del_.planning.policy.plan_policy`) and
 prints it as a tree, one decision a line, children indented under the decision they
 follow::
@@ -21,9 +21,9 @@ import json
 from pathlib import Path
 from typing import Any
 
-from epistemica.cli_coordination import owners_of, split_plan
-from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_json import print_json
+from epistemica.cli.coordination import owners_of, split_plan
+from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli.json_output import print_json
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from epistemica.cli_json import print_json
+from epistemica.cli.json_output import print_json
 from epistemica.del_ import describe_model, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.planning.coordination import (
