@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.output_files import write_output
 
 __all__ = ["check_writable", "model_page", "page", "write_page"]
 
@@ -82,14 +83,10 @@ def model_page(
 
 
 def write_page(path, text: str) -> None:
-    """Write a page's text to ``path``; a clear error (not a traceback) when its folder is
-    missing or not writable."""
-    try:
-        Path(path).write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InvalidArgumentError(
-            f"cannot write {path}: {exc.strerror}", hint="choose a path in an existing folder"
-        ) from None
+    """Write a page's text to ``path`` (through a temporary file renamed over it, see
+    :mod:`epistemica.output_files`); a clear error (not a traceback) when its folder is not
+    writable."""
+    write_output(path, text)
 
 
 def check_writable(path) -> None:

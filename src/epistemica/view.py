@@ -21,9 +21,10 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.html_view import check_writable, page, write_page
+from epistemica.html_view import page, write_page
 from epistemica.input_files import file_kind, read_input
 from epistemica.mission import parse_mission
+from epistemica.output_files import check_output
 from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
 from epistemica.sim.simulate import simulate
 from epistemica.sim.trace import FORMAT, decode, trial_trace
@@ -97,7 +98,7 @@ def _stored_trace(path: str, seed: int | None, level: str | None) -> tuple[dict,
 def run_view(args: argparse.Namespace) -> int:
     """Run ``epistemica view``; return the exit status."""
     out = Path(args.out) if args.out else Path(Path(args.file).stem + ".html")
-    check_writable(out)
+    check_output(out, [args.file], args.force, "-o")
     html = trial_page(*read_trace(args.file, args.trial, args.level))
     write_page(out, html)
     print(f"wrote {out} ({len(html.encode()) / 1024:.0f} kB): open it in a browser")

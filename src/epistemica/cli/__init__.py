@@ -319,6 +319,9 @@ def _add_show(commands) -> None:
         help="write a self-contained page: worlds, relations, claims, a formula box",
     )
     show.add_argument(
+        "--force", action="store_true", help="replace an existing --dot or --html file"
+    )
+    show.add_argument(
         "--limit",
         type=_positive,
         metavar="N",

@@ -53,3 +53,4 @@ def add_export_command(commands) -> None:
     export.add_argument(
         "-o", "--output", default=".", metavar="DIR", help="directory to write to (default .)"
     )
+    export.add_argument("--force", action="store_true", help="replace existing files")

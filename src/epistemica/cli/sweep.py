@@ -15,10 +15,12 @@ import os
 import sys
 import time
 from dataclasses import dataclass
+from functools import partial
 
 from epistemica.cli.exit import EXIT_INTERRUPTED
 from epistemica.cli.options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.output_files import check_output, write_output
 from epistemica.run import team_trials
 from epistemica.sim.report import format_table, plot_results, summarise
 from epistemica.sim.store import ResultStore, read_rows
@@ -93,6 +95,14 @@ def store_trials(specs, out, resume: bool, args: argparse.Namespace) -> Stored |
     (Ctrl-C), after saying how many trials are stored."""
     started = time.perf_counter()
     ids = {s.id for s in specs}
+    folder = os.path.dirname(os.path.abspath(out))
+    try:  # a missing folder is created, rather than called "not a results file"
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise InvalidArgumentError(
+            f"--out {out}: cannot create the folder {folder}: {exc.strerror or exc}",
+            hint="choose a path in a writable folder",
+        ) from None
     with ResultStore(out, resume=resume) as store:
         bar = _progress(len(ids - store.done_ids()))
         try:
@@ -131,12 +141,16 @@ def _progress(total: int):
 
 def run_report(args: argparse.Namespace) -> int:
 
+    asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
+    paths = [(path, fmt) for path, fmt in asked if path]
+    paths = paths or [(os.path.splitext(args.results)[0] + ".png", "png")]
+    if not args.no_png:  # before reading: never over the results file, nor unasked
+        for path, fmt in paths:
+            check_output(path, [args.results], args.force, f"--{fmt}")
     cells = summarise(read_rows(args.results))
     print(format_table(cells, markdown=args.markdown))
     if not args.no_png and cells:
-        asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
-        paths = [(path, fmt) for path, fmt in asked if path]
-        for path, fmt in paths or [(os.path.splitext(args.results)[0] + ".png", "png")]:
-            plot_results(cells, path, fmt=fmt)
+        for path, fmt in paths:
+            write_output(path, partial(plot_results, cells, fmt=fmt))
             print(f"figure: {path}")
     return 0
