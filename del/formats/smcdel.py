@@ -82,7 +82,7 @@ from epistemica.del_.language.modalities import (
     KnowWhether,
 )
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
-from epistemica.del_.spec import Check, Spec
+from epistemica.del_.spec import Check, Spec, read_source
 
 __all__ = [
     "SMCDEL_GRAMMAR",
@@ -119,13 +119,9 @@ def is_smcdel(path: str | Path) -> bool:
 
 
 def load_smcdel(path: str | Path, backend: str = "auto") -> SmcdelFile:
-    """Read and compile an SMCDEL file (see :func:`parse_smcdel`)."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise SpecError(f"cannot read the SMCDEL file: {reason}", filename=str(path)) from None
-    return parse_smcdel(text, str(path), backend)
+    """Read (once, bounded: :func:`read_source`) and compile an SMCDEL file (see
+    :func:`parse_smcdel`)."""
+    return parse_smcdel(read_source(path, "SMCDEL file"), str(path), backend)
 
 
 def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -> SmcdelFile:

@@ -26,6 +26,7 @@ Examples
 from __future__ import annotations
 
 import json
+import math
 import os
 from importlib import resources
 from pathlib import Path
@@ -42,9 +43,26 @@ def _asset(name: str) -> str:
 
 
 def _json(data: Any) -> str:
-    # Inside <script>, "</" would end the element early; "<\\/" is the same JSON string.
-    text = json.dumps(data, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
-    return text.replace("</", "<\\/")
+    """``data`` as JSON that is safe inside a ``<script>`` element and parses in a browser.
+
+    Non-finite numbers become ``null`` (JSON has no NaN or Infinity), by value, so a
+    string holding "NaN" is left alone. Every ``<``, ``>`` and ``&`` is written as its
+    ``\\u`` escape, the same JSON string: the HTML parser then never sees ``</script>``
+    nor ``<!--<script>`` (which would swallow the rest of the page) in the data.
+    """
+    text = json.dumps(_finite(data), separators=(",", ":"), allow_nan=False)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
+def _finite(value: Any) -> Any:
+    """``value`` with every non-finite float (NaN, ±Infinity) replaced by None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item) for item in value]
+    return value
 
 
 def page(title: str, script: str, data: dict[str, Any]) -> str:

@@ -21,8 +21,9 @@ from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.del_.spec import MAX_SOURCE_BYTES, read_source
 from epistemica.html_view import page, write_page
-from epistemica.input_files import file_kind, read_input
+from epistemica.input_files import read_input
 from epistemica.mission import parse_mission
 from epistemica.output_files import check_output
 from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
@@ -34,31 +35,43 @@ __all__ = ["read_trace", "run_view", "trial_page"]
 _FPS = 6
 
 _SQLITE = b"SQLite format 3\x00"
+_ZLIB = b"\x78"  # the first byte of every zlib stream epistemica writes
 
 
 def read_trace(path: str, seed: int | None = None, level: str | None = None) -> tuple[dict, str]:
     """The trace named by ``path`` (and, for results and mission files, ``seed`` and
     ``level``) and a mission name for the title."""
-    try:
-        blob = Path(path).read_bytes()
-    except OSError as exc:
-        raise InvalidArgumentError(f"cannot read {path}: {exc.strerror}", hint="a path") from None
-    if blob.startswith(_SQLITE):
+    # Every branch reads boundedly: the kind is told from the first block, a JSON trace
+    # and a mission file are read as text (size limit, binary check), a compressed trace
+    # up to the size limit and inflated up to its own (sim.trace.decode).
+    head = _read_bytes(path, len(_SQLITE))
+    if head.startswith(_SQLITE):
         return _stored_trace(path, seed, level)
-    if blob.lstrip().startswith(b"{"):
+    if head[:1] == _ZLIB:
+        return decode(_read_bytes(path, MAX_SOURCE_BYTES, whole=True)), ""
+    text = read_source(path, "trace or mission file")
+    if text.lstrip().startswith("{"):
         try:
-            trace = json.loads(blob)
-        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+            trace = json.loads(text)
+        except (ValueError, RecursionError) as exc:  # RecursionError: nested too deeply
             raise InvalidArgumentError(f"{path}: not JSON ({exc})", hint="a trace file") from None
         return trace, ""
+    _, text = read_input(path, "view", ("mission",))
+    return _simulated_trace(parse_mission(text, path), seed, level)
+
+
+def _read_bytes(path: str, limit: int, whole: bool = False) -> bytes:
+    """The first ``limit`` bytes of the file (``whole``: refuse a longer file)."""
     try:
-        kind = file_kind(blob.decode("utf-8"))[0]
-    except UnicodeDecodeError:
-        kind = "binary"
-    if kind in ("mission", "headless"):
-        _, text = read_input(path, "view", ("mission",))
-        return _simulated_trace(parse_mission(text, path), seed, level)
-    return decode(blob), ""
+        with open(path, "rb") as handle:
+            data = handle.read(limit + 1)
+    except OSError as exc:
+        raise InvalidArgumentError(f"cannot read {path}: {exc.strerror}", hint="a path") from None
+    if whole and len(data) > limit:
+        raise InvalidArgumentError(
+            f"{path} is larger than the limit of {limit:,} bytes", hint="a trace file"
+        )
+    return data[:limit]
 
 
 def _simulated_trace(mission, seed: int | None, level: str | None) -> tuple[dict, str]:
@@ -72,6 +85,21 @@ def _simulated_trace(mission, seed: int | None, level: str | None) -> tuple[dict
 
 
 def _stored_trace(path: str, seed: int | None, level: str | None) -> tuple[dict, str]:
+    try:
+        row = _stored_row(path, seed, level)
+    except sqlite3.DatabaseError as exc:
+        raise InvalidArgumentError(
+            f"{path} is not a readable results file ({exc})", hint="a file written by sweep"
+        ) from None
+    if row is None:
+        raise InvalidArgumentError(
+            f"{path} has no stored trace for seed {seed} and level {level}",
+            hint="choose a stored trial with --trial SEED and --level LEVEL",
+        )
+    return decode(row[0]), row[1]
+
+
+def _stored_row(path: str, seed: int | None, level: str | None):
     with sqlite3.connect(f"file:{path}?mode=ro", uri=True) as db:
         columns = {row[1] for row in db.execute("PRAGMA table_info(trials)")}
         if "trace" not in columns:
@@ -86,13 +114,7 @@ def _stored_trace(path: str, seed: int | None, level: str | None) -> tuple[dict,
             query, args = query + " AND seed = ?", [*args, seed]
         if level is not None:
             query, args = query + " AND reasoning = ?", [*args, level]
-        row = db.execute(query + " ORDER BY seed, reasoning LIMIT 1", args).fetchone()
-    if row is None:
-        raise InvalidArgumentError(
-            f"{path} has no stored trace for seed {seed} and level {level}",
-            hint="choose a stored trial with --trial SEED and --level LEVEL",
-        )
-    return decode(row[0]), row[1]
+        return db.execute(query + " ORDER BY seed, reasoning LIMIT 1", args).fetchone()
 
 
 def run_view(args: argparse.Namespace) -> int:

@@ -27,7 +27,7 @@ from epistemica.cli.json_output import print_json
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy
-from epistemica.del_.spec import names_hint
+from epistemica.del_.spec import names_hint, read_source
 
 __all__ = ["plan_policy_command", "verify_policy_command"]
 
@@ -101,9 +101,10 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
     """A policy from a JSON file, or from a plan read as a policy without branches."""
     path = Path(text)
     if text.endswith(".json") or path.is_file():
+        source = read_source(path, "policy file")  # bounded, binary-checked
         try:
-            data = json.loads(path.read_text())
-        except (OSError, ValueError) as error:
+            data = json.loads(source)
+        except ValueError as error:
             raise InvalidArgumentError(
                 f"cannot read the policy {text!r}: {error}",
                 hint="give the JSON written by `epistemica plan SPEC --implicit --policy --json`",
