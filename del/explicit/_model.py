@@ -75,7 +75,13 @@ class ExplicitModel:
                 hint='e.g. ["w1", "w2"]',
             )
         names = tuple(worlds)
-        index = {w: i for i, w in enumerate(names)}
+        try:
+            index = {w: i for i, w in enumerate(names)}
+        except TypeError:  # an unhashable name: a list, a dict
+            raise InvalidArgumentError(
+                "a world name must be a string or a number, not a list or a dict",
+                hint='e.g. ["w1", "w2"]',
+            ) from None
         if len(index) != len(names):
             raise ModelError("world names must be distinct", hint="rename the repeated world")
         declared = None if atoms is None else declared_atoms(atoms)
@@ -530,8 +536,22 @@ def _lookup(index: Mapping[World, int], world: World, where: str) -> int:
 
 
 def _relation(index: Mapping[World, int], pairs: Iterable, where: str) -> Relation:
+    if isinstance(pairs, (str, bytes)) or not isinstance(pairs, Iterable):
+        raise InvalidArgumentError(
+            f"the {where} must be an iterable of (world, world) pairs, not {pairs!r:.60}",
+            hint='e.g. [("w1", "w2"), ("w2", "w2")]',
+        )
     sources, targets = [], []
     for pair in pairs:
+        if (
+            isinstance(pair, (str, bytes))
+            or not isinstance(pair, Iterable)
+            or len(pair := tuple(pair)) != 2
+        ):
+            raise InvalidArgumentError(
+                f"the {where} holds {pair!r:.60}, not a (world, world) pair",
+                hint='e.g. [("w1", "w2"), ("w2", "w2")]',
+            )
         w, v = pair
         sources.append(_lookup(index, w, where))
         targets.append(_lookup(index, v, where))
@@ -544,6 +564,8 @@ def _as_world_list(designated: Any, index: Mapping[World, int]) -> list[int]:
             return [index[designated]]
     except TypeError:
         pass
+    if isinstance(designated, (str, bytes)) or not isinstance(designated, Iterable):
+        return [_lookup(index, designated, "designated")]  # one world, not a known one
     return [_lookup(index, w, "designated") for w in designated]
 
 
