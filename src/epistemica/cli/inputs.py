@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from epistemica.cli.coordination import split_plan
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formats.epddl import EpddlTask, is_epddl, load_epddl
 from epistemica.del_.formats.smcdel import SmcdelFile, is_smcdel, load_smcdel

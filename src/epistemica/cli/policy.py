@@ -21,9 +21,10 @@ import json
 from pathlib import Path
 from typing import Any
 
-from epistemica.cli.coordination import owners_of, split_plan
+from epistemica.cli.coordination import owners_of
 from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
 from epistemica.cli.json_output import print_json
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy

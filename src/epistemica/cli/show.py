@@ -15,9 +15,9 @@ import json
 
 import numpy as np
 
-from epistemica.cli.coordination import split_plan
 from epistemica.cli.exit import EXIT_OK
 from epistemica.cli.inputs import load_input
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_ import KnowledgeStructure, KripkeModel, Spec, describe_model, to_dot
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import names_hint
