@@ -368,7 +368,8 @@ class _Run:
             for pre in action.pre:
                 pres.append((yield model, pre, False, True))
             _require_product(model, action, sum(int(p.sum()) for p in pres))
-            truth = functools.partial(evaluate, model)
+            # a precondition may itself hold [ACT] (a nested announcement): same actions
+            truth = functools.partial(evaluate, model, actions=self.actions)
             product, parent, event = product_with_provenance(model, action, truth)
             cached = model.derived[key] = (action, product, parent, event)
         _, product, parent, event = cached

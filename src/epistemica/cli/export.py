@@ -11,7 +11,7 @@ from pathlib import Path
 
 from epistemica.cli.exit import EXIT_OK
 from epistemica.del_.formats.epddl_export import to_epddl
-from epistemica.del_.formats.smcdel import to_smcdel
+from epistemica.del_.formats.smcdel_export import to_smcdel
 from epistemica.del_.spec import load_spec
 from epistemica.output_files import check_output, write_output
 
