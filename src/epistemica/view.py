@@ -28,7 +28,7 @@ from epistemica.mission import parse_mission
 from epistemica.output_files import check_output
 from epistemica.sim.palette import ROBOT_COLOURS, focus_robot
 from epistemica.sim.simulate import simulate
-from epistemica.sim.trace import FORMAT, decode, trial_trace
+from epistemica.sim.trace import FORMAT, READABLE, decode, trial_trace
 
 __all__ = ["read_trace", "run_view", "trial_page"]
 
@@ -138,14 +138,38 @@ def trial_page(trace: dict[str, Any], mission: str = "") -> str:
             "a collaborative trial's trace has no beliefs or configuration sets to replay",
             hint="read it with epistemica.sim.store.read_trace; the page replays other missions",
         )
-    levels = ", ".join(dict.fromkeys(trace["policies"]))
+    _check_fields(trace)
+    levels = ", ".join(map(str, dict.fromkeys(trace["policies"])))
     outcome = "success" if trace["success"] else "failure"
     head = f"{mission}: " if mission else ""
     title = f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']} ({outcome})"
-    data = {
-        "trace": trace,
-        "colours": list(ROBOT_COLOURS),
-        "focus": focus_robot(trace),
-        "fps": _FPS,
-    }
+    try:
+        focus = focus_robot(trace)
+    except (KeyError, TypeError, ValueError, IndexError) as exc:  # a hand-made trace
+        raise InvalidArgumentError(
+            f"the trace is incomplete ({type(exc).__name__}: {exc})",
+            hint="traces are written by epistemica.sim.trace",
+        ) from None
+    data = {"trace": trace, "colours": list(ROBOT_COLOURS), "focus": focus, "fps": _FPS}
     return page(title, "trial_view.js", data)
+
+
+#: The fields the page's title and focus are read from, with their JSON types.
+_FIELDS = {"robots": list, "goals": list, "policies": list, "poses": list, "seed": int,
+           "success": bool, "steps": int}  # fmt: skip
+
+
+def _check_fields(trace: dict[str, Any]) -> None:
+    """Refuse a trace of another version or without the fields the page reads."""
+    if trace.get("version") not in READABLE:
+        raise InvalidArgumentError(
+            f"trace version {trace.get('version')!r:.20}; this epistemica reads "
+            + ", ".join(map(str, READABLE)),
+            hint="re-run the trial with this version",
+        )
+    for key, kind in _FIELDS.items():
+        if not isinstance(trace.get(key), kind):
+            raise InvalidArgumentError(
+                f"the trace's {key!r} is {trace.get(key)!r:.40}, not a JSON {kind.__name__}",
+                hint="traces are written by epistemica.sim.trace",
+            )
