@@ -97,17 +97,7 @@ def to_smcdel(spec: Spec) -> str:
     law = _law(rows, 0, [number[a] for a in atoms], tuple(range(len(rows))))
     observed = {a: [number[atoms[j]] for j in _observed(model, a, rows)] for a in model.agents}
     numbers = [number[a] for a in atoms]
-    if not all(observed.values()):
-        # SMCDEL's OBS lists at least one atom: who sees nothing sees an atom always true.
-        pad = len(atoms) + 1
-        lines.append(f"-- epistemica constant {pad}: always true, observed by who sees nothing")
-        numbers.append(pad)
-        law = f"({law}) & {pad}"
-        observed = {a: seen or [pad] for a, seen in observed.items()}
-    lines.append("VARS " + ",".join(map(str, numbers)))
-    lines.append("LAW  " + law)
-    obs = [f"{agents[a]}: {','.join(map(str, seen))}" for a, seen in observed.items()]
-    lines.append("OBS  " + "\n     ".join(obs))
+    _structure_lines(lines, numbers, law, observed, agents)
     writer = _FormulaWriter(number, agents, spec.actions)
     points = model.designated_positions
     for check in spec.checks:
@@ -236,6 +226,21 @@ def _chain(f: And | Or) -> list[Formula]:
     return parts
 
 
+def _structure_lines(lines: list, numbers: list, law: str, observed: dict, agents: dict) -> None:
+    """Append VARS, LAW and OBS. SMCDEL's OBS lists at least one atom: who sees nothing
+    sees a constant atom (always true), added to ``numbers``."""
+    if not all(observed.values()):
+        pad = max(numbers, default=0) + 1
+        lines.append(f"-- epistemica constant {pad}: always true, observed by who sees nothing")
+        numbers.append(pad)
+        law = f"({law}) & {pad}"
+        observed = {a: seen or [pad] for a, seen in observed.items()}
+    lines.append("VARS " + ",".join(map(str, numbers)))
+    lines.append("LAW  " + law)
+    obs = [f"{agents[a]}: {','.join(map(str, seen))}" for a, seen in observed.items()]
+    lines.append("OBS  " + "\n     ".join(obs))
+
+
 def _claim_text(spec: Spec, check, writer: _FormulaWriter) -> str:
     """A claim as an SMCDEL formula that is valid where the claim is as expected."""
     try:
@@ -273,16 +278,7 @@ def _structure_text(spec: Spec, s: KnowledgeStructure) -> str:
     lines += [f"-- epistemica atom {number[a]}: {a}" for a in atoms]
     lines += [f"-- epistemica agent {agents[a]}: {a}" for a in s.agents if agents[a] != a]
     law = _cubes_text(s.law, numbered)
-    if not all(observed.values()):
-        pad = max(numbers, default=0) + 1
-        lines.append(f"-- epistemica constant {pad}: always true, observed by who sees nothing")
-        numbers.append(pad)
-        law = f"({law}) & {pad}"
-        observed = {a: seen or [pad] for a, seen in observed.items()}
-    lines.append("VARS " + ",".join(map(str, numbers)))
-    lines.append("LAW  " + law)
-    obs = [f"{agents[a]}: {','.join(map(str, seen))}" for a, seen in observed.items()]
-    lines.append("OBS  " + "\n     ".join(obs))
+    _structure_lines(lines, numbers, law, observed, agents)
     everywhere = not (s.law & ~s.designated_states).satisfiable()
     where = None if everywhere else _cubes_text(s.designated_states & s.law, numbered)
     writer = _FormulaWriter(number, agents, spec.actions)
