@@ -104,7 +104,14 @@ def store_trials(specs, out, resume: bool, args: argparse.Namespace) -> Stored |
             hint="choose a path in a writable folder",
         ) from None
     with ResultStore(out, resume=resume) as store:
-        bar = _progress(len(ids - store.done_ids()))
+        done = store.done_ids()
+        if getattr(args, "resume", False) and done and not done & ids:
+            raise InvalidArgumentError(
+                f"--resume: {out} holds {len(done):,} trials, none of them this study's "
+                "(another mission, grid or seed range)",
+                hint="resume with the command that started the file, or choose another --out",
+            )
+        bar = _progress(len(ids - done))
         try:
             ran, _ = run_sweep(
                 specs,
