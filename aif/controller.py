@@ -66,7 +66,11 @@ from epistemica.aif.search import receding_horizon
 from epistemica.aif.team import decide_team
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["Controller", "Decision", "decide"]
+__all__ = ["MAX_BEAM", "MAX_HORIZON", "Controller", "Decision", "decide"]
+
+#: The deepest look-ahead and widest beam accepted: a search costs about horizon x beam
+#: one-step decisions, so these already cost thousands; horizon=10**6 would not return.
+MAX_HORIZON, MAX_BEAM = 64, 256
 
 # Cells (valid rows x candidates) per chunk of the large passes: about 32 MB of float64.
 _CHUNK_CELLS = 4_000_000
@@ -94,7 +98,8 @@ class Controller:
     gamma : float
         Policy precision.
     horizon, beam : int
-        Look-ahead depth, and surviving branches per first control and depth.
+        Look-ahead depth (at most :data:`MAX_HORIZON`), and surviving branches per first
+        control and depth (at most :data:`MAX_BEAM`).
     update : {"bayes", "published"}
         Belief rule: ``q ∝ L · prior`` or the released code's
         ``softmax(w L + (1 - w) prior)`` with ``w = weight``.
@@ -162,6 +167,12 @@ class Controller:
             positive_int(horizon, "horizon", hint),
             positive_int(beam, "beam", hint),
         )
+        for name, value, most in (("horizon", horizon, MAX_HORIZON), ("beam", beam, MAX_BEAM)):
+            if value > most:  # each depth costs about beam one-step decisions
+                raise InvalidArgumentError(
+                    f"{name} must be at most {most}, got {value!r}",
+                    hint="a receding horizon is re-planned every step; a few steps suffice",
+                )
         # Large sets: the (k x candidates) passes are memory-bound; float32 halves them. Log
         # likelihoods are sums of n terms of order 1, so the rounding stays near 1e-6 nats.
         large = self.configurations.shape[0] >= _FLOAT32_ROWS

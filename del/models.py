@@ -50,6 +50,30 @@ if TYPE_CHECKING:
 __all__ = ["KnowledgeStructure", "KripkeModel"]
 
 
+def _hidden_bits(observes: Mapping[str, Iterable[str]], column: dict[str, int]) -> dict:
+    """Agent -> the bits of a world's code it does not see (the first atom is the most
+    significant bit)."""
+    n_atoms = len(column)
+    hidden = {}
+    for agent, seen in observes.items():
+        visible = {column_of(column, a, f"observes[{agent!r}]") for a in seen}
+        hidden[str(agent)] = tuple(n_atoms - 1 - j for j in range(n_atoms) if j not in visible)
+    return hidden
+
+
+def _designated_code(cube: Cube, column: dict[str, int], designated: Iterable[str]):
+    """The one code whose true atoms are ``designated``, checked against the law."""
+    code = 0
+    for a in designated:
+        code |= 1 << (len(column) - 1 - column_of(column, a, "designated"))
+    if not cube.test(cube.alive, np.array([code]))[0]:
+        raise InvalidArgumentError(
+            "the designated valuation violates the law",
+            hint="choose an actual world that satisfies the law",
+        )
+    return np.array([code], dtype=np.intp)
+
+
 class KripkeModel(ExplicitModel):
     """A multi-agent Kripke model, possibly multi-pointed: an immutable value.
 
@@ -143,10 +167,7 @@ class KripkeModel(ExplicitModel):
             )
         n_atoms = len(atom_list)
         column = {a: j for j, a in enumerate(atom_list)}
-        hidden = {}
-        for agent, seen in observes.items():
-            visible = {column_of(column, a, f"observes[{agent!r}]") for a in seen}
-            hidden[str(agent)] = tuple(n_atoms - 1 - j for j in range(n_atoms) if j not in visible)
+        hidden = _hidden_bits(observes, column)
         with budget.budget_scope(memory_budget):
             # the live set, the law's truth set and a few atoms' bitsets
             budget.require(4 * max(8, (1 << n_atoms) // 8), f"the {2**n_atoms:,} valuations")
@@ -161,18 +182,7 @@ class KripkeModel(ExplicitModel):
                 raise InvalidArgumentError(
                     "no valuation satisfies the law", hint="the law is a contradiction"
                 )
-        if designated is None:
-            points = cube.codes
-        else:
-            code = 0
-            for a in designated:
-                code |= 1 << (n_atoms - 1 - column_of(column, a, "designated"))
-            if not cube.test(cube.alive, np.array([code]))[0]:
-                raise InvalidArgumentError(
-                    "the designated valuation violates the law",
-                    hint="choose an actual world that satisfies the law",
-                )
-            points = np.array([code], dtype=np.intp)
+        points = cube.codes if designated is None else _designated_code(cube, column, designated)
         return cls.from_cube(cube, atom_list, agents, points)
 
     # -- model checking -----------------------------------------------------------------

@@ -126,7 +126,7 @@ def command(path: str, text: str, rng: np.random.Generator, out_dir: str) -> lis
         if output < 0.3:
             argv += ["--json"]
         elif output < 0.5:
-            argv += ["--dot", str(Path(out_dir) / "m.dot")]
+            argv += ["--dot", str(Path(out_dir) / "m.dot"), "--force"]  # written each time
     if which == "plan":
         argv += ["--max-depth", str(rng.choice(["0", "1", "2", "3", "-1", "x"]))]
         if rng.random() < 0.3:

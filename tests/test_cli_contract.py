@@ -13,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from epistemica import cli_check, cli_plan
 from epistemica.cli import build_parser, main
+from epistemica.cli import check as cli_check
+from epistemica.cli import plan as cli_plan
 
 ROOT = Path(__file__).resolve().parents[1]
 MUDDY = str(ROOT / "specs" / "puzzles" / "muddy_children.epi")
@@ -79,7 +80,7 @@ def test_debug_prints_the_traceback(capsys, monkeypatch, where):
 
 def test_a_command_module_that_fails_to_import_is_a_bug_too(capsys, monkeypatch):
     # The command's module is imported only when it runs, inside the guard.
-    monkeypatch.setitem(sys.modules, "epistemica.cli_show", None)
+    monkeypatch.setitem(sys.modules, "epistemica.cli.show", None)
     code = main(["show", MUDDY])
     err = capsys.readouterr().err
     assert code == 3 and "ModuleNotFoundError" in err and "Traceback" not in err

@@ -154,7 +154,7 @@ def test_gif_to_a_missing_folder_fails_before_the_trial(tmp_path, monkeypatch, c
     def no_trial(*args, **kwargs):
         raise AssertionError("the trial ran before the path was checked")
 
-    monkeypatch.setattr("epistemica.cli_simulate.simulate", no_trial)
+    monkeypatch.setattr("epistemica.cli.simulate.simulate", no_trial)
     missing = tmp_path / "missing" / "dir" / "x.gif"
     assert main(["simulate", "--robots", "2", "--gif", str(missing)]) == 2
     err = capsys.readouterr().err

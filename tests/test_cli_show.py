@@ -90,7 +90,7 @@ def test_dot_is_written_with_names(capsys, tmp_path):
 
 
 def test_round_trip_of_a_shown_model_gives_the_same_model(capsys):
-    from epistemica.cli_show import model_after
+    from epistemica.cli.show import model_after
     from epistemica.del_ import load_spec
 
     original = model_after(load_spec(MUDDY), ["father", "nobody_knows"])

@@ -1,5 +1,5 @@
 """The animation of a collaborative trial and the nested knowledge its trace keeps
-(sim/study/collaborative_figures.py, sim/study/collaborative_trace.py's ``aware_since``)."""
+(sim/study/collaborative_figures.py, the trace's ``aware_since``)."""
 
 from pathlib import Path
 
@@ -104,7 +104,7 @@ def test_run_animates_the_trial_third_gains_most_on(tmp_path, capsys, monkeypatc
 def test_the_animated_seed_without_a_gain_and_when_chosen():
     from types import SimpleNamespace
 
-    from epistemica.cli_run import _collaborative_trial
+    from epistemica.cli.run import _collaborative_trial
 
     specs = [SimpleNamespace(reasoning=lv, seed=s) for lv in ("first", "third") for s in (4, 5)]
     rows = [

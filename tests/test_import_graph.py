@@ -10,8 +10,8 @@ on another checkout: ``EPISTEMICA_SOURCE=/path/to/checkout pytest tests/test_imp
   ``a/b/__init__.py``, so those edges are in the graph too. A module imported by name
   (``importlib.import_module``, ``__import__``) is an edge too: a name written in the
   module, or one of a table of modules it loads by name (the command-line dispatcher's
-  ``COMMANDS``, del/'s lazy exports), so that start-up stays short; an import by a name
-  the test cannot read is flagged.
+  ``COMMANDS`` in ``cli/__init__.py``, del/'s lazy exports), so that start-up stays short;
+  an import by a name the test cannot read is flagged.
 - Layers import only the layers before them: ``del_ <- aif <- sim <- root``.
 - No ``import`` of a project module sits inside a function: a deferred import hides an
   edge of the graph (the usual way a cycle is papered over). Optional third-party
@@ -246,7 +246,7 @@ def test_every_import_by_name_of_a_project_module_is_an_edge_of_the_graph():
     assert not unread, "imports by a name the graph cannot read:\n" + "\n".join(unread)
     graph, _ = import_graph()
     assert graph.has_edge("epistemica", "epistemica.mission")  # the root's lazy re-exports
-    assert graph.has_edge("epistemica.cli", "epistemica.cli_run")  # the dispatcher's table
+    assert graph.has_edge("epistemica.cli", "epistemica.cli.run")  # the dispatcher's table
 
 
 def test_an_import_by_a_computed_name_is_flagged():

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from epistemica.cli_run import is_mission_file
+from epistemica.cli.run import is_mission_file
 from epistemica.del_ import KnowledgeStructure, parse_formula
 from epistemica.del_.errors import EpistemicaError, SourceError
 from epistemica.del_.state.explicit import knowledge_mask

@@ -26,7 +26,7 @@ of ``type(model)`` (:meth:`ExplicitModel.from_arrays`, :meth:`ExplicitModel.from
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import Any
 
@@ -34,17 +34,15 @@ import numpy as np
 
 from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError, ModelError
-from epistemica.del_.explicit._arguments import column_of, declared_atoms, require_mapping
+from epistemica.del_.explicit._arguments import column_of
 from epistemica.del_.explicit._cube import Cube
-from epistemica.del_.explicit.relations import Partition, Relation, relation_from_pairs
-from epistemica.del_.language.formula import atom_name
+from epistemica.del_.explicit._model_input import World, lookup_world, model_arrays, world_positions
+from epistemica.del_.explicit.relations import Partition, Relation
 
 __all__ = ["MAX_ENUMERATED_ATOMS", "ExplicitModel", "column_of"]
 
 # Enumerating valuations beyond this many atoms would not fit in memory.
 MAX_ENUMERATED_ATOMS = 26
-
-World = Hashable
 
 
 class ExplicitModel:
@@ -65,61 +63,7 @@ class ExplicitModel:
         *,
         atoms: Iterable[str] | None = None,
     ) -> None:
-        require_mapping(valuation, "valuation", "world -> the atoms true there")
-        require_mapping(relations, "relations", "agent -> (world, world) pairs")
-        if knowledge is not None:
-            require_mapping(knowledge, "knowledge", "agent -> (world, world) pairs")
-        if isinstance(worlds, (str, bytes)) or not isinstance(worlds, Iterable):
-            raise InvalidArgumentError(
-                f"worlds must be a sequence of world names, not {type(worlds).__name__}",
-                hint='e.g. ["w1", "w2"]',
-            )
-        names = tuple(worlds)
-        index = {w: i for i, w in enumerate(names)}
-        if len(index) != len(names):
-            raise ModelError("world names must be distinct", hint="rename the repeated world")
-        declared = None if atoms is None else declared_atoms(atoms)
-        found: dict[str, None] = dict.fromkeys(declared or ())
-        keys: dict[World, list[str]] = {}
-        for w, true_atoms in valuation.items():
-            _lookup(index, w, "valuation")
-            where = f"the valuation of {w!r}"
-            if isinstance(true_atoms, (str, bytes)) or not isinstance(true_atoms, Iterable):
-                raise InvalidArgumentError(
-                    f"{where} must be an iterable of atom names, not {true_atoms!r}",
-                    hint=f'e.g. {{{w!r}: ["p", "q"]}}',
-                )
-            keys[w] = [atom_name(a, where) for a in true_atoms]
-            for key in keys[w]:
-                if declared is not None and key not in declared:
-                    raise ModelError(
-                        f"atom {key!r} in {where} is not declared",
-                        hint=f"declared atoms: {', '.join(declared) or 'none'}",
-                    )
-                found.setdefault(key)
-        atom_list = tuple(found)
-        column = {a: j for j, a in enumerate(atom_list)}
-        val = np.zeros((len(names), len(atom_list)), dtype=bool)
-        for w, true_keys in keys.items():
-            for key in true_keys:
-                val[index[w], column[key]] = True
-        agents = tuple(str(a) for a in relations)
-        rel = {
-            str(a): _relation(index, pairs, f"relation of {a}") for a, pairs in relations.items()
-        }
-        know = dict(rel)
-        if knowledge is not None:
-            for a, pairs in knowledge.items():
-                if str(a) not in rel:
-                    raise ModelError(
-                        f"knowledge relation given for unknown agent {a!r}",
-                        hint=f"agents with a relation: {', '.join(agents)}",
-                    )
-                know[str(a)] = _relation(index, pairs, f"knowledge relation of {a}")
-        points = _as_world_list(designated, index)
-        if not points:
-            raise ModelError("a model needs at least one designated world")
-        self._init(names, atom_list, val, agents, rel, know, np.array(points, dtype=np.int64))
+        self._init(*model_arrays(worlds, valuation, relations, designated, knowledge, atoms))
 
     # -- construction -------------------------------------------------------------------
 
@@ -446,7 +390,7 @@ class ExplicitModel:
         >>> m.holds("p"), m.repoint(m.worlds).holds("p")
         (True, False)
         """
-        points = _as_world_list(designated, self.world_index())
+        points = world_positions(designated, self.world_index())
         if not points:
             raise InvalidArgumentError("repoint needs at least one world")
         positions = np.unique(np.array(points, dtype=np.intp))
@@ -499,7 +443,7 @@ class ExplicitModel:
         return index
 
     def index_of(self, world: World) -> int:
-        return _lookup(self.world_index(), world, "argument")
+        return lookup_world(self.world_index(), world, "argument")
 
     def names_are_codes(self) -> bool:
         """Whether world names are the live codes of this model's cube (in order)."""
@@ -518,33 +462,6 @@ def _read_only(array: np.ndarray) -> np.ndarray:
     """``array``, made read-only: models are immutable, and their arrays are shared."""
     array.setflags(write=False)
     return array
-
-
-def _lookup(index: Mapping[World, int], world: World, where: str) -> int:
-    try:
-        return index[world]
-    except (KeyError, TypeError):
-        raise ModelError(
-            f"unknown world {world!r} in {where}", hint="every world must be listed in `worlds`"
-        ) from None
-
-
-def _relation(index: Mapping[World, int], pairs: Iterable, where: str) -> Relation:
-    sources, targets = [], []
-    for pair in pairs:
-        w, v = pair
-        sources.append(_lookup(index, w, where))
-        targets.append(_lookup(index, v, where))
-    return relation_from_pairs(len(index), sources, targets)
-
-
-def _as_world_list(designated: Any, index: Mapping[World, int]) -> list[int]:
-    try:
-        if designated in index:
-            return [index[designated]]
-    except TypeError:
-        pass
-    return [_lookup(index, w, "designated") for w in designated]
 
 
 class _CodeNames:

@@ -22,11 +22,10 @@ import operator
 from collections.abc import Sequence
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._sparse import connected_components, csr_matrix
 from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
 from epistemica.del_.language.formula import And, Formula, Iff, Implies, Or
 
@@ -226,12 +225,14 @@ BITS = _Bits()
 
 def _component_partition(relations: list[Partition], n: int) -> Partition:
     """Connected components of the union of equivalence relations, as a partition."""
+    if n <= _SMALL_COMPONENTS:
+        return Partition(_small_components(relations, n))
     rows, cols, offset = [], [], n
     for r in relations:
         rows.append(np.arange(n))
         cols.append(offset + r.labels)
         offset += r.n_labels
-    graph = sp.csr_matrix(
+    graph = csr_matrix(
         (np.ones(len(relations) * n, dtype=bool), (np.concatenate(rows), np.concatenate(cols))),
         shape=(offset, offset),
     )
@@ -250,3 +251,25 @@ def _intersection(relations: list[Relation], n: int) -> Relation:
     for r in relations[1:]:
         keep &= r.contains(rows, cols)
     return arrows_from_edges(n, rows[keep], cols[keep])
+
+
+#: Up to this many worlds, components are found by label propagation in numpy rather than
+#: by scipy's graph search (whose import costs more than a small model's whole check).
+_SMALL_COMPONENTS = 2048
+
+
+def _small_components(relations: list[Partition], n: int) -> np.ndarray:
+    """Component labels numbered by their first world (as scipy's): each world takes the
+    smallest label of its blocks until no label changes (at most a component's diameter
+    rounds)."""
+    label = np.arange(n)
+    changed = True
+    while changed:
+        changed = False
+        for r in relations:
+            low = np.full(r.n_labels, n)
+            np.minimum.at(low, r.labels, label)
+            spread = low[r.labels]
+            if (spread < label).any():
+                label, changed = spread, True
+    return np.unique(label, return_inverse=True)[1].astype(np.int64)

@@ -18,14 +18,18 @@ blocks, which is the bisimulation condition.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order
 
 from epistemica.del_.errors import ModelError
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit._refinement import coarsest_partition, mix64, ranges
+from epistemica.del_.explicit._sparse import breadth_first_order, coo_matrix
 from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = [
     "bisimilar",
@@ -220,8 +224,8 @@ class _Graph:
         rows = np.concatenate([self.sources, np.full(len(points), root)])
         cols = np.concatenate([self.targets, points])
         data = np.ones(len(rows), dtype=bool)
-        graph = sp.coo_matrix((data, (rows, cols)), shape=(root + 1, root + 1)).tocsr()
-        found = breadth_first_order(graph, root, directed=True, return_predecessors=False)
+        graph = coo_matrix((data, (rows, cols)), shape=(root + 1, root + 1)).tocsr()
+        found = breadth_first_order(graph, root, directed=True)
         reached = np.zeros(root + 1, dtype=bool)
         reached[found] = True
         return reached[: self.n_worlds]

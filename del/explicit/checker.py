@@ -32,10 +32,9 @@ world makes true is false everywhere.
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import gc
-from collections.abc import Callable, Generator, Mapping
+from collections.abc import Generator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -45,6 +44,11 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel, column_of
 from epistemica.del_.explicit._product import product_with_provenance
 from epistemica.del_.explicit._sets import BITS, CONNECTIVES, MASKS
+from epistemica.del_.explicit.propositional import (
+    propositional_mask,
+    propositional_truth,
+    short_text,
+)
 from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
 from epistemica.del_.language.modalities import (
     After,
@@ -60,11 +64,11 @@ from epistemica.del_.language.modalities import (
     KnowWhether,
 )
 from epistemica.del_.language.parser import as_formula
-from epistemica.del_.language.walk import fold_nodes
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
 
+# propositional_mask and propositional_truth (from propositional) are re-exported here.
 __all__ = [
     "designated_truth",
     "evaluate",
@@ -221,7 +225,7 @@ class _Run:
         else:
             unit = model.n_worlds
         budget.require(
-            (need + 2) * unit, lambda: f"checking {_short(root)} on {model.n_worlds:,} worlds"
+            (need + 2) * unit, lambda: f"checking {short_text(root)} on {model.n_worlds:,} worlds"
         )
         return self._drive(model, root, bits)
 
@@ -290,7 +294,7 @@ class _Run:
         if action is None:
             known = ", ".join(sorted(self.actions)) or "none"
             raise InvalidArgumentError(
-                f"unknown action {f.action!r} in {_short(f)}",
+                f"unknown action {f.action!r} in {short_text(f)}",
                 hint=f"pass it in `actions`; known actions: {known}",
             )
         return action
@@ -368,7 +372,8 @@ class _Run:
             for pre in action.pre:
                 pres.append((yield model, pre, False, True))
             _require_product(model, action, sum(int(p.sum()) for p in pres))
-            truth = functools.partial(evaluate, model)
+            # a precondition may itself hold [ACT] (a nested announcement): same actions
+            truth = functools.partial(evaluate, model, actions=self.actions)
             product, parent, event = product_with_provenance(model, action, truth)
             cached = model.derived[key] = (action, product, parent, event)
         _, product, parent, event = cached
@@ -426,82 +431,3 @@ def _require_product(model: ExplicitModel, action: ActionModel, n_worlds: int) -
     per_world = n_atoms + 16 + 2 * 8 * len(model.agents)
     needed = model.arrays_bytes() + n_worlds * per_world
     budget.require(needed, f"the product update with {n_worlds:,} worlds")
-
-
-def _short(f: Formula) -> str:
-    """A formula's text for a message, cut short (deep formulas print long)."""
-    with contextlib.suppress(RecursionError):
-        text = str(f)
-        return text if len(text) <= 60 else text[:57] + "..."
-    return type(f).__name__
-
-
-def propositional_mask(
-    formula: Formula | str, val: np.ndarray, column: Mapping[str, int]
-) -> np.ndarray:
-    """Truth of a propositional formula on each row of a valuation matrix.
-
-    Raises
-    ------
-    InvalidArgumentError
-        If the formula has a modality or names an atom without a column.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> val = np.array([[True, False], [True, True]])
-    >>> propositional_mask("p & ~q", val, {"p": 0, "q": 1}).tolist()
-    [True, False]
-    """
-
-    def atom_mask(key: str) -> np.ndarray:
-        if key not in column:
-            raise InvalidArgumentError(
-                f"unknown atom {key!r}", hint=f"declared atoms: {', '.join(column)}"
-            )
-        return val[:, column[key]]
-
-    return propositional_truth(formula, len(val), atom_mask)
-
-
-def propositional_truth(
-    formula: Formula | str, n_rows: int, atom_mask: Callable[[str], np.ndarray]
-) -> np.ndarray:
-    """Truth of a propositional formula on ``n_rows`` worlds whose atoms are read lazily.
-
-    The one propositional evaluator of the package: ``atom_mask(key)`` gives the boolean
-    truth of the atom named ``key`` (canonical text, as :attr:`Atom.key`) on every world,
-    so worlds stored in any form (a valuation matrix, rows of goal indices) are evaluated
-    without building a valuation matrix first.
-
-    Raises
-    ------
-    InvalidArgumentError
-        If the formula has a modality (or ``atom_mask`` rejects an atom).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> goal = np.array([0, 1, 1])
-    >>> propositional_truth("at_1 & ~at_0", 3, lambda key: goal == int(key[-1])).tolist()
-    [False, True, True]
-    """
-    tree = as_formula(formula)
-
-    def combine(f: Formula, values: list[np.ndarray]) -> np.ndarray:
-        kind = type(f)
-        if kind is Not:
-            return ~values[0]
-        if kind in _CONNECTIVES:
-            return _CONNECTIVES[kind](*values)
-        if kind is Atom:
-            return np.asarray(atom_mask(f.key), dtype=bool)
-        if kind is Top or kind is Bottom:
-            return np.full(n_rows, kind is Top, dtype=bool)
-        raise InvalidArgumentError(
-            f"expected a propositional formula, found the modality in {_short(f)}",
-            hint="laws, postconditions and facts about worlds cannot mention K, B, C, ...",
-        )
-
-    # A fold over the node objects: no recursion, each mask freed after its last use.
-    return fold_nodes(tree, combine)

@@ -21,10 +21,10 @@ import itertools
 from collections.abc import Hashable, Sequence
 
 import numpy as np
-from scipy.sparse.csgraph import connected_components
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit._sparse import connected_components
 from epistemica.del_.explicit.relations import Partition, Relation
 
 __all__ = [

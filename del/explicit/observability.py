@@ -144,22 +144,40 @@ def observability_action(
         raise InvalidArgumentError("name must be a non-empty string", hint="e.g. name='peek'")
     pre_f = _formula(pre, "pre")
     changes = _effects(effects)
-
-    regions = {}
-    for a in agent_list:
-        f, p = full_of.get(a, Bottom()), partial_of.get(a, Bottom())
-        regions[a] = (f, _or(f, p), _and(p, _not(f)), _and(_not(f), _not(p)))
+    regions = _regions(agent_list, full_of, partial_of)
     any_partial = any(not isinstance(r[2], Bottom) for r in regions.values())
     any_oblivious = any(not isinstance(r[3], Bottom) for r in regions.values())
-
     outcomes = _outcomes(senses, announces, name, any_partial)
     exec_f = None if executable is None else _formula(executable, "executable")
     if isinstance(exec_f, Top):
         exec_f = None
+    events, pres, seen, sources, designated = _events(outcomes, pre_f, exec_f)
+    posts = {e: dict(changes) for e in events}
+    if any_oblivious:
+        events.append(SKIP_EVENT)
+    relations: dict[str, list[tuple]] = {}
+    knowledge: dict[str, list[tuple]] = {}
+    for a in agent_list:
+        relations[a], knowledge[a] = _agent_edges(regions[a], seen, sources, any_oblivious)
+    return ActionModel(events, pres, posts, relations, designated, knowledge)
 
+
+def _regions(agent_list, full_of, partial_of) -> dict[str, tuple[Formula, ...]]:
+    """Per agent: where it observes fully, fully or partially, partially only, not at all."""
+    regions = {}
+    for a in agent_list:
+        f, p = full_of.get(a, Bottom()), partial_of.get(a, Bottom())
+        regions[a] = (f, _or(f, p), _and(p, _not(f)), _and(_not(f), _not(p)))
+    return regions
+
+
+def _events(outcomes, pre_f: Formula, exec_f: Formula | None):
+    """The real events: one per outcome, plus an executable copy of each designated one
+    when there is an executability condition. Returns the events, their preconditions,
+    ``seen`` (each outcome's event as the agents see it), ``sources`` (every real event
+    with its outcome) and the designated events."""
     events: list[str] = []
     pres: dict[str, Formula] = {}
-    # seen: (event, outcome) as the agents see it; sources: every real event with its outcome.
     seen: list[tuple[str, int]] = []
     sources: list[tuple[str, int]] = []
     designated: list[str] = []
@@ -178,31 +196,27 @@ def observability_action(
             pres[real] = _and(base, exec_f)
             sources.append((real, k))
             designated.append(real)
-    posts = {e: dict(changes) for e in events}
-    if any_oblivious:
-        events.append(SKIP_EVENT)
+    return events, pres, seen, sources, designated
 
-    relations: dict[str, list[tuple]] = {}
-    knowledge: dict[str, list[tuple]] = {}
-    for a in agent_list:
-        f, same, other, oblivious = regions[a]
-        belief: list[tuple] = []
-        know: list[tuple] = []
-        for source, k in sources:
-            for target, kk in seen:
-                _edge(belief, source, target, same if k == kk else other)
-            for target, kk in sources:
-                _edge(know, source, target, Top() if k == kk else _not(f))
-            if any_oblivious:
-                _edge(belief, source, SKIP_EVENT, oblivious)
-                _edge(know, source, SKIP_EVENT, oblivious)
-                _edge(know, SKIP_EVENT, source, oblivious)
+
+def _agent_edges(region, seen, sources, any_oblivious: bool) -> tuple[list, list]:
+    """One agent's conditioned belief and knowledge edges."""
+    f, same, other, oblivious = region
+    belief: list[tuple] = []
+    know: list[tuple] = []
+    for source, k in sources:
+        for target, kk in seen:
+            _edge(belief, source, target, same if k == kk else other)
+        for target, kk in sources:
+            _edge(know, source, target, Top() if k == kk else _not(f))
         if any_oblivious:
-            belief.append((SKIP_EVENT, SKIP_EVENT))
-            know.append((SKIP_EVENT, SKIP_EVENT))
-        relations[a] = belief
-        knowledge[a] = know
-    return ActionModel(events, pres, posts, relations, designated, knowledge)
+            _edge(belief, source, SKIP_EVENT, oblivious)
+            _edge(know, source, SKIP_EVENT, oblivious)
+            _edge(know, SKIP_EVENT, source, oblivious)
+    if any_oblivious:
+        belief.append((SKIP_EVENT, SKIP_EVENT))
+        know.append((SKIP_EVENT, SKIP_EVENT))
+    return belief, know
 
 
 def _edge(edges: list[tuple], e: str, f: str, condition: Formula) -> None:

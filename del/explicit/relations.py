@@ -16,10 +16,14 @@ wrong answers when beliefs are false).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+
+from epistemica.del_.explicit._sparse import connected_components, csr_matrix
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = [
     "DENSE_LIMIT",
@@ -74,7 +78,7 @@ class Relation:
         """The relation as a boolean CSR matrix (row: source world, column: target)."""
         rows, cols = self.edges()
         data = np.ones(len(rows), dtype=bool)
-        return sp.csr_matrix((data, (rows, cols)), shape=(self.n, self.n))
+        return csr_matrix((data, (rows, cols)), shape=(self.n, self.n))
 
     def is_equivalence(self) -> bool:
         """Reflexive, symmetric and transitive."""
@@ -237,7 +241,7 @@ class Arrows(Relation):
     """
 
     def __init__(self, matrix: sp.spmatrix) -> None:
-        matrix = sp.csr_matrix(matrix, dtype=bool)
+        matrix = csr_matrix(matrix, dtype=bool)
         matrix.sum_duplicates()
         matrix.eliminate_zeros()
         self.matrix = matrix
@@ -357,7 +361,7 @@ class ClassArrows(Relation):
     def to_csr(self) -> sp.csr_matrix:
         sources, targets = self.edges()
         data = np.ones(sources.size, dtype=bool)
-        return sp.csr_matrix((data, (sources, targets)), shape=(self.n, self.n), dtype=bool)
+        return csr_matrix((data, (sources, targets)), shape=(self.n, self.n), dtype=bool)
 
     def _class_sets(self) -> list[frozenset]:
         return [frozenset(t.tolist()) for t in self.targets]
@@ -379,7 +383,7 @@ class ClassArrows(Relation):
 
 def _contains(big: sp.csr_matrix, small: sp.spmatrix) -> bool:
     """Whether every edge of ``small`` is an edge of ``big``."""
-    small = sp.csr_matrix(small, dtype=bool)
+    small = csr_matrix(small, dtype=bool)
     return (small > big).nnz == 0
 
 
@@ -390,7 +394,7 @@ def arrows_from_edges(n: int, sources: np.ndarray, targets: np.ndarray) -> Relat
         matrix[sources, targets] = True
         return DenseArrows(matrix)
     data = np.ones(len(sources), dtype=bool)
-    return Arrows(sp.csr_matrix((data, (sources, targets)), shape=(n, n), dtype=bool))
+    return Arrows(csr_matrix((data, (sources, targets)), shape=(n, n), dtype=bool))
 
 
 def relation_from_pairs(n: int, sources: Sequence[int], targets: Sequence[int]) -> Relation:

@@ -8,7 +8,8 @@ The public names are exported here and by :mod:`epistemica.del_`.
 
 from epistemica.del_.formats.epddl import EpddlTask, load_epddl, parse_epddl
 from epistemica.del_.formats.epddl_export import to_epddl
-from epistemica.del_.formats.smcdel import SmcdelFile, load_smcdel, parse_smcdel, to_smcdel
+from epistemica.del_.formats.smcdel import SmcdelFile, load_smcdel, parse_smcdel
+from epistemica.del_.formats.smcdel_export import to_smcdel
 
 __all__ = [
     "EpddlTask",

@@ -49,14 +49,13 @@ from pathlib import Path
 
 from lark import Tree
 
-from epistemica.del_.errors import SpecError
 from epistemica.del_.formats._epddl_actions import ground_actions
 from epistemica.del_.formats._epddl_formulas import conj
 from epistemica.del_.formats._epddl_ground import Grounder
 from epistemica.del_.formats._epddl_state import initial_state
 from epistemica.del_.formats._epddl_syntax import Source, parse
 from epistemica.del_.language.formula import Formula
-from epistemica.del_.spec import Spec
+from epistemica.del_.spec import Spec, read_source
 
 __all__ = ["EpddlTask", "is_epddl", "load_epddl", "parse_epddl", "read_epddl_files"]
 
@@ -130,18 +129,9 @@ def load_epddl(
 
 
 def read_epddl_files(paths: Sequence[Path]) -> list[str]:
-    """The texts of EPDDL files; an unreadable one is a :class:`SpecError` naming it."""
-    texts = []
-    for path in paths:
-        try:
-            texts.append(path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError) as exc:
-            reason = getattr(exc, "strerror", None) or str(exc)
-            raise SpecError(
-                f"cannot read the EPDDL file: {reason}", filename=str(path),
-                hint="give the domain, the problem and each library (-l) as .epddl files",
-            ) from None  # fmt: skip
-    return texts
+    """The texts of EPDDL files, each read once and bounded (:func:`read_source`: size
+    limit, binary and encoding checks); an unreadable one is a :class:`SpecError` naming it."""
+    return [read_source(path, "EPDDL file") for path in paths]
 
 
 def _compile(main: list[tuple[Tree, Source]], libraries: list[tuple[Tree, Source]]) -> EpddlTask:

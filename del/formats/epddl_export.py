@@ -56,9 +56,10 @@ from epistemica.del_.language.modalities import (
     KnowWhether,
 )
 from epistemica.del_.language.parser import as_formula
+from epistemica.del_.models import KnowledgeStructure
 from epistemica.del_.spec import Spec
 
-__all__ = ["MAX_PAIRS", "atom_renaming", "to_epddl"]
+__all__ = ["MAX_PAIRS", "MAX_WORLDS", "atom_renaming", "to_epddl"]
 
 #: Bound on the edges written for the initial model.
 MAX_PAIRS = 2_000_000
@@ -126,13 +127,30 @@ def _identifier(text: str, taken: set[str]) -> str:
     return candidate
 
 
+#: EPDDL lists the initial state's worlds: a knowledge structure is listed (and then
+#: minimized) up to this many states.
+MAX_WORLDS = 1 << 20
+
+
+def _explicit(model):
+    """The model as a Kripke model: a knowledge structure (a spec on the symbolic backend,
+    above 20 atoms) is listed, if it has at most :data:`MAX_WORLDS` states."""
+    if not isinstance(model, KnowledgeStructure):
+        return model
+    if model.n_worlds > MAX_WORLDS:
+        raise InvalidArgumentError(
+            f"EPDDL lists the worlds of the initial state, and this one has {model.n_worlds:,} "
+            f"states (more than {MAX_WORLDS:,})",
+            hint="export --smcdel writes the model symbolically, without listing its states",
+        )
+    return model.to_kripke(max_worlds=MAX_WORLDS)
+
+
 class _Writer:
     def __init__(self, spec: Spec, name: str) -> None:
         self.spec = spec
         self.name = name
-        self.model = spec.model
-        if not hasattr(self.model, "belief_relations"):  # pragma: no cover - symbolic spec
-            raise InvalidArgumentError("only explicit models are written as EPDDL")
+        self.model = _explicit(spec.model)
         separate = self.model.has_separate_knowledge() or any(
             a.knowledge_edges != a.edges for a in spec.actions.values()
         )
@@ -268,7 +286,10 @@ class _Writer:
 
     def library(self) -> str:
         lines = [f"(define (action-type-library {self.name}-types)"]
-        lines.append("  (:requirements :lists :partial-observability :multi-pointed-models)")
+        lines.append(
+            "  (:requirements :lists :partial-observability :multi-pointed-models "
+            ":events-conditions)"  # the :conditions section below (plank warns without it)
+        )
         for key, action in self.spec.actions.items():
             events, relations, designated, groups = _unconditioned(action, self.model.agents)
             variables = " ".join(f"?e{k}" for k in range(len(events)))

@@ -17,9 +17,9 @@ which is a spec's ``atoms``/``law``/``observes``: :func:`parse_smcdel` compiles 
 the literals of the state), and keeps the ``WHERE?`` queries. Atom ``N`` is named ``pN``;
 agents keep their names. Group announcements ``[alice, bob ! f] g`` (the group learns
 whether ``f``, the others that it did) become actions of the spec, ``[ACT] g``.
-:func:`to_smcdel` writes an S5 spec whose worlds are distinct valuations (a model from
-observables, or any S5 model whose relations are "agree on some atoms"), with a
-``TRUE?`` or ``VALID?`` per claim; comment lines record the spec's names
+:func:`~epistemica.del_.formats.smcdel_export.to_smcdel` writes a spec back (explicit S5
+models whose worlds are distinct valuations, and knowledge structures of any size), with
+a ``TRUE?`` or ``VALID?`` per claim; comment lines record the spec's names
 (``-- epistemica atom 1: at(r1, g1)``), which :func:`parse_smcdel` reads back.
 
 Examples
@@ -36,6 +36,7 @@ Examples
 >>> smc = parse_smcdel(text)
 >>> smc.spec.atoms, [smc.spec.holds(c.formula) for c in smc.spec.checks]
 (('p1', 'p2', 'p3'), [True])
+>>> from epistemica.del_.formats.smcdel_export import to_smcdel
 >>> [line for line in to_smcdel(smc.spec).splitlines() if line.startswith("VARS")]
 ['VARS 1,2,3']
 """
@@ -48,11 +49,10 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
-from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
+from epistemica.del_.errors import InvalidArgumentError, ParseError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.formats._epddl_syntax import Source, position
 from epistemica.del_.language.formula import (
@@ -71,18 +71,13 @@ from epistemica.del_.language.formula import (
 from epistemica.del_.language.modalities import (
     After,
     Announce,
-    AnnounceDiamond,
-    Believe,
     Common,
-    CommonBelief,
     Distributed,
-    Everybody,
-    EverybodyBelieves,
     Know,
     KnowWhether,
 )
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
-from epistemica.del_.spec import Check, Spec
+from epistemica.del_.spec import Check, Spec, read_source
 
 __all__ = [
     "SMCDEL_GRAMMAR",
@@ -90,7 +85,6 @@ __all__ = [
     "is_smcdel",
     "load_smcdel",
     "parse_smcdel",
-    "to_smcdel",
 ]
 
 #: Path of the grammar file of SMCDEL's text format.
@@ -99,8 +93,6 @@ SMCDEL_GRAMMAR = Path(__file__).with_name("smcdel.lark")
 # Above this many atoms the model is a knowledge structure (as the spec backend's "auto").
 _SYMBOLIC_ATOMS = 20
 _NAME = re.compile(r"-- epistemica (atom|agent) (\S+): (.+)$", re.MULTILINE)
-_KEYWORDS = {"VARS", "LAW", "OBS", "Top", "Bot", "Not", "not", "iff", "AND", "OR", "XOR",
-             "ONEOF", "ForAll", "Forall", "Exists", "K", "Kw"}  # fmt: skip
 _PROPOSITIONAL = (Top, Bottom, Atom, Not, And, Or, Implies, Iff)
 
 
@@ -119,13 +111,9 @@ def is_smcdel(path: str | Path) -> bool:
 
 
 def load_smcdel(path: str | Path, backend: str = "auto") -> SmcdelFile:
-    """Read and compile an SMCDEL file (see :func:`parse_smcdel`)."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise SpecError(f"cannot read the SMCDEL file: {reason}", filename=str(path)) from None
-    return parse_smcdel(text, str(path), backend)
+    """Read (once, bounded: :func:`read_source`) and compile an SMCDEL file (see
+    :func:`parse_smcdel`)."""
+    return parse_smcdel(read_source(path, "SMCDEL file"), str(path), backend)
 
 
 def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -> SmcdelFile:
@@ -330,6 +318,8 @@ def _punctuation(item) -> bool:
 
 
 def _list_formula(kind: str, parts: list[Formula]) -> Formula:
+    if kind in ("conj", "disj") and len(parts) > _LONG_LIST:
+        return _balanced(And if kind == "conj" else Or, parts)
     if kind == "conj":
         return conjunction(parts)
     if kind == "disj":
@@ -347,6 +337,20 @@ def _list_formula(kind: str, parts: list[Formula]) -> Formula:
         conjunction([p, *(Not(q) for j, q in enumerate(parts) if j != i)])
         for i, p in enumerate(parts)
     )
+
+
+#: Longer AND/OR lists are read as balanced trees: a left fold of thousands of parts is
+#: a formula as deep as it is long (printing it, hashing it, recursing on it overflows).
+_LONG_LIST = 64
+
+
+def _balanced(op: type, parts: list[Formula]) -> Formula:
+    """``parts`` joined by ``op`` as a tree of logarithmic depth (the same truth)."""
+    level = list(parts)
+    while len(level) > 1:
+        pairs = [op(level[i], level[i + 1]) for i in range(0, len(level) - 1, 2)]
+        level = pairs + ([level[-1]] if len(level) % 2 else [])
+    return level[0]
 
 
 def _quantify(body: Formula, atoms: list[str], universal: bool) -> Formula:
@@ -369,174 +373,3 @@ def _substitute(f: Formula, values: dict[str, bool]) -> Formula:
 
 
 # -- writing ------------------------------------------------------------------------------
-
-
-def to_smcdel(spec: Spec) -> str:
-    """SMCDEL's text for an S5 spec: VARS, LAW, OBS and one job per claim.
-
-    Raises
-    ------
-    InvalidArgumentError
-        The model is not a knowledge structure SMCDEL can state (a relation that is not
-        "agree on some atoms", two worlds with one valuation), or a claim uses what
-        SMCDEL's formulas cannot say (belief that is not knowledge, ``[ACT]`` for an action
-        that is not a public announcement).
-    """
-    model = spec.model
-    if not hasattr(model, "valuation"):  # pragma: no cover - a symbolic spec
-        model = model.to_kripke()
-    if model.has_separate_knowledge():
-        raise InvalidArgumentError(
-            "the model has separate knowledge relations", hint="SMCDEL's structures are S5"
-        )
-    val = model.valuation
-    if len({row.tobytes() for row in val}) != model.n_worlds:
-        model = model.minimize()
-        val = model.valuation
-        if len({row.tobytes() for row in val}) != model.n_worlds:
-            raise InvalidArgumentError(
-                "two worlds of the model have one valuation",
-                hint="SMCDEL's states are valuations; add an atom that tells them apart",
-            )
-    atoms = list(spec.atoms)
-    column = [model.atoms.index(a) if a in model.atoms else None for a in atoms]
-    rows = np.zeros((model.n_worlds, len(atoms)), dtype=bool)
-    for j, c in enumerate(column):
-        if c is not None:  # an atom of the spec that no world makes true stays false
-            rows[:, j] = val[:, c]
-    number = {a: k for k, a in enumerate(atoms, start=1)}
-    agents = _agent_names(model.agents)
-    lines = ["-- written by epistemica from " + spec.filename]
-    lines += [f"-- epistemica atom {number[a]}: {a}" for a in atoms]
-    lines += [f"-- epistemica agent {agents[a]}: {a}" for a in model.agents if agents[a] != a]
-    law = _law(rows, 0, [number[a] for a in atoms], tuple(range(len(rows))))
-    observed = {a: [number[atoms[j]] for j in _observed(model, a, rows)] for a in model.agents}
-    numbers = [number[a] for a in atoms]
-    if not all(observed.values()):
-        # SMCDEL's OBS lists at least one atom: who sees nothing sees an atom always true.
-        pad = len(atoms) + 1
-        lines.append(f"-- epistemica constant {pad}: always true, observed by who sees nothing")
-        numbers.append(pad)
-        law = f"({law}) & {pad}"
-        observed = {a: seen or [pad] for a, seen in observed.items()}
-    lines.append("VARS " + ",".join(map(str, numbers)))
-    lines.append("LAW  " + law)
-    obs = [f"{agents[a]}: {','.join(map(str, seen))}" for a, seen in observed.items()]
-    lines.append("OBS  " + "\n     ".join(obs))
-    writer = _FormulaWriter(number, agents, spec.actions)
-    points = model.designated_positions
-    for check in spec.checks:
-        try:
-            text = writer.write(check.formula)
-        except InvalidArgumentError as exc:
-            raise SpecError(f"claim \"{check.name}\": {exc.message}", line=check.line,
-                            column=check.column, source=spec.source, filename=spec.filename,
-                            hint=exc.hint) from None  # fmt: skip
-        if not check.expected:
-            text = f"~ ({text})"
-        if len(points) == model.n_worlds:
-            lines.append(f"VALID? {text}")
-        elif len(points) == 1:
-            true = [str(number[a]) for a, v in zip(atoms, rows[points[0]], strict=True) if v]
-            true += [str(n) for n in numbers[len(atoms) :]]  # the constant atom, if any
-            lines.append(f"TRUE? {{{','.join(true)}}} {text}")
-        else:
-            where = _law(rows[points], 0, [number[a] for a in atoms], tuple(range(len(points))))
-            lines.append(f"VALID? ({where}) -> ({text})")
-    return "\n".join(lines) + "\n"
-
-
-def _agent_names(agents) -> dict[str, str]:
-    out: dict[str, str] = {}
-    for k, a in enumerate(agents, start=1):
-        ok = re.fullmatch(r"[a-zA-Z][a-zA-Z0-9]*", a) and a not in _KEYWORDS
-        out[a] = a if ok else f"agent{k}"
-    return out
-
-
-def _observed(model, agent: str, rows: np.ndarray) -> list[int]:
-    relation = model.belief_relations[agent]
-    if not relation.is_equivalence():
-        raise InvalidArgumentError(
-            f"the relation of '{agent}' is not an equivalence", hint="SMCDEL's structures are S5"
-        )
-    sources, targets = relation.edges()
-    same = (rows[sources] == rows[targets]).all(axis=0)
-    seen = [j for j in range(rows.shape[1]) if same[j]]
-    # The relation is within "agree on seen"; it is that relation iff it has as many edges.
-    _, counts = np.unique(rows[:, seen], axis=0, return_counts=True)
-    if int((counts.astype(np.int64) ** 2).sum()) != len(sources):
-        raise InvalidArgumentError(
-            f"'{agent}' tells apart worlds that agree on every atom it observes",
-            hint="SMCDEL's agents observe atoms; add atoms for what the agent tells apart",
-        )
-    return seen
-
-
-def _law(rows: np.ndarray, j: int, numbers: list[int], keep: tuple[int, ...]) -> str:
-    """A formula true exactly at the valuations ``rows[keep]`` (Shannon expansion)."""
-    n = len(numbers)
-    if not keep:
-        return "Bot"
-    if len(keep) == 1 << (n - j):
-        return "Top"
-    pos = tuple(i for i in keep if rows[i, j])
-    neg = tuple(i for i in keep if not rows[i, j])
-    parts = []
-    if pos:
-        parts.append(f"({numbers[j]} & {_law(rows, j + 1, numbers, pos)})")
-    if neg:
-        parts.append(f"(~{numbers[j]} & {_law(rows, j + 1, numbers, neg)})")
-    return parts[0] if len(parts) == 1 else f"({parts[0]} | {parts[1]})"
-
-
-class _FormulaWriter:
-    def __init__(self, number: dict[str, int], agents: dict[str, str], actions) -> None:
-        self.number, self.agents, self.actions = number, agents, actions
-
-    def write(self, f: Formula) -> str:
-        w = self.write
-        if isinstance(f, Top):
-            return "Top"
-        if isinstance(f, Bottom):
-            return "Bot"
-        if isinstance(f, Atom):
-            return str(self.number[f.key])
-        if isinstance(f, Not):
-            return f"~ ({w(f.operand)})"
-        if isinstance(f, (And, Or, Implies, Iff)):
-            op = {And: "&", Or: "|", Implies: "->", Iff: "iff"}[type(f)]
-            return f"(({w(f.left)}) {op} ({w(f.right)}))"
-        if isinstance(f, (Know, Believe)):
-            return f"({self.agents[f.agent]} knows that ({w(f.operand)}))"
-        if isinstance(f, KnowWhether):
-            return f"({self.agents[f.agent]} knows whether ({w(f.operand)}))"
-        if isinstance(f, (Everybody, EverybodyBelieves)):
-            return "AND (" + ", ".join(w(Know(a, f.operand)) for a in f.group) + ")"
-        if isinstance(f, (Common, CommonBelief, Distributed)):
-            word = "distknow" if isinstance(f, Distributed) else "comknow"
-            group = ",".join(self.agents[a] for a in f.group)
-            return f"(({group}) {word} that ({w(f.operand)}))"
-        if isinstance(f, Announce):
-            return f"([ ! ({w(f.announcement)}) ] ({w(f.operand)}))"
-        if isinstance(f, AnnounceDiamond):
-            return f"(< ! ({w(f.announcement)}) > ({w(f.operand)}))"
-        if isinstance(f, After):
-            return self.after(f)
-        raise InvalidArgumentError(f"SMCDEL has no formula for {type(f).__name__}")
-
-    def after(self, f: After) -> str:
-        action = self.actions.get(f.action)
-        public = (
-            action is not None
-            and len(action.events) == 1
-            and not action.post[0]
-            and all(edges == ((0, 0, None),) for edges in action.edges.values())
-            and action.knowledge_edges == action.edges
-        )
-        if not public:
-            raise InvalidArgumentError(
-                f"[{f.action}] is not a public announcement",
-                hint="SMCDEL's text format has announcements [ ! f ] only",
-            )
-        return f"([ ! ({self.write(action.pre[0])}) ] ({self.write(f.operand)}))"

@@ -232,18 +232,7 @@ def syntax_error(
         saying what was expected and what was found, with a hint when one applies.
     """
     if isinstance(exc, UnexpectedCharacters):
-        char = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else ""
-        hint = _CHARACTER_HINTS.get(char)
-        if hint is None and char.isalpha():
-            hint = "names use ASCII letters, digits and '_'"
-        return ParseError(
-            f"unexpected character '{char}'",
-            line=exc.line,
-            column=exc.column,
-            source=text,
-            filename=filename,
-            hint=hint or _FORMULA_SYNTAX,
-        )
+        return _character_error(exc, text, filename)
     if not isinstance(exc, UnexpectedToken):  # pragma: no cover - LALR raises only these
         return ParseError(str(exc), source=text, filename=filename)
 
@@ -257,12 +246,7 @@ def syntax_error(
     stack = [_plain(t) for t in state.value_stack] if state is not None else []
     expected = {_kind(name) for name in accepted}
     previous = next((t for t in reversed(stack) if isinstance(t, Token)), None)
-    opened = _open_brackets(stack)
-    inner = opened[-1] if opened else None
-    before_inner = None
-    if inner is not None:
-        index = next(i for i, item in enumerate(stack) if item is inner)
-        before_inner = stack[index - 1] if index > 0 else None
+    inner, before_inner = _innermost_bracket(stack)
     in_group = isinstance(before_inner, Token) and before_inner.type in _GROUP
     in_modal = isinstance(before_inner, Token) and before_inner.type in _MODAL
     if in_group or in_modal:
@@ -282,6 +266,33 @@ def syntax_error(
     kind = "agent" if in_group or in_modal else "argument" if "argument" in context else "name"
     hint = _hint(token, previous, expected, inner, before_inner, kind)
     return ParseError(message, line=line, column=column, source=text, filename=filename, hint=hint)
+
+
+def _character_error(exc: UnexpectedCharacters, text: str, filename: str) -> ParseError:
+    """A character no token starts with, with a hint for the usual ones (``&&``, ``∧``)."""
+    char = text[exc.pos_in_stream] if exc.pos_in_stream < len(text) else ""
+    hint = _CHARACTER_HINTS.get(char)
+    if hint is None and char.isalpha():
+        hint = "names use ASCII letters, digits and '_'"
+    return ParseError(
+        f"unexpected character '{char}'",
+        line=exc.line,
+        column=exc.column,
+        source=text,
+        filename=filename,
+        hint=hint or _FORMULA_SYNTAX,
+    )
+
+
+def _innermost_bracket(stack: list) -> tuple:
+    """The innermost bracket still open on the parser's stack, and the item before it."""
+    opened = _open_brackets(stack)
+    inner = opened[-1] if opened else None
+    before_inner = None
+    if inner is not None:
+        index = next(i for i, item in enumerate(stack) if item is inner)
+        before_inner = stack[index - 1] if index > 0 else None
+    return inner, before_inner
 
 
 def _hint(

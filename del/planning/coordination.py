@@ -191,45 +191,55 @@ def check_implicit_coordination(
         shifted.append(view)
         failing = inapplicable_worlds(view, table[name])
         if failing:
-            world = failing[0]
-            chain = _trace(world, k, before, shifted, steps, owners)
-            return CoordinationReport(
-                False,
-                f"step {k + 1} ({name}): {owner} does not know that {name} is applicable: "
-                f"it is not at world {world!r} {_atoms(view, world)} of {owner}'s "
-                f"perspective{_story(chain, before)}",
-                k,
-                owner,
-                name,
-                world,
-                "not-applicable",
-                chain,
-            )
+            return _not_applicable(k, failing[0], before, shifted, steps, owners)
         before.append(generated_submodel(view.update(table[name])))
     final = before[-1]
     bad = np.flatnonzero(~evaluate(final, tree, table)[final.designated_positions])
     if len(bad):
         if not steps:
             return CoordinationReport(False, f"the goal {tree} does not hold initially")
-        k = len(steps) - 1
-        name, owner = steps[k], owners[steps[k]]
         reached = final.worlds[final.designated_positions[bad[0]]]
-        world = reached[0]
-        chain = _trace(world, k, before, shifted, steps, owners)
-        return CoordinationReport(
-            False,
-            f"step {k + 1} ({name}): {owner} does not know that the goal will hold: it "
-            f"fails after {name} at world {world!r} {_atoms(shifted[k], world)} of "
-            f"{owner}'s perspective{_story(chain, before)}",
-            k,
-            owner,
-            name,
-            world,
-            "goal",
-            chain,
-        )
+        return _goal_fails(reached[0], before, shifted, steps, owners)
     return CoordinationReport(
         True, f"every owner knows the rest of the plan reaches the goal ({len(steps)} steps)"
+    )
+
+
+def _not_applicable(k, world, before, shifted, steps, owners) -> CoordinationReport:
+    """The report of step ``k``'s owner not knowing the step applicable at ``world``."""
+    name = steps[k]
+    owner, view = owners[name], shifted[k]
+    chain = _trace(world, k, before, shifted, steps, owners)
+    return CoordinationReport(
+        False,
+        f"step {k + 1} ({name}): {owner} does not know that {name} is applicable: "
+        f"it is not at world {world!r} {_atoms(view, world)} of {owner}'s "
+        f"perspective{_story(chain, before)}",
+        k,
+        owner,
+        name,
+        world,
+        "not-applicable",
+        chain,
+    )
+
+
+def _goal_fails(world, before, shifted, steps, owners) -> CoordinationReport:
+    """The report of the last step's owner not knowing that the goal will hold."""
+    k = len(steps) - 1
+    name, owner = steps[k], owners[steps[k]]
+    chain = _trace(world, k, before, shifted, steps, owners)
+    return CoordinationReport(
+        False,
+        f"step {k + 1} ({name}): {owner} does not know that the goal will hold: it "
+        f"fails after {name} at world {world!r} {_atoms(shifted[k], world)} of "
+        f"{owner}'s perspective{_story(chain, before)}",
+        k,
+        owner,
+        name,
+        world,
+        "goal",
+        chain,
     )
 
 

@@ -152,106 +152,123 @@ def search_states(
         )
     _check_bound(max_depth, "max_depth", minimum=0)
     _check_bound(max_states, "max_states", minimum=1)
-    start = time.perf_counter()
-    table = KeyedStates() if store is None else store
-    root = table.add(initial)[0]
-    parent: dict[int, tuple[int, str] | None] = {root: None}
-    depth = {root: 0}
-    stats = {"expanded": 0, "generated": 0}
-    truncated = False
+    run = _Search(initial, successors, search, max_depth, max_states, store)
+    if search == "bfs":
+        return run.breadth_first(is_goal)
+    return run.best_first(is_goal, heuristic if heuristic is not None else (lambda s: 0.0))
 
-    def result(found: int | None) -> PlanResult:
+
+class _Search:
+    """One run of :func:`search_states`: the stored states, each one's parent and depth,
+    and the counts a :class:`PlanResult` reports."""
+
+    def __init__(self, initial, successors, search, max_depth, max_states, store) -> None:
+        self.start = time.perf_counter()
+        self.successors, self.search = successors, search
+        self.max_depth, self.max_states = max_depth, max_states
+        self.table = KeyedStates() if store is None else store
+        self.root = self.table.add(initial)[0]
+        self.parent: dict[int, tuple[int, str] | None] = {self.root: None}
+        self.depth = {self.root: 0}
+        self.expanded = self.generated = 0
+        self.truncated = False
+
+    def result(self, found: int | None) -> PlanResult:
         steps = None
         if found is not None:
             steps = []
             node = found
-            while parent[node] is not None:
-                node, name = parent[node]  # type: ignore[misc]
+            while self.parent[node] is not None:
+                node, name = self.parent[node]  # type: ignore[misc]
                 steps.append(name)
             steps.reverse()
         return PlanResult(
             steps,
-            stats["expanded"],
-            stats["generated"],
-            len(table),
-            time.perf_counter() - start,
-            found is not None or not truncated,
-            search,
+            self.expanded,
+            self.generated,
+            len(self.table),
+            time.perf_counter() - self.start,
+            found is not None or not self.truncated,
+            self.search,
         )
 
-    def children(node: int):
-        nonlocal truncated
-        if max_depth is not None and depth[node] >= max_depth:
-            truncated = True
+    def children(self, node: int):
+        """``(action, child index, whether new)`` for each successor of ``node``."""
+        if self.max_depth is not None and self.depth[node] >= self.max_depth:
+            self.truncated = True
             return
-        stats["expanded"] += 1
-        for name, child in successors(table.states[node]):
-            stats["generated"] += 1
-            if max_states is not None and len(table) >= max_states:
-                truncated = True
-                found = table.find(child)
+        self.expanded += 1
+        for name, child in self.successors(self.table.states[node]):
+            self.generated += 1
+            if self.max_states is not None and len(self.table) >= self.max_states:
+                self.truncated = True
+                found = self.table.find(child)
                 if found is None:
                     continue
                 yield name, found, False
                 continue
-            index, new = table.add(child)
+            index, new = self.table.add(child)
             yield name, index, new
 
-    if search == "bfs":
-        if is_goal(table.states[root]):
-            return result(root)
-        queue = deque([root])
+    def reach(self, node: int, child: int, name: str) -> None:
+        self.parent[child] = (node, name)
+        self.depth[child] = self.depth[node] + 1
+
+    def breadth_first(self, is_goal) -> PlanResult:
+        states = self.table.states
+        if is_goal(states[self.root]):
+            return self.result(self.root)
+        queue = deque([self.root])
         while queue:
             node = queue.popleft()
-            for name, child, new in children(node):
+            for name, child, new in self.children(node):
                 if not new:
                     continue
-                parent[child] = (node, name)
-                depth[child] = depth[node] + 1
-                if is_goal(table.states[child]):
-                    return result(child)
+                self.reach(node, child, name)
+                if is_goal(states[child]):
+                    return self.result(child)
                 queue.append(child)
-        return result(None)
+        return self.result(None)
 
-    h = heuristic if heuristic is not None else (lambda s: 0.0)
-    greedy = search == "greedy"
-    goal_memo: dict[int, bool] = {}
+    def best_first(self, is_goal, h: Heuristic) -> PlanResult:
+        """Greedy best-first (priority h) or A* (depth + h), goals tested once each."""
+        greedy = self.search == "greedy"
+        goal_memo: dict[int, bool] = {}
 
-    def goal_of(node: int) -> bool:
-        if node not in goal_memo:
-            goal_memo[node] = bool(is_goal(table.states[node]))
-        return goal_memo[node]
+        def goal_of(node: int) -> bool:
+            if node not in goal_memo:
+                goal_memo[node] = bool(is_goal(self.table.states[node]))
+            return goal_memo[node]
 
-    def priority(node: int) -> float:
-        value = float(h(table.states[node]))
-        if math.isnan(value) or value < 0:
-            raise InvalidArgumentError(
-                f"the heuristic returned {value}", hint="return a non-negative number"
-            )
-        return value if greedy else depth[node] + value
+        def priority(node: int) -> float:
+            value = float(h(self.table.states[node]))
+            if math.isnan(value) or value < 0:
+                raise InvalidArgumentError(
+                    f"the heuristic returned {value}", hint="return a non-negative number"
+                )
+            return value if greedy else self.depth[node] + value
 
-    counter = 0
-    heap = [(priority(root), counter, root)]
-    closed: set[int] = set()
-    while heap:
-        _, _, node = heapq.heappop(heap)
-        if node in closed:
-            continue
-        if goal_of(node):
-            return result(node)
-        closed.add(node)
-        for name, child, new in children(node):
-            better = not new and not greedy and depth[node] + 1 < depth[child]
-            if not (new or better):
+        counter = 0
+        heap = [(priority(self.root), counter, self.root)]
+        closed: set[int] = set()
+        while heap:
+            _, _, node = heapq.heappop(heap)
+            if node in closed:
                 continue
-            parent[child] = (node, name)
-            depth[child] = depth[node] + 1
-            closed.discard(child)
-            if greedy and goal_of(child):
-                return result(child)
-            counter += 1
-            heapq.heappush(heap, (priority(child), counter, child))
-    return result(None)
+            if goal_of(node):
+                return self.result(node)
+            closed.add(node)
+            for name, child, new in self.children(node):
+                better = not new and not greedy and self.depth[node] + 1 < self.depth[child]
+                if not (new or better):
+                    continue
+                self.reach(node, child, name)
+                closed.discard(child)
+                if greedy and goal_of(child):
+                    return self.result(child)
+                counter += 1
+                heapq.heappush(heap, (priority(child), counter, child))
+        return self.result(None)
 
 
 class StateStore(Protocol):

@@ -32,7 +32,13 @@ from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Observes
 
-__all__ = ["describe_structure", "iter_valuations", "law_text", "structure_to_json"]
+__all__ = [
+    "describe_structure",
+    "disjoint_cubes",
+    "iter_valuations",
+    "law_text",
+    "structure_to_json",
+]
 
 FORMAT = "epistemica-knowledge-structure-1"
 
@@ -43,7 +49,7 @@ def _variable_names(s: Any) -> dict[int, str]:
     return names
 
 
-def _cubes(f: BDDFunction) -> Iterator[list]:
+def disjoint_cubes(f: BDDFunction) -> Iterator[list]:
     """Disjoint cubes covering ``f`` (each a list over BDD variables: True, False, None)."""
     while f.satisfiable():
         yield f.pick_cube()
@@ -54,7 +60,7 @@ def law_text(s: Any, limit: int = 16) -> str:
     """The state law as a formula: a disjunction of at most ``limit`` disjoint cubes."""
     names = _variable_names(s)
     terms = []
-    for picked in itertools.islice(_cubes(s.law), limit + 1):
+    for picked in itertools.islice(disjoint_cubes(s.law), limit + 1):
         literals = [
             names[slot] if picked[2 * slot] else f"~{names[slot]}"
             for slot in s.slots
@@ -73,7 +79,7 @@ def iter_valuations(s: Any, f: BDDFunction) -> Iterator[list[str]]:
     atom_slots = {slot for _, slot in atoms}
     hidden = [slot for slot in s.slots if slot not in atom_slots]
     g = (s.law & f).exists(_bdd.cube(hidden)) if hidden else s.law & f
-    for picked in _cubes(g):
+    for picked in disjoint_cubes(g):
         values = [picked[2 * slot] if 2 * slot < len(picked) else None for _, slot in atoms]
         free = [k for k, v in enumerate(values) if v is None]
         for bits in itertools.product((False, True), repeat=len(free)):

@@ -31,6 +31,7 @@ True
 
 from __future__ import annotations
 
+import json
 import os
 import socket
 import sqlite3
@@ -337,6 +338,17 @@ def _validate(rows: list[dict], path: str) -> None:
         for column in ("robots", "goals", "seed", "success", "steps"):
             if not isinstance(row[column], int):
                 raise _not_results(path, f"trial {row['id']!r}: {column} is {row[column]!r}")
+        if not isinstance(_json_object(row["options"]), dict):
+            shown = repr(row["options"])[:60]
+            raise _not_results(path, f"trial {row['id']!r}: options {shown} is not a JSON object")
+
+
+def _json_object(text):
+    """``text`` read as JSON, or None when it is not JSON text."""
+    try:
+        return json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        return None
 
 
 def read_format(path) -> tuple[str, int]:

@@ -65,7 +65,11 @@ from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 
-__all__ = ["FORMAT", "READABLE", "VERSION", "decode", "encode", "trial_trace"]
+__all__ = ["FORMAT", "MAX_TRACE_BYTES", "READABLE", "VERSION", "decode", "encode", "trial_trace"]
+
+#: The largest trace document read, inflated (a stored trace is about 2 kB compressed;
+#: the longest shipped trial's document is well under 1 MB).
+MAX_TRACE_BYTES = 64 << 20
 
 FORMAT = "epistemica-trace"
 VERSION = 2
@@ -171,13 +175,23 @@ def encode(trace: dict[str, Any]) -> bytes:
 
 
 def decode(blob: bytes) -> dict[str, Any]:
-    """The trace document of :func:`encode`'s bytes; a clear error for anything else."""
+    """The trace document of :func:`encode`'s bytes; a clear error for anything else,
+    a compressed blob that inflates beyond :data:`MAX_TRACE_BYTES` included (never
+    inflated further, so a decompression bomb costs no more than that)."""
     try:
-        trace = json.loads(zlib.decompress(blob).decode("utf-8"))
-    except (zlib.error, UnicodeDecodeError, json.JSONDecodeError, TypeError) as exc:
+        inflater = zlib.decompressobj()
+        text = inflater.decompress(blob, MAX_TRACE_BYTES)
+        whole = not inflater.unconsumed_tail
+        trace = json.loads(text.decode("utf-8")) if whole else None
+    except (zlib.error, UnicodeDecodeError, ValueError, TypeError, RecursionError) as exc:
         raise InvalidArgumentError(
             f"not an epistemica trace ({exc})", hint="traces are written by epistemica sweeps"
         ) from None
+    if not whole:
+        raise InvalidArgumentError(
+            f"the trace inflates beyond the limit of {MAX_TRACE_BYTES:,} bytes",
+            hint="a stored trace is a few kB; this one is damaged or hostile",
+        )
     if not isinstance(trace, dict) or trace.get("format") != FORMAT:
         raise InvalidArgumentError("not an epistemica trace", hint="no 'format' field")
     if trace.get("version") not in READABLE:

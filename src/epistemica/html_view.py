@@ -26,12 +26,14 @@ Examples
 from __future__ import annotations
 
 import json
+import math
 import os
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.output_files import write_output
 
 __all__ = ["check_writable", "model_page", "page", "write_page"]
 
@@ -41,9 +43,26 @@ def _asset(name: str) -> str:
 
 
 def _json(data: Any) -> str:
-    # Inside <script>, "</" would end the element early; "<\\/" is the same JSON string.
-    text = json.dumps(data, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
-    return text.replace("</", "<\\/")
+    """``data`` as JSON that is safe inside a ``<script>`` element and parses in a browser.
+
+    Non-finite numbers become ``null`` (JSON has no NaN or Infinity), by value, so a
+    string holding "NaN" is left alone. Every ``<``, ``>`` and ``&`` is written as its
+    ``\\u`` escape, the same JSON string: the HTML parser then never sees ``</script>``
+    nor ``<!--<script>`` (which would swallow the rest of the page) in the data.
+    """
+    text = json.dumps(_finite(data), separators=(",", ":"), allow_nan=False)
+    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+
+
+def _finite(value: Any) -> Any:
+    """``value`` with every non-finite float (NaN, ±Infinity) replaced by None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item) for item in value]
+    return value
 
 
 def page(title: str, script: str, data: dict[str, Any]) -> str:
@@ -82,14 +101,10 @@ def model_page(
 
 
 def write_page(path, text: str) -> None:
-    """Write a page's text to ``path``; a clear error (not a traceback) when its folder is
-    missing or not writable."""
-    try:
-        Path(path).write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InvalidArgumentError(
-            f"cannot write {path}: {exc.strerror}", hint="choose a path in an existing folder"
-        ) from None
+    """Write a page's text to ``path`` (through a temporary file renamed over it, see
+    :mod:`epistemica.output_files`); a clear error (not a traceback) when its folder is not
+    writable."""
+    write_output(path, text)
 
 
 def check_writable(path) -> None:

@@ -17,7 +17,12 @@ from pathlib import Path
 from epistemica.del_.errors import SourceError
 from epistemica.del_.spec import read_source
 
-__all__ = ["MISSION_ONLY", "file_kind", "read_input"]
+__all__ = ["MAX_MISSION_BYTES", "MISSION_ONLY", "file_kind", "read_input"]
+
+#: Larger mission files are refused: the shipped ones are about 1 kB, and compiling costs
+#: about 30 bytes of memory a byte of source (a 45 MB file of `check` lines reached
+#: 1.35 GB), so this bounds a mission's compilation to some tens of MB.
+MAX_MISSION_BYTES = 1 << 20
 
 #: Keywords that start a statement of the mission language and of no spec statement.
 MISSION_ONLY = frozenset(
@@ -76,6 +81,13 @@ def read_input(path: str | Path, command: str, accepts: tuple[str, ...] = ("spec
             hint="start a mission file with its kind, e.g. 'mission rendezvous' (rendezvous, "
             "allocation, capacity or multitask); a spec file starts with 'agents'",
             **where,
+        )
+    if kind != "spec" and len(text.encode("utf-8")) > MAX_MISSION_BYTES:
+        raise SourceError(
+            f"the mission file is larger than the limit of {MAX_MISSION_BYTES:,} bytes",
+            filename=str(path),
+            hint="a mission states its robots, goals and claims in a few kB; generate "
+            "fewer 'check' lines",
         )
     if kind not in accepts:
         if kind == "mission":

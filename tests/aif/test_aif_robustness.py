@@ -114,6 +114,8 @@ def test_one_robot(sensor):
         (lambda c: Controller([[0, 0]], ["range"], [[0]], update="magic"), "unknown update"),
         (lambda c: Controller([[0, 0]], ["range"], [[0, 1]]), "columns"),
         (lambda c: Controller([[0, 0]], ["range"], [[0]], horizon=0), "horizon"),
+        (lambda c: Controller([[0, 0]], ["range"], [[0]], horizon=10**6), "at most 64"),
+        (lambda c: Controller([[0, 0]], ["range"], [[0]], beam=10**6), "at most 256"),
         (lambda c: Controller([[0, 0]], ["range"], [[0]], progress_weight=np.nan), "NaN"),
         (lambda c: Controller([[0, 0]], ["range"], [[0]], social_weight=-1.0), ">= 0"),
     ],

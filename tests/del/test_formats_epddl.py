@@ -13,7 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from epistemica.del_ import KripkeModel, plan, plan_with_stats, validate
-from epistemica.del_.errors import ParseError, SpecError
+from epistemica.del_.errors import InvalidArgumentError, ParseError, SpecError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.explicit.bisimulation import bisimilar
 from epistemica.del_.formats.epddl import load_epddl, parse_epddl
@@ -230,6 +230,27 @@ def test_shipped_specs_survive_export_and_import(name):
     spec = load_spec(SPECS / "planning" / f"{name}.epi")
     back, renaming, atoms = _round_trip(spec)
     _agree(spec, back, renaming, atoms)
+
+
+def test_a_symbolic_spec_is_listed_for_epddl_when_its_states_fit():
+    # Sum and Product: 32 atoms (the symbolic backend), 2,352 states; the exported initial
+    # state is bisimilar to the structure's states listed.
+    spec = load_spec(SPECS / "puzzles" / "sum_and_product.epi")
+    assert not isinstance(spec.model, KripkeModel)
+    files = to_epddl(spec, "t")
+    assert ":events-conditions" in files["library"]  # plank warns without it
+    back = parse_epddl(files["domain"], files["problem"], [files["library"]]).spec.model
+    renaming = atom_renaming(spec)
+    mine = _renamed(spec.model.to_kripke(max_worlds=4096), renaming)
+    atoms = [renaming[a] for a in spec.atoms]
+    assert bisimilar(project(mine, atoms), project(back, atoms))
+
+
+def test_a_structure_too_large_to_list_names_the_symbolic_export():
+    spec = load_spec(SPECS / "puzzles" / "dining_cryptographers_100.epi")
+    with pytest.raises(InvalidArgumentError, match="more than") as info:
+        to_epddl(spec)
+    assert "--smcdel" in info.value.hint
 
 
 def test_an_exported_plan_keeps_its_length():

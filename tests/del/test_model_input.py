@@ -28,6 +28,13 @@ from epistemic_strategies import formulas, models
         (("w", {}, {"a": []}, "w"), "worlds must be a sequence"),
         ((["w"], {"w": ["p q"]}, {"a": []}, "w"), "'p q' in the valuation of 'w' is not an"),
         ((["w"], {"w": [""]}, {"a": []}, "w"), "'' in the valuation of 'w' is not an atom"),
+        ((["w"], {"w": []}, {"a": ["w"]}, "w"), "holds 'w', not a \\(world, world\\) pair"),
+        ((["w"], {"w": []}, {"a": [("w",)]}, "w"), "not a \\(world, world\\) pair"),
+        ((["w"], {"w": []}, {"a": [("w", "w", "w")]}, "w"), "not a \\(world, world\\) pair"),
+        ((["w"], {"w": []}, {"a": [1]}, "w"), "holds 1, not a"),
+        ((["w"], {"w": []}, {"a": None}, "w"), "relation of a must be an iterable"),
+        (([["w"]], {}, {"a": []}, ["w"]), "world name must be a string or a number"),
+        ((["w"], {"w": []}, {"a": []}, None), "unknown world None in designated"),
     ],
 )
 def test_bad_arguments_are_clear_errors(args, message):

@@ -300,9 +300,8 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
     assert b"<svg" in out["svg"].read_bytes()[:2000]
     assert "--pdf" in _help(["report", "--help"]) and "95 %%" not in _help(["report", "--help"])
     # The format is the option's, at exactly the path given, extension or not.
-    assert (
-        main(["report", str(db), "--png", str(tmp_path / "plain"), "--svg", str(out["png"])]) == 0
-    )
+    again = ["report", str(db), "--png", str(tmp_path / "plain"), "--svg", str(out["png"])]
+    assert main([*again, "--force"]) == 0  # fig.png exists: replaced only with --force
     assert (tmp_path / "plain").read_bytes().startswith(b"\x89PNG")
     assert b"<svg" in out["png"].read_bytes()[:2000]
     assert not (tmp_path / "plain.png").exists()

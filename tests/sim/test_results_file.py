@@ -310,3 +310,15 @@ def test_sweeps_opening_and_closing_one_file_at_once_wait_for_each_other(tmp_pat
                              text=True) for _ in range(3)]  # fmt: skip
     errors = [run.communicate(timeout=240)[1] for run in runs]
     assert [run.returncode for run in runs] == [0, 0, 0], errors
+
+
+def test_resume_into_another_studys_file_is_refused(tmp_path, capsys):
+    out = str(tmp_path / "a" / "r.sqlite")  # a missing folder is created for --out
+    sweep = ["sweep", "--robots", "2", "--trials", "1", "--reasoning", "zero", "--out", out]
+    assert main([*sweep, "--workers", "1"]) == 0
+    before = read_rows(out)
+    # the same study resumes (nothing to run); a study sharing no trial is refused
+    assert main([*sweep, "--workers", "1", "--resume"]) == 0
+    assert main([*sweep, "--workers", "1", "--resume", "--seed", "7"]) == 2
+    assert "none of them this study's" in capsys.readouterr().err
+    assert read_rows(out) == before

@@ -13,9 +13,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from epistemica.cli_exit import EXIT_INTERRUPTED
-from epistemica.cli_json import print_json
-from epistemica.cli_sweep import store_trials
+from epistemica.cli.exit import EXIT_INTERRUPTED
+from epistemica.cli.json_output import print_json
+from epistemica.cli.sweep import store_trials
 from epistemica.del_ import parse_formula
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
 from epistemica.html_view import write_page
@@ -36,14 +36,19 @@ EXIT_OK, EXIT_FALSE = 0, 1
 def is_mission_file(path: str) -> bool:
     """Whether the file's first statement is a ``mission`` line."""
     try:
-        with open(path, encoding="utf-8") as handle:
-            for line in handle:
-                words = line.split("#", 1)[0].split()
-                if words:
-                    return words[0] == "mission"
-    except (OSError, UnicodeDecodeError):
+        with open(path, "rb") as handle:
+            head = handle.read(_HEAD)  # bounded: /dev/zero has no first line
+    except OSError:
         return False
+    for line in head.decode("utf-8", errors="replace").splitlines():
+        words = line.split("#", 1)[0].split()
+        if words:
+            return words[0] == "mission"
     return False
+
+
+#: How much of a file :func:`is_mission_file` reads to find its first statement.
+_HEAD = 1 << 16
 
 
 def run_mission(args: argparse.Namespace) -> int:

@@ -15,15 +15,16 @@ import json
 
 import numpy as np
 
-from epistemica.cli_coordination import split_plan
-from epistemica.cli_exit import EXIT_OK
-from epistemica.cli_inputs import load_input
+from epistemica.cli.exit import EXIT_OK
+from epistemica.cli.inputs import load_input
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_ import KnowledgeStructure, KripkeModel, Spec, describe_model, to_dot
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import names_hint
 from epistemica.del_.symbolic.describe import describe_structure, structure_to_json
 from epistemica.model_json import dumps, model_to_json
 from epistemica.model_view import write_model_view
+from epistemica.output_files import check_output, write_output
 
 __all__ = ["model_after", "run_show"]
 
@@ -57,6 +58,10 @@ def model_after(spec: Spec, steps: list[str]) -> KripkeModel | KnowledgeStructur
 
 def run_show(args: argparse.Namespace) -> int:
     """Run ``epistemica show`` with parsed arguments; return the exit status."""
+    inputs = [args.file, getattr(args, "problem", None), *getattr(args, "library", [])]
+    for flag in ("html", "dot"):
+        if getattr(args, flag, None):  # before any work: never over an input or unasked
+            check_output(getattr(args, flag), inputs, args.force, f"--{flag}")
     spec, _task = load_input(args, args.backend, "show")
     steps = split_plan(args.after) if args.after.strip() else []
     model = model_after(spec, steps)
@@ -77,8 +82,7 @@ def run_show(args: argparse.Namespace) -> int:
         print(f"wrote {args.html}: {model.n_worlds} worlds; open it in a browser")
     elif args.dot:
         shown = _first_worlds(model, limit)
-        with open(args.dot, "w", encoding="utf-8") as out:
-            out.write(to_dot(shown) + "\n")
+        write_output(args.dot, to_dot(shown) + "\n")
         part = f" (the first {shown.n_worlds})" if shown is not model else ""
         print(f"wrote {args.dot}: {model.n_worlds} worlds{part}, agents {', '.join(model.agents)}")
     else:

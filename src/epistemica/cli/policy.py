@@ -1,6 +1,6 @@
 """``epistemica plan --implicit --policy``: implicitly coordinated policies.
 
-Helper of :mod:`epistemica.cli_plan`. ``--policy`` searches for a policy that branches on
+Helper of :mod:`epistemica.cli.plan`. ``--policy`` searches for a policy that branches on
 what the acting agent observes (:func:`epistemica.del_.planning.policy.plan_policy`) and
 prints it as a tree, one decision a line, children indented under the decision they
 follow::
@@ -21,13 +21,14 @@ import json
 from pathlib import Path
 from typing import Any
 
-from epistemica.cli_coordination import owners_of, split_plan
-from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_json import print_json
+from epistemica.cli.coordination import owners_of
+from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli.json_output import print_json
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy
-from epistemica.del_.spec import names_hint
+from epistemica.del_.spec import names_hint, read_source
 
 __all__ = ["plan_policy_command", "verify_policy_command"]
 
@@ -101,9 +102,10 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
     """A policy from a JSON file, or from a plan read as a policy without branches."""
     path = Path(text)
     if text.endswith(".json") or path.is_file():
+        source = read_source(path, "policy file")  # bounded, binary-checked
         try:
-            data = json.loads(path.read_text())
-        except (OSError, ValueError) as error:
+            data = json.loads(source)
+        except ValueError as error:
             raise InvalidArgumentError(
                 f"cannot read the policy {text!r}: {error}",
                 hint="give the JSON written by `epistemica plan SPEC --implicit --policy --json`",

@@ -1,7 +1,7 @@
 """Reading what ``check``, ``plan`` and ``show`` are given: a spec, an EPDDL task, SMCDEL.
 
 Helper of the command modules (imported when one of them runs). See
-:mod:`epistemica.cli_formats` for the arguments.
+:mod:`epistemica.cli.formats` for the arguments.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from epistemica.cli_coordination import split_plan
+from epistemica.cli.plan_steps import split_plan
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.formats.epddl import EpddlTask, is_epddl, load_epddl
 from epistemica.del_.formats.smcdel import SmcdelFile, is_smcdel, load_smcdel

@@ -1,7 +1,7 @@
 """The arguments of the simulator's commands (``run``, the mission options of ``check``,
 ``simulate``, ``sweep``, ``report``): argparse only, so that building the parser (and
 ``epistemica --help``) imports none of numpy, scipy or the simulator. Their handlers are
-in ``cli_run``, ``cli_simulate`` and ``cli_sweep``, loaded by :data:`epistemica.cli.COMMANDS`
+in ``cli.run``, ``cli.simulate`` and ``cli.sweep``, loaded by :data:`epistemica.cli.COMMANDS`
 when a command runs.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from epistemica.cli_options import add_scenario_options
+from epistemica.cli.options import add_scenario_options
 
 __all__ = [
     "add_check_options",
@@ -163,6 +163,7 @@ def add_simulate_command(commands) -> None:
     cmd.add_argument("--json", action="store_true", help="print a JSON object")
     cmd.add_argument("--png", metavar="FILE", help="write the trajectories as a PNG")
     cmd.add_argument("--gif", metavar="FILE", help="write an animation with the beliefs")
+    cmd.add_argument("--force", action="store_true", help="replace existing --png/--gif files")
 
 
 def parse_counts(text: str) -> list[int]:
@@ -256,6 +257,7 @@ def add_sweep_commands(commands) -> None:
     )
     report.add_argument("--svg", default=None, metavar="FILE", help="figure as SVG (vector)")
     report.add_argument("--no-png", action="store_true", help="do not write any figure")
+    report.add_argument("--force", action="store_true", help="replace existing figure files")
 
 
 _VIEW_EXAMPLES = """\
@@ -291,3 +293,4 @@ def add_view_command(commands) -> None:
         "--level", default=None, help="the trial's level (mission file: default its last)"
     )
     cmd.add_argument("-o", "--out", default=None, help="the page (default: FILE's name .html)")
+    cmd.add_argument("--force", action="store_true", help="replace an existing page")

@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_inputs import is_foreign, load_input, where_lines
-from epistemica.cli_json import print_json
+from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli.inputs import is_foreign, load_input, where_lines
+from epistemica.cli.json_output import print_json
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.describe import world_label, world_labels
 from epistemica.del_.spec.backend import formula_summary
@@ -26,7 +26,7 @@ from epistemica.input_files import read_input
 __all__ = ["COMMANDS", "run_check"]
 
 #: Checking a mission file: loaded by name when the file is one.
-COMMANDS = {"mission": "epistemica.cli_run:check_mission"}
+COMMANDS = {"mission": "epistemica.cli.run:check_mission"}
 
 # Worlds listed by `check --formula` before "... and N more" (text) / truncation (JSON).
 _LIST_TEXT, _LIST_JSON = 12, 1000

@@ -7,42 +7,29 @@ turned out false), 2 on bad input.
 from __future__ import annotations
 
 import argparse
-import os
+from functools import partial
 
-from epistemica.cli_json import print_json
-from epistemica.cli_options import scenario_options
-from epistemica.del_.errors import InvalidArgumentError
+from epistemica.cli.json_output import print_json
+from epistemica.cli.options import scenario_options
+from epistemica.output_files import check_output, write_output
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.study.figures import animate_trial, plot_trial
 
-__all__ = ["check_writable", "run_simulate"]
-
-
-def check_writable(path: str, flag: str) -> None:
-    """Refuse an output path whose folder is missing or read-only."""
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InvalidArgumentError(
-            f"{flag} {path}: the folder {folder} does not exist", hint="create it first"
-        )
-    if not os.access(folder, os.W_OK) or os.path.isdir(path):
-        raise InvalidArgumentError(
-            f"{flag} {path}: cannot write there", hint="choose a file in a writable folder"
-        )
+__all__ = ["run_simulate"]
 
 
 def run_simulate(args: argparse.Namespace) -> int:
 
     for flag, path in (("--png", args.png), ("--gif", args.gif)):
         if path:
-            check_writable(path, flag)  # before the trial, not after minutes of it
+            check_output(path, force=args.force, flag=flag)  # before the trial, not after it
     options = scenario_options(args)
     scenario = Scenario.paper(args.mission, args.robots, args.goals, args.seed, **options)
     trial = simulate(scenario, args.reasoning, seed=args.seed)
     if args.png:
-        plot_trial(scenario, trial, args.png)
+        write_output(args.png, partial(plot_trial, scenario, trial))
     if args.gif:
-        animate_trial(scenario, trial, args.gif)
+        write_output(args.gif, partial(animate_trial, scenario, trial))
     if args.json:
         record = {
             "mission": scenario.mission,

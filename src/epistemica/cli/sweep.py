@@ -15,10 +15,12 @@ import os
 import sys
 import time
 from dataclasses import dataclass
+from functools import partial
 
-from epistemica.cli_exit import EXIT_INTERRUPTED
-from epistemica.cli_options import scenario_options
+from epistemica.cli.exit import EXIT_INTERRUPTED
+from epistemica.cli.options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.output_files import check_output, write_output
 from epistemica.run import team_trials
 from epistemica.sim.study.report import format_table, plot_results, summarise
 from epistemica.sim.study.store import ResultStore, read_rows
@@ -93,8 +95,23 @@ def store_trials(specs, out, resume: bool, args: argparse.Namespace) -> Stored |
     (Ctrl-C), after saying how many trials are stored."""
     started = time.perf_counter()
     ids = {s.id for s in specs}
+    folder = os.path.dirname(os.path.abspath(out))
+    try:  # a missing folder is created, rather than called "not a results file"
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise InvalidArgumentError(
+            f"--out {out}: cannot create the folder {folder}: {exc.strerror or exc}",
+            hint="choose a path in a writable folder",
+        ) from None
     with ResultStore(out, resume=resume) as store:
-        bar = _progress(len(ids - store.done_ids()))
+        done = store.done_ids()
+        if getattr(args, "resume", False) and done and not done & ids:
+            raise InvalidArgumentError(
+                f"--resume: {out} holds {len(done):,} trials, none of them this study's "
+                "(another mission, grid or seed range)",
+                hint="resume with the command that started the file, or choose another --out",
+            )
+        bar = _progress(len(ids - done))
         try:
             ran, _ = run_sweep(
                 specs,
@@ -131,12 +148,16 @@ def _progress(total: int):
 
 def run_report(args: argparse.Namespace) -> int:
 
+    asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
+    paths = [(path, fmt) for path, fmt in asked if path]
+    paths = paths or [(os.path.splitext(args.results)[0] + ".png", "png")]
+    if not args.no_png:  # before reading: never over the results file, nor unasked
+        for path, fmt in paths:
+            check_output(path, [args.results], args.force, f"--{fmt}")
     cells = summarise(read_rows(args.results))
     print(format_table(cells, markdown=args.markdown))
     if not args.no_png and cells:
-        asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
-        paths = [(path, fmt) for path, fmt in asked if path]
-        for path, fmt in paths or [(os.path.splitext(args.results)[0] + ".png", "png")]:
-            plot_results(cells, path, fmt=fmt)
+        for path, fmt in paths:
+            write_output(path, partial(plot_results, cells, fmt=fmt))
             print(f"figure: {path}")
     return 0

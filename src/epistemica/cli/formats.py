@@ -3,7 +3,7 @@
 Helper of :mod:`epistemica.cli` (imported when the parser is built, so it imports nothing
 heavy). ``check``, ``plan`` and ``show`` accept, besides a ``.epi`` spec, an EPDDL task
 (``DOMAIN.epddl PROBLEM.epddl [-l LIBRARY.epddl ...]``) and an SMCDEL file (``.smcdel``),
-read by :mod:`epistemica.cli_inputs`; ``export`` (:mod:`epistemica.cli_export`) writes a
+read by :mod:`epistemica.cli.inputs`; ``export`` (:mod:`epistemica.cli.export`) writes a
 spec as EPDDL or in SMCDEL's text format.
 """
 
@@ -53,3 +53,4 @@ def add_export_command(commands) -> None:
     export.add_argument(
         "-o", "--output", default=".", metavar="DIR", help="directory to write to (default .)"
     )
+    export.add_argument("--force", action="store_true", help="replace existing files")

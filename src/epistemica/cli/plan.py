@@ -1,7 +1,7 @@
 """``epistemica plan``: search for a plan reaching the spec's goal, or check one.
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs; ``--implicit`` and
-``--verify`` are in :mod:`epistemica.cli_coordination`. Plan steps are numbered from 1 in
+``--verify`` are in :mod:`epistemica.cli.coordination`. Plan steps are numbered from 1 in
 every output, text and JSON alike. Exit status 0 when a (valid) plan was found, 1 when no
 plan exists or the plan is not valid.
 
@@ -15,11 +15,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from epistemica.cli_coordination import plan_implicit, print_steps, verify_plan
-from epistemica.cli_exit import EXIT_FALSE, EXIT_OK
-from epistemica.cli_inputs import is_foreign, load_input, plank_line
-from epistemica.cli_json import print_json
-from epistemica.cli_policy import plan_policy_command, verify_policy_command
+from epistemica.cli.coordination import plan_implicit, print_steps, verify_plan
+from epistemica.cli.exit import EXIT_FALSE, EXIT_OK
+from epistemica.cli.inputs import is_foreign, load_input, plank_line
+from epistemica.cli.json_output import print_json
+from epistemica.cli.policy import plan_policy_command, verify_policy_command
 from epistemica.del_ import KripkeModel, describe_model, parse_spec, plan_with_stats, validate
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.del_.planning.symbolic_search import (
@@ -63,27 +63,8 @@ def run_plan(args: argparse.Namespace) -> int:
             filename=args.file,
             hint="declare 'action' lines to plan with",
         )
-    policy = getattr(args, "policy", False)
-    if policy and not args.implicit:
-        raise InvalidArgumentError(
-            "--policy is a kind of implicitly coordinated plan",
-            hint="use it with --implicit (and --verify to check a plan as a policy)",
-        )
-    if getattr(args, "perspective", None) is not None and not policy:
-        raise InvalidArgumentError(
-            "--perspective is for policies", hint="use it with --implicit --policy"
-        )
-    if args.implicit and backend == "symbolic":
-        raise InvalidArgumentError(
-            "implicit coordination is planned over Kripke models only",
-            hint="use --backend explicit (or a smaller spec, or a larger --memory-budget)",
-        )
+    policy = _check_options(args, spec, backend)
     if policy:
-        if args.perspective is not None and args.perspective not in spec.agents:
-            raise InvalidArgumentError(
-                f"unknown agent {args.perspective!r} for --perspective",
-                hint=f"agents: {', '.join(spec.agents)}",
-            )
         command = plan_policy_command if args.verify is None else verify_policy_command
         return command(args, spec)
     plan_with, validate_with, describe = plan_with_stats, validate, describe_model
@@ -102,29 +83,62 @@ def run_plan(args: argparse.Namespace) -> int:
         else validate_with(spec.model, spec.actions, result.plan, spec.goal)
     )
     states = [] if check is None else [describe(s) for s in check.states]
-    ok = check is not None and check.valid
     if args.json:
-        out = {
-            "file": args.file,
-            "goal": str(spec.goal),
-            "search": result.search,
-            "backend": backend,
-            "plan": result.plan,
-            "length": result.length,
-            "valid": ok,
-            "reason": None if check is None else check.reason,
-            "expanded": result.expanded,
-            "generated": result.generated,
-            "distinct": result.distinct,
-            "seconds": round(result.seconds, 6),
-            "complete": result.complete,
-        }
-        if task is not None and result.plan is not None:
-            out["plank_plan"] = task.plank_plan(result.plan)
-        if args.explain:
-            out["states"] = states
-        print_json("plan", out)
-        return EXIT_OK if ok else EXIT_FALSE
+        return _print_json(args, spec, backend, task, result, check, states)
+    return _print_text(args, spec, backend, task, result, check, states)
+
+
+def _check_options(args: argparse.Namespace, spec: Any, backend: str) -> bool:
+    """Refuse combinations of options that mean nothing; whether a policy is asked for."""
+    policy = getattr(args, "policy", False)
+    if policy and not args.implicit:
+        raise InvalidArgumentError(
+            "--policy is a kind of implicitly coordinated plan",
+            hint="use it with --implicit (and --verify to check a plan as a policy)",
+        )
+    if getattr(args, "perspective", None) is not None and not policy:
+        raise InvalidArgumentError(
+            "--perspective is for policies", hint="use it with --implicit --policy"
+        )
+    if args.implicit and backend == "symbolic":
+        raise InvalidArgumentError(
+            "implicit coordination is planned over Kripke models only",
+            hint="use --backend explicit (or a smaller spec, or a larger --memory-budget)",
+        )
+    if policy and args.perspective is not None and args.perspective not in spec.agents:
+        raise InvalidArgumentError(
+            f"unknown agent {args.perspective!r} for --perspective",
+            hint=f"agents: {', '.join(spec.agents)}",
+        )
+    return policy
+
+
+def _print_json(args, spec, backend: str, task, result, check, states: list) -> int:
+    ok = check is not None and check.valid
+    out = {
+        "file": args.file,
+        "goal": str(spec.goal),
+        "search": result.search,
+        "backend": backend,
+        "plan": result.plan,
+        "length": result.length,
+        "valid": ok,
+        "reason": None if check is None else check.reason,
+        "expanded": result.expanded,
+        "generated": result.generated,
+        "distinct": result.distinct,
+        "seconds": round(result.seconds, 6),
+        "complete": result.complete,
+    }
+    if task is not None and result.plan is not None:
+        out["plank_plan"] = task.plank_plan(result.plan)
+    if args.explain:
+        out["states"] = states
+    print_json("plan", out)
+    return EXIT_OK if ok else EXIT_FALSE
+
+
+def _print_text(args, spec, backend: str, task, result, check, states: list) -> int:
     stats = f"{result.search}, {result.distinct} distinct states, {result.seconds:.3f} s"
     if backend == "symbolic":
         stats = f"symbolic, {stats}"
@@ -132,6 +146,7 @@ def run_plan(args: argparse.Namespace) -> int:
         why = "no plan exists" if result.complete else "no plan within the search bound"
         print(f"{why} for goal {spec.goal} ({stats})")
         return EXIT_FALSE
+    ok = check is not None and check.valid
     print(f"plan of {result.length} step{'s' if result.length != 1 else ''} ({stats}):")
     print_steps(result.plan, {}, states if args.explain else None)
     print(("validated: " if ok else "INVALID: ") + check.reason)

@@ -1,7 +1,7 @@
 """``epistemica export``: a spec written as EPDDL or in SMCDEL's text format.
 
 Helper of :mod:`epistemica.cli`, imported only when the command runs (arguments in
-:mod:`epistemica.cli_formats`).
+:mod:`epistemica.cli.formats`).
 """
 
 from __future__ import annotations
@@ -9,10 +9,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from epistemica.cli_exit import EXIT_OK
+from epistemica.cli.exit import EXIT_OK
 from epistemica.del_.formats.epddl_export import to_epddl
-from epistemica.del_.formats.smcdel import to_smcdel
+from epistemica.del_.formats.smcdel_export import to_smcdel
 from epistemica.del_.spec import load_spec
+from epistemica.output_files import check_output, write_output
 
 __all__ = ["run_export"]
 
@@ -26,8 +27,9 @@ def run_export(args: argparse.Namespace) -> int:
         files = {f"{stem}-{part}.epddl": text for part, text in to_epddl(spec, stem).items()}
     else:
         files = {f"{stem}.smcdel": to_smcdel(spec)}
-    out.mkdir(parents=True, exist_ok=True)
+    for name in files:
+        check_output(out / name, [args.file], args.force, "-o", create_folder=True)
     for name, text in files.items():
-        (out / name).write_text(text, encoding="utf-8")
+        write_output(out / name, text)
         print(f"wrote {out / name}")
     return EXIT_OK

@@ -21,7 +21,7 @@ Commands:
   (``show --html`` writes one for a spec's model).
 
 Exit status (grep-like, so that shell scripts can branch on it; see
-:mod:`epistemica.cli_exit`): 0 on success, 1 when a claim (or --expect) is false or no plan
+:mod:`epistemica.cli.exit`): 0 on success, 1 when a claim (or --expect) is false or no plan
 exists, 2 on bad input, printed as ``FILE:LINE:COL: error: ...`` plus a hint, 3 on an
 internal error (a bug: one line, the traceback only with ``--debug``). ``--json`` prints
 one JSON object on standard output instead of text.
@@ -37,15 +37,15 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from epistemica.cli_arguments import (
+from epistemica.cli.arguments import (
     add_check_options,
     add_run_command,
     add_simulate_command,
     add_sweep_commands,
     add_view_command,
 )
-from epistemica.cli_exit import EXIT_USAGE, guarded
-from epistemica.cli_formats import add_export_command, add_input_options
+from epistemica.cli.exit import EXIT_USAGE, guarded
+from epistemica.cli.formats import add_export_command, add_input_options
 from epistemica.del_.budget import budget_scope
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -53,14 +53,14 @@ __all__ = ["COMMANDS", "build_parser", "main"]
 #: Each command's handler, ``"module:function"``: a module is imported when its command
 #: runs, so that start-up (and ``--help``) pays only for argparse.
 COMMANDS = {
-    "check": "epistemica.cli_check:run_check",
-    "plan": "epistemica.cli_plan:run_plan",
-    "show": "epistemica.cli_show:run_show",
-    "run": "epistemica.cli_run:run_mission",
-    "simulate": "epistemica.cli_simulate:run_simulate",
-    "sweep": "epistemica.cli_sweep:run_sweep_command",
-    "report": "epistemica.cli_sweep:run_report",
-    "export": "epistemica.cli_export:run_export",
+    "check": "epistemica.cli.check:run_check",
+    "plan": "epistemica.cli.plan:run_plan",
+    "show": "epistemica.cli.show:run_show",
+    "run": "epistemica.cli.run:run_mission",
+    "simulate": "epistemica.cli.simulate:run_simulate",
+    "sweep": "epistemica.cli.sweep:run_sweep_command",
+    "report": "epistemica.cli.sweep:run_report",
+    "export": "epistemica.cli.export:run_export",
     "view": "epistemica.view:run_view",
 }
 
@@ -319,6 +319,9 @@ def _add_show(commands) -> None:
         help="write a self-contained page: worlds, relations, claims, a formula box",
     )
     show.add_argument(
+        "--force", action="store_true", help="replace an existing --dot or --html file"
+    )
+    show.add_argument(
         "--limit",
         type=_positive,
         metavar="N",
@@ -331,7 +334,7 @@ def _add_show(commands) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit status.
 
-    See :mod:`epistemica.cli_exit` for the statuses.
+    See :mod:`epistemica.cli.exit` for the statuses.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
