@@ -15,6 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from epistemica.sim.trace import known_goals
+
 __all__ = ["ROBOT_COLOURS", "focus_robot", "robot_colour"]
 
 #: A qualitative palette without grey or black (those are the goals').
@@ -37,8 +39,11 @@ def robot_colour(i: int) -> str:
 
 
 def focus_robot(trace: dict[str, Any]) -> int:
-    """The robot whose model of its teammates' sets differs most from their own sets (the
-    first robot when no model differs): the one whose nested reasoning the figures show.
+    """The robot whose knowledge decides the trial, whose nested reasoning the figures show:
+    the one that most often knows of a goal it takes a teammate not to know of (private
+    knowledge, the trace's ``knows``); without any, the robot whose model of its
+    teammates' sets differs most from their own sets (the first robot when no model
+    differs).
 
     Examples
     --------
@@ -46,7 +51,16 @@ def focus_robot(trace: dict[str, Any]) -> int:
     1
     >>> focus_robot({"modelled": [], "considered": []})
     0
+    >>> focus_robot({"modelled": [], "considered": [], "steps": 1, "robots": ["a", "b"],
+    ...              "goals": ["x"], "knows": [[0, 1, 1, 0, 1, "start"]]})
+    1
     """
+    known = known_goals(trace)
+    if known is not None:
+        own = np.diagonal(known, axis1=1, axis2=2).transpose(0, 2, 1)  # (T, n, m)
+        private = (own[:, :, None, :] & ~known).sum(axis=(0, 2, 3))
+        if private.max() > 0:
+            return int(np.argmax(private))
     modelled = np.asarray(trace["modelled"], dtype=float)
     if modelled.size == 0:
         return 0
