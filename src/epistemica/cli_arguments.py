@@ -263,6 +263,7 @@ examples:
   epistemica view specs/rendezvous.epi                  # simulate its first trial, last level
   epistemica view specs/nested/relocated_3.epi --trial 4 --level first -o relocated.html
   epistemica view trace.json                            # a trace (epistemica.sim.trace)
+  epistemica view specs/nested/private_goal_3.epi --trial 4 --level third --compare first
   epistemica show specs/puzzles/muddy_children.epi --html muddy.html   # a model's page
 
 exit status: 0 written, 2 bad input
@@ -276,8 +277,9 @@ def add_view_command(commands) -> None:
         help="write a trial's replay as one self-contained HTML page",
         description="Write one HTML page (script, style and data inline: no server, no "
         "network) replaying a trial: the map with sensing radii, estimates and events, each "
-        "robot's belief, its configuration-set size and one robot's model of its teammates' "
-        "sets; a slider scrubs, a button plays and pauses.",
+        "robot's belief, the goals it knows and how it learned them, its configuration set and "
+        "one robot's model of each teammate's knowledge; a slider scrubs, a button plays and "
+        "pauses; --compare draws other levels of the same seed beside it.",
         epilog=_VIEW_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -289,5 +291,13 @@ def add_view_command(commands) -> None:
     cmd.add_argument("--trial", type=int, default=None, metavar="SEED", help="the trial's seed")
     cmd.add_argument(
         "--level", default=None, help="the trial's level (mission file: default its last)"
+    )
+    cmd.add_argument(
+        "--compare",
+        action="append",
+        default=None,
+        metavar="LEVEL",
+        help="also replay the same seed at LEVEL, side by side with one slider (mission or "
+        "results file; repeatable)",
     )
     cmd.add_argument("-o", "--out", default=None, help="the page (default: FILE's name .html)")

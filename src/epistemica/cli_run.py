@@ -99,8 +99,13 @@ def _run_study(mission, args: argparse.Namespace) -> int:
             print(f"animation ({level}, seed {seed}{why}): {gif}")
         elif not args.no_gif:
             level, seed, why = _animated_trial(args.trial, rows, specs)
-            _animate(mission, level, seed, gif)
-            print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
+            before = _beside(level, seed, rows, specs)
+            _animate(mission, level, seed, gif, before)
+            beside = f" ({level} beside {before[0]})" if before else ""
+            print(
+                f"animation ({level}, seed {seed}{why}): {gif} and page{beside}: "
+                f"{gif.with_suffix('.html')}"
+            )
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(done.summary())
@@ -120,6 +125,15 @@ def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, i
     if seed is None:
         return level, specs[0].seed, ": the levels agree on every seed"
     return level, seed, ": the first where the levels disagree, the last succeeding if it can"
+
+
+def _beside(level: str, seed: int, rows: list[dict], specs) -> list[str]:
+    """The level drawn beside ``level`` on the page of its trial at ``seed``: the highest
+    other level that failed there (else the highest other level), so that the page shows
+    why one level failed where the other did not."""
+    levels = [lv for lv in dict.fromkeys(s.reasoning for s in specs) if lv != level]
+    failed = {r["reasoning"] for r in rows if int(r["seed"]) == seed and not r["success"]}
+    return ([lv for lv in levels if lv in failed] or levels)[-1:]
 
 
 def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
@@ -150,15 +164,22 @@ def _animate_collaborative(mission, level: str, seed: int, path: Path) -> None:
     animate_collaborative(collaborative_trace(scenario, trial), path, mission=mission.name)
 
 
-def _animate(mission, level: str, seed: int, path: Path) -> None:
-
+def _animate(mission, level: str, seed: int, path: Path, others: list[str]) -> None:
+    """The GIF of ``level``'s trial at ``seed``; its page, with the ``others`` levels'
+    trials of the same seed beside it."""
     scenario = mission.scenario(seed)
-    trial = simulate(
-        scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
-    )
-    trace = trial_trace(scenario, trial)
-    animate_trace(trace, path, mission=mission.name)
-    write_page(path.with_suffix(".html"), trial_page(trace, mission.name))
+    traces = []
+    for reasoning in [level, *others]:
+        trial = simulate(
+            scenario,
+            reasoning,
+            seed=seed,
+            policies=mission.policies(seed),
+            parameters=mission.parameters,
+        )
+        traces.append(trial_trace(scenario, trial))
+    animate_trace(traces[0], path, mission=mission.name)
+    write_page(path.with_suffix(".html"), trial_page(traces[0], mission.name, traces[1:]))
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
