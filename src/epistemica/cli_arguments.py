@@ -256,6 +256,15 @@ def add_sweep_commands(commands) -> None:
     )
     report.add_argument("--svg", default=None, metavar="FILE", help="figure as SVG (vector)")
     report.add_argument("--no-png", action="store_true", help="do not write any figure")
+    report.add_argument(
+        "--csv", default=None, metavar="FILE", help="the trials as CSV (needs the data extra)"
+    )
+    report.add_argument(
+        "--parquet",
+        default=None,
+        metavar="FILE",
+        help="the trials as Parquet (needs the data extra: pandas, pyarrow)",
+    )
 
 
 _VIEW_EXAMPLES = """\

@@ -19,8 +19,9 @@ from dataclasses import dataclass
 from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.results import load, write_table
 from epistemica.run import team_trials
-from epistemica.sim.report import format_table, plot_results, summarise
+from epistemica.sim.report import format_table, plot_results, study_order, summarise
 from epistemica.sim.store import ResultStore, read_rows
 from epistemica.sim.sweep import plan_sweep, run_sweep
 
@@ -129,10 +130,27 @@ def _progress(total: int):
     return tqdm(total=total, unit="trial", smoothing=0.1)
 
 
+def _write_data(results: str, path: str) -> None:
+    """The trials of ``results`` as CSV or Parquet at ``path`` (never over the input)."""
+    if os.path.abspath(path) == os.path.abspath(results):
+        raise InvalidArgumentError(
+            f"{path} is the results file being read", hint="choose another output path"
+        )
+    write_table(load(results), path)
+    print(f"trials: {path}")
+
+
 def run_report(args: argparse.Namespace) -> int:
 
     cells = summarise(read_rows(args.results))
+    # Within a mission and team, the levels in study order (zero, convention, first, ...),
+    # as in the figure.
+    rank = {name: i for i, name in enumerate(study_order(c.reasoning for c in cells))}
+    cells.sort(key=lambda c: (c.mission, c.robots, c.goals, rank[c.reasoning]))
     print(format_table(cells, markdown=args.markdown))
+    for path in (getattr(args, "csv", None), getattr(args, "parquet", None)):
+        if path:
+            _write_data(args.results, path)
     if not args.no_png and cells:
         asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
         paths = [(path, fmt) for path, fmt in asked if path]
