@@ -78,6 +78,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
+from epistemica.sim._env_checks import checked_actions, checked_seed, checked_shaping
 from epistemica.sim._env_view import (
     action_space,
     agent_views,
@@ -176,9 +177,9 @@ class MissionEnv(ParallelEnv):
                 f"render_mode {render_mode!r} is not supported", hint='use "rgb_array" or None'
             )
         study = getattr(getattr(source, "study", None), "seed", 0)
-        seed = study if seed is None else _seed(seed, "seed")
+        seed = study if seed is None else checked_seed(seed, "seed")
         self.source, self.parameters, self.render_mode = source, parameters, render_mode
-        self.shaping = _shaping(shaping)
+        self.shaping = checked_shaping(shaping)
         self.epistemic, self.normalized = bool(epistemic), bool(normalized)
         self.scenario = self._scenario(seed)
         s = self.scenario
@@ -211,7 +212,7 @@ class MissionEnv(ParallelEnv):
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         """Start trial ``seed`` (default: the next seed); returns observations and infos."""
-        self.seed_ = self._next_seed if seed is None else _seed(seed, "reset(seed=...)")
+        self.seed_ = self._next_seed if seed is None else checked_seed(seed, "reset(seed=...)")
         self._next_seed = self.seed_ + 1
         s = self.scenario = self._scenario(self.seed_)
         self.streams = trial_streams(self.seed_, s.n_robots)
@@ -249,7 +250,7 @@ class MissionEnv(ParallelEnv):
                 f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
             )
         robots = [self._index[a] for a in self.agents]
-        chosen = _actions(self.agents, actions)
+        chosen = checked_actions(self.agents, actions)
         controls[robots] = controls_of(s, robots, chosen) if self.normalized else chosen
         run.decide(t, self.observations, self.groups, controls)
         success = run.advance(t, controls)
@@ -407,52 +408,6 @@ class MissionEnv(ParallelEnv):
         return poses
 
 
-def _seed(value, what: str) -> int:
-    """A seed: a whole number >= 0 (not a bool, a string or a float), or a clear error."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
-        raise InvalidArgumentError(
-            f"{what} must be a whole number >= 0, got {value!r}",
-            hint="e.g. reset(seed=0); leave it out for the next seed",
-        )
-    return int(value)
-
-
-def _shaping(value) -> float:
-    """A finite real weight, or a clear error."""
-    try:
-        weight = float(value) if not isinstance(value, bool | str) else None
-    except (TypeError, ValueError):
-        weight = None
-    if weight is None or not np.isfinite(weight):
-        raise InvalidArgumentError(
-            f"shaping must be a finite number, got {value!r}",
-            hint="e.g. shaping=1.0 (0: progress only)",
-        )
-    return weight
-
-
-def _actions(agents: list[str], actions: Mapping) -> np.ndarray:
-    """The agents' actions as ``(k, 2)`` finite floats, or an error naming the first bad one."""
-    try:
-        values = np.array([actions[a] for a in agents], dtype=float)
-    except (TypeError, ValueError):
-        values = None
-    if values is not None and values.shape == (len(agents), 2) and np.isfinite(values).all():
-        return values
-    for agent in agents:
-        value = actions[agent]
-        try:
-            good = np.shape(value) == (2,) and bool(np.isfinite(np.asarray(value, float)).all())
-        except (TypeError, ValueError):
-            good = False
-        if not good:
-            raise InvalidArgumentError(
-                f"the action of {agent} must be two finite numbers, got {value!r}",
-                hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
-            )
-    raise AssertionError("unreachable: some action was malformed")  # pragma: no cover
-
-
 class RobotEnv(gymnasium.Env):
     """One robot of a mission as a Gymnasium environment, its teammates driven by a level.
 
@@ -496,7 +451,7 @@ class RobotEnv(gymnasium.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         if seed is not None:
-            _seed(seed, "reset(seed=...)")
+            checked_seed(seed, "reset(seed=...)")
         super().reset(seed=seed)
         observations, infos = self.multi.reset(seed=seed, options=options)
         return observations[self.agent], infos[self.agent]
