@@ -15,9 +15,10 @@ from typing import Any
 
 import numpy as np
 
+from epistemica.sim.levels import REASONING
 from epistemica.sim.trace import known_goals
 
-__all__ = ["ROBOT_COLOURS", "focus_robot", "robot_colour"]
+__all__ = ["LEVEL_COLOURS", "ROBOT_COLOURS", "focus_robot", "level_style", "robot_colour"]
 
 #: A qualitative palette without grey or black (those are the goals').
 ROBOT_COLOURS = (
@@ -31,6 +32,35 @@ ROBOT_COLOURS = (
     "#17becf",
     "#bcbd22",
 )
+
+
+#: Level colours (matplotlib's ``tab10``), by a level's place in
+#: :data:`~epistemica.sim.levels.REASONING`: a level has one colour in every figure.
+LEVEL_COLOURS = (
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+)  # fmt: skip
+_LINES = ("-", "--", "-.", ":")
+# One marker per level of REASONING (greyscale readers tell the levels apart by it).
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "p", "h", "<", ">", "d", "8", "H",
+            "1", "2", "3", "4", "+")  # fmt: skip
+
+
+def level_style(level: str) -> tuple[str, str, str]:
+    """``(colour, line style, marker)`` of a reasoning level, the same in every figure
+    (fixed by the level's place in :data:`~epistemica.sim.levels.REASONING`; a level not
+    there takes a place after them by its name). Two levels never share all three.
+
+    Examples
+    --------
+    >>> level_style("third") == level_style("third"), level_style("zero") != level_style("first")
+    (True, True)
+    """
+    if level in REASONING:
+        k = REASONING.index(level)
+    else:
+        k = len(REASONING) + sum(map(ord, level)) % 31
+    return LEVEL_COLOURS[k % 10], _LINES[k % 4], _MARKERS[k % len(_MARKERS)]
 
 
 def robot_colour(i: int) -> str:

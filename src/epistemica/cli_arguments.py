@@ -93,6 +93,10 @@ def add_run_command(commands) -> None:
         "by default at the seed where it finishes most steps sooner than first)",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+    cmd.add_argument(
+        "--pdf", action="store_true", help="also write the figure as PDF (vector, for a paper)"
+    )
+    cmd.add_argument("--svg", action="store_true", help="also write the figure as SVG (vector)")
 
 
 def _add_execution_options(cmd) -> None:

@@ -89,9 +89,11 @@ def _run_study(mission, args: argparse.Namespace) -> int:
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
     print(format_table(cells, markdown=args.markdown))
     try:
-        png = out.with_suffix(".png")
-        plot_levels(cells, png, mission.name)
-        print(f"figure: {png}")
+        vector = [fmt for fmt in ("pdf", "svg") if getattr(args, fmt, False)]
+        figures = [out.with_suffix(f".{fmt}") for fmt in ("png", *vector)]
+        for path in figures:
+            plot_levels(cells, path, mission.name)
+        print(f"figure: {', '.join(map(str, figures))}")
         gif = out.with_suffix(".gif")
         if mission.kind == COLLABORATIVE and not args.no_gif:
             level, seed, why = _collaborative_trial(args.trial, rows, specs)
