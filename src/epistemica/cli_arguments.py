@@ -40,6 +40,7 @@ examples:
   epistemica simulate --mission rendezvous --robots 3 --goals 4 --reasoning convention --json
   epistemica simulate --mission allocation --robots 5 --png trial.png --gif trial.gif
   epistemica simulate --mission rendezvous --robots 3 --observation honest --sensing-range 10
+  epistemica simulate --mission specs/nested/private_goal_3.epi --seed 4 --reasoning first
 
 exit status: 0 the mission succeeded, 1 it failed, 2 bad input
 """
@@ -151,7 +152,12 @@ def add_simulate_command(commands) -> None:
         epilog=_SIMULATE_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    cmd.add_argument("--mission", default="rendezvous", help="rendezvous, allocation, multitask")
+    cmd.add_argument(
+        "--mission",
+        default="rendezvous",
+        help="rendezvous, allocation, multitask, or a mission file (.epi: its layout and "
+        "teammates at --seed)",
+    )
     cmd.add_argument("--robots", type=int, default=3, help="team size (default 3)")
     cmd.add_argument(
         "--goals", type=int, default=None, help="goals (default: as many as robots; multitask 20)"
@@ -159,9 +165,9 @@ def add_simulate_command(commands) -> None:
     cmd.add_argument("--seed", type=int, default=0, help="trial seed (default 0)")
     cmd.add_argument(
         "--reasoning",
-        default="third",
+        default=None,
         help="zero, convention, first, second, third, paper-first, paper-higher, "
-        "paper-higher-fixed (default third)",
+        "paper-higher-fixed (default third; a mission file: its study's last level)",
     )
     add_scenario_options(cmd)
     cmd.add_argument("--json", action="store_true", help="print a JSON object")
