@@ -43,11 +43,25 @@ def run_sweep_command(args: argparse.Namespace) -> int:
             0 if args.seed is None else args.seed,
             scenario_options(args),
         )
+    _make_folder(args.out)
     done = store_trials(specs, args.out, args.resume, args)
     if done is None:
         return EXIT_INTERRUPTED
     print(f"{done.summary()} ({sum(r['success'] for r in done.rows)} successes)")
     return 0
+
+
+def _make_folder(out: str) -> None:
+    """Create the results file's folder (``--out runs/x.sqlite`` in a fresh folder), as
+    ``run`` does; a clear error where it cannot be made."""
+    folder = os.path.dirname(os.path.abspath(out))
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise InvalidArgumentError(
+            f"--out {out}: cannot create the folder {folder} ({exc.strerror})",
+            hint="choose a path in a writable folder",
+        ) from None
 
 
 def _mission_file_trials(files: list[str], args: argparse.Namespace) -> list:
