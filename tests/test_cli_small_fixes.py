@@ -3,6 +3,7 @@ worlds as --explain does."""
 
 from __future__ import annotations
 
+import json
 import re
 import sqlite3
 from pathlib import Path
@@ -28,3 +29,21 @@ def test_plan_verify_names_the_worlds_explain_shows(capsys):
     shown = set(re.findall(r"\*\s+(\S+)\s+\{", out))  # the designated worlds of the state
     failing = re.search(r"at designated world\(s\) (.+)$", out, re.M).group(1).split(", ")
     assert failing and set(failing) <= shown
+
+
+PRIVATE = str(ROOT / "specs" / "nested" / "private_goal_3.epi")
+
+
+def test_a_question_on_a_multi_pointed_mission_is_answered_neither(capsys):
+    # A rendezvous of 4 goals: one designated configuration per meeting goal, and
+    # "no robot goes to g1" holds in every one but the meeting at g1.
+    assert main(["check", PRIVATE, "--formula", "closed(g1)"]) == 0
+    out = capsys.readouterr().out
+    assert "neither  --formula: closed(g1)" in out
+    assert "neither: true in 3 of 4 designated configurations" in out
+    assert "closed(g1): no robot goes to g1 (~assigned(r1, g1)" in out
+    assert main(["check", PRIVATE, "--formula", "~closed(g1)", "--json"]) == 0
+    (claim,) = json.loads(capsys.readouterr().out)["claims"]
+    assert (claim["true_in"], claim["designated"], claim["holds"]) == (1, 4, False)
+    assert main(["check", PRIVATE, "--formula", "closed(g1) | ~closed(g1)"]) == 0
+    assert "true (in all 4 designated configurations)" in capsys.readouterr().out

@@ -13,6 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from epistemica.answers import answer, atom_meanings
 from epistemica.cli_exit import EXIT_INTERRUPTED
 from epistemica.cli_json import print_json
 from epistemica.cli_sweep import store_trials
@@ -222,6 +223,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
         chosen = model(args.after, args.seed, args.reasoning)
         expected = None if args.expect is None else args.expect == "true"  # None: a question
         claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
+        # A mission's model has a designated world per configuration: say how many.
+        asked = answer(chosen, formula, mission.robots)
     else:
         claims = []
         for c in mission.checks:
@@ -238,6 +241,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             holds = mission.holds(c.check.formula, model(after, seed, level))
             claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
     failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
+    if args.formula is None:
+        asked = None
     if args.json:
         out = [
             {
@@ -250,6 +255,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             }
             for n, t, e, h, w in claims
         ]
+        if asked is not None:
+            out[0].update(true_in=asked[0], designated=asked[1])
         print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
     robots = ", ".join(mission.robots)
@@ -258,7 +265,14 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     for name, text, expected, holds, label in claims:
         mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
         moment = "" if label == where else f" [{label}]"
-        print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
+        word = "true " if holds else "false"
+        if asked is not None and 0 < asked[0] < asked[1]:
+            word = "neither"
+        print(f"  {mark}  {word}  {name}{moment}: {text}")
+    if asked is not None:
+        print(f"          {asked[2]}")
+        for line in atom_meanings(args.formula, mission.robots):
+            print(f"          {line}")
     if args.formula is None or args.expect is not None:
         print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK
