@@ -240,12 +240,14 @@ class TraceFrame:
             ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
         for j, name in enumerate(self.robots):
             if j != f and len(self.modelled):
-                ax.plot(
+                ax.plot(  # wide and pale under the solid lines: visible where they agree
                     steps,
                     self.modelled[:, f, j],
                     "--",
                     color=robot_colour(j),
-                    lw=1.4,
+                    lw=4.0,
+                    alpha=0.45,
+                    zorder=1,
                     label=f"{self.robots[f]}'s model of {name}'s",
                 )
         if len(self.considered) and np.nanmax(self.considered) > 20:
@@ -256,7 +258,10 @@ class TraceFrame:
         ax.set_xlabel("step", fontsize=FONT_SIZE)
         ax.tick_params(labelsize=FONT_SIZE)
         ax.set_title(
-            "configuration sets: own (solid), nested (dashed)", fontsize=FONT_SIZE, loc="left"
+            f"configuration sets: own (solid), {self.robots[f]}'s model of each teammate's "
+            "(dashed)",
+            fontsize=FONT_SIZE,
+            loc="left",
         )
         ax.legend(fontsize=FONT_SIZE, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
         self.cursor = ax.axvline(0, color="0.4", lw=0.8)
@@ -304,7 +309,11 @@ class TraceFrame:
     def _draw_reading(self, step: int) -> None:
         if self.reading is None:
             return
-        lines = [f"{self.robots[self.reader]} reads its teammates as:"]
+        lines = [
+            f"{self.robots[self.reader]}'s read of its",
+            "teammates' behaviour",
+            "(posterior):",
+        ]
         for j, name in enumerate(self.robots):
             row = self.types[step, self.reader, j]
             if j != self.reader and np.isfinite(row).all():
