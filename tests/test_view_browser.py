@@ -400,3 +400,25 @@ def test_obstacles_closed_goals_axes_and_a_robot_under_another_are_drawn(browser
     assert _texts(browser, "#map-0 .scale-bar text") == ["10 m"]  # one tick apart
     assert _texts(browser, "#sets-0 text.tick.x")[0] == "0"
     assert len(_texts(browser, "#sets-0 text.tick.y")) >= 2
+
+
+def test_a_chosen_robots_model_of_its_teammates_is_shown(browser, compared):
+    page, traces, trials = compared
+    browser.open(page, "window.epistemicaView")
+    step = trials[1].steps // 2
+    browser.js(f"window.epistemicaView.setStep({step})")
+    browser.js(
+        "(s => { s.value = '1'; s.dispatchEvent(new Event('change')); })"
+        "(document.querySelector('#model-robot-1'))"
+    )
+    rows = browser.js(
+        "[...document.querySelectorAll('#model-1 tr[data-robot]')].map(r => r.dataset.robot)"
+    )
+    assert rows == ["r1", "r3"]
+    known = trials[1].known_goals[min(step, trials[1].steps - 1)]
+    cells = _texts(browser, "#model-1 td.goal-cell")
+    goals = range(len(traces[1]["goals"]))
+    assert cells == ["✓" if known[1, j, g] else "✗" for j in (0, 2) for g in goals]
+    sets = _texts(browser, "#model-1 td.sets")
+    modelled = trials[1].modelled[min(step, trials[1].steps - 1), 1]
+    assert sets == [str(modelled[j]) if modelled[j] > 0 else "not computed" for j in (0, 2)]

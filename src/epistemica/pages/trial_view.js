@@ -157,22 +157,34 @@
       return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
         acts: el("td", { class: "acts" }, tr, ""), sets: el("td", { class: "sets" }, tr, "") };
     });
-    // The focus robot's model of each teammate's knowledge.
+    // One robot's model of each teammate's knowledge: the focus robot's, or the one chosen.
     const fname = t.robots[focus];
-    el("h3", {}, col, `${fname}'s model of what each teammate knows (✓ it takes the teammate `
-      + "to know of the goal; ✗ not; red: wrong)");
-    const mt = el("table", { class: "model", id: `model-${k}` }, col);
-    const mhead = el("tr", {}, mt);
-    el("th", {}, mhead, "");
-    t.goals.forEach((g) => el("th", {}, mhead, g));
-    el("th", {}, mhead, "set it models");
-    const mrows = t.robots.map((r, j) => {
-      if (j === focus) return null;
-      const tr = el("tr", { "data-robot": r }, mt);
-      el("th", { style: `color:${colour(j)}` }, tr, r);
-      return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
-        sets: el("td", { class: "sets" }, tr, "") };
+    const mtitle = el("h3", {}, col, "");
+    const chooser = el("select", { class: "model-robot", id: `model-robot-${k}` }, mtitle);
+    t.robots.forEach((r, i) => {
+      const option = el("option", { value: i }, chooser, r);
+      if (i === focus) option.selected = true;
     });
+    mtitle.append("'s model of what each teammate knows (✓ it takes the teammate to know of "
+      + "the goal; ✗ not; red: wrong)");
+    const mt = el("table", { class: "model", id: `model-${k}` }, col);
+    let modeller = focus, mrows = [];
+    function buildModel(who) {
+      modeller = who;
+      mt.replaceChildren();
+      const mhead = el("tr", {}, mt);
+      el("th", {}, mhead, "");
+      t.goals.forEach((g) => el("th", {}, mhead, g));
+      el("th", {}, mhead, "set it models");
+      mrows = t.robots.map((r, j) => {
+        if (j === who) return null;
+        const tr = el("tr", { "data-robot": r }, mt);
+        el("th", { style: `color:${colour(j)}` }, tr, r);
+        return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
+          sets: el("td", { class: "sets" }, tr, "") };
+      });
+    }
+    buildModel(focus);
 
     // Belief table: rows robots, columns goals, grey level = probability.
     el("h3", {}, col, "Each robot's belief that a goal is its own (n/c: not computed)");
@@ -344,12 +356,12 @@
       mrows.forEach((row, j) => {
         if (!row) return;
         row.goals.forEach((cell, g) => {
-          const yes = K[focus][j][g], wrong = yes !== K[j][j][g];
+          const yes = K[modeller][j][g], wrong = yes !== K[j][j][g];
           cell.replaceChildren();
           cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "");
           cell.textContent = yes ? "✓" : "✗";
         });
-        const v = decided >= 0 ? t.modelled[decided][focus][j] : 0;
+        const v = decided >= 0 ? t.modelled[decided][modeller][j] : 0;
         row.sets.textContent = v > 0 ? String(v) : "not computed";
         row.sets.className = v > 0 ? "sets" : "sets not-computed";
       });
@@ -384,6 +396,11 @@
       if (!seen.length) el("div", {}, events, "(none yet)");
       seen.forEach((e) => el("div", { class: e[0] === step ? "now" : "" }, events, eventText(e)));
     }
+
+    chooser.addEventListener("change", () => {
+      buildModel(Number(chooser.value));
+      drawKnowledge(Math.min(window.epistemicaView.step, t.steps));
+    });
 
     return {
       draw(step) {
