@@ -49,6 +49,20 @@ def test_run_writes_rows_table_figure_and_animation(tiny, capsys):
     )
     assert Path("runs/tiny.png").stat().st_size > 0
     assert Path("runs/tiny.gif").read_bytes()[:3] == b"GIF"
+    # The page draws the animated trial beside a level that failed on the same seed (else
+    # the level before it).
+    html = Path("runs/tiny.html").read_text()
+    data = json.loads(html.split('type="application/json">')[1].split("</script>")[0])
+    shown = [(t["level"], t["trace"]["seed"], t["trace"]["success"]) for t in data["trials"]]
+    seed = shown[0][1]
+    failed = {lv for lv, s in rows if s == seed} - {
+        lv
+        for lv, s, ok in sqlite3.connect(db).execute("SELECT reasoning, seed, success FROM trials")
+        if s == seed and ok
+    }
+    assert shown[0][0] == "third" and shown[1][1] == seed and len(shown) == 2
+    expected = [lv for lv in ("zero", "convention") if lv in failed] or ["convention"]
+    assert shown[1][0] == expected[-1] and shown[1][2] == (shown[1][0] not in failed)
 
 
 def test_run_again_resumes_and_runs_nothing(tiny, capsys):

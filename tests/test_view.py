@@ -50,15 +50,18 @@ def test_page_of_a_100_step_5_robot_trial_is_small_and_self_contained(long_trace
     for pattern in (r"<link", r"\ssrc=", r"@import", r"url\(", r"fetch\(", r"XMLHttpRequest"):
         assert not re.search(pattern, html), pattern
     data = _data(html)
-    assert data["trace"] == json.loads(json.dumps(long_trace).replace("NaN", "null"))
-    assert data["trace"]["steps"] == 100 and len(data["trace"]["robots"]) == 5
+    assert data["trials"][0]["trace"] == json.loads(json.dumps(long_trace).replace("NaN", "null"))
+    assert (
+        data["trials"][0]["trace"]["steps"] == 100
+        and len(data["trials"][0]["trace"]["robots"]) == 5
+    )
 
 
 def test_names_cannot_close_the_data_script(long_trace):
     trace = {**long_trace, "policies": ["</script><b>x"] * 5}
     html = trial_page(trace)
     assert html.count("</script>") == 2  # the data element's and the program's
-    assert _data(html)["trace"]["policies"][0] == "</script><b>x"
+    assert _data(html)["trials"][0]["trace"]["policies"][0] == "</script><b>x"
 
 
 def test_view_reads_a_trace_in_json_or_compressed(tmp_path, long_trace, capsys):
@@ -67,7 +70,7 @@ def test_view_reads_a_trace_in_json_or_compressed(tmp_path, long_trace, capsys):
     for name in ("t.json", "t.trace"):
         out = tmp_path / f"{name}.html"
         assert main(["view", str(tmp_path / name), "-o", str(out)]) == 0
-        assert _data(out.read_text())["trace"]["poses"] == long_trace["poses"]
+        assert _data(out.read_text())["trials"][0]["trace"]["poses"] == long_trace["poses"]
     assert "kB" in capsys.readouterr().out
 
 
@@ -75,7 +78,7 @@ def test_view_simulates_a_mission_files_trial(tmp_path):
     spec = SPECS / "nested" / "relocated_3.epi"
     out = tmp_path / "m.html"
     assert main(["view", str(spec), "--trial", "2", "--level", "first", "-o", str(out)]) == 0
-    trace = _data(out.read_text())["trace"]
+    trace = _data(out.read_text())["trials"][0]["trace"]
     assert trace["seed"] == 2 and set(trace["policies"]) == {"first"}
     assert trace["robots"] == ["r1", "r2", "r3"] and trace["goals"][-1] == "g5"
 
@@ -99,7 +102,7 @@ def test_view_reads_traces_stored_in_a_results_file(tmp_path, long_trace):
         con.execute("INSERT INTO trials VALUES ('b', 'rendezvous', 7, 'zero', ?)", (encode(other),))
     out = tmp_path / "r.html"
     assert main(["view", str(db), "--trial", "7", "-o", str(out)]) == 0
-    assert _data(out.read_text())["trace"]["seed"] == 7
+    assert _data(out.read_text())["trials"][0]["trace"]["seed"] == 7
     assert main(["view", str(db), "--trial", "3", "-o", str(out)]) == 2
 
 

@@ -23,6 +23,7 @@ import pytest
 
 from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
+from epistemica.mission import parse_mission
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
@@ -167,10 +168,10 @@ def test_trial_page_draws_every_robot_and_goal(browser, trial_page):
     assert browser.js("document.querySelectorAll('circle.sensing').length") == 5
     goals = browser.js("[...document.querySelectorAll('polygon.goal')].map(g => g.dataset.name)")
     assert goals == trace["goals"]
-    header = browser.js("[...document.querySelectorAll('#belief th')].map(t => t.textContent)")
+    header = browser.js("[...document.querySelectorAll('#belief-0 th')].map(t => t.textContent)")
     assert header[1:6] == trace["goals"] and header[6:] == trace["robots"]
     # The map on the screen: not blank, and every robot's colour is drawn there.
-    box = browser.js("(() => { const r = map.getBoundingClientRect(); "
+    box = browser.js("(() => { const r = document.querySelector('#map-0').getBoundingClientRect(); "
                      "return [r.left, r.top, r.right, r.bottom].map(Math.round); })()")  # fmt: skip
     shot = browser.screenshot()
     region = shot[box[1] : box[3], box[0] : box[2]]
@@ -197,7 +198,7 @@ def test_play_pause_and_scrub(browser, trial_page):
     browser.click("#step", 0.97)
     step = browser.js("window.epistemicaView.step")
     assert step >= 0.85 * trace["steps"]
-    cells = browser.js("[...document.querySelectorAll('#belief td')].map(t => t.textContent)")
+    cells = browser.js("[...document.querySelectorAll('#belief-0 td')].map(t => t.textContent)")
     decided = min(step, trace["steps"] - 1)
     expected = [f"{v:.2f}" for row in trace["goal_belief"][decided] for v in row]
     assert cells == expected
@@ -206,7 +207,7 @@ def test_play_pause_and_scrub(browser, trial_page):
     types = trace["teammate_types"]
     kept = [i for i in range(5) if any(None not in row for st in types for row in st[i])]
     reader = focus_robot(trace) if focus_robot(trace) in kept else kept[0]
-    lines = browser.js("[...document.querySelectorAll('#reading div')].map(d => d.textContent)")
+    lines = browser.js("[...document.querySelectorAll('#reading-0 div')].map(d => d.textContent)")
     shown = []
     for j, row in enumerate(trace["teammate_types"][decided][reader]):
         if j != reader and None not in row:
@@ -268,3 +269,156 @@ def test_formula_box_agrees_with_the_checker(browser, tmp_path, spec, after):
     assert "unknown atom 'nosuchatom'" in browser.js(
         "document.querySelector('#result').textContent"
     )
+
+
+PRIVATE = os.path.join(os.path.dirname(__file__), "..", "specs", "nested", "private_goal_3.epi")
+
+
+@pytest.fixture(scope="module")
+def compared(tmp_path_factory):
+    """private_goal_3, seed 4, third beside first; the two trials simulated here too."""
+    out = tmp_path_factory.mktemp("compare") / "private.html"
+    argv = ["view", PRIVATE, "--trial", "4", "--level", "third", "--compare", "first"]
+    assert main([*argv, "-o", str(out)]) == 0
+    with open(PRIVATE) as f:
+        mission = parse_mission(f.read(), PRIVATE)
+    scenario = mission.scenario(4)
+    trials = [
+        simulate(
+            scenario, level, seed=4, policies=mission.policies(4), parameters=mission.parameters
+        )
+        for level in ("third", "first")
+    ]
+    return out, [trial_trace(scenario, t) for t in trials], trials
+
+
+def _texts(browser, selector: str) -> list[str]:
+    return browser.js(f"[...document.querySelectorAll({json.dumps(selector)})]"
+                      ".map(e => e.textContent)")  # fmt: skip
+
+
+def test_both_levels_are_drawn_with_one_slider_and_a_title_saying_how_each_did(browser, compared):
+    page, _, trials = compared
+    browser.open(page, "window.epistemicaView")
+    verdicts = [
+        f"succeeded at step {t.steps}" if t.success else f"failed within {t.steps} steps"
+        for t in trials
+    ]
+    assert browser.js("document.title") == (
+        f"private_goal_3: 3 robots, seed 4: third {verdicts[0]}; first {verdicts[1]}"
+    )
+    assert trials[0].success and not trials[1].success  # the levels disagree on this seed
+    assert browser.js("[...document.querySelectorAll('.column')].map(c => c.dataset.level)") == [
+        "third",
+        "first",
+    ]
+    assert browser.js("window.epistemicaView.last") == max(t.steps for t in trials)
+    # One slider moves both maps; a column whose trial ended keeps its last poses.
+    cx = "[...document.querySelectorAll('#map-{} circle.robot')].map(c => +c.getAttribute('cx'))"
+    browser.js(f"window.epistemicaView.setStep({trials[0].steps})")
+    done, before = browser.js(cx.format(0)), browser.js(cx.format(1))
+    browser.js(f"window.epistemicaView.setStep({trials[1].steps})")
+    assert browser.js(cx.format(0)) == done
+    moved = np.abs(trials[1].trajectory[-1] - trials[1].trajectory[trials[0].steps]).max()
+    assert (browser.js(cx.format(1)) != before) == (moved > 0.05)
+
+
+def test_the_knowledge_panels_show_who_knows_what_at_every_step(browser, compared):
+    page, traces, trials = compared
+    browser.open(page, "window.epistemicaView")
+    goals = traces[0]["goals"]
+    focus = focus_robot(traces[0])
+    assert traces[0]["robots"][focus] == "r1"  # the robot that alone knows of g4
+    wrong_somewhere = [False, False]
+    for step in range(max(t.steps for t in trials) + 1):
+        browser.js(f"window.epistemicaView.setStep({step})")
+        for k, (trace, trial) in enumerate(zip(traces, trials, strict=True)):
+            t = min(step, trial.steps - 1)
+            known = trial.known_goals[t]
+            cells = _texts(browser, f"#knowledge-{k} td.goal-cell")
+            assert [c[0] for c in cells] == [
+                "✓" if known[i, i, g] else "·" for i in range(3) for g in range(len(goals))
+            ]
+            model = _texts(browser, f"#model-{k} td.goal-cell")
+            assert model == [
+                "✓" if known[focus, j, g] else "✗"
+                for j in range(3)
+                if j != focus
+                for g in range(len(goals))
+            ]
+            beliefs = _texts(browser, f"#belief-{k} td")
+            assert beliefs == [
+                f"{v:.2f}" if trial.goal_belief[t, i].sum() > 0 else "n/c"
+                for i in range(3)
+                for v in trace["goal_belief"][t][i]  # as stored: rounded to 3 decimals
+            ]
+            # Expectations a robot's own knowledge contradicts, computed from the trial.
+            focal = trial.focal[t]
+            contradicted = [
+                f"{trace['robots'][j]}→{goals[focal[i, j]]}"
+                for i in range(3)
+                if focal[i, i] >= 0
+                for j in range(3)
+                if j != i and focal[i, j] >= 0 and not known[i, j, focal[i, j]]
+            ]
+            assert _texts(browser, f"#knowledge-{k} span.expect.wrong") == contradicted
+            wrong_somewhere[k] |= bool(contradicted)
+    # first expects its teammates at g4, which it knows they do not know of; third never.
+    assert wrong_somewhere == [False, True]
+    learned = [c for c in traces[1]["knows"] if c[0] > 0 and c[1] == c[2] and c[4]]
+    for step, i, _, g, _, how in learned:
+        browser.js(f"window.epistemicaView.setStep({step})")
+        cell = _texts(browser, f"#knowledge-1 tr[data-robot=r{i + 1}] td.goal-cell")[g]
+        assert cell == f"✓ {how} {step}"
+
+
+def test_obstacles_closed_goals_axes_and_a_robot_under_another_are_drawn(browser, tmp_path):
+    square = [[10.0, 4.0], [13.0, 4.0], [13.0, 7.0], [10.0, 7.0]]
+    s = Scenario(
+        "rendezvous", [[3.0, 3.0], [3.0, 3.0], [25.0, 25.0]], [[5.0, 25.0], [25.0, 5.0]],
+        ["range"] * 3, workspace=30.0, closed=[False, True], obstacles=[square], max_steps=4,
+    )  # fmt: skip
+    trace = trial_trace(s, simulate(s, "first", seed=0))
+    path = tmp_path / "trace.json"
+    path.write_text(json.dumps(trace))
+    assert main(["view", str(path), "-o", str(tmp_path / "p.html")]) == 0
+    browser.open(tmp_path / "p.html", "window.epistemicaView")
+    assert browser.js("document.querySelectorAll('#map-0 polygon.obstacle').length") == 1
+    closed = "[...document.querySelectorAll('polygon.goal.closed')].map(g => g.dataset.name)"
+    assert browser.js(closed) == ["g2"]
+    assert "g2 (closed)" in _texts(browser, "#knowledge-0 th")
+    # Two robots at one place: the second is a wider ring around the first.
+    stacked = browser.js(
+        "[...document.querySelectorAll('circle.robot')].map(c => [c.dataset.robot, "
+        "+c.getAttribute('r'), c.classList.contains('stacked')])"
+    )
+    assert stacked[1][0] == "r2" and stacked[1][2] and stacked[1][1] > stacked[0][1]
+    assert not stacked[0][2] and not stacked[2][2]
+    # Axes in metres and a scale bar; the set plot has tick labels on both axes.
+    assert {"0", "10", "20", "30"} <= set(_texts(browser, "#map-0 text.tick.x"))
+    assert {"0", "10", "20", "30"} <= set(_texts(browser, "#map-0 text.tick.y"))
+    assert _texts(browser, "#map-0 .scale-bar text") == ["10 m"]  # one tick apart
+    assert _texts(browser, "#sets-0 text.tick.x")[0] == "0"
+    assert len(_texts(browser, "#sets-0 text.tick.y")) >= 2
+
+
+def test_a_chosen_robots_model_of_its_teammates_is_shown(browser, compared):
+    page, traces, trials = compared
+    browser.open(page, "window.epistemicaView")
+    step = trials[1].steps // 2
+    browser.js(f"window.epistemicaView.setStep({step})")
+    browser.js(
+        "(s => { s.value = '1'; s.dispatchEvent(new Event('change')); })"
+        "(document.querySelector('#model-robot-1'))"
+    )
+    rows = browser.js(
+        "[...document.querySelectorAll('#model-1 tr[data-robot]')].map(r => r.dataset.robot)"
+    )
+    assert rows == ["r1", "r3"]
+    known = trials[1].known_goals[min(step, trials[1].steps - 1)]
+    cells = _texts(browser, "#model-1 td.goal-cell")
+    goals = range(len(traces[1]["goals"]))
+    assert cells == ["✓" if known[1, j, g] else "✗" for j in (0, 2) for g in goals]
+    sets = _texts(browser, "#model-1 td.sets")
+    modelled = trials[1].modelled[min(step, trials[1].steps - 1), 1]
+    assert sets == [str(modelled[j]) if modelled[j] > 0 else "not computed" for j in (0, 2)]

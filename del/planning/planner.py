@@ -51,6 +51,7 @@ from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel, product_update
 from epistemica.del_.explicit.canonical import canonical_key
 from epistemica.del_.explicit.checker import evaluate
+from epistemica.del_.explicit.describe import world_labels
 from epistemica.del_.language.formula import And, Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KripkeModel
@@ -206,6 +207,12 @@ def plan_with_stats(
     return search_states(initial, successors, is_goal, search, max_depth, h, max_states)
 
 
+def _named(state: KripkeModel, worlds) -> str:
+    """The worlds as ``explain`` names them (``w6``, ``u.tell``), comma-separated."""
+    labels = world_labels(state)
+    return ", ".join(labels[w] for w in worlds)
+
+
 def validate(
     initial: KripkeModel,
     actions: Mapping[str, ActionModel],
@@ -232,7 +239,7 @@ def validate(
     >>> bool(validate(s0, acts, ["tell"], "K[a] p"))
     True
     >>> print(validate(s0, acts, ["deny"], "K[a] p").reason)  # doctest: +ELLIPSIS
-    step 1 (deny) is not applicable: ... at designated world(s) [1]
+    step 1 (deny) is not applicable: ... at designated world(s) w1
     """
     check_problem(initial, actions)
     tree = as_formula(goal)
@@ -258,7 +265,7 @@ def validate(
             return Validation(
                 False,
                 f"step {i + 1} ({name}) is not applicable: no designated event's precondition "
-                f"holds at designated world(s) {failing}",
+                f"holds at designated world(s) {_named(state, failing)}",
                 i,
                 tuple(states),
             )
@@ -272,7 +279,7 @@ def validate(
         ]
         return Validation(
             False,
-            f"after the plan the goal {tree} fails at designated world(s) {bad}",
+            f"after the plan the goal {tree} fails at designated world(s) {_named(state, bad)}",
             len(steps),
             tuple(states),
         )

@@ -12,43 +12,115 @@ from epistemica.sim.engine.missions import distances
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 
-__all__ = ["action_space", "agent_views", "observation_space", "potential"]
+__all__ = [
+    "action_space",
+    "agent_views",
+    "controls",
+    "observation_space",
+    "position_bounds",
+    "potential",
+    "state_space",
+    "state_vector",
+]
 
 
-def observation_space(spaces, s: Scenario):
+def position_bounds(s: Scenario) -> tuple[float, float]:
+    """The bounds of every position in an observation (m): the workspace with a margin of
+    one workspace on each side (observed positions are clipped into them)."""
+    return -float(s.workspace), 2.0 * float(s.workspace)
+
+
+def _positions(spaces, s: Scenario, shape: tuple):
+    lo, hi = position_bounds(s)
+    return spaces.Box(low=np.float32(lo), high=np.float32(hi), shape=shape, dtype=np.float32)
+
+
+def observation_space(spaces, s: Scenario, epistemic: bool = False):
     """The observation space of every robot of ``s`` (see :mod:`epistemica.sim.engine.env`)."""
     n, m = s.n_robots, s.n_goals
-    unbounded = {"low": -np.inf, "high": np.inf, "dtype": np.float32}
+    lo, hi = position_bounds(s)
+    pose = np.array([[lo, lo, -np.pi], [hi, hi, np.pi]], dtype=np.float32)
     parts = {
-        "pose": spaces.Box(shape=(3,), **unbounded),
-        "teammates": spaces.Box(shape=(n, 2), **unbounded),
+        "pose": spaces.Box(low=pose[0], high=pose[1], dtype=np.float32),
+        "teammates": _positions(spaces, s, (n, 2)),
         "seen": spaces.MultiBinary(n),
-        "goals": spaces.Box(shape=(m, 2), **unbounded),
+        "goals": _positions(spaces, s, (m, 2)),
         "known_goals": spaces.MultiBinary(m),
         "closed": spaces.MultiBinary(m),
         "step": spaces.Discrete(s.max_steps + 1),
     }
     if s.events:
         parts["events"] = spaces.MultiBinary(len(s.events))
+    if epistemic:
+        parts["teammates_know"] = spaces.MultiBinary((n, m))
     return spaces.Dict(parts)
 
 
-def action_space(spaces, s: Scenario, robot: int):
-    """``(speed, heading change)`` within robot ``robot``'s limits (float64, exact)."""
+def action_space(spaces, s: Scenario, robot: int, normalized: bool = False):
+    """``(speed, heading change)`` within robot ``robot``'s limits (float32; the
+    simulator clips to the exact limits); ``normalized``: ``[-1, 1]²`` instead
+    (:func:`controls`)."""
+    if normalized:
+        return spaces.Box(low=-1.0, high=1.0, shape=(2,), dtype=np.float32)
     speed, turn = float(s.max_speed[robot]), float(s.max_turn[robot])
     return spaces.Box(
-        low=np.array([0.0, -turn]), high=np.array([speed, turn]), shape=(2,), dtype=np.float64
+        low=np.array([0.0, -turn], dtype=np.float32),
+        high=np.array([speed, turn], dtype=np.float32),
+        shape=(2,),
+        dtype=np.float32,
     )
 
 
+def controls(s: Scenario, robots, actions: np.ndarray) -> np.ndarray:
+    """Normalised actions ``[-1, 1]²`` of ``robots`` as ``(speed, heading change)``:
+    ``-1 .. 1`` maps onto ``0 .. max_speed`` and ``-max_turn .. max_turn``."""
+    a = np.clip(np.asarray(actions, dtype=float), -1.0, 1.0)
+    speed = (a[:, 0] + 1.0) / 2.0 * s.max_speed[robots]
+    return np.stack([speed, a[:, 1] * s.max_turn[robots]], axis=1)
+
+
+def state_space(spaces, s: Scenario):
+    """The global state's space: every true pose ``(n, 3)``, every goal ``(m, 2)``, which
+    goals are open ``(m,)`` and the step over the step limit, flattened (float32)."""
+    n, m = s.n_robots, s.n_goals
+    lo, hi = position_bounds(s)
+    low = np.concatenate([np.tile([lo, lo, -np.pi], n), np.full(2 * m, lo), np.zeros(m + 1)])
+    high = np.concatenate([np.tile([hi, hi, np.pi], n), np.full(2 * m, hi), np.ones(m + 1)])
+    return spaces.Box(low=low.astype(np.float32), high=high.astype(np.float32), dtype=np.float32)
+
+
+def state_vector(s: Scenario, poses: np.ndarray, open_goals: np.ndarray, step: int) -> np.ndarray:
+    """The global state (:func:`state_space`) of true ``poses`` and ``open_goals``."""
+    lo, hi = position_bounds(s)
+    poses = _clipped(poses, lo, hi)
+    parts = [poses.ravel(), np.clip(s.goals, lo, hi).ravel(), open_goals.astype(float)]
+    return np.concatenate([*parts, [step / max(s.max_steps, 1)]]).astype(np.float32)
+
+
+def _clipped(poses: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """Positions clipped into the bounds, headings wrapped into ``[-pi, pi)``."""
+    out = np.array(poses, dtype=float)
+    out[..., :2] = np.clip(out[..., :2], lo, hi)
+    out[..., 2] = (out[..., 2] + np.pi) % (2 * np.pi) - np.pi
+    return out
+
+
 def agent_views(
-    s: Scenario, obs: Observations, step: int, new_events: list[tuple], robots
+    s: Scenario,
+    obs: Observations,
+    step: int,
+    new_events: list[tuple],
+    robots,
+    teammates_know: np.ndarray | None = None,
 ) -> dict[int, dict]:
-    """Each robot's observation (robot index -> dict) from the team's ``obs``."""
+    """Each robot's observation (robot index -> dict) from the team's ``obs``
+    (``teammates_know``: ``(n, n, m)``, the goals robot ``i`` takes robot ``j`` to know of,
+    put in as ``teammates_know`` when given)."""
     n = s.n_robots
-    poses = obs.poses.astype(np.float32)
+    lo, hi = position_bounds(s)
+    poses = _clipped(obs.poses, lo, hi).astype(np.float32)
     known = obs.known_goals
-    goals = np.where(known[..., None], s.goals[None], 0.0).astype(np.float32)
+    goals = np.where(known[..., None], np.clip(s.goals, lo, hi)[None], 0.0).astype(np.float32)
     known_i8, closed_i8 = known.astype(np.int8), obs.known_done.astype(np.int8)
     seen_i8 = obs.seen.astype(np.int8)
     events = None
@@ -70,6 +142,8 @@ def agent_views(
         }
         if events is not None:
             view["events"] = events[i]
+        if teammates_know is not None:
+            view["teammates_know"] = teammates_know[i].astype(np.int8)
         views[i] = view
     return views
 

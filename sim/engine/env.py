@@ -27,9 +27,20 @@ Spaces (robot ``i``, ``n`` robots, ``m`` goals, ``R`` event rules):
 ``events``         ``MultiBinary(R)`` (only when the mission has events): it observed an event
                    of rule ``k`` that taught it something, since its last observation
 ``step``           ``Discrete(max_steps + 1)``: the step
-action             ``Box`` float64 ``(speed, heading change)`` in ``[0, max_speed] x
+``teammates_know`` ``MultiBinary((n, m))`` (only with ``epistemic=True``): the goals it
+                   takes each robot to know of (its own row: the goals it knows of)
+action             ``Box`` float32 ``(speed, heading change)`` in ``[0, max_speed] x
                    [-max_turn, max_turn]`` of that robot (values outside are clipped)
 =================  ============================================================================
+
+Positions are bounded: observed positions are clipped into ``[-W, 2W]`` (``W`` the
+workspace side), headings wrapped into ``[-pi, pi)``, so that every space is a bounded
+float32 ``Box`` (``gymnasium.utils.env_checker.check_env`` passes without a warning).
+``state()`` is the global state for a centralised critic (``state_space``: every true pose,
+every goal, which goals are open, the step over the step limit, flattened, float32).
+Importing this module registers Gymnasium ids (:mod:`epistemica.sim.engine.env_registry`):
+``gymnasium.make("epistemica/Rendezvous-v0")`` is a :class:`RobotEnv` of
+``specs/rendezvous.epi``.
 
 Reward (shared by the team, the same for every agent): the mission's progress made at
 this step, ``Δ(held / dwell)`` (steps on which the mission held, towards the ``dwell``
@@ -67,8 +78,18 @@ from typing import Any, ClassVar
 import numpy as np
 
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
-from epistemica.sim.engine._env_view import action_space, agent_views, observation_space, potential
+from epistemica.sim.engine._env_checks import checked_actions, checked_seed, checked_shaping
+from epistemica.sim.engine._env_view import (
+    action_space,
+    agent_views,
+    observation_space,
+    potential,
+    state_space,
+    state_vector,
+)
+from epistemica.sim.engine._env_view import controls as controls_of
 from epistemica.sim.engine._streams import trial_streams
+from epistemica.sim.engine.env_registry import register
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.simulate import TrialRun, policy_groups
 from epistemica.sim.engine.trial import Trial
@@ -105,6 +126,12 @@ class MissionEnv(ParallelEnv):
     shaping : float
         Weight of the potential-based shaping term of the reward (0: progress only).
     render_mode : {"rgb_array", None}
+    epistemic : bool
+        Put the epistemic state in every observation (``teammates_know``).
+    normalized : bool
+        Actions in ``[-1, 1]²`` (mapped onto ``0 .. max_speed`` and ``-max_turn ..
+        max_turn``), as RL libraries expect; default: physical ``(speed, heading change)``,
+        as :meth:`level_actions` gives them.
     seed : int, optional
         Seed of the first reset without one (default: the mission's first seed, or 0);
         each later reset without a seed takes the next one.
@@ -129,6 +156,8 @@ class MissionEnv(ParallelEnv):
         shaping: float = 1.0,
         render_mode: str | None = None,
         seed: int | None = None,
+        epistemic: bool = False,
+        normalized: bool = False,
     ) -> None:
         if not isinstance(source, Scenario) and not callable(getattr(source, "scenario", None)):
             raise InvalidArgumentError(
@@ -147,9 +176,11 @@ class MissionEnv(ParallelEnv):
                 f"render_mode {render_mode!r} is not supported", hint='use "rgb_array" or None'
             )
         study = getattr(getattr(source, "study", None), "seed", 0)
+        seed = study if seed is None else checked_seed(seed, "seed")
         self.source, self.parameters, self.render_mode = source, parameters, render_mode
-        self.shaping = float(shaping)
-        self.scenario = self._scenario(study if seed is None else seed)
+        self.shaping = checked_shaping(shaping)
+        self.epistemic, self.normalized = bool(epistemic), bool(normalized)
+        self.scenario = self._scenario(seed)
         s = self.scenario
         self.scripted = self._scripted(teammates or {})
         self.possible_agents = [r for i, r in enumerate(s.robot_names) if i not in self.scripted]
@@ -159,9 +190,12 @@ class MissionEnv(ParallelEnv):
                 hint="leave at least one robot out of `teammates`",
             )
         self._index = {name: i for i, name in enumerate(s.robot_names)}
-        self._observation_space = observation_space(spaces, s)
-        self._action_spaces = {r: action_space(spaces, s, self._index[r]) for r in s.robot_names}
-        self._next_seed = study if seed is None else int(seed)
+        self._observation_space = observation_space(spaces, s, self.epistemic)
+        self.state_space = state_space(spaces, s)
+        self._action_spaces = {
+            r: action_space(spaces, s, self._index[r], self.normalized) for r in s.robot_names
+        }
+        self._next_seed = seed
         self.agents: list[str] = []
         self.run: TrialRun | None = None
 
@@ -177,9 +211,7 @@ class MissionEnv(ParallelEnv):
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         """Start trial ``seed`` (default: the next seed); returns observations and infos."""
-        if seed is None:
-            seed = self._next_seed
-        self.seed_ = int(seed)
+        self.seed_ = self._next_seed if seed is None else checked_seed(seed, "reset(seed=...)")
         self._next_seed = self.seed_ + 1
         s = self.scenario = self._scenario(self.seed_)
         self.streams = trial_streams(self.seed_, s.n_robots)
@@ -199,13 +231,26 @@ class MissionEnv(ParallelEnv):
         run, s, t = self._running(), self.scenario, self.step_count
         if not self.agents:
             raise InvalidArgumentError("the trial is over", hint="call reset() for another")
+        if not isinstance(actions, Mapping):
+            raise InvalidArgumentError(
+                f"step() takes a mapping from agent to action, got {type(actions).__name__}",
+                hint="e.g. {agent: np.array([speed, turn]) for agent in env.agents}",
+            )
+        unknown = [a for a in actions if a not in self.agents]
+        if unknown:
+            raise InvalidArgumentError(
+                f"actions for unknown agent(s) {unknown}",
+                hint=f"the live agents are {self.agents}; scripted teammates decide for themselves",
+            )
         controls = np.zeros((s.n_robots, 2))
         missing = [a for a in self.agents if a not in actions]
         if missing:
             raise InvalidArgumentError(
                 f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
             )
-        controls[[self._index[a] for a in self.agents]] = _actions(self.agents, actions)
+        robots = [self._index[a] for a in self.agents]
+        chosen = checked_actions(self.agents, actions)
+        controls[robots] = controls_of(s, robots, chosen) if self.normalized else chosen
         run.decide(t, self.observations, self.groups, controls)
         success = run.advance(t, controls)
         self.step_count = t + 1
@@ -228,6 +273,12 @@ class MissionEnv(ParallelEnv):
         if over:
             self.agents = []
         return observations, rewards, terminations, truncations, infos
+
+    def state(self) -> np.ndarray:
+        """The global state (``state_space``): every true pose, every goal, which goals are
+        open and the step over the step limit, flattened (float32)."""
+        run = self._running()
+        return state_vector(self.scenario, run.poses, run.open, self.step_count)
 
     def render(self):
         """The trial so far as an RGB image ``(height, width, 3)`` uint8 (or None)."""
@@ -323,7 +374,15 @@ class MissionEnv(ParallelEnv):
         new = run.events[self._mark :]
         self._mark = len(run.events)
         robots = [self._index[a] for a in self.agents]
-        views = agent_views(self.scenario, self.observations, self.step_count, new, robots)
+        know = None
+        if self.epistemic:
+            s = self.scenario
+            know = np.ones((s.n_robots, s.n_robots, s.n_goals), dtype=bool)
+            if run.known is not None:
+                know = run.known[min(self.step_count, len(run.known) - 1)]
+        views = agent_views(
+            self.scenario, self.observations, self.step_count, new, robots, teammates_know=know
+        )
         return {a: views[self._index[a]] for a in self.agents}
 
     def _infos(self) -> dict[str, dict]:
@@ -350,28 +409,6 @@ class MissionEnv(ParallelEnv):
         return poses
 
 
-def _actions(agents: list[str], actions: Mapping) -> np.ndarray:
-    """The agents' actions as ``(k, 2)`` finite floats, or an error naming the first bad one."""
-    try:
-        values = np.array([actions[a] for a in agents], dtype=float)
-    except (TypeError, ValueError):
-        values = None
-    if values is not None and values.shape == (len(agents), 2) and np.isfinite(values).all():
-        return values
-    for agent in agents:
-        value = actions[agent]
-        try:
-            good = np.shape(value) == (2,) and bool(np.isfinite(np.asarray(value, float)).all())
-        except (TypeError, ValueError):
-            good = False
-        if not good:
-            raise InvalidArgumentError(
-                f"the action of {agent} must be two finite numbers, got {value!r}",
-                hint="(speed, heading change), e.g. np.array([1.0, 0.0])",
-            )
-    raise AssertionError("unreachable: some action was malformed")  # pragma: no cover
-
-
 class RobotEnv(gymnasium.Env):
     """One robot of a mission as a Gymnasium environment, its teammates driven by a level.
 
@@ -383,7 +420,8 @@ class RobotEnv(gymnasium.Env):
     teammates : str
         The reasoning level of every other robot (default ``"third"``).
     **options
-        ``parameters``, ``shaping``, ``render_mode``, ``seed`` of :class:`MissionEnv`.
+        ``parameters``, ``shaping``, ``render_mode``, ``seed``, ``epistemic``,
+        ``normalized`` of :class:`MissionEnv`.
 
     Examples
     --------
@@ -413,6 +451,8 @@ class RobotEnv(gymnasium.Env):
         self.action_space = self.multi.action_space(self.agent)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        if seed is not None:
+            checked_seed(seed, "reset(seed=...)")
         super().reset(seed=seed)
         observations, infos = self.multi.reset(seed=seed, options=options)
         return observations[self.agent], infos[self.agent]
@@ -428,3 +468,6 @@ class RobotEnv(gymnasium.Env):
     def trial(self) -> Trial:
         """The record of the trial so far."""
         return self.multi.trial()
+
+
+register()

@@ -191,6 +191,12 @@ class TrialRun:
         self.teammate_types: np.ndarray | None = None  # (steps, n, n, T) once a policy keeps them
         self.estimates = np.zeros((steps, n, n, 2))
         self.time = np.zeros(steps)
+        # (steps, n, n, m): the goals robot i takes robot j to know of (its own on the
+        # diagonal), kept only where goals are unknown to some; (steps, m) goals closed.
+        tracked = bool(self.knowledge.state.tracked)
+        self.known = np.ones((steps, n, n, s.n_goals), dtype=bool) if tracked else None
+        self.closed = np.zeros((steps, s.n_goals), dtype=bool)
+        self.noted = -1  # the number of observations the knowledge had when last noted
 
     def decide(self, step: int, obs, groups, controls: np.ndarray) -> None:
         """Each group's controls at ``step`` into ``controls`` (rows of its robots), its
@@ -242,8 +248,24 @@ class TrialRun:
                 known_goals[i] |= self.knowledge.knows_goals((i,))
                 known_done[i] |= self.knowledge.knows_done((i,))
         self.estimates[step] = obs.poses[..., :2]
+        self.closed[step] = ~self.open
+        self._note_known(step)
         settles, self.settles = self.settles, np.full_like(self.settles, -1)
         return obs._replace(knowledge=self.knowledge, settles=settles if self.s.events else None)
+
+    def _note_known(self, step: int) -> None:
+        """Who takes whom to know of which goals at ``step`` (recomputed only when the
+        knowledge took in an observation since the last step)."""
+        if self.known is None:
+            return
+        count = len(self.knowledge.state)
+        if count == self.noted:
+            self.known[step] = self.known[step - 1]
+            return
+        self.noted, n = count, self.s.n_robots
+        for i in range(n):
+            for j in range(n):
+                self.known[step, i, j] = self.knowledge.knows_goals((i,) if i == j else (i, j))
 
     def _events(self, step: int, arrivals: bool) -> None:
         """Fire the mission's event rules at ``step``: arrivals (``G is reached``) right
@@ -365,4 +387,6 @@ class TrialRun:
             events=tuple(self.events),
             knowledge=self.knowledge,
             teammate_types=None if self.teammate_types is None else self.teammate_types[:steps],
+            known_goals=None if self.known is None else self.known[:steps],
+            closed_goals=self.closed[:steps],
         )

@@ -69,6 +69,13 @@ class Trial:
         ``(steps, n, n, T)``: robot ``i``'s posterior over the behaviour library
         (:data:`epistemica.aif.teammates.TYPES`) of robot ``j`` when it decided (NaN where
         it kept none); ``None`` when no robot kept teammate models.
+    known_goals : numpy.ndarray or None
+        ``(steps, n, n, m)``: the goals robot ``i`` takes robot ``j`` to know of when it
+        perceived (its own knowledge on the diagonal); ``None`` when every goal was common
+        knowledge from the start.
+    closed_goals : numpy.ndarray or None
+        ``(steps, m)``: the goals closed (a task done, a door shut) when the robots
+        perceived; ``None`` from code that did not record them.
     knowledge : TeamKnowledge
         The team's epistemic state at the end of the trial (every observation, goals
         discovered included): what ``epistemica check --after`` checks claims on.
@@ -103,6 +110,8 @@ class Trial:
     steer_to: np.ndarray | None = field(default=None, repr=False)
     knows: np.ndarray | None = field(default=None, repr=False)
     aware_since: np.ndarray | None = field(default=None, repr=False)
+    known_goals: np.ndarray | None = field(default=None, repr=False)
+    closed_goals: np.ndarray | None = field(default=None, repr=False)
 
     def summary(self) -> dict:
         """A JSON-ready dictionary of the outcome (no per-step arrays).

@@ -1,8 +1,9 @@
 """Pictures of a trial: trajectories (PNG) and an animation of what each robot knows (GIF).
 
-matplotlib is imported only here, with the Agg backend (no display needed); without it
-the functions raise an :class:`~epistemica.del_.errors.EpistemicaError` naming the extra
-to install (``pip install 'epistemica[plot]'``). GIFs are written by Pillow.
+matplotlib is imported only when drawing (:mod:`epistemica.sim.study.figure_parts`, the shared
+drawing parts), with the Agg backend (no display needed); without it the functions raise an
+:class:`~epistemica.del_.errors.EpistemicaError` naming the extra to install (``pip install
+'epistemica[plot]'``). GIFs are written by Pillow.
 
 The animation is drawn from a trial's trace (:mod:`epistemica.sim.study.trace`), so a stored
 trace draws the same picture as the trial itself. Goals and robots cannot be confused:
@@ -10,11 +11,13 @@ goals are black stars (their success radius a grey disc), labelled with the miss
 names; robots take a qualitative palette without grey. The map shows each robot (disc,
 heading, trail), its sensing radius (dashed circle), where it places each teammate (a
 cross in the estimating robot's colour, joined to the teammate's true position) and
-rings around the robots that observed an event at that moment. Beside the map: each
-robot's belief about its own goal (a grey-scale table, robots by goals), the size of each
-robot's configuration set over time (solid) with one robot's model of each teammate's set
-(dashed, the teammate's colour; the robot whose model differs most from the truth), and
-the events observed so far with their observers.
+rings around the robots that observed an event at that moment; obstacles are dark
+polygons, a closed goal a hollow star. Beside the map: each robot's belief about its own
+goal (a grey-scale table, robots by goals; ``n/c`` where it was not computed, ``·`` on a goal
+the robot does not know of), what each robot knows of (and what the focus robot takes each
+teammate not to know of), the size of each robot's configuration set over time (solid) with
+the focus robot's model of each teammate's set (dashed, the teammate's colour), and the
+events observed so far with their observers.
 """
 
 from __future__ import annotations
@@ -23,11 +26,24 @@ from typing import Any
 
 import numpy as np
 
-from epistemica.del_.errors import EpistemicaError
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
+from epistemica.sim.study.figure_parts import (
+    FONT_SIZE,
+    draw_events,
+    draw_goals,
+    draw_obstacles,
+    event_panel,
+    move_robots,
+    pyplot,
+    robot_artists,
+    save_figure,
+    set_closed,
+    set_map_limits,
+    write_gif,
+)
 from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot, robot_colour
-from epistemica.sim.study.trace import trial_trace
+from epistemica.sim.study.trace import known_goals, trial_trace
 
 __all__ = [
     "FONT_SIZE",
@@ -49,90 +65,23 @@ __all__ = [
     "write_gif",
 ]
 
-_MAX_FRAMES = 60
-FONT_SIZE = 10
-_EVENT_LINES = 6
-_GIF_DPI = 72
-
-
-def pyplot():
-    """matplotlib's pyplot on the Agg backend, or a clear error without the plot extra."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:
-        raise EpistemicaError(
-            "figures need matplotlib",
-            hint="install the plot extra: pip install 'epistemica[plot]'",
-        ) from exc
-    return plt
-
-
-def save_figure(fig, path, fmt: str | None = None) -> None:
-    """Write ``fig`` to exactly ``path`` in format ``fmt`` (default: the path's extension
-    among png, pdf and svg, else png), 100 dpi. Unlike a bare ``savefig``, no extension
-    is appended to a path without one, and a write that fails (a full disk, a device)
-    is an :class:`EpistemicaError` naming the file, never a success reported elsewhere.
-    """
-    if fmt is None:
-        suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
-        fmt = suffix if suffix in ("png", "pdf", "svg") else "png"
-    try:
-        fig.savefig(path, dpi=100, format=fmt)
-    except OSError as err:
-        raise _unwritable("figure", path, err) from err
-
-
-def _unwritable(what: str, path, err: OSError) -> EpistemicaError:
-    return EpistemicaError(
-        f"cannot write the {what} {path}: {err.strerror or err}",
-        hint="write it to a folder that exists, is writable and has room",
-    )
-
 
 def _title(scenario: Scenario, trial: Trial) -> str:
-    outcome = f"success at step {trial.steps}" if trial.success else f"failed ({trial.steps} steps)"
+    outcome = (
+        f"succeeded at step {trial.steps}"
+        if trial.success
+        else f"failed within {trial.steps} steps"
+    )
     levels = ", ".join(dict.fromkeys(trial.policies))
     return f"{scenario.mission}, {scenario.n_robots} robots, {levels}, seed {trial.seed}: {outcome}"
 
 
 def trace_title(trace: dict[str, Any], mission: str = "") -> str:
     steps = trace["steps"]
-    outcome = f"success at step {steps}" if trace["success"] else f"failed ({steps} steps)"
+    outcome = f"succeeded at step {steps}" if trace["success"] else f"failed within {steps} steps"
     levels = ", ".join(dict.fromkeys(trace["policies"]))
     head = f"{mission}, " if mission else ""
     return f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']}: {outcome}"
-
-
-def draw_goals(ax, goals: np.ndarray, names, radius: float) -> None:
-    from matplotlib.patches import Circle
-
-    for (x, y), name in zip(goals, names, strict=True):
-        ax.add_patch(Circle((x, y), radius, color="0.8", alpha=0.5, linewidth=0, gid="goal-area"))
-        ax.plot(x, y, marker="*", markersize=15, color="k", markeredgecolor="w", gid=f"goal:{name}")
-        ax.annotate(
-            name,
-            (x, y),
-            textcoords="offset points",
-            xytext=(7, 5),
-            fontsize=FONT_SIZE,
-            weight="bold",
-        )
-
-
-def set_map_limits(ax, positions: np.ndarray, goals: np.ndarray, workspace: float) -> None:
-    pts = np.concatenate([positions.reshape(-1, 2), goals.reshape(-1, 2)])
-    pts = pts[np.isfinite(pts).all(axis=1)]
-    low = np.minimum(pts.min(axis=0), 0.0) - 1
-    high = np.maximum(pts.max(axis=0), workspace) + 1
-    ax.set_xlim(low[0], high[0])
-    ax.set_ylim(low[1], high[1])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)", fontsize=FONT_SIZE)
-    ax.set_ylabel("y (m)", fontsize=FONT_SIZE)
-    ax.tick_params(labelsize=FONT_SIZE)
 
 
 def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
@@ -151,7 +100,9 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
-    draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius)
+    draw_obstacles(ax, scenario.obstacles)
+    closed = scenario.closed if trial.closed_goals is None else trial.closed_goals[-1]
+    draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius, closed)
     for i, name in enumerate(scenario.robot_names):
         path_i = trial.trajectory[:, i]
         colour = robot_colour(i)
@@ -167,15 +118,6 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     fig.tight_layout()
     save_figure(fig, path, "png")
     plt.close(fig)
-
-
-def _event_text(event: list, robots: list[str]) -> str:
-    # Version 1 traces gave arguments as bare indices (robot or goal unsaid): name only.
-    step, name, arguments, observers = event
-    named = [a for a in arguments if isinstance(a, str) and a]
-    about = f"({', '.join(named)})" if named else ""
-    seen = ", ".join(robots[o] for o in observers) or "nobody"
-    return f"step {step}: {name}{about}, seen by {seen}"
 
 
 class TraceFrame:
@@ -216,7 +158,10 @@ class TraceFrame:
         self.sets_axes = fig.add_subplot(grid[1, 1])
         self.events_axes = fig.add_subplot(grid[2, 1])
         goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
-        draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
+        draw_obstacles(self.map_axes, trace.get("obstacles", []))
+        self.goal_marks = draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
+        self.closed = _closed_steps(trace)
+        self.known = known_goals(trace)
         set_map_limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
         ax = self.map_axes
         self.trails, self.discs, self.sensing = robot_artists(
@@ -244,6 +189,10 @@ class TraceFrame:
         self._reading_setup()
         self._map_legend()
         self._belief_panel()
+        self.knowing = self.belief_axes.text(
+            1.03, 1.0, "", transform=self.belief_axes.transAxes, va="top", ha="left",
+            fontsize=FONT_SIZE, family="monospace", gid="knowledge",
+        )  # fmt: skip
         self._sets_panel()
         self.event_lines = event_panel(self.events_axes)
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
@@ -291,12 +240,14 @@ class TraceFrame:
             ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
         for j, name in enumerate(self.robots):
             if j != f and len(self.modelled):
-                ax.plot(
+                ax.plot(  # wide and pale under the solid lines: visible where they agree
                     steps,
                     self.modelled[:, f, j],
                     "--",
                     color=robot_colour(j),
-                    lw=1.4,
+                    lw=4.0,
+                    alpha=0.45,
+                    zorder=1,
                     label=f"{self.robots[f]}'s model of {name}'s",
                 )
         if len(self.considered) and np.nanmax(self.considered) > 20:
@@ -307,7 +258,10 @@ class TraceFrame:
         ax.set_xlabel("step", fontsize=FONT_SIZE)
         ax.tick_params(labelsize=FONT_SIZE)
         ax.set_title(
-            "configuration sets: own (solid), nested (dashed)", fontsize=FONT_SIZE, loc="left"
+            f"configuration sets: own (solid), {self.robots[f]}'s model of each teammate's "
+            "(dashed)",
+            fontsize=FONT_SIZE,
+            loc="left",
         )
         ax.legend(fontsize=FONT_SIZE, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
         self.cursor = ax.axvline(0, color="0.4", lw=0.8)
@@ -325,10 +279,12 @@ class TraceFrame:
             self.transient.append(
                 ax.arrow(pose[i, 0], pose[i, 1], dx, dy, width=0.12, color=robot_colour(i))
             )
+        set_closed(self.goal_marks, self.closed[min(step, len(self.closed) - 1)])
         if decided >= 0:
             self._draw_estimates(decided, pose)
             self._draw_belief(decided)
             self._draw_reading(decided)
+            self.knowing.set_text(self.knowledge_text(decided))
         self._draw_events(step, step - 1 if since is None else since)
         self.cursor.set_xdata([decided, decided])
         self.heading.set_text(f"{self.title}   step {step}")
@@ -353,7 +309,11 @@ class TraceFrame:
     def _draw_reading(self, step: int) -> None:
         if self.reading is None:
             return
-        lines = [f"{self.robots[self.reader]} reads its teammates as:"]
+        lines = [
+            f"{self.robots[self.reader]}'s read of its",
+            "teammates' behaviour",
+            "(posterior):",
+        ]
         for j, name in enumerate(self.robots):
             row = self.types[step, self.reader, j]
             if j != self.reader and np.isfinite(row).all():
@@ -375,11 +335,34 @@ class TraceFrame:
     def _draw_belief(self, step: int) -> None:
         values = self.belief[step]
         self.belief_image.set_data(np.nan_to_num(values))
+        computed = np.nansum(values, axis=1) > 0  # a robot not consulted has no belief
         for i, row in enumerate(self.belief_numbers):
             for g, text in enumerate(row):
                 value = values[i, g]
-                text.set_text("" if not np.isfinite(value) else f"{value:.2f}")
-                text.set_color("w" if np.isfinite(value) and value > 0.55 else "k")
+                if not computed[i]:
+                    text.set_text("n/c")
+                elif self.known is not None and not self.known[step, i, i, g]:
+                    text.set_text("·")
+                else:
+                    text.set_text("" if not np.isfinite(value) else f"{value:.2f}")
+                text.set_color("w" if computed[i] and np.isfinite(value) and value > 0.55 else "k")
+
+    def knowledge_text(self, step: int) -> str:
+        """What each robot knows of at ``step`` and what the focus robot takes each teammate
+        not to know of (every goal known to all without the trace's ``knows``)."""
+        if self.known is None:
+            return "every goal known\nto every robot"
+        lines = ["knows of:"]
+        for i, name in enumerate(self.robots):
+            own = [g for g, k in zip(self.goals, self.known[step, i, i], strict=True) if k]
+            lines.append(f"{name} {' '.join(own) or '-'}")
+        f = self.focus
+        for j, name in enumerate(self.robots):
+            hidden = self.known[step, f, f] & ~self.known[step, f, j]
+            if j != f and hidden.any():
+                goals = " ".join(g for g, h in zip(self.goals, hidden, strict=True) if h)
+                lines.append(f"{self.robots[f]}: {name} does\n  not know of {goals}")
+        return "\n".join(lines)
 
     def _draw_events(self, step: int, since: int) -> None:
         self.transient += draw_events(self, step, since)
@@ -389,66 +372,13 @@ class TraceFrame:
         self.plt.close(self.fig)
 
 
-def robot_artists(ax, robots: list[str], start: np.ndarray, sensing_range: float | None):
-    """``(trails, discs, sensing circles)`` of ``robots`` on ``ax``, the circles (none
-    without a sensing range) centred on their ``start`` places."""
-    from matplotlib.patches import Circle
-
-    colours = [robot_colour(i) for i in range(len(robots))]
-    trails = [ax.plot([], [], "-", color=c, lw=1.3, alpha=0.7)[0] for c in colours]
-    discs = [
-        ax.plot([], [], "o", color=c, mec="k", ms=10, label=name, gid=f"robot:{name}")[0]
-        for name, c in zip(robots, colours, strict=True)
-    ]
-    circles = []
-    for i, name in enumerate(robots if sensing_range is not None else []):
-        circle = Circle(tuple(start[i, :2]), sensing_range, fill=False, ls="--", lw=1.0,
-                        ec=colours[i], gid=f"sensing:{name}")  # fmt: skip
-        ax.add_patch(circle)
-        circles.append(circle)
-    return trails, discs, circles
-
-
-def move_robots(frame, step: int) -> None:
-    """Put ``frame``'s trails, discs and sensing circles (:func:`robot_artists`) at
-    ``step`` of ``frame.poses``."""
-    pose = frame.poses[step]
-    for i in range(len(frame.robots)):
-        frame.trails[i].set_data(frame.poses[: step + 1, i, 0], frame.poses[: step + 1, i, 1])
-        frame.discs[i].set_data([pose[i, 0]], [pose[i, 1]])
-        if frame.sensing:
-            frame.sensing[i].center = (pose[i, 0], pose[i, 1])
-
-
-def event_panel(ax):
-    """Turn ``ax`` into the list of events observed; its text (see :func:`draw_events`)."""
-    ax.axis("off")
-    ax.set_title("events observed (and by whom)", fontsize=FONT_SIZE, loc="left")
-    return ax.text(0.0, 1.0, "", va="top", ha="left", fontsize=FONT_SIZE, family="monospace")
-
-
-def draw_events(frame, step: int, since: int) -> list:
-    """List the events of ``frame.trace`` up to ``step`` in ``frame.event_lines`` and ring,
-    on ``frame.map_axes``, the observers of those after ``since``; the rings."""
-    events = [e for e in frame.trace["events"] if e[0] <= step]
-    lines = [_event_text(e, frame.robots) for e in events[-_EVENT_LINES:]]
-    more = len(events) - len(lines)
-    head = [f"... {more} earlier"] if more > 0 else []
-    frame.event_lines.set_text("\n".join(head + lines) if events else "(none yet)")
-    rings = []
-    for event in (e for e in events if e[0] > since):
-        for o in event[3]:
-            ring = frame.map_axes.plot(
-                *frame.poses[step, o, :2],
-                "o",
-                ms=22,
-                mfc="none",
-                mec=robot_colour(o),
-                mew=2.5,
-                gid=f"event:{event[1]}",
-            )
-            rings.append(ring[0])  # fmt: skip
-    return rings
+def _closed_steps(trace: dict[str, Any]) -> np.ndarray:
+    """``(T + 1, m)`` the goals closed at each step, from the trace's ``closed`` changes."""
+    steps, m = int(trace["steps"]), len(trace["goals"])
+    out = np.zeros((steps + 1, m), dtype=bool)
+    for step, g, shut in sorted(trace.get("closed", [])):
+        out[step:, g] = bool(shut)
+    return out
 
 
 def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") -> int:
@@ -458,37 +388,6 @@ def animate_trace(trace: dict[str, Any], path, fps: int = 6, mission: str = "") 
     is ringed in the frame that first shows its step.
     """
     return write_gif(TraceFrame(trace, mission), int(trace["steps"]), path, fps)
-
-
-def write_gif(frame, steps: int, path, fps: int = 6) -> int:
-    """Write ``frame`` (an object with ``fig``, ``draw(step, since)`` and ``close()``) at
-    most 60 steps of ``0..steps`` as an animated GIF, closing it; the frame count."""
-    from PIL import Image
-
-    frames = np.unique(np.linspace(0, steps, min(steps + 1, _MAX_FRAMES)).astype(int))
-    images = []
-    try:
-        frame.fig.set_dpi(_GIF_DPI)
-        since = -1
-        for step in frames:
-            frame.draw(int(step), since)
-            since = int(step)
-            frame.fig.canvas.draw()  # one render per frame (FuncAnimation renders twice)
-            rgb = Image.fromarray(np.asarray(frame.fig.canvas.buffer_rgba())[:, :, :3])
-            # One palette for every frame (the first frame's: every robot, goal and panel
-            # is drawn there): Pillow's frame differences compare palette indices, and
-            # per-frame palettes made unchanged parts of later frames lose their colours.
-            palette = images[0] if images else rgb.quantize(colors=255, dither=Image.Dither.NONE)
-            images.append(rgb.quantize(palette=palette, dither=Image.Dither.NONE))
-    finally:
-        frame.close()
-    try:
-        images[0].save(
-            path, "GIF", save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0
-        )
-    except OSError as err:
-        raise _unwritable("animation", path, err) from err
-    return len(frames)
 
 
 def animate_trial(scenario: Scenario, trial: Trial, path, fps: int = 6) -> int:

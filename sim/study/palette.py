@@ -15,7 +15,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ROBOT_COLOURS", "focus_robot", "robot_colour"]
+from epistemica.sim.policies.levels import REASONING
+from epistemica.sim.study.trace import known_goals
+
+__all__ = ["LEVEL_COLOURS", "ROBOT_COLOURS", "focus_robot", "level_style", "robot_colour"]
 
 #: A qualitative palette without grey or black (those are the goals').
 ROBOT_COLOURS = (
@@ -31,14 +34,46 @@ ROBOT_COLOURS = (
 )
 
 
+#: Level colours (matplotlib's ``tab10``), by a level's place in
+#: :data:`~epistemica.sim.policies.levels.REASONING`: a level has one colour in every figure.
+LEVEL_COLOURS = (
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+)  # fmt: skip
+_LINES = ("-", "--", "-.", ":")
+# One marker per level of REASONING (greyscale readers tell the levels apart by it).
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "p", "h", "<", ">", "d", "8", "H",
+            "1", "2", "3", "4", "+")  # fmt: skip
+
+
+def level_style(level: str) -> tuple[str, str, str]:
+    """``(colour, line style, marker)`` of a reasoning level, the same in every figure
+    (fixed by the level's place in :data:`~epistemica.sim.policies.levels.REASONING`; a level not
+    there takes a place after them by its name). Two levels never share all three.
+
+    Examples
+    --------
+    >>> level_style("third") == level_style("third"), level_style("zero") != level_style("first")
+    (True, True)
+    """
+    if level in REASONING:
+        k = REASONING.index(level)
+    else:
+        k = len(REASONING) + sum(map(ord, level)) % 31
+    return LEVEL_COLOURS[k % 10], _LINES[k % 4], _MARKERS[k % len(_MARKERS)]
+
+
 def robot_colour(i: int) -> str:
     """The colour of robot ``i`` (0-based) in every figure and the browser view."""
     return ROBOT_COLOURS[i % len(ROBOT_COLOURS)]
 
 
 def focus_robot(trace: dict[str, Any]) -> int:
-    """The robot whose model of its teammates' sets differs most from their own sets (the
-    first robot when no model differs): the one whose nested reasoning the figures show.
+    """The robot whose knowledge decides the trial, whose nested reasoning the figures show:
+    the one that most often knows of a goal it takes a teammate not to know of (private
+    knowledge, the trace's ``knows``); without any, the robot whose model of its
+    teammates' sets differs most from their own sets (the first robot when no model
+    differs).
 
     Examples
     --------
@@ -46,7 +81,16 @@ def focus_robot(trace: dict[str, Any]) -> int:
     1
     >>> focus_robot({"modelled": [], "considered": []})
     0
+    >>> focus_robot({"modelled": [], "considered": [], "steps": 1, "robots": ["a", "b"],
+    ...              "goals": ["x"], "knows": [[0, 1, 1, 0, 1, "start"]]})
+    1
     """
+    known = known_goals(trace)
+    if known is not None:
+        own = np.diagonal(known, axis1=1, axis2=2).transpose(0, 2, 1)  # (T, n, m)
+        private = (own[:, :, None, :] & ~known).sum(axis=(0, 2, 3))
+        if private.max() > 0:
+            return int(np.argmax(private))
     modelled = np.asarray(trace["modelled"], dtype=float)
     if modelled.size == 0:
         return 0

@@ -25,6 +25,7 @@ import numpy as np
 from epistemica.sim.kinds.registry import KINDS
 from epistemica.sim.policies.levels import REASONING
 from epistemica.sim.study.figures import pyplot, save_figure
+from epistemica.sim.study.palette import level_style
 
 __all__ = [
     "Cell",
@@ -34,6 +35,7 @@ __all__ = [
     "plot_results",
     "study_order",
     "summarise",
+    "trial_counts",
     "wilson_interval",
 ]
 
@@ -223,18 +225,6 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
     return "\n".join([fmt.format(*head), *(fmt.format(*line) for line in lines)])
 
 
-#: Line style and marker of the level at each position of the study order (colour-blind
-#: and greyscale readers tell the levels apart by these alone).
-LEVEL_STYLES = (
-    ("-", "o"),
-    ("--", "s"),
-    ("-.", "^"),
-    (":", "D"),
-    ("-", "v"),
-    ("--", "P"),
-    ("-.", "X"),
-    (":", "*"),
-)
 _FONTS = {"font.size": 11, "legend.fontsize": 10, "axes.titlesize": 11}
 
 
@@ -249,25 +239,25 @@ def plot_results(
     ``pdf`` or ``svg`` (vector, for a paper); the file is written at ``path`` exactly.
     """
     plt = pyplot()
-    missions = sorted({c.mission for c in cells})
+    panels = sorted({(c.mission, _spec(c)) for c in cells})
     order = list(levels) if levels is not None else study_order(c.reasoning for c in cells)
     order += [lv for lv in study_order(c.reasoning for c in cells) if lv not in order]
-    colours = plt.get_cmap("tab10")
     with plt.rc_context(_FONTS):
         fig, axes = plt.subplots(
-            1, len(missions), figsize=(1.6 + 5.0 * len(missions), 4.4), squeeze=False
+            1, len(panels), figsize=(1.6 + 5.0 * len(panels), 4.6), squeeze=False
         )
-        for ax, mission in zip(axes[0], missions, strict=True):
-            mine = [c for c in cells if c.mission == mission]
-            for k, level in enumerate(order):
+        for ax, (mission, spec) in zip(axes[0], panels, strict=True):
+            mine = [c for c in cells if (c.mission, _spec(c)) == (mission, spec)]
+            for level in order:
                 chosen = [c for c in mine if c.reasoning == level]
                 if chosen:
-                    style = (colours(k % 10), *LEVEL_STYLES[k % len(LEVEL_STYLES)])
-                    _plot_level(ax, chosen, level, mission, style)
+                    _plot_level(ax, chosen, level, mission, level_style(level))
             ax.set_xlabel("robots")
             ax.set_xticks(sorted({c.robots for c in mine}))
-            ax.set_title(f"{mission} ({max(c.trials for c in mine)} trials per cell)")
+            name = f"{spec} ({mission})" if spec else mission
+            ax.set_title(f"{name}, {trial_counts(mine)} per cell")
             ax.grid(alpha=0.3)
+        fig.text(0.01, 0.01, _caption(cells), fontsize=10, ha="left", va="bottom", gid="caption")
         # One legend for every panel (a level keeps its look across missions), outside
         # the data; its entries in study order.
         shown = {h.get_label(): h for ax in axes[0] for h in ax.get_lines()}
@@ -278,9 +268,45 @@ def plot_results(
             loc="upper left",
             bbox_to_anchor=(1.02, 1.0),
         )
-        fig.tight_layout()
+        fig.tight_layout(rect=(0, 0.06, 1, 1))
         save_figure(fig, path, fmt)
     plt.close(fig)
+
+
+def _spec(cell: Cell) -> str:
+    """The mission file a cell's trials came from (its ``spec`` option), else ``""``."""
+    try:
+        return str(json.loads(cell.options).get("spec", ""))
+    except (ValueError, AttributeError):
+        return ""
+
+
+def trial_counts(cells: Sequence[Cell]) -> str:
+    """How many trials the cells hold: ``"50 trials"``, or ``"17-50 trials"`` when they
+    differ.
+
+    Examples
+    --------
+    >>> cell = Cell("rendezvous", 2, 2, "zero", "{}", 17, 3, 0, 1, 9, 9, 0.1, 1)
+    >>> trial_counts([cell, cell._replace(trials=50)]), trial_counts([cell])
+    ('17-50 trials', '17 trials')
+    """
+    counts = sorted({c.trials for c in cells})
+    if not counts:
+        return "0 trials"
+    return f"{counts[0]} trials" if len(counts) == 1 else f"{counts[0]}-{counts[-1]} trials"
+
+
+def _caption(cells: Sequence[Cell]) -> str:
+    if cells and all(c.mission == "multitask" for c in cells):
+        return (
+            f"Mean completion step ({trial_counts(cells)} per cell; a failed trial counts "
+            "as the step limit)."
+        )
+    return (
+        f"Success rate over {trial_counts(cells)} per cell (the same seeds for every level); "
+        "band or bar: 95 % Wilson interval."
+    )
 
 
 def _plot_level(ax, cells: list[Cell], level: str, mission: str, style: tuple) -> None:
@@ -312,26 +338,31 @@ def plot_levels(cells: list[Cell], path, title: str) -> None:
 
 
 def _level_bars(plt, cells: list[Cell], path, title: str) -> None:
-    fig, ax = plt.subplots(figsize=(1.6 + 1.4 * len(cells), 4.4))
+    fig, ax = plt.subplots(figsize=(2.2 + 1.4 * len(cells), 4.8))
     names = [c.reasoning for c in cells]
     x = np.arange(len(cells))
+    colours = [level_style(c.reasoning)[0] for c in cells]
     if cells and _tasks(cells[0].mission):
         values = [c.mean_completion for c in cells]
-        ax.bar(x, values, color="tab:blue", alpha=0.8)
+        ax.bar(x, values, color=colours, alpha=0.85)
         ax.set_ylabel("mean completion step (failures = limit)")
+        caption = "Mean step at which the last task was done (a failure counts as the limit)."
     else:
         rate = np.array([100 * c.rate for c in cells])
         low = np.maximum(rate - np.array([100 * c.low for c in cells]), 0.0)
         high = np.maximum(np.array([100 * c.high for c in cells]) - rate, 0.0)
-        ax.bar(x, rate, yerr=[low, high], capsize=4, color="tab:blue", alpha=0.8)
+        ax.bar(x, rate, yerr=[low, high], capsize=4, color=colours, alpha=0.85)
         ax.set_ylabel("success rate (%) with 95 % interval")
         ax.set_ylim(0, 105)
         for i, c in enumerate(cells):
             if not math.isnan(c.mean_steps):
                 ax.text(i, 3, f"{c.mean_steps:.0f} steps", ha="center", fontsize=10, color="white")
+        caption = "Bars: success rate, 95 % Wilson interval; in a bar: mean steps of its successes."
     ax.set_xticks(x, names, rotation=20)
-    ax.set_title(f"{title} ({max((c.trials for c in cells), default=0)} trials per level)")
+    ax.set_xlabel("reasoning level")
+    ax.set_title(f"{title} ({trial_counts(cells)} per level, the same seeds)")
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
+    fig.text(0.01, 0.01, caption, fontsize=10, ha="left", va="bottom", gid="caption")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     save_figure(fig, path)
     plt.close(fig)

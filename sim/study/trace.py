@@ -30,6 +30,15 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 ``types``           (only where robots kept teammate models) the behaviour library's names
 ``teammate_types``  ``(T, n, n, len(types))``: robot ``i``'s posterior over robot ``j``'s
                     behaviour when it decided (2 decimals; ``null`` where it kept none)
+``knows``           (only where some goal was unknown to some robot) ``[step, i, j, g, known,
+                    how]`` for each change of "robot ``i`` takes robot ``j`` to know of goal
+                    ``g``" (``i == j``: its own knowledge), step 0 listing what is known at
+                    the start; ``how``: ``"start"``, the event's name, ``"seen"`` (within
+                    discovery range) or ``"inferred"``
+``closed``          (only where some goal was closed) ``[step, g, closed]`` for each change,
+                    step 0 listing the goals closed at the start
+``obstacles``       (only where there are obstacles) polygons, ``[[x, y], ...]`` each (m)
+``discovery_range`` (only where set) m
 ==================  ==========================================================================
 
 A trial of a joint (collaborative) mission carries ``kind: "collaborative"`` and, in place
@@ -39,6 +48,9 @@ task each robot headed to, -1 exploring, -2 fetching a teammate, -3 waiting), ``
 (``(T, n, m)``: the tasks each robot knew of) and ``aware_since`` (``(n, n, m)``: the first
 step robot ``i`` knew that robot ``j`` knows of task ``t``); its events name their
 arguments as the rule bound them.
+
+Every field from ``knows`` on is optional: traces without them (written before they were
+recorded, or of trials where they are empty) read as they did.
 
 Examples
 --------
@@ -65,7 +77,16 @@ from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 
-__all__ = ["FORMAT", "MAX_TRACE_BYTES", "READABLE", "VERSION", "decode", "encode", "trial_trace"]
+__all__ = [
+    "FORMAT",
+    "MAX_TRACE_BYTES",
+    "READABLE",
+    "VERSION",
+    "decode",
+    "encode",
+    "known_goals",
+    "trial_trace",
+]
 
 #: The largest trace document read, inflated (a stored trace is about 2 kB compressed;
 #: the longest shipped trial's document is well under 1 MB).
@@ -113,6 +134,7 @@ def trial_trace(scenario: Scenario | CollaborativeScenario, trial: Trial) -> dic
         "estimates": _rounded(trial.estimates, 1),
         "events": events,
         **_teammate_types(trial),
+        **_knowledge(scenario, trial, events),
     }
 
 
@@ -147,6 +169,48 @@ def _joint_trace(s: CollaborativeScenario, trial: Trial) -> dict[str, Any]:
     }
 
 
+def _knowledge(scenario: Scenario, trial: Trial, events: list) -> dict[str, Any]:
+    """The optional fields ``knows``, ``closed``, ``obstacles``, ``discovery_range``."""
+    out: dict[str, Any] = {}
+    if trial.known_goals is not None and len(trial.known_goals):
+        out["knows"] = _knows(scenario, np.asarray(trial.known_goals, dtype=bool), events)
+    closed = trial.closed_goals
+    if closed is not None and np.asarray(closed).any():
+        closed = np.asarray(closed, dtype=bool)
+        start = [[0, int(g), 1] for g in np.flatnonzero(closed[0])]
+        changed = np.argwhere(closed[1:] != closed[:-1])
+        out["closed"] = start + [[int(t) + 1, int(g), int(closed[t + 1, g])] for t, g in changed]
+    if scenario.obstacles:
+        out["obstacles"] = [_rounded(p, 2) for p in scenario.obstacles]
+    if scenario.discovery_range is not None:
+        out["discovery_range"] = float(scenario.discovery_range)
+    return out
+
+
+def _knows(scenario: Scenario, known: np.ndarray, events: list) -> list:
+    """``[step, i, j, g, known, how]`` for every change of ``known`` (``(T, n, n, m)``)."""
+    told = scenario.known_goals
+    goals = scenario.goal_names
+    out = []
+    for i, j, g in np.argwhere(known[0]):
+        own = told is None or (told[i, g] if i == j else told[:, g].all())
+        how = "start" if own else _how(0, i, j, goals[g], events)
+        out.append([0, int(i), int(j), int(g), 1, how])
+    for t, i, j, g in np.argwhere(known[1:] != known[:-1]):
+        now = bool(known[t + 1, i, j, g])
+        how = _how(int(t) + 1, i, j, goals[g], events) if now else ""
+        out.append([int(t) + 1, int(i), int(j), int(g), int(now), how])
+    return out
+
+
+def _how(step: int, i: int, j: int, goal: str, events: list) -> str:
+    """How robot ``i`` came to take ``j`` to know of ``goal`` at ``step``."""
+    for e in events:
+        if e[0] == step and i in e[3] and goal in e[2]:
+            return e[1]
+    return "seen" if i == j else "inferred"
+
+
 def _teammate_types(trial: Trial) -> dict[str, Any]:
     if trial.teammate_types is None:
         return {}
@@ -166,6 +230,33 @@ def _argument_namer(scenario: Scenario):
         ]
 
     return named
+
+
+def known_goals(trace: dict[str, Any]) -> np.ndarray | None:
+    """``(T, n, n, m)`` booleans from a trace's ``knows`` changes: the goals robot ``i``
+    takes robot ``j`` to know of at each step (its own on the diagonal); ``None`` for a
+    trace without them (every goal common knowledge, or written before they were kept).
+
+    Examples
+    --------
+    >>> k = known_goals({"steps": 3, "robots": ["a", "b"], "goals": ["x"],
+    ...                  "knows": [[0, 0, 0, 0, 1, "start"], [2, 1, 1, 0, 1, "seen"]]})
+    >>> k[:, 1, 1, 0].tolist(), k[:, 0, 0, 0].tolist()
+    ([False, False, True], [True, True, True])
+    """
+    if "knows" not in trace:
+        return None
+    n, m = len(trace["robots"]), len(trace["goals"])
+    steps = max(int(trace["steps"]), 1)
+    changes = np.zeros((steps + 1, n, n, m), dtype=int)  # +1 set, -1 cleared, at the step
+    for step, i, j, g, now, _ in trace["knows"]:
+        changes[step, i, j, g] = 1 if now else -1
+    known = np.zeros((n, n, m), dtype=bool)
+    out = np.zeros((steps, n, n, m), dtype=bool)
+    for t in range(steps):
+        known = np.where(changes[t] > 0, True, np.where(changes[t] < 0, False, known))
+        out[t] = known
+    return out
 
 
 def encode(trace: dict[str, Any]) -> bytes:

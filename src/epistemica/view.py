@@ -1,9 +1,11 @@
 """``epistemica view FILE``: a trial's replay as one self-contained HTML page.
 
-:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`) with the panels of the
-animation (:mod:`epistemica.sim.study.figures`): the map with sensing radii, estimates and
-events, each robot's belief, the configuration-set sizes (own and one robot's model of each
-teammate's) and the events; a slider scrubs, a button plays and pauses.
+:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`), one column per level of
+the same seed with one shared slider: the map (obstacles, open and closed goals, axes in
+metres, sensing radii, estimates, events), what each robot knows (the goals it knows of and
+how it learned them, the configuration it acts on, its configuration set), the focus
+robot's model of each teammate's knowledge, each robot's belief (``n/c`` where not
+computed), the configuration-set sizes and the events; a button plays and pauses.
 
 ``view`` writes the replay page of one trial (:func:`trial_page`)
 from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.study.trace.encode`),
@@ -17,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import sqlite3
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -121,38 +124,79 @@ def run_view(args: argparse.Namespace) -> int:
     """Run ``epistemica view``; return the exit status."""
     out = Path(args.out) if args.out else Path(Path(args.file).stem + ".html")
     check_output(out, [args.file], args.force, "-o")
-    html = trial_page(*read_trace(args.file, args.trial, args.level))
+    trace, mission = read_trace(args.file, args.trial, args.level)
+    others = []
+    for level in args.compare or ():
+        if mission == "" and not _holds_trials(args.file):
+            raise InvalidArgumentError(
+                f"--compare {level}: {args.file} holds one trial",
+                hint="compare levels on a mission file or a results file storing traces",
+            )
+        others.append(read_trace(args.file, trace["seed"], level)[0])
+    html = trial_page(trace, mission, others)
     write_page(out, html)
     print(f"wrote {out} ({len(html.encode()) / 1024:.0f} kB): open it in a browser")
     return 0  # EXIT_OK; not imported, as epistemica.cli dispatches to this module
 
 
-def trial_page(trace: dict[str, Any], mission: str = "") -> str:
-    """The replay page of a trial's trace (``epistemica-trace`` v1) as HTML text."""
-    if not isinstance(trace, dict) or trace.get("format") != FORMAT:
-        raise InvalidArgumentError(
-            "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
-        )
-    if trace.get("kind") == "collaborative":
-        raise InvalidArgumentError(
-            "a collaborative trial's trace has no beliefs or configuration sets to replay",
-            hint="read it with epistemica.sim.study.store.read_trace; "
-            "the page replays other missions",
-        )
-    _check_fields(trace)
-    levels = ", ".join(map(str, dict.fromkeys(trace["policies"])))
-    outcome = "success" if trace["success"] else "failure"
+def _holds_trials(path: str) -> bool:
+    """Whether ``path`` is a results file (a mission file names its mission)."""
+    return Path(path).read_bytes()[: len(_SQLITE)] == _SQLITE
+
+
+def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] = ()) -> str:
+    """The replay page of a trial's trace (``epistemica-trace``) as HTML text; ``others``:
+    traces of the same trial at other levels, drawn beside it with one shared slider.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario, simulate
+    >>> from epistemica.sim.study.trace import trial_trace
+    >>> s = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=5)
+    >>> a, b = (trial_trace(s, simulate(s, level, seed=0)) for level in ("zero", "first"))
+    >>> html = trial_page(a, "demo", [b])
+    >>> "demo: 2 robots, seed 0: zero failed within 5 steps; first" in html
+    True
+    """
+    traces = [trace, *others]
+    for t in traces:
+        if not isinstance(t, dict) or t.get("format") != FORMAT:
+            raise InvalidArgumentError(
+                "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
+            )
+        if t.get("kind") == "collaborative":
+            raise InvalidArgumentError(
+                "a collaborative trial's trace has no beliefs or configuration sets to replay",
+                hint="read it with epistemica.sim.study.store.read_trace; the page replays "
+                "other missions",
+            )
+        _check_fields(t)
+    trials = [{"trace": t, "level": _level(t), "focus": _focus(t)} for t in traces]
+    verdicts = "; ".join(f"{p['level']} {_outcome(p['trace'])}" for p in trials)
     head = f"{mission}: " if mission else ""
-    title = f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']} ({outcome})"
+    title = f"{head}{len(trace['robots'])} robots, seed {trace['seed']}: {verdicts}"
+    data = {"trials": trials, "colours": list(ROBOT_COLOURS), "fps": _FPS}
+    return page(title, "trial_view.js", data)
+
+
+def _focus(trace: dict[str, Any]) -> int:
     try:
-        focus = focus_robot(trace)
+        return focus_robot(trace)
     except (KeyError, TypeError, ValueError, IndexError) as exc:  # a hand-made trace
         raise InvalidArgumentError(
             f"the trace is incomplete ({type(exc).__name__}: {exc})",
             hint="traces are written by epistemica.sim.study.trace",
         ) from None
-    data = {"trace": trace, "colours": list(ROBOT_COLOURS), "focus": focus, "fps": _FPS}
-    return page(title, "trial_view.js", data)
+
+
+def _level(trace: dict[str, Any]) -> str:
+    return ", ".join(map(str, dict.fromkeys(trace["policies"])))
+
+
+def _outcome(trace: dict[str, Any]) -> str:
+    if trace["success"]:
+        return f"succeeded at step {trace['steps']}"
+    return f"failed within {trace['steps']} steps"
 
 
 #: The fields the page's title and focus are read from, with their JSON types.

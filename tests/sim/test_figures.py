@@ -202,8 +202,9 @@ def test_the_teammate_types_a_robot_reads_are_recorded_and_drawn():
         frame.draw(step, step - 1)
         reader = frame.focus if frame.focus in kept else kept[0]
         text = frame.reading.get_text().splitlines()
-        assert text[0] == f"{trace['robots'][reader]} reads its teammates as:"
-        for line, j in zip(text[1:], [j for j in range(3) if j != reader], strict=True):
+        name = trace["robots"][reader]
+        assert text[:3] == [f"{name}'s read of its", "teammates' behaviour", "(posterior):"]
+        for line, j in zip(text[3:], [j for j in range(3) if j != reader], strict=True):
             k = int(np.argmax(types[step, reader, j]))
             assert (
                 line == f"{trace['robots'][j]} {trace['types'][k]} {types[step, reader, j, k]:.2f}"

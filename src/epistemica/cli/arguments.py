@@ -40,6 +40,7 @@ examples:
   epistemica simulate --mission rendezvous --robots 3 --goals 4 --reasoning convention --json
   epistemica simulate --mission allocation --robots 5 --png trial.png --gif trial.gif
   epistemica simulate --mission rendezvous --robots 3 --observation honest --sensing-range 10
+  epistemica simulate --mission specs/nested/private_goal_3.epi --seed 4 --reasoning first
 
 exit status: 0 the mission succeeded, 1 it failed, 2 bad input
 """
@@ -93,6 +94,10 @@ def add_run_command(commands) -> None:
         "by default at the seed where it finishes most steps sooner than first)",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
+    cmd.add_argument(
+        "--pdf", action="store_true", help="also write the figure as PDF (vector, for a paper)"
+    )
+    cmd.add_argument("--svg", action="store_true", help="also write the figure as SVG (vector)")
 
 
 def _add_execution_options(cmd) -> None:
@@ -147,7 +152,12 @@ def add_simulate_command(commands) -> None:
         epilog=_SIMULATE_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    cmd.add_argument("--mission", default="rendezvous", help="rendezvous, allocation, multitask")
+    cmd.add_argument(
+        "--mission",
+        default="rendezvous",
+        help="rendezvous, allocation, multitask, or a mission file (.epi: its layout and "
+        "teammates at --seed)",
+    )
     cmd.add_argument("--robots", type=int, default=3, help="team size (default 3)")
     cmd.add_argument(
         "--goals", type=int, default=None, help="goals (default: as many as robots; multitask 20)"
@@ -155,9 +165,9 @@ def add_simulate_command(commands) -> None:
     cmd.add_argument("--seed", type=int, default=0, help="trial seed (default 0)")
     cmd.add_argument(
         "--reasoning",
-        default="third",
+        default=None,
         help="zero, convention, first, second, third, paper-first, paper-higher, "
-        "paper-higher-fixed (default third)",
+        "paper-higher-fixed (default third; a mission file: its study's last level)",
     )
     add_scenario_options(cmd)
     cmd.add_argument("--json", action="store_true", help="print a JSON object")
@@ -258,6 +268,15 @@ def add_sweep_commands(commands) -> None:
     report.add_argument("--svg", default=None, metavar="FILE", help="figure as SVG (vector)")
     report.add_argument("--no-png", action="store_true", help="do not write any figure")
     report.add_argument("--force", action="store_true", help="replace existing figure files")
+    report.add_argument(
+        "--csv", default=None, metavar="FILE", help="the trials as CSV (needs the data extra)"
+    )
+    report.add_argument(
+        "--parquet",
+        default=None,
+        metavar="FILE",
+        help="the trials as Parquet (needs the data extra: pandas, pyarrow)",
+    )
 
 
 _VIEW_EXAMPLES = """\
@@ -265,6 +284,7 @@ examples:
   epistemica view specs/rendezvous.epi                  # simulate its first trial, last level
   epistemica view specs/nested/relocated_3.epi --trial 4 --level first -o relocated.html
   epistemica view trace.json                            # a trace (epistemica.sim.study.trace)
+  epistemica view specs/nested/private_goal_3.epi --trial 4 --level third --compare first
   epistemica show specs/puzzles/muddy_children.epi --html muddy.html   # a model's page
 
 exit status: 0 written, 2 bad input
@@ -278,8 +298,9 @@ def add_view_command(commands) -> None:
         help="write a trial's replay as one self-contained HTML page",
         description="Write one HTML page (script, style and data inline: no server, no "
         "network) replaying a trial: the map with sensing radii, estimates and events, each "
-        "robot's belief, its configuration-set size and one robot's model of its teammates' "
-        "sets; a slider scrubs, a button plays and pauses.",
+        "robot's belief, the goals it knows and how it learned them, its configuration set and "
+        "one robot's model of each teammate's knowledge; a slider scrubs, a button plays and "
+        "pauses; --compare draws other levels of the same seed beside it.",
         epilog=_VIEW_EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -291,6 +312,14 @@ def add_view_command(commands) -> None:
     cmd.add_argument("--trial", type=int, default=None, metavar="SEED", help="the trial's seed")
     cmd.add_argument(
         "--level", default=None, help="the trial's level (mission file: default its last)"
+    )
+    cmd.add_argument(
+        "--compare",
+        action="append",
+        default=None,
+        metavar="LEVEL",
+        help="also replay the same seed at LEVEL, side by side with one slider (mission or "
+        "results file; repeatable)",
     )
     cmd.add_argument("-o", "--out", default=None, help="the page (default: FILE's name .html)")
     cmd.add_argument("--force", action="store_true", help="replace an existing page")

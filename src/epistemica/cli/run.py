@@ -13,6 +13,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from epistemica.answers import answer, atom_meanings
 from epistemica.cli.exit import EXIT_INTERRUPTED
 from epistemica.cli.json_output import print_json
 from epistemica.cli.sweep import store_trials
@@ -92,9 +93,11 @@ def _run_study(mission, args: argparse.Namespace) -> int:
     cells.sort(key=lambda c: order.get(c.reasoning, len(order)))
     print(format_table(cells, markdown=args.markdown))
     try:
-        png = out.with_suffix(".png")
-        plot_levels(cells, png, mission.name)
-        print(f"figure: {png}")
+        vector = [fmt for fmt in ("pdf", "svg") if getattr(args, fmt, False)]
+        figures = [out.with_suffix(f".{fmt}") for fmt in ("png", *vector)]
+        for path in figures:
+            plot_levels(cells, path, mission.name)
+        print(f"figure: {', '.join(map(str, figures))}")
         gif = out.with_suffix(".gif")
         if mission.kind.joint and not args.no_gif:
             level, seed, why = _collaborative_trial(args.trial, rows, specs)
@@ -102,8 +105,13 @@ def _run_study(mission, args: argparse.Namespace) -> int:
             print(f"animation ({level}, seed {seed}{why}): {gif}")
         elif not args.no_gif:
             level, seed, why = _animated_trial(args.trial, rows, specs)
-            _animate(mission, level, seed, gif)
-            print(f"animation ({level}, seed {seed}{why}): {gif} and {gif.with_suffix('.html')}")
+            before = _beside(level, seed, rows, specs)
+            _animate(mission, level, seed, gif, before)
+            beside = f" ({level} beside {before[0]})" if before else ""
+            print(
+                f"animation ({level}, seed {seed}{why}): {gif} and page{beside}: "
+                f"{gif.with_suffix('.html')}"
+            )
     except EpistemicaError as exc:  # no matplotlib: the results stand without pictures
         print(f"figures skipped: {exc}", file=sys.stderr)
     print(done.summary())
@@ -123,6 +131,15 @@ def _animated_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, i
     if seed is None:
         return level, specs[0].seed, ": the levels agree on every seed"
     return level, seed, ": the first where the levels disagree, the last succeeding if it can"
+
+
+def _beside(level: str, seed: int, rows: list[dict], specs) -> list[str]:
+    """The level drawn beside ``level`` on the page of its trial at ``seed``: the highest
+    other level that failed there (else the highest other level), so that the page shows
+    why one level failed where the other did not."""
+    levels = [lv for lv in dict.fromkeys(s.reasoning for s in specs) if lv != level]
+    failed = {r["reasoning"] for r in rows if int(r["seed"]) == seed and not r["success"]}
+    return ([lv for lv in levels if lv in failed] or levels)[-1:]
 
 
 def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
@@ -153,15 +170,22 @@ def _animate_collaborative(mission, level: str, seed: int, path: Path) -> None:
     animate_collaborative(trial_trace(scenario, trial), path, mission=mission.name)
 
 
-def _animate(mission, level: str, seed: int, path: Path) -> None:
-
+def _animate(mission, level: str, seed: int, path: Path, others: list[str]) -> None:
+    """The GIF of ``level``'s trial at ``seed``; its page, with the ``others`` levels'
+    trials of the same seed beside it."""
     scenario = mission.scenario(seed)
-    trial = simulate(
-        scenario, level, seed=seed, policies=mission.policies(seed), parameters=mission.parameters
-    )
-    trace = trial_trace(scenario, trial)
-    animate_trace(trace, path, mission=mission.name)
-    write_page(path.with_suffix(".html"), trial_page(trace, mission.name))
+    traces = []
+    for reasoning in [level, *others]:
+        trial = simulate(
+            scenario,
+            reasoning,
+            seed=seed,
+            policies=mission.policies(seed),
+            parameters=mission.parameters,
+        )
+        traces.append(trial_trace(scenario, trial))
+    animate_trace(traces[0], path, mission=mission.name)
+    write_page(path.with_suffix(".html"), trial_page(traces[0], mission.name, traces[1:]))
 
 
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
@@ -202,6 +226,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
         chosen = model(args.after, args.seed, args.reasoning)
         expected = None if args.expect is None else args.expect == "true"  # None: a question
         claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
+        # A mission's model has a designated world per configuration: say how many.
+        asked = answer(chosen, formula, mission.robots)
     else:
         claims = []
         for c in mission.checks:
@@ -218,6 +244,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             holds = mission.holds(c.check.formula, model(after, seed, level))
             claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
     failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
+    if args.formula is None:
+        asked = None
     if args.json:
         out = [
             {
@@ -230,6 +258,8 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
             }
             for n, t, e, h, w in claims
         ]
+        if asked is not None:
+            out[0].update(true_in=asked[0], designated=asked[1])
         print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
     robots = ", ".join(mission.robots)
@@ -238,7 +268,14 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     for name, text, expected, holds, label in claims:
         mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
         moment = "" if label == where else f" [{label}]"
-        print(f"  {mark}  {'true ' if holds else 'false'}  {name}{moment}: {text}")
+        word = "true " if holds else "false"
+        if asked is not None and 0 < asked[0] < asked[1]:
+            word = "neither"
+        print(f"  {mark}  {word}  {name}{moment}: {text}")
+    if asked is not None:
+        print(f"          {asked[2]}")
+        for line in atom_meanings(args.formula, mission.robots):
+            print(f"          {line}")
     if args.formula is None or args.expect is not None:
         print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK

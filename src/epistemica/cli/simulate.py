@@ -1,4 +1,5 @@
-"""``epistemica simulate``: one trial of the published protocol, as text, JSON or pictures.
+"""``epistemica simulate``: one trial of the published protocol (or of a mission file), as
+text, JSON or pictures.
 
 Exit status: 0 when the mission succeeded, 1 when it failed (a claim about the trial that
 turned out false), 2 on bad input.
@@ -7,10 +8,13 @@ turned out false), 2 on bad input.
 from __future__ import annotations
 
 import argparse
+import os
 from functools import partial
 
 from epistemica.cli.json_output import print_json
 from epistemica.cli.options import scenario_options
+from epistemica.del_.errors import InvalidArgumentError
+from epistemica.mission import load_mission
 from epistemica.output_files import check_output, write_output
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.study.figures import animate_trial, plot_trial
@@ -23,13 +27,15 @@ def run_simulate(args: argparse.Namespace) -> int:
     for flag, path in (("--png", args.png), ("--gif", args.gif)):
         if path:
             check_output(path, force=args.force, flag=flag)  # before the trial, not after it
-    options = scenario_options(args)
-    scenario = Scenario.paper(args.mission, args.robots, args.goals, args.seed, **options)
-    trial = simulate(scenario, args.reasoning, seed=args.seed)
+    scenario, trial = _trial(args)
+    say = print if not args.json else (lambda *a: None)
     if args.png:
         write_output(args.png, partial(plot_trial, scenario, trial))
+        say(f"figure: {args.png}")
     if args.gif:
-        write_output(args.gif, partial(animate_trial, scenario, trial))
+        frames = []
+        write_output(args.gif, lambda out: frames.append(animate_trial(scenario, trial, out)))
+        say(f"animation: {args.gif} ({frames[0]} frames; drawing them takes longer than the trial)")
     if args.json:
         record = {
             "mission": scenario.mission,
@@ -46,6 +52,32 @@ def run_simulate(args: argparse.Namespace) -> int:
     return 0 if trial.success else 1
 
 
+def _trial(args: argparse.Namespace):
+    """The scenario and trial asked for: ``--mission`` a built-in mission (the published
+    protocol) or a mission file (its layout and teammates at ``--seed``, its last level by
+    default)."""
+    if args.mission.endswith(".epi") or os.path.isfile(args.mission):
+        mission = load_mission(args.mission)
+        if mission.kind.joint:  # its pictures are its study's (run)
+            raise InvalidArgumentError(
+                f"{args.mission}: simulate draws goal and multitask missions",
+                hint=f"run its study with 'epistemica run {args.mission}'",
+            )
+        level = args.reasoning or mission.study.levels[-1]
+        scenario = mission.scenario(args.seed)
+        trial = simulate(
+            scenario,
+            level,
+            seed=args.seed,
+            policies=mission.policies(args.seed),
+            parameters=mission.parameters,
+        )
+        return scenario, trial
+    options = scenario_options(args)
+    scenario = Scenario.paper(args.mission, args.robots, args.goals, args.seed, **options)
+    return scenario, simulate(scenario, args.reasoning or "third", seed=args.seed)
+
+
 def _describe(scenario, trial) -> str:
     verdict = (
         f"succeeded at step {trial.steps}"
@@ -57,11 +89,12 @@ def _describe(scenario, trial) -> str:
         f"goals, seed {trial.seed}: {verdict}"
     ]
     last = trial.focal[-1] if trial.steps else None
-    for i in range(scenario.n_robots):
-        goal = "-" if last is None or last[i, i] < 0 else f"g{last[i, i]}"
+    width = max(len(name) for name in scenario.robot_names)
+    for i, robot in enumerate(scenario.robot_names):
+        goal = "-" if last is None or last[i, i] < 0 else scenario.goal_names[last[i, i]]
         x, y = trial.trajectory[-1, i, :2]
         lines.append(
-            f"  r{i}  {scenario.sensors[i]:<7}  {trial.policies[i]:<18}  "
+            f"  {robot:<{width}}  {scenario.sensors[i]:<7}  {trial.policies[i]:<18}  "
             f"heading for {goal:<4}  at ({x:.1f}, {y:.1f})"
         )
     if trial.completion_step is not None:

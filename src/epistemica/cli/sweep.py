@@ -21,8 +21,9 @@ from epistemica.cli.exit import EXIT_INTERRUPTED
 from epistemica.cli.options import scenario_options
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.output_files import check_output, write_output
+from epistemica.results import load, write_table
 from epistemica.run import team_trials
-from epistemica.sim.study.report import format_table, plot_results, summarise
+from epistemica.sim.study.report import format_table, plot_results, study_order, summarise
 from epistemica.sim.study.store import ResultStore, read_rows
 from epistemica.sim.study.sweep import plan_sweep, run_sweep
 
@@ -44,11 +45,25 @@ def run_sweep_command(args: argparse.Namespace) -> int:
             0 if args.seed is None else args.seed,
             scenario_options(args),
         )
+    _make_folder(args.out)
     done = store_trials(specs, args.out, args.resume, args)
     if done is None:
         return EXIT_INTERRUPTED
     print(f"{done.summary()} ({sum(r['success'] for r in done.rows)} successes)")
     return 0
+
+
+def _make_folder(out: str) -> None:
+    """Create the results file's folder (``--out runs/x.sqlite`` in a fresh folder), as
+    ``run`` does; a clear error where it cannot be made."""
+    folder = os.path.dirname(os.path.abspath(out))
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise InvalidArgumentError(
+            f"--out {out}: cannot create the folder {folder} ({exc.strerror})",
+            hint="choose a path in a writable folder",
+        ) from None
 
 
 def _mission_file_trials(files: list[str], args: argparse.Namespace) -> list:
@@ -146,6 +161,14 @@ def _progress(total: int):
     return tqdm(total=total, unit="trial", smoothing=0.1)
 
 
+def _write_data(results: str, path: str) -> None:
+    """The trials of ``results`` as CSV or Parquet at ``path`` (checked as every output
+    is: :mod:`epistemica.output_files`)."""
+    frame = load(results)
+    write_output(path, partial(write_table, frame))
+    print(f"trials: {path}")
+
+
 def run_report(args: argparse.Namespace) -> int:
 
     asked = [(getattr(args, fmt, None), fmt) for fmt in ("png", "pdf", "svg")]
@@ -154,8 +177,18 @@ def run_report(args: argparse.Namespace) -> int:
     if not args.no_png:  # before reading: never over the results file, nor unasked
         for path, fmt in paths:
             check_output(path, [args.results], args.force, f"--{fmt}")
+    for flag in ("csv", "parquet"):
+        if getattr(args, flag, None):
+            check_output(getattr(args, flag), [args.results], args.force, f"--{flag}")
     cells = summarise(read_rows(args.results))
+    # Within a mission and team, the levels in study order (zero, convention, first, ...),
+    # as in the figure.
+    rank = {name: i for i, name in enumerate(study_order(c.reasoning for c in cells))}
+    cells.sort(key=lambda c: (c.mission, c.robots, c.goals, rank[c.reasoning]))
     print(format_table(cells, markdown=args.markdown))
+    for path in (getattr(args, "csv", None), getattr(args, "parquet", None)):
+        if path:
+            _write_data(args.results, path)
     if not args.no_png and cells:
         for path, fmt in paths:
             write_output(path, partial(plot_results, cells, fmt=fmt))
