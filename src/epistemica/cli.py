@@ -46,6 +46,7 @@ from epistemica.cli_arguments import (
 )
 from epistemica.cli_exit import EXIT_USAGE, guarded
 from epistemica.cli_formats import add_export_command, add_input_options
+from epistemica.cli_generate_arguments import add_generate_command
 from epistemica.del_.budget import budget_scope
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -62,6 +63,7 @@ COMMANDS = {
     "report": "epistemica.cli_sweep:run_report",
     "export": "epistemica.cli_export:run_export",
     "view": "epistemica.view:run_view",
+    "generate": "epistemica.cli_generate:run_generate",
 }
 
 _EPILOG = """\
@@ -147,6 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
     for name in ("check", "plan", "show"):
         add_input_options(commands.choices[name])
     add_export_command(commands)
+    add_generate_command(commands)
     for name in ("check", "plan", "show"):
         commands.choices[name].add_argument(
             "--memory-budget",

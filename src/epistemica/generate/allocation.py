@@ -1,0 +1,36 @@
+"""Family ``allocation``: every robot at a goal of its own; nobody says which.
+
+Drawn per mission: team 2-4, goals from the team's size to one more (so that a robot's
+decision space stays below a thousand configurations), the team, goals, walls and sensing
+of :func:`~epistemica.generate.team.draw_team`, and who sees a robot settle.
+
+Examples
+--------
+>>> d = draw(np.random.default_rng(3))
+>>> d.lines[0], d.parameters["goals"] >= d.parameters["robots"]
+('mission allocation', True)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from epistemica.generate.common import Draw
+from epistemica.generate.team import PLAIN, Options, draw_team
+
+__all__ = ["SUMMARY", "draw"]
+
+SUMMARY = "Allocation: every robot at a goal of its own, pairwise distinct."
+
+
+def draw(rng: np.random.Generator, options: Options = PLAIN) -> Draw:
+    """One allocation mission (its lines, without the header)."""
+    d = Draw()
+    d.add("mission allocation")
+    n = int(rng.integers(2, 5))
+    draw_team(d, rng, n, n + int(rng.integers(0, 2)), options)
+    seen = ("nearby", "everyone")[int(rng.random() < 0.3)]
+    d.note(settle_seen_by=seen)
+    d.add(f"event settle seen by {seen}")
+    d.add("simulate trials 2 seed 0 steps 100 levels convention, first, third_shared, third")
+    return d
