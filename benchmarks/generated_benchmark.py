@@ -42,7 +42,7 @@ class Split(NamedTuple):
 
 SPLITS = {
     "tuning": Split(0, 200, (0, 1)),
-    "locked": Split(1_000_000, 200, (7000, 7001)),
+    "locked": Split(1_000_000, 200, (30_000, 30_001)),
 }
 GOAL_LEVELS = ("convention", "convention+rules", "first", "third-shared", "third")
 COLLABORATIVE_LEVELS = (
