@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from epistemica.generate.common import Draw
-from epistemica.generate.team import PLAIN, Options, draw_team
+from epistemica.generate.team import PLAIN, Options, goal_mission
 
 __all__ = ["SUMMARY", "draw"]
 
@@ -25,12 +25,5 @@ SUMMARY = "Allocation: every robot at a goal of its own, pairwise distinct."
 
 def draw(rng: np.random.Generator, options: Options = PLAIN) -> Draw:
     """One allocation mission (its lines, without the header)."""
-    d = Draw()
-    d.add("mission allocation")
     n = int(rng.integers(2, 5))
-    draw_team(d, rng, n, n + int(rng.integers(0, 2)), options)
-    seen = ("nearby", "everyone")[int(rng.random() < 0.3)]
-    d.note(settle_seen_by=seen)
-    d.add(f"event settle seen by {seen}")
-    d.add("simulate trials 2 seed 0 steps 100 levels convention, first, third_shared, third")
-    return d
+    return goal_mission("allocation", rng, n, n + int(rng.integers(0, 2)), options)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from epistemica.generate.common import Draw
-from epistemica.generate.team import PLAIN, Options, draw_team
+from epistemica.generate.team import PLAIN, STUDY, Options, draw_team
 
 __all__ = ["SUMMARY", "draw"]
 
@@ -89,5 +89,5 @@ def draw(rng: np.random.Generator, options: Options = PLAIN) -> Draw:
         d.add(f"event change{e + 1} {{", f"    when step {step}")
         d.add(*(f"    {line}" for line in body), *_observers(rng, team.robots, goal), "}")
     d.note(events="; ".join(events) or "none")
-    d.add("simulate trials 2 seed 0 steps 100 levels convention, first, third_shared, third")
+    d.add(STUDY)
     return d

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from epistemica.generate.common import Draw
-from epistemica.generate.team import PLAIN, Options, draw_team
+from epistemica.generate.team import PLAIN, Options, goal_mission
 
 __all__ = ["SUMMARY", "draw"]
 
@@ -25,11 +25,5 @@ SUMMARY = "Rendezvous: every robot within the success radius of one common goal.
 
 def draw(rng: np.random.Generator, options: Options = PLAIN) -> Draw:
     """One rendezvous mission (its lines, without the header)."""
-    d = Draw()
-    d.add("mission rendezvous")
-    draw_team(d, rng, int(rng.integers(2, 6)), int(rng.integers(2, 6)), options)
-    seen = ("nearby", "everyone")[int(rng.random() < 0.3)]
-    d.note(settle_seen_by=seen)
-    d.add(f"event settle seen by {seen}")
-    d.add("simulate trials 2 seed 0 steps 100 levels convention, first, third_shared, third")
-    return d
+    n = int(rng.integers(2, 6))
+    return goal_mission("rendezvous", rng, n, int(rng.integers(2, 6)), options)

@@ -25,7 +25,7 @@ from epistemica.generate.common import (
     sensor_names,
 )
 
-__all__ = ["PLAIN", "Options", "Team", "draw_team", "sensing_line"]
+__all__ = ["PLAIN", "Options", "Team", "draw_team", "goal_mission", "sensing_line"]
 
 
 class Options(NamedTuple):
@@ -96,3 +96,21 @@ def draw_team(
     draw.add(*(obstacle_line(w) for w in walls))
     sight = sensing_line(rng, workspace, draw)
     return Team(workspace, names, gnames, sight)
+
+
+#: The study line of every goal family (the benchmark passes its own levels and seeds).
+STUDY = "simulate trials 2 seed 0 steps 100 levels convention, first, third_shared, third"
+
+
+def goal_mission(
+    kind: str, rng: np.random.Generator, robots: int, goals: int, options: Options
+) -> Draw:
+    """A ``kind`` mission of the team draw, whose settles are seen by the robots near them
+    (probability 0.7) or by every robot, and its study line."""
+    d = Draw()
+    d.add(f"mission {kind}")
+    draw_team(d, rng, robots, goals, options)
+    seen = ("nearby", "everyone")[int(rng.random() < 0.3)]
+    d.note(settle_seen_by=seen)
+    d.add(f"event settle seen by {seen}", STUDY)
+    return d
