@@ -65,6 +65,18 @@ def family_options(family: str) -> Options:
     return Options() if family == "collaborative" else GOAL_OPTIONS
 
 
+def interleaved(families, split: Split, missions: int, seeds: int) -> list:
+    """The trials of every family, mission by mission (mission k of each family before
+    mission k + 1 of any), so that a run stopped early leaves a prefix of each family."""
+    per = {f: trials(f, split, missions, seeds) for f in families}
+    out = []
+    for k in range(missions):
+        for specs in per.values():
+            step = len(specs) // missions
+            out.extend(specs[k * step : (k + 1) * step])
+    return out
+
+
 def trials(family: str, split: Split, missions: int, seeds: int) -> list:
     """Every trial of ``family`` on the first ``missions`` missions and ``seeds`` trial
     seeds of ``split``, every level on each."""
@@ -79,16 +91,24 @@ def trials(family: str, split: Split, missions: int, seeds: int) -> list:
 
 
 def collect(path: Path, family: str, split: Split, missions: int, seeds: int) -> dict:
-    """``{(mission, trial seed): {level: (success, steps)}}`` of the file's rows."""
-    wanted = {f"{family}_{split.first_mission + k:06d}" for k in range(missions)}
+    """``{(mission, trial seed): {level: (success, steps)}}`` of the file's rows, for the
+    longest prefix of the split's missions whose every trial (seed and level) is stored: a
+    run stopped early reports the missions it finished in order, never a selection."""
+    names = [f"{family}_{split.first_mission + k:06d}" for k in range(missions)]
     out: dict = {}
     for row in read_rows(path):
         name = json.loads(row["options"]).get("spec")
-        if name in wanted and row["seed"] in split.trial_seeds[:seeds]:
+        if name in names and row["seed"] in split.trial_seeds[:seeds]:
             out.setdefault((name, row["seed"]), {})[row["reasoning"]] = (
                 int(row["success"]),
                 int(row["steps"]),
             )
+    levels = set(family_levels(family))
+    for name in names:
+        keys = [(name, t) for t in split.trial_seeds[:seeds]]
+        if not all(set(out.get(k, ())) >= levels for k in keys):
+            kept = set(names[: names.index(name)])
+            return {k: r for k, r in out.items() if k[0] in kept}
     return out
 
 
@@ -98,12 +118,15 @@ def tables(path: Path, families, split_name: str, missions: int, seeds: int) -> 
     lines = []
     for family in families:
         rows = collect(path, family, split, missions, seeds)
-        last = split.first_mission + missions - 1
+        done = len({k[0] for k in rows})
+        last = split.first_mission + done - 1
+        left = "" if done == missions else f" (the first {done} of {missions}: the run stopped)"
         lines += [
             f"### {family}",
             "",
-            f"Split `{split_name}`: generator seeds {split.first_mission}–{last}, trial seeds "
-            f"{', '.join(map(str, split.trial_seeds[:seeds]))}; {len(rows)} trials per level.",
+            f"Split `{split_name}`: generator seeds {split.first_mission}–{last}{left}, trial "
+            f"seeds {', '.join(map(str, split.trial_seeds[:seeds]))}; {len(rows)} trials per "
+            "level.",
             "",
             *success_table(rows, family_levels(family)),
             "",

@@ -105,7 +105,7 @@ def _shipped(pattern, quick_names, levels, trials, what) -> Study:
 def _generated_specs(quick: bool) -> list:
     split = gb.SPLITS["locked"]
     missions, seeds = (2, 1) if quick else (split.missions, len(split.trial_seeds))
-    return [s for f in gb.FAMILIES for s in gb.trials(f, split, missions, seeds)]
+    return gb.interleaved(list(gb.FAMILIES), split, missions, seeds)
 
 
 def _generated_table(path: Path, quick: bool) -> str:
