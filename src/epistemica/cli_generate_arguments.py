@@ -19,7 +19,7 @@ examples:
   epistemica run missions/rendezvous/rendezvous_000003.epi
 
 Mission k of a call has generator seed SEED + k and is written to FAMILY_SEED.epi; its header
-says the family, the seed and every drawn parameter (docs/generator.md).
+says the family, the seed and every drawn parameter.
 
 exit status: 0 written, 2 bad input (an unknown family, a count or seed out of range, an
 output folder that holds other files: nothing is overwritten)
