@@ -75,6 +75,11 @@ def _per_file(path: Path, levels) -> list[str]:
     """Success % (median steps) per file and level, then ``third`` paired, pooled."""
     rows = _rows(path)
     names = sorted({k[0][0] for k in rows})
+    # a file is reported only with every trial of every level (a run stopped mid-file)
+    done = [n for n in names if all(set(r) >= set(levels) for k, r in rows.items() if k[0][0] == n)]
+    left = [n for n in names if n not in done]
+    rows = {k: r for k, r in rows.items() if k[0][0] in done}
+    names = done
     out = ["| mission | " + " | ".join(levels) + " |", "|---|" + "---|" * len(levels)]
     for name in names:
         cells = []
@@ -87,7 +92,8 @@ def _per_file(path: Path, levels) -> list[str]:
                          f"{100 * high:.0f}] ({med:.0f})")  # fmt: skip
         out.append(f"| {name} | " + " | ".join(cells) + " |")
     rng = np.random.default_rng(20_261_128)
-    return [*out, "", *versus_table(rows, "third", levels, rng)]
+    note = [f"Not finished (the run stopped): {', '.join(left)}.", ""] if left else []
+    return [*out, "", *note, *versus_table(rows, "third", levels, rng)]
 
 
 def _shipped(pattern, quick_names, levels, trials, what) -> Study:
