@@ -38,6 +38,16 @@ knows:
 ``oracle-events``  ``third`` where every robot observes every event (news of a task
                    spreads at once) but sees teammates only within range: what the
                    oracle owes to news alone
+``recruit``        a baseline: ``first``'s choice of task, and, while it sees fewer
+                   teammates there than the task needs, it fetches the teammate seen in
+                   the last ``fetch_memory`` steps nearest the task (as ``third`` fetches:
+                   the intercept, ``wait_horizon``, ``intercept_limit``) without knowing
+                   whether that teammate knows of the task: first-order knowledge plus
+                   the recruiting behaviour
+``convention+rules``  a baseline: every rule of ``third`` (the assignment, ``soonest``,
+                   fetching, waiting, ``join_busy``, ``seek``, ...) on first-order
+                   knowledge: a robot knows which tasks it knows of, never that a teammate
+                   knows of one, so it fetches teammates whether or not they know
 =================  ======================================================================
 
 Examples
@@ -64,6 +74,7 @@ __all__ = [
     "COLLABORATIVE_LEVELS",
     "CollaborativeParameters",
     "CollaborativePolicy",
+    "first_order",
     "toward",
 ]
 
@@ -76,6 +87,8 @@ COLLABORATIVE_LEVELS = {
     "third": ("third", ""),
     "oracle": ("third", "everything"),
     "oracle-events": ("third", "events"),
+    "recruit": ("recruit", ""),
+    "convention+rules": ("rules", ""),
 }
 EXPLORING, FETCHING, WAIT = -1, -2, -3
 
@@ -384,10 +397,12 @@ class CollaborativePolicy(Policy):
         """``(targets (n, 2), steer_to (n,))``: where each robot goes and the task it
         heads to (-1 exploring, -2 fetching a teammate)."""
         n, k = self.s.n_robots, view.knowledge
-        if self.style in ("third", "shared"):  # the levels that predict teammates
+        if self.style == "rules":  # convention+rules: what teammates know is not known
+            view = first_order(view)
+        if self.style != "convention" and self.style != "first":  # they predict teammates
             self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         targets, steer_to = np.zeros((n, 2)), np.full(n, EXPLORING)
-        aware = view.aware if self.style == "third" else None
+        aware = view.aware if self.style in ("third", "rules") else None
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
         for i in range(n):
             done = k.knows_done((i,))
@@ -435,10 +450,24 @@ class CollaborativePolicy(Policy):
         gaps = np.hypot(*(self.s.tasks[tasks] - here).T)
         if self.style == "convention":
             return ("task", int(tasks[np.argmin(gaps)]))
-        if self.style == "first":
+        if self.style in ("first", "recruit"):
             score = gaps - self.parameters.join_bonus * waiting[tasks]
-            return ("task", int(tasks[np.argmin(score)]))
+            t = int(tasks[np.argmin(score)])
+            return self._fetch_for(view, i, t) if self.style == "recruit" else ("task", t)
         return self._assign(view, i, tasks, aware)
+
+    def _fetch_for(self, view: View, i: int, t: int) -> tuple:
+        """``recruit``: robot ``i`` fetches a teammate for task ``t`` while it sees too few
+        standing there, any teammate seen lately but those (it does not know who knows)."""
+        s = self.s
+        sees = view.last_seen[i] == view.step
+        at_t = sees & (np.hypot(*(view.estimates[i] - s.tasks[t]).T) <= 2 * s.completion_radius)
+        at_t[i] = True
+        if at_t.sum() >= s.needs[t]:
+            return ("task", t)
+        where = np.array([self.predicted(view, i, j) for j in range(s.n_robots)])
+        fetch = self._recruit(view, i, t, at_t, where)
+        return ("task", t) if fetch is None or fetch == WAIT else ("fetch", t, fetch)
 
     def _assign(self, view: View, i: int, tasks: np.ndarray, aware) -> tuple:
         """Robot ``i``'s view of who does what, task by task: the coalition that assembles
@@ -656,3 +685,18 @@ def toward(poses: np.ndarray, targets: np.ndarray, max_speed, max_turn, dt: floa
     change = np.where(distance > 0, np.clip(change, -max_turn, max_turn), 0.0)
     speed = np.minimum(max_speed, distance / dt)
     return np.column_stack([speed, change])
+
+
+def first_order(view: View) -> View:
+    """``view`` with only first-order knowledge of tasks: robot ``i`` knows which tasks it
+    knows of (``aware[i, i]``), and of no teammate that it knows of one.
+
+    Examples
+    --------
+    >>> aware = np.ones((2, 2, 1), dtype=bool)
+    >>> v = View(0, None, None, None, None, aware, np.zeros((2, 2, 1), dtype=int), None)
+    >>> first_order(v).aware[:, :, 0].tolist(), int(first_order(v).since[0, 1, 0])
+    ([[True, False], [False, True]], -1)
+    """
+    own = np.eye(view.aware.shape[0], dtype=bool)[:, :, None] & view.aware
+    return view._replace(aware=own, since=np.where(own, view.since, -1))

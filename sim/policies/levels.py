@@ -138,6 +138,8 @@ _JOINT_DESCRIPTIONS = {
     "third": "who knows which task, nested: fetching and waiting by what teammates know",
     "oracle": "third's rules with full communication (news and places): an upper bound",
     "oracle-events": "third's rules with every event and sighting shared, places not",
+    "recruit": "first's choice of task, fetching any recently seen teammate to it (baseline)",
+    "convention+rules": "every rule of third, no knowledge of which teammates know (baseline)",
 }
 
 

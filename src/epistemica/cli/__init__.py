@@ -46,6 +46,7 @@ from epistemica.cli.arguments import (
 )
 from epistemica.cli.exit import EXIT_USAGE, guarded
 from epistemica.cli.formats import add_export_command, add_input_options
+from epistemica.cli.generate_arguments import add_generate_command
 from epistemica.del_.budget import budget_scope
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -62,6 +63,7 @@ COMMANDS = {
     "report": "epistemica.cli.sweep:run_report",
     "export": "epistemica.cli.export:run_export",
     "view": "epistemica.view:run_view",
+    "generate": "epistemica.cli.generate:run_generate",
 }
 
 _EPILOG = """\
@@ -147,6 +149,7 @@ def build_parser() -> argparse.ArgumentParser:
     for name in ("check", "plan", "show"):
         add_input_options(commands.choices[name])
     add_export_command(commands)
+    add_generate_command(commands)
     for name in ("check", "plan", "show"):
         commands.choices[name].add_argument(
             "--memory-budget",
