@@ -56,6 +56,9 @@ class GoalKind:
     def __str__(self) -> str:
         return self.name
 
+    def __repr__(self) -> str:
+        return f"<mission kind {self.name}>"
+
     def default_goals(self, robots: int) -> int:
         return robots
 

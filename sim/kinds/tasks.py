@@ -47,6 +47,9 @@ class TaskKind:
     def __str__(self) -> str:
         return self.name
 
+    def __repr__(self) -> str:
+        return f"<mission kind {self.name}>"
+
     def default_goals(self, robots: int) -> int:
         return robots if self.goals is None else self.goals
 

@@ -15,7 +15,7 @@ Examples
 >>> text == mission_text("rendezvous", 7)
 True
 >>> from epistemica.mission import parse_mission
->>> parse_mission(mission_text("collaborative", 3)).kind
+>>> parse_mission(mission_text("collaborative", 3)).kind.name
 'collaborative'
 """
 
