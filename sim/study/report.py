@@ -298,7 +298,7 @@ def trial_counts(cells: Sequence[Cell]) -> str:
 
 
 def _caption(cells: Sequence[Cell]) -> str:
-    if cells and all(c.mission == "multitask" for c in cells):
+    if cells and all(_tasks(c.mission) for c in cells):
         return (
             f"Mean completion step ({trial_counts(cells)} per cell; a failed trial counts "
             "as the step limit)."

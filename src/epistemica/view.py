@@ -164,7 +164,7 @@ def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] 
             raise InvalidArgumentError(
                 "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
             )
-        if t.get("kind") == "collaborative":
+        if t.get("kind") is not None:  # a joint trial: no beliefs or sets to replay
             raise InvalidArgumentError(
                 "a collaborative trial's trace has no beliefs or configuration sets to replay",
                 hint="read it with epistemica.sim.study.store.read_trace; the page replays "

@@ -23,6 +23,7 @@ import numpy as np
 
 from epistemica.generate.common import Draw
 from epistemica.generate.team import PLAIN, STUDY, Options, draw_team
+from epistemica.sim.kinds.goal import ALLOCATION, RENDEZVOUS
 
 __all__ = ["SUMMARY", "draw"]
 
@@ -60,16 +61,16 @@ def _observers(rng: np.random.Generator, robots: list[str], goal: str) -> list[s
 def draw(rng: np.random.Generator, options: Options = PLAIN) -> Draw:
     """One knowledge-asymmetry mission (its lines, without the header)."""
     d = Draw()
-    kind = "rendezvous" if rng.random() < 0.6 else "allocation"
-    n = int(rng.integers(3, 5)) if kind == "rendezvous" else int(rng.integers(2, 4))
+    kind = RENDEZVOUS if rng.random() < 0.6 else ALLOCATION
+    n = int(rng.integers(3, 5)) if kind.gathers else int(rng.integers(2, 4))
     m, spare = n + int(rng.integers(0, 3)), int(rng.integers(0, 3))
-    d.add(f"mission {kind}")
-    d.note(kind=kind)
+    d.add(f"mission {kind.name}")
+    d.note(kind=kind.name)
     team = draw_team(d, rng, n, m + spare, options, frozenset(range(m, m + spare)))
     open_goals, closed = team.goals[:m], team.goals[m:]
-    _knows(d, rng, team.robots, open_goals, 1 if kind == "rendezvous" else n)
+    _knows(d, rng, team.robots, open_goals, 1 if kind.gathers else n)
     d.add("event settle seen by nearby")
-    least = 1 if kind == "rendezvous" else n  # open goals the mission needs
+    least = 1 if kind.gathers else n  # open goals the mission needs
     events = []
     for e in range(int(rng.integers(0, 3))):
         can_close = len(open_goals) > least
