@@ -27,7 +27,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from epistemica.del_ import parse_formula
+from epistemica.del_ import KripkeModel, parse_formula
 from epistemica.del_.explicit.plausibility import PlausibilityModel
 from epistemica.del_.language.formula import Formula
 from epistemica.sim.engine.events import expand
@@ -36,12 +36,17 @@ from epistemica.sim.engine.worlds import closed_fact
 __all__ = ["answer", "atom_meanings", "designated_truth"]
 
 
-def designated_truth(model, formula: Formula) -> np.ndarray:
-    """Where ``formula`` (``closed(G)`` already expanded) holds, at each designated world
-    of ``model`` (a Kripke or a plausibility model)."""
+def designated_truth(model, formula: Formula) -> tuple[int, int]:
+    """``(k, n)``: ``formula`` (``closed(G)`` already expanded) holds at ``k`` of the ``n``
+    designated worlds of ``model`` (a Kripke model, a plausibility model, or a knowledge
+    structure, whose designated states are counted symbolically)."""
     if isinstance(model, PlausibilityModel):
-        return np.asarray(model.truth(formula)[model.designated], dtype=bool)
-    return np.asarray(model.truth_mask(formula)[model.designated_positions], dtype=bool)
+        truth = np.asarray(model.truth(formula)[model.designated], dtype=bool)
+    elif isinstance(model, KripkeModel):
+        truth = np.asarray(model.truth_mask(formula)[model.designated_positions], dtype=bool)
+    else:
+        return int(model.count_designated(formula)), int(model.count_designated())
+    return int(truth.sum()), int(truth.size)
 
 
 def answer(model, formula: Formula | str, robots: Sequence[str]) -> tuple[int, int, str]:
@@ -49,8 +54,7 @@ def answer(model, formula: Formula | str, robots: Sequence[str]) -> tuple[int, i
     ``model`` the formula holds, of how many, and the answer in words (``true``,
     ``false``, or ``neither: true in k of n designated configurations``)."""
     tree = parse_formula(formula) if isinstance(formula, str) else formula
-    truth = designated_truth(model, expand(tree, robots))
-    k, n = int(truth.sum()), int(truth.size)
+    k, n = designated_truth(model, expand(tree, robots))
     if n and k == n:
         return k, n, f"true (in all {n} designated configurations)"
     if k == 0:
