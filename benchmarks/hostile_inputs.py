@@ -12,26 +12,18 @@ Usage: ``python benchmarks/hostile_inputs.py [--repeats 5]``; prints a markdown 
 from __future__ import annotations
 
 import argparse
-import shutil
 import sqlite3
 import statistics
 import subprocess
-import sys
 import tempfile
 import time
 import zlib
 from pathlib import Path
 
+from cli_startup import command_line  # a script beside this one
+
 ROOT = Path(__file__).resolve().parents[1]
 TARGET = 2.0
-
-
-def _command() -> list[str]:
-    script = Path(sys.executable).with_name("epistemica")
-    if script.exists():
-        return [str(script)]
-    found = shutil.which("epistemica")
-    return [found] if found else [sys.executable, "-m", "epistemica"]
 
 
 def _bomb() -> bytes:
@@ -80,7 +72,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
-    command = _command()
+    command = command_line()
     print("| case | exit | median (s) | max (s) | within 2 s |")
     print("|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as folder:
