@@ -35,7 +35,7 @@ COMMANDS = {
 }
 
 
-def _command() -> list[str]:
+def command_line() -> list[str]:
     script = Path(sys.executable).with_name("epistemica")
     if script.exists():
         return [str(script)]
@@ -55,7 +55,7 @@ def main() -> None:
     options = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     options.add_argument("--repeats", type=int, default=11)
     repeats = options.parse_args().repeats
-    base = _command()
+    base = command_line()
     print(f"command: {' '.join(base)}; {repeats} runs each after one warm-up\n")
     print("| command | median (s) | min (s) | target (s) |")
     print("|---|---|---|---|")

@@ -50,178 +50,11 @@ def plank_name(action: str, args: Iterable[str]) -> str:
     return "_".join([action, *args])
 
 
-class Grounder:
-    """The declarations of one EPDDL task and the grounding of what uses them.
-
-    Parameters
-    ----------
-    domain, problem : tuple of (Tree, Source)
-        The parse trees of the domain and the problem, with their texts.
-    libraries : list of (Tree, Source)
-        The action-type libraries given; the domain uses those it names.
-    """
-
-    def __init__(self, domain: tuple[Tree, Source], problem: tuple[Tree, Source], libraries):
-        self.domain, self.dsrc = domain
-        self.problem, self.psrc = problem
-        self.types: dict[str, str | None] = dict(_BUILTIN)
-        self.entities: dict[str, str] = {}  # EPDDL name -> primitive type
-        self.agents: list[str] = []
-        self.groups: dict[str, list[str]] = {}
-        self.predicates: dict[str, tuple[list[frozenset], bool, Token]] = {}
-        self.events: dict[str, Tree] = {}
-        self.actions: list[Tree] = []
-        self.action_types: dict[str, tuple[Tree, Source]] = {}
-        self.facts: set[tuple[str, tuple[str, ...]]] = set()
-        self.names: dict[str, str] = {}  # epistemica name of an entity -> its EPDDL name
-        self._domains: dict[frozenset, list[str]] = {}
-        self._atoms_by_key: dict[str, Atom] = {}
-        self._collect_domain()
-        self._collect_libraries(libraries)
-        self._collect_problem()
-        self.atoms = self._ground_atoms()
-
-    # -- declarations ------------------------------------------------------------------
-
-    def _collect_domain(self) -> None:
-        _name, *items = self.domain.children
-        for item in items:
-            kind = item.data
-            if kind == "types":
-                for token, parent in self._typed(item.children, "object", self.dsrc):
-                    if str(token) in self.types:
-                        raise self.dsrc.error(f"type '{token}' declared twice", token, "rename it")
-                    self.types[str(token)] = parent
-            elif kind == "predicates":
-                for decl in item.children:
-                    fact, pname, *params = decl.children
-                    if str(pname) in self.predicates:
-                        raise self.dsrc.error(
-                            f"predicate '{pname}' declared twice", pname, "keep one declaration"
-                        )
-                    types = [t for _, t in self.typed_vars(params, self.dsrc)]
-                    self.predicates[str(pname)] = (types, fact is not None, pname)
-            elif kind == "constants":
-                self._declare_entities(item.children, self.dsrc)
-            elif kind == "event":
-                ename = item.children[0]
-                if str(ename) in self.events:
-                    raise self.dsrc.error(f"event '{ename}' declared twice", ename, "rename one")
-                self.events[str(ename)] = item
-            elif kind == "action":
-                if any(str(a.children[0]) == str(item.children[0]) for a in self.actions):
-                    raise self.dsrc.error(
-                        f"action '{item.children[0]}' declared twice", item.children[0],
-                        "rename one",
-                    )  # fmt: skip
-                self.actions.append(item)
-        for token, parent in list(self._type_parents()):
-            if parent is not None and parent not in self.types:
-                raise self.dsrc.error(f"unknown type '{parent}'", token, self.type_hint(parent))
-
-    def _type_parents(self) -> Iterator[tuple[Token, str | None]]:
-        for item in self.domain.children[1:]:
-            if item.data == "types":
-                for node in item.children:
-                    yield node.children[0], node.children[1] and str(node.children[1])
-
-    def _collect_libraries(self, libraries) -> None:
-        """The action types of every library given (as plank: the ones the domain names
-        must be among them, and come first when two define one name)."""
-        wanted: dict[str, Token] = {}
-        for item in self.domain.children[1:]:
-            if item.data == "libraries":
-                for token in item.children:
-                    wanted[str(token)] = token
-        given = {}
-        for tree, src in libraries:
-            if tree.data != "library":
-                raise src.error(
-                    f"expected an action-type library, found a {tree.data}", tree,
-                    "pass libraries with -l; the domain and problem come first",
-                )  # fmt: skip
-            given[str(tree.children[0])] = (tree, src)
-        for name, token in wanted.items():
-            if name not in given:
-                raise self.dsrc.error(
-                    f"action-type library '{name}' is not given", token,
-                    "pass the file that defines it, e.g. -l libraries/" + name + ".epddl",
-                )  # fmt: skip
-        order = [*wanted, *(name for name in given if name not in wanted)]
-        for name in order:
-            tree, src = given[name]
-            for item in tree.children[1:]:
-                if item.data == "action_type":
-                    self.action_types.setdefault(str(item.children[0]), (item, src))
-
-    def _collect_problem(self) -> None:
-        _name, domain_name, *items = self.problem.children
-        if str(domain_name) != str(self.domain.children[0]):
-            raise self.psrc.error(
-                f"the problem is for domain '{domain_name}', the domain given is "
-                f"'{self.domain.children[0]}'", domain_name, "pass the matching domain file",
-            )  # fmt: skip
-        for item in items:
-            if item.data == "objects":
-                self._declare_entities(item.children, self.psrc)
-            elif item.data == "agents":
-                self._declare_entities(item.children, self.psrc, default="agent")
-        self.agents = [e for e, t in self.entities.items() if t == "agent"]
-        if not self.agents:
-            raise self.psrc.error(
-                "the task has no agents", self.problem, "declare them: (:agents A B)"
-            )
-        for item in items:
-            if item.data == "agent_groups":
-                for decl in item.children:
-                    gname, _gtype, members = decl.children
-                    if str(gname) in self.groups or str(gname) in self.entities:
-                        raise self.psrc.error(f"'{gname}' declared twice", gname, "rename it")
-                    agents = self.agent_list(members, {}, self.psrc)
-                    self.groups[str(gname)] = agents
-            elif item.data == "facts_init":
-                for fact in item.children:
-                    pname, *args = fact.children
-                    _, is_fact, _ = self.predicate(pname, args, self.psrc)
-                    if not is_fact:
-                        raise self.psrc.error(
-                            f"'{pname}' is not a fact", pname,
-                            "only predicates declared (:fact ...) are initialised in "
-                            ":facts-init; give the others in :init",
-                        )  # fmt: skip
-                    self.facts.add((str(pname), self.check_args(pname, args, {}, self.psrc)))
-
-    def _declare_entities(self, nodes: list[Tree], src: Source, default: str = "object") -> None:
-        for token, kind in self._typed(nodes, default, src):
-            if kind is None or kind not in self.types:
-                raise src.error(f"unknown type '{kind}'", token, self.type_hint(kind or ""))
-            if str(token) in self.entities:
-                raise src.error(f"'{token}' declared twice", token, "remove one declaration")
-            self.entities[str(token)] = kind
-            self._name(str(token), token, src)
-            self._domains.clear()
-
-    def _name(self, epddl: str, token: Token, src: Source) -> str:
-        name = mangle(epddl)
-        if self.names.setdefault(name, epddl) != epddl:
-            raise src.error(
-                f"'{epddl}' and '{self.names[name]}' both read as '{name}'", token,
-                "epistemica writes '-' as '_'; rename one of them",
-            )  # fmt: skip
-        return name
-
-    @staticmethod
-    def _typed(nodes: list[Tree], default: str, src: Source) -> list[tuple[Token, str | None]]:
-        """``a b - t c``: each name takes the type written after it (PDDL style)."""
-        out: list[tuple[Token, str | None]] = []
-        pending: list[Token] = []
-        for node in nodes:
-            token, kind = node.children
-            pending.append(token)
-            if kind is not None:
-                out += [(t, str(kind)) for t in pending]
-                pending = []
-        return out + [(t, default) for t in pending]
+class _Terms:
+    """Grounding what uses a task's declarations: typed variables, terms, agent lists and
+    list comprehensions, bindings, predicates and atoms. :class:`Grounder` collects the
+    declarations (``types``, ``entities``, ``agents``, ``groups``, ``predicates``) these
+    methods read."""
 
     def typed_vars(
         self, nodes: list[Tree], src: Source, default: str = "object"
@@ -409,6 +242,188 @@ class Grounder:
         """The :class:`Atom` of a ground atom's key (``at(A, room1)``)."""
         return self._atoms_by_key[key]
 
+    def formula(self, tree: Tree, env: Mapping[str, str], src: Source) -> Formula:
+        """The ground :class:`Formula` of a ``formula`` (or body) node under ``env``."""
+        return ground_formula(self, tree, env, src)
+
+    def static_truth(self, tree: Tree, env: Mapping[str, str], src: Source, local=None) -> bool:
+        """Truth of a list-comprehension condition: facts, ``=``, ``/=`` and connectives."""
+        return static_truth(self, tree, env, src, local)
+
+
+class Grounder(_Terms):
+    """The declarations of one EPDDL task and the grounding of what uses them.
+
+    Parameters
+    ----------
+    domain, problem : tuple of (Tree, Source)
+        The parse trees of the domain and the problem, with their texts.
+    libraries : list of (Tree, Source)
+        The action-type libraries given; the domain uses those it names.
+    """
+
+    def __init__(self, domain: tuple[Tree, Source], problem: tuple[Tree, Source], libraries):
+        self.domain, self.dsrc = domain
+        self.problem, self.psrc = problem
+        self.types: dict[str, str | None] = dict(_BUILTIN)
+        self.entities: dict[str, str] = {}  # EPDDL name -> primitive type
+        self.agents: list[str] = []
+        self.groups: dict[str, list[str]] = {}
+        self.predicates: dict[str, tuple[list[frozenset], bool, Token]] = {}
+        self.events: dict[str, Tree] = {}
+        self.actions: list[Tree] = []
+        self.action_types: dict[str, tuple[Tree, Source]] = {}
+        self.facts: set[tuple[str, tuple[str, ...]]] = set()
+        self.names: dict[str, str] = {}  # epistemica name of an entity -> its EPDDL name
+        self._domains: dict[frozenset, list[str]] = {}
+        self._atoms_by_key: dict[str, Atom] = {}
+        self._collect_domain()
+        self._collect_libraries(libraries)
+        self._collect_problem()
+        self.atoms = self._ground_atoms()
+
+    # -- declarations ------------------------------------------------------------------
+
+    def _collect_domain(self) -> None:
+        _name, *items = self.domain.children
+        for item in items:
+            kind = item.data
+            if kind == "types":
+                for token, parent in self._typed(item.children, "object", self.dsrc):
+                    if str(token) in self.types:
+                        raise self.dsrc.error(f"type '{token}' declared twice", token, "rename it")
+                    self.types[str(token)] = parent
+            elif kind == "predicates":
+                for decl in item.children:
+                    fact, pname, *params = decl.children
+                    if str(pname) in self.predicates:
+                        raise self.dsrc.error(
+                            f"predicate '{pname}' declared twice", pname, "keep one declaration"
+                        )
+                    types = [t for _, t in self.typed_vars(params, self.dsrc)]
+                    self.predicates[str(pname)] = (types, fact is not None, pname)
+            elif kind == "constants":
+                self._declare_entities(item.children, self.dsrc)
+            elif kind == "event":
+                ename = item.children[0]
+                if str(ename) in self.events:
+                    raise self.dsrc.error(f"event '{ename}' declared twice", ename, "rename one")
+                self.events[str(ename)] = item
+            elif kind == "action":
+                if any(str(a.children[0]) == str(item.children[0]) for a in self.actions):
+                    raise self.dsrc.error(
+                        f"action '{item.children[0]}' declared twice", item.children[0],
+                        "rename one",
+                    )  # fmt: skip
+                self.actions.append(item)
+        for token, parent in list(self._type_parents()):
+            if parent is not None and parent not in self.types:
+                raise self.dsrc.error(f"unknown type '{parent}'", token, self.type_hint(parent))
+
+    def _type_parents(self) -> Iterator[tuple[Token, str | None]]:
+        for item in self.domain.children[1:]:
+            if item.data == "types":
+                for node in item.children:
+                    yield node.children[0], node.children[1] and str(node.children[1])
+
+    def _collect_libraries(self, libraries) -> None:
+        """The action types of every library given (as plank: the ones the domain names
+        must be among them, and come first when two define one name)."""
+        wanted: dict[str, Token] = {}
+        for item in self.domain.children[1:]:
+            if item.data == "libraries":
+                for token in item.children:
+                    wanted[str(token)] = token
+        given = {}
+        for tree, src in libraries:
+            if tree.data != "library":
+                raise src.error(
+                    f"expected an action-type library, found a {tree.data}", tree,
+                    "pass libraries with -l; the domain and problem come first",
+                )  # fmt: skip
+            given[str(tree.children[0])] = (tree, src)
+        for name, token in wanted.items():
+            if name not in given:
+                raise self.dsrc.error(
+                    f"action-type library '{name}' is not given", token,
+                    "pass the file that defines it, e.g. -l libraries/" + name + ".epddl",
+                )  # fmt: skip
+        order = [*wanted, *(name for name in given if name not in wanted)]
+        for name in order:
+            tree, src = given[name]
+            for item in tree.children[1:]:
+                if item.data == "action_type":
+                    self.action_types.setdefault(str(item.children[0]), (item, src))
+
+    def _collect_problem(self) -> None:
+        _name, domain_name, *items = self.problem.children
+        if str(domain_name) != str(self.domain.children[0]):
+            raise self.psrc.error(
+                f"the problem is for domain '{domain_name}', the domain given is "
+                f"'{self.domain.children[0]}'", domain_name, "pass the matching domain file",
+            )  # fmt: skip
+        for item in items:
+            if item.data == "objects":
+                self._declare_entities(item.children, self.psrc)
+            elif item.data == "agents":
+                self._declare_entities(item.children, self.psrc, default="agent")
+        self.agents = [e for e, t in self.entities.items() if t == "agent"]
+        if not self.agents:
+            raise self.psrc.error(
+                "the task has no agents", self.problem, "declare them: (:agents A B)"
+            )
+        for item in items:
+            if item.data == "agent_groups":
+                for decl in item.children:
+                    gname, _gtype, members = decl.children
+                    if str(gname) in self.groups or str(gname) in self.entities:
+                        raise self.psrc.error(f"'{gname}' declared twice", gname, "rename it")
+                    agents = self.agent_list(members, {}, self.psrc)
+                    self.groups[str(gname)] = agents
+            elif item.data == "facts_init":
+                for fact in item.children:
+                    pname, *args = fact.children
+                    _, is_fact, _ = self.predicate(pname, args, self.psrc)
+                    if not is_fact:
+                        raise self.psrc.error(
+                            f"'{pname}' is not a fact", pname,
+                            "only predicates declared (:fact ...) are initialised in "
+                            ":facts-init; give the others in :init",
+                        )  # fmt: skip
+                    self.facts.add((str(pname), self.check_args(pname, args, {}, self.psrc)))
+
+    def _declare_entities(self, nodes: list[Tree], src: Source, default: str = "object") -> None:
+        for token, kind in self._typed(nodes, default, src):
+            if kind is None or kind not in self.types:
+                raise src.error(f"unknown type '{kind}'", token, self.type_hint(kind or ""))
+            if str(token) in self.entities:
+                raise src.error(f"'{token}' declared twice", token, "remove one declaration")
+            self.entities[str(token)] = kind
+            self._name(str(token), token, src)
+            self._domains.clear()
+
+    def _name(self, epddl: str, token: Token, src: Source) -> str:
+        name = mangle(epddl)
+        if self.names.setdefault(name, epddl) != epddl:
+            raise src.error(
+                f"'{epddl}' and '{self.names[name]}' both read as '{name}'", token,
+                "epistemica writes '-' as '_'; rename one of them",
+            )  # fmt: skip
+        return name
+
+    @staticmethod
+    def _typed(nodes: list[Tree], default: str, src: Source) -> list[tuple[Token, str | None]]:
+        """``a b - t c``: each name takes the type written after it (PDDL style)."""
+        out: list[tuple[Token, str | None]] = []
+        pending: list[Token] = []
+        for node in nodes:
+            token, kind = node.children
+            pending.append(token)
+            if kind is not None:
+                out += [(t, str(kind)) for t in pending]
+                pending = []
+        return out + [(t, default) for t in pending]
+
     def _ground_atoms(self) -> list[str]:
         atoms: list[str] = []
         stems: dict[str, str] = {}
@@ -432,14 +447,6 @@ class Grounder:
         return atoms
 
     # -- formulas ------------------------------------------------------------------------------
-
-    def formula(self, tree: Tree, env: Mapping[str, str], src: Source) -> Formula:
-        """The ground :class:`Formula` of a ``formula`` (or body) node under ``env``."""
-        return ground_formula(self, tree, env, src)
-
-    def static_truth(self, tree: Tree, env: Mapping[str, str], src: Source, local=None) -> bool:
-        """Truth of a list-comprehension condition: facts, ``=``, ``/=`` and connectives."""
-        return static_truth(self, tree, env, src, local)
 
 
 def _closest(name: str, known: Iterable[str]) -> str:

@@ -89,8 +89,8 @@ __all__ = [
 ]
 
 #: The largest trace document read, inflated (a stored trace is about 2 kB compressed;
-#: the longest shipped trial's document is well under 1 MB).
-MAX_TRACE_BYTES = 64 << 20
+#: the longest shipped trial's document is well under 1 MB; inflating 16 MiB takes tens of ms).
+MAX_TRACE_BYTES = 16 << 20
 
 FORMAT = "epistemica-trace"
 VERSION = 2
