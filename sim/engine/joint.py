@@ -73,6 +73,7 @@ class JointRun:
         self.aware = np.zeros((n, n, m), dtype=bool)
         self.since = np.full((n, n, m), -1)
         self.open_seen = np.full((n, m), -1)
+        self.read_at = -1  # observations the knowledge held when the ledger was last read
         self.steer_to: list[np.ndarray] = []
         self.knows: list[np.ndarray] = []
         self.events: list[tuple] = []
@@ -111,8 +112,14 @@ class JointRun:
         )  # fmt: skip
 
     def _ledger(self, step: int) -> None:
-        """``aware`` (robot i knows that robot j knows of task t) and ``since``."""
+        """``aware`` (robot i knows that robot j knows of task t) and ``since``, read
+        again from the knowledge only when it recorded an observation since the last step
+        (otherwise nothing in it changed)."""
         k, n = self.knowledge, self.n
+        recorded = len(k.state)
+        if recorded == self.read_at:
+            return
+        self.read_at = recorded
         for i in range(n):
             for j in range(n):
                 self.aware[i, j] = k.knows_goals((i,) if i == j else (i, j))

@@ -90,6 +90,11 @@ class TeamKnowledge:
         self.closed = tuple(closed_fact(self.robots, g) for g in self.goals)
         self._closed_goal = {fact: g for g, fact in enumerate(self.closed)}
         self._closed_by: dict[tuple[int, bool], int] = {}  # (observation, fully) -> goal
+        # chain -> knows_done / knows_goals, kept until the next observation is recorded
+        self._done: dict[tuple, np.ndarray] = {}
+        self._goals_known: dict[tuple, np.ndarray] = {}
+        # (discover or notice, goal, observers) already reported: a repeat teaches nothing
+        self._reported: set[tuple[str, int, frozenset]] = set()
         if known_goals is not None:
             known = np.asarray(known_goals, dtype=bool)
             for g in range(self.m):
@@ -116,11 +121,15 @@ class TeamKnowledge:
         if any(full <= f and seen <= s for f, s in earlier):
             return False
         earlier.append((full, seen))
+        self._done.clear()  # what each chain knows may change
+        self._goals_known.clear()
         return self.state.observe(observation)
 
     def discover(self, goal: int, observers) -> bool:
         """The observers (``n`` booleans) learn that ``goal`` exists, and who else did."""
-        names = {self.robots[i] for i in np.flatnonzero(observers)}
+        names = self._first_report("discover", goal, observers)
+        if names is None:
+            return False
         found = Observation(
             "discover",
             full=names,
@@ -131,9 +140,21 @@ class TeamKnowledge:
 
     def notice_closed(self, goal: int, observers) -> bool:
         """The observers (``n`` booleans) see that ``goal`` is closed (a task done)."""
-        names = {self.robots[i] for i in np.flatnonzero(observers)}
+        names = self._first_report("notice", goal, observers)
+        if names is None:
+            return False
         seen = Observation("notice", full=names, pre=self.closed[goal], args=(self.goals[goal],))
         return self.observe(seen)
+
+    def _first_report(self, what: str, goal: int, observers) -> frozenset | None:
+        """The observers' names, or None when they reported the same before (the same
+        event seen by the same robots is no news: :meth:`observe` would refuse it)."""
+        names = frozenset(self.robots[i] for i in np.flatnonzero(observers))
+        key = (what, goal, names)
+        if key in self._reported:
+            return None
+        self._reported.add(key)
+        return names
 
     def tell(self, fact: Formula, observers) -> bool:
         """The observers (``n`` booleans) are told ``fact`` (and who else was)."""
@@ -171,20 +192,30 @@ class TeamKnowledge:
         """``(m,)`` the goals the chain knows of."""
         if not self.state.tracked:
             return np.ones(self.m, dtype=bool)
-        aware = self.state.aware(chain)
-        return np.array([atoms <= aware for atoms in self._goal_atoms])
+        chain = tuple(chain)
+        known = self._goals_known.get(chain)
+        if known is None:
+            aware = self.state.aware(chain)
+            known = np.array([atoms <= aware for atoms in self._goal_atoms], dtype=bool)
+            self._goals_known[chain] = known
+        return known.copy()
 
     def knows_done(self, chain: Chain) -> np.ndarray:
         """``(m,)`` the goals (tasks) the chain knows closed (done): the hard facts of the
         observations its group saw, read by observation index (each observation's fact is
-        compared with the ``closed`` facts once, not at every query)."""
-        out = np.zeros(self.m, dtype=bool)
-        fully = set(self.state.observed(chain, fully=True))
-        for i in self.state.observed(chain):
-            g = self._closes(i, i in fully)
-            if g >= 0:
-                out[g] = True
-        return out
+        compared with the ``closed`` facts once, not at every query; the answer is kept
+        per chain until the next observation is recorded)."""
+        chain = tuple(chain)
+        known = self._done.get(chain)
+        if known is None:
+            known = np.zeros(self.m, dtype=bool)
+            fully = set(self.state.observed(chain, fully=True))
+            for i in self.state.observed(chain):
+                g = self._closes(i, i in fully)
+                if g >= 0:
+                    known[g] = True
+            self._done[chain] = known
+        return known.copy()
 
     def _closes(self, index: int, fully: bool) -> int:
         """The goal whose ``closed`` fact observation ``index`` teaches (seen ``fully`` or
