@@ -67,5 +67,5 @@ def test_report_writes_csv_and_parquet_and_lists_levels_in_study_order(results, 
 def test_report_never_writes_over_its_input(results, capsys):
     before = results.read_bytes()
     assert main(["report", str(results), "--no-png", "--csv", str(results)]) == 2
-    assert "is the results file being read" in capsys.readouterr().err
+    assert "that is the command's input" in capsys.readouterr().err
     assert results.read_bytes() == before
