@@ -22,9 +22,9 @@ from epistemica.sim.engine.missions import distances
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.collaborative_levels import (
     COLLABORATIVE_LEVELS,
-    CollaborativeParameters,
     CollaborativePolicy,
 )
+from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
 from epistemica.sim.policies.collaborative_sweep import Route, lanes, sweep
 from epistemica.sim.study.store import read_rows
 from epistemica.sim.study.sweep import run_trial

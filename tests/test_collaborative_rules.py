@@ -12,8 +12,8 @@ from epistemica.sim.engine.knowledge import TeamKnowledge
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.collaborative_levels import (
     FETCHING,
-    CollaborativeParameters,
 )
+from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
 from epistemica.sim.policies.collaborative_sweep import Route, meeting_point
 from epistemica.sim.policies.levels import make_level
 

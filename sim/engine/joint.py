@@ -90,9 +90,9 @@ class JointRun:
         """Teammates and tasks in sight, tasks seen done, the mission's events; then the
         ledger, from the team's knowledge."""
         s, k = self.s, self.knowledge
-        seen = self.visible()
-        if self.positions_shared:  # full communication: every robot knows where all are
-            seen[:] = True
+        sight = self.visible()
+        # full communication: every robot knows where all are
+        seen = np.ones_like(sight) if self.positions_shared else sight
         self.last_seen[seen] = step
         rows, cols = np.nonzero(seen)
         self.estimates[rows, cols] = self.poses[cols, :2]
@@ -104,7 +104,7 @@ class JointRun:
             else:
                 k.discover(t, self._observers(alone[i]))
                 self.open_seen[self._observers(alone[i]), t] = step
-        self._fire(step, arrivals=False)
+        self._fire(step, False, sight)
         self._ledger(step)
         return JointView(
             step, self.poses, self.estimates, self.last_seen, k, self.aware, self.since,
@@ -136,11 +136,13 @@ class JointRun:
         self.steer_to.append(steer_to)
         self.knows.append(np.diagonal(self.aware).T.copy())
 
-    def _fire(self, step: int, arrivals: bool) -> None:
+    def _fire(self, step: int, arrivals: bool, sight: np.ndarray) -> None:
+        """Fire the mission's event rules (``arrivals``: the ones triggered by reaching a
+        task) with ``sight``, who sees whom now."""
         s = self.s
         world = World(
             step, self.poses, self.path[-2] if len(self.path) > 1 else None, s.tasks,
-            self.done < 0, self.reached_now, self.visible(), s.sensing_range,
+            self.done < 0, self.reached_now, sight, s.sensing_range,
             s.completion_radius, s.sensors, s.robot_names, s.task_names, self.heading,
         )  # fmt: skip
         for rule, firing in firings(s.events, world, arrivals):
@@ -167,7 +169,7 @@ class JointRun:
         counts = near.sum(axis=0)
         self.reached_now = (counts >= np.asarray(s.needs)) & (self.done < 0)
         self.done[self.reached_now] = step + 1
-        self._fire(step + 1, arrivals=True)
+        self._fire(step + 1, True, self.visible())
         if np.all(self.done >= 0):
             self.completion = step + 1
             return True

@@ -38,9 +38,9 @@ from epistemica.sim.policies.active import ORDERS, ActiveInference
 from epistemica.sim.policies.baselines import Convention, Greedy, Stationary
 from epistemica.sim.policies.collaborative_levels import (
     COLLABORATIVE_LEVELS,
-    CollaborativeParameters,
     CollaborativePolicy,
 )
+from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
 from epistemica.sim.policies.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import Policy

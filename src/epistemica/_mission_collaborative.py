@@ -13,7 +13,7 @@ from typing import Any
 from epistemica.del_.errors import InvalidArgumentError, SpecError
 from epistemica.sim.engine.draws import draw_layout
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
-from epistemica.sim.policies.collaborative_levels import CollaborativeParameters
+from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
 
 __all__ = ["collaborative_parameters", "collaborative_scenario"]
 

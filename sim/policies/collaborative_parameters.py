@@ -1,0 +1,211 @@
+"""The constants of the collaborative levels (:mod:`epistemica.sim.policies.collaborative_levels`):
+one frozen set for every collaborative mission, which a mission file's ``policy`` lines
+change.
+
+Examples
+--------
+>>> CollaborativeParameters().patience, CollaborativeParameters(patience=30).patience
+(60, 30)
+>>> try:
+...     CollaborativeParameters().replace(speed=3)
+... except ValueError as exc:
+...     print(str(exc).splitlines()[0])
+unknown collaborative parameter 'speed'
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__ = ["CollaborativeParameters"]
+
+
+@dataclass(frozen=True)
+class CollaborativeParameters:
+    """Every constant of the collaborative levels, one set for every mission (chosen on
+    tuning seeds 1000-1199: docs/results.md, "Collaborative tasks found while exploring").
+
+    Attributes
+    ----------
+    lane_factor : float
+        Lane spacing of the sweep, in sensing ranges (2 leaves no gap between lanes).
+    patience, hold : int
+        Steps a robot waits at a task before exploring again; steps before it may return.
+    join_bonus : float
+        ``first``: metres a task seems nearer per teammate seen waiting there.
+    intercept_limit : int
+        ``third``: steps a robot looks for a teammate it fetches before it gives up on it.
+    wait_horizon : int
+        ``third``: a teammate whose predicted sweep passes within sight of the task in this
+        many steps is waited for rather than fetched (0: only one in sight of it now).
+        With teammates predicted as :class:`TeammateModel` does, 0 / 10 / 20 / 40 took
+        76.4 / 76.5 / 80.4 / 93.4 steps at 3 robots, 85.5 / 85.6 / 87.1 / 89.6 at 5 and
+        74.0 / 75.0 / 75.3 / 75.6 at 8 (tuning seeds 1000-1199): a fetcher brings the
+        teammate sooner than its sweep would.
+    fetch_memory : int
+        ``third``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
+        others are is a guess). A teammate never seen counts as seen at the start, on its
+        way to its sweep (the convention says where that begins): fetching only teammates
+        really seen took 95.5 / 92.6 / 81.1 steps against 86.9 / 91.1 / 78.4 at 3 / 5 / 8
+        robots on tuning seeds 1000-1199.
+    seek : bool
+        ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
+        on (it meets teammates to fetch) rather than waiting at the task.
+    backed_patience : int
+        ``third``: steps a robot waits at a task while it knows a teammate that knows the
+        task is out fetching or looking for helpers for it (``patience`` otherwise).
+    stand_in : bool
+        ``third``: a knower of a task not among the ones it would send goes in place of
+        each chosen teammate whose place it does not know (not seen for ``fetch_memory``
+        steps): that teammate's own view, and so its choice, may differ.
+    sweep_memory : int
+        ``third``: a teammate not seen for longer than ``fetch_memory`` (at most this many
+        steps) is still fetched when the robot knows it is on its sweep: it knows of no
+        open task the robot knows that teammate knows, and its predicted sweep since it
+        was last seen passed in sight of no open task the robot knows (0: off).
+    meet_ahead : bool
+        ``third``: a fetcher goes to the first place of the teammate's predicted sweep it
+        can reach in time (:func:`~epistemica.sim.policies.collaborative_sweep.meeting_point`),
+        rather than to where the teammate is now, and picks the teammate it brings to the
+        task soonest.
+    complete_first : bool
+        ``third``: a robot assigns the tasks that enough robots it knows know of (itself
+        included) before those that too few know of, rather than in index order.
+    rejoin : bool
+        ``third``: news of one more robot that knows of a task renews the patience of a
+        robot waiting there, and a task a robot put on hold is open to it again as soon as
+        it knows of more robots that know of it than when it gave up waiting.
+    stale_after : int
+        ``third``: a robot presumes a task done once at least as many teammates as it
+        needs have been known to know of it for this many steps while the robot has not
+        seen it open for as long (0: off).
+    verify : bool
+        ``third``: a robot that knows of every task of the mission and has nothing to do
+        goes to see the nearest task it presumes done (``stale_after``) rather than
+        exploring: teammates known to know of a task may have been busy elsewhere, and
+        nothing is left to find.
+    seek_limit : int
+        ``third``: a robot that began looking for helpers for a task (``seek``) this many
+        steps ago waits at the task instead until its patience there runs out, and looks
+        anew after its hold (0: it looks on: robots that each know a task nobody else is
+        known to know of, on parallel sweeps, may never meet).
+    fetch_together : bool
+        ``third``: the knower nearest a task too few know of, which would wait there while
+        another knower fetches a teammate, goes for that teammate too when no other
+        teammate that does not know of the task is near enough to see it wait
+        (``watch_range``; with three robots, two knowers and the one fetched, none is).
+        On tuning seeds 1000-1199 at 3 robots 76.4 -> 71.0 steps (paired -5.4 +- 1.5,
+        faster in 72 trials, slower in 26); at 5 and 8 robots 85.5 -> 85.9, 74.0 -> 74.1.
+    watch_range : float
+        ``fetch_together``: a teammate counts as one that may see the knower wait only if
+        predicted within this many sensing ranges of the task. 1 / 2 / 3 / unbounded:
+        71.0 at 3 robots for each, 83.5 / 83.3 / 83.6 / 85.9 at 5, 75.6 / 75.3 / 74.2 /
+        74.1 at 8 (tuning seeds 1000-1199; 3 against unbounded at 5 robots, paired:
+        -2.2 +- 1.1, faster in 26 trials, slower in 19).
+    join_busy : bool
+        ``third``: a knower of a task too few know of, with no free teammate it knows where
+        to find, goes to the nearest task it expects teammates at (sent there by its own
+        assignment) rather than looking for helpers: once that task is done they are free
+        and in its sight, to be told. Paired on tuning seeds 1000-1199 at 3 / 5 / 8 robots:
+        -2.5 +- 0.8 / -0.5 +- 0.7 / -0.2 +- 0.1 steps; on 1200-1399: -3.4 +- 0.7 / -0.5 +-
+        0.3 / +0.3 +- 0.3.
+    soonest : bool
+        ``third``, ``third-shared``: tasks go to robots coalition by coalition, first the
+        task whose ``needs`` nearest free knowers assemble soonest (the farthest of them is
+        nearest), rather than in index order (a robot 30 m off no longer walks past a task
+        teammates wait at for one that comes first in the mission). Paired for ``third``
+        at 3 / 5 / 8 robots, on tuning seeds 1000-1199: -1.8 +- 0.8 / -0.7 +- 0.9 / -0.3 +-
+        0.9 steps; on 1200-1399: -1.2 +- 0.6 / -2.1 +- 0.8 / -2.1 +- 0.9.
+    resume : bool
+        ``third``, ``third-shared``: a teammate seen off its sweep and moving makes for the
+        waypoint its motion points at, then sweeps on
+        (:class:`~epistemica.sim.policies.collaborative_teammates.TeammateModel`), rather than being
+        put on the nearest point of its sweep.
+    particles : int
+        ``third``, ``third-shared``: a teammate never seen started at one of a grid of
+        ``particles`` x ``particles`` starts, less those that would have put it in sight
+        (0: it reached its sweep after half the workspace's side). Prediction error of
+        unseen teammates, median on tuning seeds 1000-1039 at 3 / 5 / 8 robots: 12.1 /
+        13.9 / 17.5 m with neither, 8.2 / 10.2 / 12.4 m with both.
+
+    The geometry of sight and sweeps (set once, before any tuning; not tuned since):
+
+    off_sweep : float
+        ``third``: a teammate last seen farther than this many sensing ranges from its
+        sweep is off it (at a task): where it resumed is unknown (``sweep_memory``).
+    sight_fraction : float
+        Sensing ranges within which a robot counts on being seen: where a fetcher meets a
+        teammate on its sweep (``meet_ahead``) and whom ``wait_horizon`` waits for.
+    horizon_step : int
+        ``wait_horizon``: steps between the predicted places it checks (at least 1).
+    lost_range : float
+        ``meet_ahead``: a fetcher this many sensing ranges from where it predicts the
+        teammate, without seeing it, gives up on it (it left its sweep).
+    waypoint_reach : float
+        Metres within which a robot has reached the next waypoint of its sweep.
+    rejoin_gap : float
+        ``resume``: metres within which a teammate seen is back on its sweep.
+    still_fraction : float
+        ``resume``: a teammate seen to move less than this fraction of its top speed in a
+        step is standing, and shows no waypoint it makes for.
+    heading_slack : float
+        ``resume``: waypoints whose direction is within this cosine of the teammate's
+        motion are the one it makes for (the same point on later laps of the sweep).
+    """
+
+    lane_factor: float = 2.0
+    patience: int = 60
+    hold: int = 40
+    join_bonus: float = 10.0
+    intercept_limit: int = 40
+    wait_horizon: int = 0
+    fetch_memory: int = 40
+    seek: bool = True
+    backed_patience: int = 150
+    stand_in: bool = False
+    sweep_memory: int = 0
+    meet_ahead: bool = False
+    complete_first: bool = True
+    rejoin: bool = True
+    stale_after: int = 20
+    seek_limit: int = 20
+    verify: bool = True
+    resume: bool = True
+    particles: int = 12
+    fetch_together: bool = True
+    watch_range: float = 3.0
+    join_busy: bool = True
+    soonest: bool = True
+    off_sweep: float = 0.5
+    sight_fraction: float = 0.8
+    horizon_step: int = 5
+    lost_range: float = 0.5
+    waypoint_reach: float = 1.0
+    rejoin_gap: float = 1.0
+    still_fraction: float = 0.3
+    heading_slack: float = 0.01
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+                raise InvalidArgumentError(
+                    f"{f.name} must be a finite number >= 0, got {value!r}",
+                    hint="see CollaborativeParameters",
+                )
+        if self.lane_factor <= 0:
+            raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
+        if self.horizon_step < 1:
+            raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
+
+    def replace(self, **changes) -> CollaborativeParameters:
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            raise InvalidArgumentError(
+                f"unknown collaborative parameter {sorted(unknown)[0]!r}",
+                hint=f"one of {', '.join(f.name for f in fields(self))}",
+            )
+        return replace(self, **changes)
