@@ -56,7 +56,7 @@ def test_shipped_missions_compile_and_their_claims_hold(path):
             if claim.after is not None:
                 model = mission.model_after(claim.after, claim.seed, claim.level)
             assert mission.holds(claim.check.formula, model) == claim.check.expected
-    if mission.kind.joint:  # its own loop: tests/test_collaborative_mission.py
+    if mission.kind.joint:  # its trials: tests/test_collaborative_mission.py
         trial = mission.trial(5, seed=1, level="convention")
     else:
         trial = simulate(scenario.replace(max_steps=5), "convention", seed=1)

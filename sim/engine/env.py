@@ -166,8 +166,8 @@ class MissionEnv(ParallelEnv):
             )
         if getattr(getattr(source, "kind", None), "joint", False):
             raise InvalidArgumentError(
-                "collaborative missions run in their own loop, which the environment does "
-                "not step yet",
+                "the environment does not step collaborative missions yet (their joint "
+                "run has no observation and action spaces)",
                 hint="run it with 'epistemica run FILE', or use a rendezvous, allocation, "
                 "capacity or multitask mission",
             )
