@@ -61,6 +61,13 @@ def family_levels(family: str) -> tuple[str, ...]:
     return COLLABORATIVE_LEVELS if family == "collaborative" else GOAL_LEVELS
 
 
+def use_goal_levels(levels: str | None) -> None:
+    """``--levels``: the goal families' levels (``third`` stays the reference)."""
+    global GOAL_LEVELS
+    if levels:
+        GOAL_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
+
+
 def family_options(family: str) -> Options:
     return Options() if family == "collaborative" else GOAL_OPTIONS
 
@@ -146,7 +153,9 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=None, help="results file (default runs/generated-SPLIT)")
     ap.add_argument("--tables", default=None, help="also write the tables to this file")
     ap.add_argument("--tables-only", action="store_true", help="read the file, run nothing")
+    ap.add_argument("--levels", default=None, help="goal families' levels, comma-separated")
     args = ap.parse_args(argv)
+    use_goal_levels(args.levels)
     split = SPLITS[args.split]
     missions = split.missions if args.missions is None else args.missions
     seeds = len(split.trial_seeds) if args.trial_seeds is None else args.trial_seeds

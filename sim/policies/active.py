@@ -35,6 +35,7 @@ from epistemica.sim.policies.common_view import CommonView
 from epistemica.sim.policies.configuration_sets import ConfigurationSets, nested_sets
 from epistemica.sim.policies.explore import Explorer
 from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.planning import PlanningStage, chains_of
 from epistemica.sim.policies.policy import Decisions, Policy, steer
 from epistemica.sim.policies.search import RendezvousSearch
 from epistemica.sim.policies.teammate_models import TeammateModels
@@ -121,6 +122,7 @@ class ActiveInference(Policy):
             else None
         )
         self.common_view = CommonView(scenario, p, self.order)
+        self._plans = PlanningStage(scenario, p, self.order) if p.planning else None
 
     # -- controllers and priors ----------------------------------------------------------
 
@@ -208,13 +210,18 @@ class ActiveInference(Policy):
                 priors = self._teammates.mix(
                     team, observations, goals, ctrl.configurations, priors, private
                 )
-            if self.parameters.free_energy:
-                decisions = ctrl.decide_team(observations.poses, team, priors)
-            else:
+            if not self.parameters.free_energy:
                 decisions = [
                     self._prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
                     for robot, prior in zip(team, priors, strict=True)
                 ]
+            elif self._plans is not None:
+                decisions = [
+                    self._plans.decide(ctrl, goals, robot, observations, prior)
+                    for robot, prior in zip(team, priors, strict=True)
+                ]
+            else:
+                decisions = ctrl.decide_team(observations.poses, team, priors)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         if self._teammates is not None:  # what each robot reads of its teammates, for the record
@@ -298,6 +305,11 @@ class ActiveInference(Policy):
             return p / total if total > 0 else base  # a chain with no set: no restriction
 
         own = restricted(sets.own)
+        if self._plans is not None and self.parameters.free_energy:
+            chains = chains_of(robot, sets.own, sets.pairs, sets.triples, keep)
+            d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains)
+            self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
+            return
         unaware = self._unaware(sets)
         if unaware:
             view = self.common_view.views(observations, (robot,))[0]
@@ -326,6 +338,9 @@ class ActiveInference(Policy):
             )
         else:
             d = self._prior_mode(ctrl, robot, observations.poses[robot, robot], own)
+        self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
+
+    def _record_nested(self, out, row, robot, ctrl, choice, rows, sets, d) -> None:
         out.unpruned[row] = rows.shape[0]
         self._record(out, row, robot, ctrl, choice.goals, d)
         out.considered[row] = int(sets.own.sum())

@@ -105,6 +105,22 @@ def _table() -> dict[str, Level]:
             "of expected free energy)",
             _active(order, free_energy=False),
         )
+    for name, order in ORDERS.items():
+        levels[f"plan-{name}"] = Level(
+            f"the planning controller at order {order}: goals scored by expected completion "
+            "time over teammates' choices predicted one order down (epistemica.aif.planning)",
+            _named(f"plan-{name}", _active(order, planning=True)),
+        )
+    levels["plan-third-shared"] = Level(
+        "the planning controller at order 3, every teammate taken to have seen what it saw "
+        "(ablation of the nested sets)",
+        _named("plan-third-shared", _active(3, planning=True, nested=False)),
+    )
+    levels["plan-third-wait"] = Level(
+        "the planning controller at order 3 with a waiting option over a 3-step horizon "
+        "(wait, read the teammates' moves, then choose)",
+        _named("plan-third-wait", _active(3, planning=True, plan_horizon=3)),
+    )
     levels["convention+rules"] = Level(
         "the convention on the common view with every rule of the active levels (search, "
         "exploration, pruning), no inference",

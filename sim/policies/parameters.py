@@ -150,6 +150,30 @@ class ActiveParameters:
     log_prior_floor : float
         Nats below the best configuration at which the team prior is floored (keeps every
         probability representable in float32).
+    planning : bool
+        Choose by planning (:mod:`epistemica.sim.policies.planning`): options (head for a
+        goal, or wait) scored by expected free energy over the teammates' choices predicted
+        one order down over the sets the robot knows they keep, instead of the one-step
+        controller over controls. The anticipation rule (``anticipate``) is then not
+        applied: the planner's nested predictions subsume it.
+    plan_horizon : int
+        Steps of the planner's waiting option; 1 plans no waiting (the ablation
+        ``*-myopic``).
+    plan_temperature, plan_repair, plan_evidence : float
+        The planner's precision, mismatch repair time and evidence scale
+        (:class:`epistemica.aif.planning.Planner`).
+    plan_particles : int
+        Particles of the teammates' choices that score the waiting option.
+    plan_sigma : float
+        Error of the planner's motion model, in steps of the mean top speed: a
+        teammate's goal is read from its moves with this much slack
+        (:func:`epistemica.aif.planning.motion_evidence`).
+    plan_leak : float
+        Rate in ``[0, 1)`` at which that reading forgets, per planned step.
+    plan_commitment : float
+        Nats the planner charges for changing the goal a robot headed for.
+    plan_convention : float
+        Weight of the team prior's convention in the planner's own choice.
     controller : tuple of (str, value)
         Arguments of :class:`epistemica.aif.Controller` (``progress_weight``,
         ``horizon``, ...), as name-value pairs.
@@ -178,11 +202,23 @@ class ActiveParameters:
     prune_from: int = 2_000
     plausible_margin: float = 10.0
     log_prior_floor: float = -80.0
+    planning: bool = False
+    plan_horizon: int = 1
+    plan_temperature: float = 0.25
+    plan_repair: float = 1.5
+    plan_evidence: float = 5.0
+    plan_particles: int = 32
+    plan_sigma: float = 0.5
+    plan_leak: float = 0.1
+    plan_commitment: float = 1.0
+    plan_convention: float = 1.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
-                   "teammate_sigma", "teammate_leak")  # fmt: skip
+                   "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
+                   "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
+                   "plan_convention")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -199,14 +235,16 @@ class ActiveParameters:
                 hint="'recency' (the default) or the ablation 'primacy'",
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
-                    "free_energy", "search", "teammate_models")  # fmt: skip
+                    "free_energy", "search", "teammate_models", "planning")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
                     f"{name} must be true or false, got {getattr(self, name)!r}",
                     hint=f"e.g. {name}=false (the ablation)",
                 )
-        for name in ("headings", "lone_wait", "unaware_wait", "prune_from", "sight_hysteresis"):
+        counts = ("headings", "lone_wait", "unaware_wait", "prune_from", "sight_hysteresis",
+                  "plan_horizon", "plan_particles")  # fmt: skip
+        for name in counts:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise InvalidArgumentError(
@@ -232,6 +270,14 @@ class ActiveParameters:
         for name in ("tie_weight", "look", "plausible_margin", "log_prior_floor"):
             if not math.isfinite(float(getattr(self, name))):
                 raise InvalidArgumentError(f"{name} must be finite", hint="a number")
+        if not 0.0 <= float(self.plan_leak) < 1.0:
+            raise InvalidArgumentError(
+                f"plan_leak must lie in [0, 1), got {self.plan_leak!r}", hint="e.g. 0.1"
+            )
+        for name in ("plan_temperature", "plan_repair", "plan_evidence", "plan_sigma"):
+            value = float(getattr(self, name))
+            if not (math.isfinite(value) and value > 0):
+                raise InvalidArgumentError(f"{name} must be > 0 and finite", hint="e.g. 0.5")
         if self.prior_scale is not None and not float(self.prior_scale) > 0:
             raise InvalidArgumentError(
                 f"prior_scale must be > 0 or None, got {self.prior_scale!r}", hint="e.g. 1.0"

@@ -1,0 +1,126 @@
+"""The planning stage of the active-inference levels: options scored by expected free
+energy over nested predictions (:class:`epistemica.aif.planning.Planner`).
+
+Where the one-step controller (:class:`epistemica.aif.Controller`) scores controls, this
+stage scores *options* over a horizon: head for a goal, or wait and choose once the
+teammates' moves have said more. Teammates are predicted by the same planner one order
+down over the sets the robot knows they keep (the nested sets of the DEL state), so a
+robot at order 3 acts on what it thinks its teammates think it will do. The robot then
+drives straight for the goal it chose (or stands while it waits).
+
+Examples
+--------
+>>> from epistemica.sim import Scenario, simulate
+>>> from epistemica.sim.policies.active import ActiveInference
+>>> scenario = Scenario.paper("rendezvous", 3, 3, seed=1)
+>>> trial = simulate(scenario, ActiveInference(3, planning=True), seed=1)
+>>> trial.success
+True
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from epistemica.aif.decision import Decision
+from epistemica.aif.planning import WAIT, Planner, motion_evidence
+from epistemica.sim.engine.scenario import Scenario
+from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.policy import steer
+
+__all__ = ["PlanningStage", "chains_of"]
+
+
+def chains_of(robot: int, own, pairs, triples, keep=None) -> dict[tuple[int, ...], np.ndarray]:
+    """The planner's chain -> set mapping from nested sets (restricted to ``keep``)."""
+
+    def cut(mask: np.ndarray) -> np.ndarray:
+        return mask if keep is None else mask[keep]
+
+    chains = {(robot,): cut(own)}
+    chains.update({(robot, j): cut(mask) for j, mask in pairs.items()})
+    chains.update({(robot, j, k): cut(mask) for (j, k), mask in triples.items()})
+    return chains
+
+
+class PlanningStage:
+    """Plans of the robots of one trial, with what each saw its teammates do last step."""
+
+    def __init__(self, scenario: Scenario, parameters: ActiveParameters, order: int) -> None:
+        self.scenario, self.order = scenario, order
+        p = parameters
+        self.options = {
+            "temperature": p.plan_temperature,
+            "repair": p.plan_repair,
+            "evidence": p.plan_evidence,
+            "horizon": p.plan_horizon,
+            "particles": p.plan_particles,
+            "commitment": p.plan_commitment,
+            "convention": p.plan_convention,
+        }
+        self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self.sigma, self.leak = p.plan_sigma, p.plan_leak
+        self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
+        # robot -> (n, M) log-likelihood of each teammate heading for each goal, summed
+        # over the moves it saw.
+        self._read: dict[int, np.ndarray] = {}
+        self._heading: dict[int, int] = {}  # robot -> the goal (scenario index) it chose last
+
+    def planner(self, ctrl) -> Planner:
+        """The planner over a controller's goals and configurations (one per table)."""
+        planner = self._planners.get(ctrl)
+        if planner is None:
+            s = self.scenario
+            planner = Planner(ctrl.goals, ctrl.configurations, s.max_speed, order=self.order,
+                              dt=s.dt, **self.options)  # fmt: skip
+            self._planners[ctrl] = planner
+        return planner
+
+    def observe(self, observations: Observations, robot: int) -> np.ndarray:
+        """Read the teammates' moves since the robot last planned; ``(n,)`` the fraction
+        of its speed each used (1 where it could not tell)."""
+        s = self.scenario
+        now = observations.poses[robot, :, :2]
+        step = observations.step
+        seen = observations.last_seen[robot] == step
+        before = self._last.get(robot)
+        self._last[robot] = (step, now.copy())
+        read = self._read.setdefault(robot, np.zeros((s.n_robots, s.n_goals)))
+        if before is None or before[0] >= step:
+            return np.ones(s.n_robots)
+        gap = (step - before[0]) * s.dt
+        sigma = self.sigma * float(s.max_speed.mean()) * gap
+        moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
+        read *= 1.0 - self.leak
+        read[seen] += moves[seen]
+        used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
+        return np.where(seen, np.clip(used, 0.0, 1.0), 1.0)
+
+    def decide(
+        self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
+    ) -> Decision:
+        """Robot ``robot``'s decision over ``ctrl``'s table of ``goals`` (scenario
+        indices): the plan's goal, or standing still to wait."""
+        s = self.scenario
+        pose = observations.poses[robot, robot]
+        moving = self.observe(observations, robot)
+        local = np.flatnonzero(goals == self._heading.get(robot, -1))
+        result = self.planner(ctrl).plan(
+            robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
+            int(local[0]) if local.size else None,
+        )  # fmt: skip
+        if result.goal != WAIT:
+            self._heading[robot] = int(goals[result.goal])
+        if result.goal == WAIT:
+            control = (0.0, 0.0)
+        else:
+            target = ctrl.goals[result.goal]
+            c = steer(pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt)
+            control = (float(c[0, 0]), float(c[0, 1]))
+        G = np.append(result.G, result.wait)
+        finite = np.isfinite(G)
+        q = np.where(finite, np.exp(-(G - G[finite].min())), 0.0)
+        return Decision(control, int(result.goal), G, q / q.sum(), result.belief, result.focal)
