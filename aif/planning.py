@@ -127,9 +127,14 @@ class Planner:
     commitment : float
         Nats a robot pays to change the goal it headed for at its last plan.
     convention : float
-        Weight of the prior's marginal of the robot's own goal in its choice
-        (``- convention * ln p(g)`` nats): the shared convention that breaks symmetric
-        standoffs the same way for every robot.
+        Nats a goal costs the robot as its prior marginal falls short of the most
+        probable goal's: ``convention * (1 - p(g) / max p)``, a bounded tie-break (the
+        team prior is sharp; as log-odds it would overrule everything) that resolves
+        symmetric standoffs the same way for every robot.
+    hierarchy : float
+        In ``[0, 1]``: a teammate predicted at order ``k`` is the mixture of orders
+        ``0..k`` with weights ``hierarchy ** (k - j)`` (a cognitive hierarchy); 0 predicts
+        it at order ``k`` alone (level-k).
     """
 
     def __init__(
@@ -147,6 +152,7 @@ class Planner:
         particles: int = 32,
         commitment: float = 0.0,
         convention: float = 0.0,
+        hierarchy: float = 0.0,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -163,6 +169,11 @@ class Planner:
         self.particles = positive_int(particles, "particles", "e.g. 32")
         self.commitment = float(as_finite(commitment, "commitment"))
         self.convention = float(as_finite(convention, "convention"))
+        self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
+        if not 0.0 <= self.hierarchy <= 1.0:
+            raise InvalidArgumentError(
+                f"hierarchy must lie in [0, 1], got {hierarchy!r}", hint="0 is pure level-k"
+            )
         if self.commitment < 0 or self.convention < 0:
             raise InvalidArgumentError(
                 "commitment and convention must be >= 0", hint="nats; 0 leaves them out"
@@ -241,8 +252,7 @@ class Planner:
         if self.convention > 0:  # the shared tie-break: symmetric standoffs resolve alike
             mass = np.bincount(self.configurations[:, robot], weights=weights,
                                minlength=G.shape[0])  # fmt: skip
-            with np.errstate(divide="ignore"):
-                G = G - self.convention * self.tau * np.log(mass / mass.sum())
+            G = G + self.convention * self.tau * (1.0 - mass / mass.max())
         if previous is not None and 0 <= previous < G.shape[0] and np.isfinite(G[previous]):
             G = G + self.commitment * self.tau
             G[previous] -= self.commitment * self.tau
@@ -319,9 +329,8 @@ class _Context:
 
     def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` the goal distribution of ``chain[-1]`` as ``chain[:-1]`` predicts it:
-        for a teammate, a mixture of every order up to ``order`` (a cognitive
-        hierarchy, so the prior's convention is never reasoned away), weighed by where it
-        is seen."""
+        for a teammate, the mixture of orders up to ``order`` (``hierarchy``), weighed
+        by where it is seen."""
         key = self.key(chain, order)
         if key in self.memo:
             return self.memo[key]

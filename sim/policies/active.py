@@ -270,6 +270,8 @@ class ActiveInference(Policy):
             return False
         if self.scenario.kind.tasks:
             return False
+        if self._plans is not None and self.order >= 2 and self.parameters.free_energy:
+            return True  # a plan reads every chain's set, even where its own is whole
         return knowledge.constrains((robot,)) or (
             self.order >= 2 and knowledge.private_goals(robot)
         )

@@ -173,7 +173,11 @@ class ActiveParameters:
     plan_commitment : float
         Nats the planner charges for changing the goal a robot headed for.
     plan_convention : float
-        Weight of the team prior's convention in the planner's own choice.
+        Nats of the team prior's convention (a bounded tie-break) in the planner's own
+        choice.
+    plan_hierarchy : float
+        In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
+        teammates (0: level-k, 1: a uniform cognitive hierarchy).
     controller : tuple of (str, value)
         Arguments of :class:`epistemica.aif.Controller` (``progress_weight``,
         ``horizon``, ...), as name-value pairs.
@@ -212,13 +216,14 @@ class ActiveParameters:
     plan_leak: float = 0.1
     plan_commitment: float = 1.0
     plan_convention: float = 1.0
+    plan_hierarchy: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
                    "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
                    "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
-                   "plan_convention")  # fmt: skip
+                   "plan_convention", "plan_hierarchy")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -270,6 +275,10 @@ class ActiveParameters:
         for name in ("tie_weight", "look", "plausible_margin", "log_prior_floor"):
             if not math.isfinite(float(getattr(self, name))):
                 raise InvalidArgumentError(f"{name} must be finite", hint="a number")
+        if not 0.0 <= float(self.plan_hierarchy) <= 1.0:
+            raise InvalidArgumentError(
+                f"plan_hierarchy must lie in [0, 1], got {self.plan_hierarchy!r}", hint="e.g. 0"
+            )
         if not 0.0 <= float(self.plan_leak) < 1.0:
             raise InvalidArgumentError(
                 f"plan_leak must lie in [0, 1), got {self.plan_leak!r}", hint="e.g. 0.1"

@@ -60,6 +60,7 @@ class PlanningStage:
             "particles": p.plan_particles,
             "commitment": p.plan_commitment,
             "convention": p.plan_convention,
+            "hierarchy": p.plan_hierarchy,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak = p.plan_sigma, p.plan_leak
