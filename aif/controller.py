@@ -407,4 +407,6 @@ def modelled_priors(priors, views: int, k: int) -> np.ndarray | None:
             f"modelled_priors has {len(priors)} entries for {views} modelled perspectives",
             hint="one prior per perspective after the first of Controller.perspectives",
         )
+    if views == 0:  # a robot that models nobody: nothing to stack
+        return None
     return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)
