@@ -109,12 +109,13 @@ def as_nonnegative(value, name: str, *, size: int | None = None) -> np.ndarray:
     return v
 
 
-def nonnegative(value, name: str) -> float:
-    """Return ``value`` as a finite float >= 0 (a weight that may switch a term off)."""
+def nonnegative(value, name: str, hint: str | None = None) -> float:
+    """Return ``value`` as a finite float >= 0 (by default a weight that may switch a term off)."""
     x = float(as_finite(value, name, ndim=0))
     if x < 0:
         raise InvalidArgumentError(
-            f"{name} must be >= 0, got {value!r}", hint=f"pass 0 to switch the {name} term off"
+            f"{name} must be >= 0, got {value!r}",
+            hint=hint or f"pass 0 to switch the {name} term off",
         )
     return x
 

@@ -47,7 +47,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from epistemica.aif._logspace import log_softmax
-from epistemica.aif._validate import as_distribution, as_finite, positive, positive_int
+from epistemica.aif._validate import as_distribution, as_finite, nonnegative, positive
 from epistemica.aif.belief import PUBLISHED_WEIGHT
 from epistemica.aif.decision import Decision, choose
 from epistemica.aif.evidence import (
@@ -56,26 +56,16 @@ from epistemica.aif.evidence import (
     check_order,
     check_robot,
     check_sensors,
-    noise_attenuation,
 )
 from epistemica.aif.likelihood import check_configurations
 from epistemica.aif.motion import control_grid, predict_poses
 from epistemica.aif.one_step import OneStepEFE, Terms
 from epistemica.aif.perspective import Perspective, perspectives, predicted_evidence
-from epistemica.aif.search import receding_horizon
+from epistemica.aif.search import MAX_BEAM, MAX_HORIZON, check_search, receding_horizon
 from epistemica.aif.team import decide_team
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = ["MAX_BEAM", "MAX_HORIZON", "Controller", "Decision", "decide"]
-
-#: The deepest look-ahead and widest beam accepted: a search costs about horizon x beam
-#: one-step decisions, so these already cost thousands; horizon=10**6 would not return.
-MAX_HORIZON, MAX_BEAM = 64, 256
-
-# Cells (valid rows x candidates) per chunk of the large passes: about 32 MB of float64.
-_CHUNK_CELLS = 4_000_000
-# From this many valid configurations on, the controller's large passes use float32.
-_FLOAT32_ROWS = 20_000
 
 
 class Controller:
@@ -159,24 +149,9 @@ class Controller:
         self.dt = positive(dt, "dt")
         self.eta = positive(eta, "eta")
         self.eta_bearing = positive(eta_bearing, "eta_bearing")
-        self.gamma = float(as_finite(gamma, "gamma"))
-        if self.gamma < 0:
-            raise InvalidArgumentError(f"gamma must be >= 0, got {gamma!r}", hint="a precision")
-        hint = "horizon 1 is the one-step controller"
-        self.horizon, self.beam = (
-            positive_int(horizon, "horizon", hint),
-            positive_int(beam, "beam", hint),
-        )
-        for name, value, most in (("horizon", horizon, MAX_HORIZON), ("beam", beam, MAX_BEAM)):
-            if value > most:  # each depth costs about beam one-step decisions
-                raise InvalidArgumentError(
-                    f"{name} must be at most {most}, got {value!r}",
-                    hint="a receding horizon is re-planned every step; a few steps suffice",
-                )
-        # Large sets: the (k x candidates) passes are memory-bound; float32 halves them. Log
-        # likelihoods are sums of n terms of order 1, so the rounding stays near 1e-6 nats.
-        large = self.configurations.shape[0] >= _FLOAT32_ROWS
-        self.model = OneStepEFE(
+        self.gamma = nonnegative(gamma, "gamma", hint="a precision")
+        self.horizon, self.beam = check_search(horizon, beam)
+        self.model = OneStepEFE.sized(
             self.goals,
             self.configurations,
             update=update,
@@ -185,20 +160,14 @@ class Controller:
             progress_weight=progress_weight,
             social_weight=social_weight,
             eta=self.eta,
-            dtype=np.float32 if large else np.float64,
-            chunk_cells=_CHUNK_CELLS,
         )
         self.update, self.weight = self.model.update, self.model.weight
         self.progress_weight = self.model.progress_weight
         self.social_weight = self.model.social_weight
         self.preference_floor = self.model.preference_floor
         self._perspective_cache: dict[int, list[Perspective]] = {}
-        self.chunk_cells = _CHUNK_CELLS  # the team call's passes stay within one chunk
-        self.position_noise = float(as_finite(position_noise, "position_noise"))
-        if self.position_noise < 0:
-            raise InvalidArgumentError(
-                f"position_noise must be >= 0, got {position_noise!r}", hint="a variance, m²"
-            )
+        self.chunk_cells = self.model.chunk_cells  # the team call's passes stay within one chunk
+        self.position_noise = nonnegative(position_noise, "position_noise", hint="a variance, m²")
 
     def perspectives(self, robot: int) -> list[Perspective]:
         """The beliefs robot ``robot`` holds (first) or models, with their evidence chains.
@@ -216,9 +185,6 @@ class Controller:
             self._perspective_cache[robot] = perspectives(self.sensors, robot, self.order)
         return self._perspective_cache[robot]
 
-    def _poses(self, poses) -> np.ndarray:
-        return checked_poses(poses, len(self.sensors))
-
     def prior_vector(self, prior) -> np.ndarray:
         k = self.configurations.shape[0]
         if prior is None:
@@ -227,16 +193,17 @@ class Controller:
 
     def _evidence(self, views, robot: int, pos: np.ndarray, xs: np.ndarray) -> np.ndarray:
         """Evidence ``(P, b, n, m)`` of ``views`` with ``robot`` at each of ``xs (b, 2)``."""
-        e = predicted_evidence(
-            views, robot, pos, xs, self.goals, self.bearing, self.eta, self.eta_bearing
+        return predicted_evidence(
+            views,
+            robot,
+            pos,
+            xs,
+            self.goals,
+            self.bearing,
+            self.eta,
+            self.eta_bearing,
+            self.position_noise,
         )
-        if self.position_noise > 0:
-            factor = noise_attenuation(
-                pos[None], np.array([robot]), self.bearing, self.position_noise, self.eta,
-                self.eta_bearing,
-            )[0]  # fmt: skip
-            e *= factor[None, None, :, None]
-        return e
 
     def beliefs(self, robot: int, poses, prior=None) -> tuple[np.ndarray, int]:
         """Robot ``robot``'s current belief over the configurations and its focal row.
@@ -251,7 +218,7 @@ class Controller:
         (0, True)
         """
         robot = check_robot(robot, len(self.sensors))
-        pos = self._poses(poses)[:, :2]
+        pos = checked_poses(poses, len(self.sensors))[:, :2]
         prior = self.prior_vector(prior)
         e = self._evidence(self.perspectives(robot)[:1], robot, pos, pos[robot][None])[0]
         q = np.exp(self.model.unchecked_posterior_log(log_softmax(e, -1), prior)[:, 0])
@@ -284,7 +251,7 @@ class Controller:
         ([2.4, 3.6], True)
         """
         robot = check_robot(robot, len(self.sensors))
-        pos = self._poses(poses)[:, :2]
+        pos = checked_poses(poses, len(self.sensors))[:, :2]
         xs = as_finite(candidates, "candidates", ndim=2, shape=(None, 2))
         return self.evaluate_batch(robot, pos, xs, self.prior_vector(prior))[0]
 
@@ -342,7 +309,7 @@ class Controller:
         (0.3333333333333333, 0.0)
         """
         robot = check_robot(robot, len(self.sensors))
-        poses = self._poses(poses)
+        poses = checked_poses(poses, len(self.sensors))
         prior = self.prior_vector(prior)
         modelled = self._modelled(robot, modelled_priors)
         pos = poses[:, :2]
@@ -440,4 +407,6 @@ def modelled_priors(priors, views: int, k: int) -> np.ndarray | None:
             f"modelled_priors has {len(priors)} entries for {views} modelled perspectives",
             hint="one prior per perspective after the first of Controller.perspectives",
         )
+    if views == 0:  # a robot that models nobody: nothing to stack
+        return None
     return np.stack([as_distribution(p, "modelled prior", size=k) for p in priors], axis=1)

@@ -13,11 +13,10 @@ its goal for ``i``, and ``C*`` puts ``1 − eps`` on ``c*`` plus ``eps`` spread 
 ``R_u`` is the reading of ``i``'s own sensors at the candidate, a binary channel with
 ``P(R = 1 | s) = L_u(s) / max L_u``.
 
-In a modelled belief only ``i``'s row changes with the control, so under the Bayes rule
-``q_a'(u)(s) ∝ w_a(s) exp(f_u[s_i])`` with ``w_a`` fixed: grouping the rows by ``s_i``
-gives the normaliser, the entropy (between-group plus within-group) and the focal mass
-from per-goal sums computed once, O(m) per candidate. The ``(k x candidates)`` passes of
-the root perspective are chunked to a bounded number of cells.
+The risk of a belief and the grouping of a modelled belief's rows by ``s_i`` (``O(m)``
+per candidate) are :mod:`~epistemica.aif.belief_risk`'s. The ``(k x candidates)`` passes
+of the root perspective are chunked to a bounded number of cells, and run in float32 for
+large valid sets (:meth:`OneStepEFE.sized`).
 
 Examples
 --------
@@ -46,11 +45,17 @@ from epistemica.aif._validate import (
     positive_int,
 )
 from epistemica.aif.belief import PUBLISHED_WEIGHT
+from epistemica.aif.belief_risk import Preference, at_rows, grouped_risk
 from epistemica.aif.evidence import DEFAULT_ETA, check_robot
 from epistemica.aif.row_index import RowIndex
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["OneStepEFE", "Terms"]
+__all__ = ["CHUNK_CELLS", "FLOAT32_ROWS", "OneStepEFE", "Terms"]
+
+#: Cells (valid rows x candidates) per chunk of the large passes: about 32 MB of float64.
+CHUNK_CELLS = 4_000_000
+#: From this many valid configurations on, :meth:`OneStepEFE.sized` passes use float32.
+FLOAT32_ROWS = 20_000
 
 
 class Terms(NamedTuple):
@@ -131,10 +136,29 @@ class OneStepEFE:
             raise InvalidArgumentError("preference_floor must lie in (0, 1)", hint="e.g. 0.01")
         self.eta = positive(eta, "eta")
         self.chunk_cells = positive_int(chunk_cells, "chunk_cells", "e.g. 4_000_000")
-        k, eps = self.configurations.shape[0], self.preference_floor
-        # ln C*(c*) and ln C*(s) for s != c*.
-        self._ln_star = float(np.log(eps / k + 1 - eps))
-        self._ln_other = float(np.log(eps / k))
+        self.preference = Preference(self.configurations.shape[0], self.preference_floor)
+
+    @classmethod
+    def sized(cls, goals, configurations, **settings) -> OneStepEFE:
+        """A model whose passes suit the size of the valid set (``settings``: the others).
+
+        Large sets: the ``(k x candidates)`` passes are memory-bound, and float32 halves
+        them from :data:`FLOAT32_ROWS` valid rows on. Log likelihoods are sums of ``n``
+        terms of order 1, so the rounding stays near 1e-6 nats. Chunks of
+        :data:`CHUNK_CELLS` cells.
+
+        Examples
+        --------
+        >>> from epistemica.aif.configurations import valid_configurations
+        >>> goals = np.arange(16.0).reshape(8, 2)
+        >>> OneStepEFE.sized(goals, valid_configurations("allocation", 5, 8)).index.dtype
+        <class 'numpy.float64'>
+        >>> OneStepEFE.sized(goals, valid_configurations("allocation", 6, 8)).index.dtype
+        <class 'numpy.float32'>
+        """
+        large = len(configurations) >= FLOAT32_ROWS
+        dtype = np.float32 if large else np.float64
+        return cls(goals, configurations, dtype=dtype, chunk_cells=CHUNK_CELLS, **settings)
 
     def posterior_log(self, log_p, prior=None) -> np.ndarray:
         """Log posteriors ``(k, b)`` from per-robot log goal probabilities ``(b, n, m)``.
@@ -168,16 +192,6 @@ class OneStepEFE:
             return log_normalise(ll + log_prior, 0)
         like = np.exp(log_normalise(ll, 0))
         return log_normalise(self.weight * like + (1 - self.weight) * prior, 0)
-
-    def _kl_to_preference(self, neg_h: np.ndarray, q_star: np.ndarray) -> np.ndarray:
-        """``KL[q || C*] = -H[q] - E_q[ln C*]`` from ``-H[q]`` and the focal mass ``q(c*)``."""
-        return np.maximum(neg_h - q_star * self._ln_star - (1 - q_star) * self._ln_other, 0.0)
-
-    def _risk(self, log_q: np.ndarray, focal) -> np.ndarray:
-        """``KL[q || C*]`` for each column of ``log_q (k, b)`` (``focal``: one, or per column)."""
-        q = np.exp(log_q)
-        neg_h = np.einsum("kb,kb->b", q, np.where(q > 0, log_q, 0.0))
-        return self._kl_to_preference(neg_h, _at(q, focal))
 
     def terms(self, log_p, weights, robot: int, positions, prior=None):
         """``(Terms, q_root, focal)`` for ``robot`` at each of ``positions (c, 2)``.
@@ -245,47 +259,7 @@ class OneStepEFE:
         reading = np.concatenate([p[1] for p in parts])
         risk = weights[0] * np.broadcast_to(risk_root, (c,))
         if len(weights) > 1:
-            m_prior, m_log, m_uniform = prior, log_prior, uniform
-            if modelled is not None:
-                with np.errstate(divide="ignore"):
-                    m_prior, m_log = modelled, np.log(modelled)
-                m_uniform = np.all(modelled == modelled[:1], axis=0)
-            if self.update == "bayes":
-                # Each modelled belief at column 0, and the robot's row in every column.
-                views = log_p[1:]
-                movers = np.full(views.shape[0], robot)
-                r = np.concatenate(
-                    [
-                        self.grouped_risk(
-                            views[a : a + step, 0],
-                            views[a : a + step, :, robot],
-                            movers[a : a + step],
-                            m_log if modelled is None else m_log[:, a : a + step],
-                            focal,
-                            m_uniform if modelled is None else m_uniform[a : a + step],
-                        )
-                        for a in range(0, len(weights) - 1, step)
-                    ]
-                )
-            else:
-                r = np.stack(
-                    [
-                        np.concatenate(
-                            [
-                                self._risk(
-                                    self._posterior(
-                                        self.index.row_sums(lp[a : a + step]),
-                                        m_log if modelled is None else m_log[:, p],
-                                        m_prior if modelled is None else m_prior[:, p],
-                                    ),
-                                    focal,
-                                )
-                                for a in range(0, c, step)
-                            ]
-                        )
-                        for p, lp in enumerate(log_p[1:])
-                    ]
-                )
+            r = self.modelled_risk(log_p[1:], robot, focal, step, prior, log_prior, modelled)
             risk = risk + weights[1:] @ r
         g_star = self.goals[self.configurations[focal, robot]]
         progress = np.hypot(batch[:, 0] - g_star[0], batch[:, 1] - g_star[1]) / self.eta
@@ -295,6 +269,59 @@ class OneStepEFE:
             reading=np.broadcast_to(reading, (c,)),
         )
         return terms, q_root, focal
+
+    def modelled_risk(self, views, robot, focal, step, prior, log_prior, modelled=None):
+        """``KL[q'_a || C*]`` ``(P - 1, c)`` of the modelled perspectives ``views``
+        (``log_p[1:]``), ``step`` columns or perspectives per pass; ``modelled`` as in
+        :meth:`batch_terms`. Under the Bayes rule only ``robot``'s row moves, so the rows
+        are grouped (:meth:`grouped_risk`)."""
+        uniform = bool(np.all(prior == prior[0]))
+        m_prior, m_log, m_uniform = prior, log_prior, uniform
+        if modelled is not None:
+            with np.errstate(divide="ignore"):
+                m_prior, m_log = modelled, np.log(modelled)
+            m_uniform = np.all(modelled == modelled[:1], axis=0)
+        if self.update == "bayes":
+            # Each modelled belief at column 0, and the robot's row in every column.
+            movers = np.full(views.shape[0], robot)
+            return np.concatenate(
+                [
+                    self.grouped_risk(
+                        views[a : a + step, 0],
+                        views[a : a + step, :, robot],
+                        movers[a : a + step],
+                        m_log if modelled is None else m_log[:, a : a + step],
+                        focal,
+                        m_uniform if modelled is None else m_uniform[a : a + step],
+                    )
+                    for a in range(0, views.shape[0], step)
+                ]
+            )
+        else:
+            return np.stack(
+                [
+                    np.concatenate(
+                        [
+                            self.preference.risk(
+                                self._posterior(
+                                    self.index.row_sums(lp[a : a + step]),
+                                    m_log if modelled is None else m_log[:, p],
+                                    m_prior if modelled is None else m_prior[:, p],
+                                ),
+                                focal,
+                            )
+                            for a in range(0, lp.shape[0], step)
+                        ]
+                    )
+                    for p, lp in enumerate(views)
+                ]
+            )
+
+    def grouped_risk(self, base, moved, movers, log_prior, focal, uniform) -> np.ndarray:
+        """:func:`~epistemica.aif.belief_risk.grouped_risk` over this model's valid rows."""
+        return grouped_risk(
+            self.index, self.preference, base, moved, movers, log_prior, focal, uniform
+        )
 
     def root_terms(self, ll: np.ndarray, log_prior, prior, q0, focal, uniform):
         """Belief risk and reading term of the robot's own perspective, per column of ``ll``.
@@ -306,7 +333,7 @@ class OneStepEFE:
         """
         fast = np.logical_and(self.update == "bayes", uniform)
         if not np.all(fast):
-            risk = slow = self._risk(self._posterior(ll, log_prior, prior), focal)
+            risk = slow = self.preference.risk(self._posterior(ll, log_prior, prior), focal)
         d = ll
         d -= ll.max(axis=0, keepdims=True)
         ell = np.exp(d)  # P(R = 1 | s) = L(s) / max L
@@ -315,7 +342,7 @@ class OneStepEFE:
             # q'(s) ∝ ell(s): reuse ell and d instead of a second exponential pass.
             z = ell.sum(axis=0)
             neg_h = np.einsum("kb,kb->b", ell, d) / z - np.log(z)
-            risk = self._kl_to_preference(neg_h, _at(ell, focal) / z)
+            risk = self.preference.kl(neg_h, at_rows(ell, focal) / z)
             if not np.all(fast):
                 risk = np.where(fast, risk, slow)
         # I(S; R) = h(E_q ell) - E_q h(ell), h the binary entropy; ln ell = d exactly.
@@ -334,59 +361,3 @@ class OneStepEFE:
         h_mean = -(xlogy(mean, mean) + xlogy(1 - mean, 1 - mean))
         reading = np.log(2.0) - np.maximum(h_mean - e_h, 0.0)
         return risk, reading
-
-    def grouped_risk(self, base, moved, movers, log_prior, focal, uniform) -> np.ndarray:
-        """``KL[q'_u || C*]`` of perspectives where only one robot's row moves: ``(P, c)``.
-
-        ``base (P, n, m)`` are the log goal probabilities at column 0, ``moved (P, c, m)``
-        the moving robot's row in every column, ``movers (P,)`` that robot.
-        ``q'_u(s) ∝ w(s) exp(f_u[s_i])`` with ``w`` fixed, so grouping the rows by the goal
-        ``s_i`` gives the normaliser, the entropy (between-group + within-group) and the
-        focal mass from per-goal sums computed once: O(m) per candidate. ``log_prior``,
-        ``focal`` and ``uniform`` are one robot's, or per perspective (``(k, P)``,
-        ``(P,)``) in the team call.
-        """
-        per = np.arange(base.shape[0])
-        base = base.copy()
-        base[per, movers] = 0.0
-        b = self.index.row_sums(base)  # (k, P)
-        if np.ndim(uniform) == 0:
-            if not uniform:
-                b = b + log_prior[:, None]
-        elif not np.all(uniform):
-            b = np.where(uniform, b, b + log_prior)
-        b -= b.max(axis=0, keepdims=True)
-        w = np.exp(b)
-        # 0 · log 0 = 0: configurations with zero prior carry no mass and no entropy.
-        wb = np.multiply(w, b, out=np.zeros_like(w), where=w > 0)
-        # (P, m) in C order whatever the number of perspectives: einsum's rounding below
-        # depends on its operands' memory layout, and the team call must match.
-        if np.all(movers == movers[0]):
-            groups = self.index.groups(int(movers[0]))
-            mass = np.ascontiguousarray(np.asarray(groups @ w).T)
-            tilt = np.ascontiguousarray(np.asarray(groups @ wb).T)
-        else:  # several movers (team call): every robot's groups at once, then pick
-            pick = movers[:, None] * self.goals.shape[0] + np.arange(self.goals.shape[0])
-            stacked = self.index.stacked_groups()
-            mass = np.asarray(stacked @ w).T[per[:, None], pick]
-            tilt = np.asarray(stacked @ wb).T[per[:, None], pick]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ln_mass = np.log(mass)
-            h_within = np.where(mass > 0, ln_mass - tilt / np.where(mass > 0, mass, 1), 0.0)
-        f = moved  # (P, c, m)
-        logits = f + ln_mass[:, None, :]
-        top = logits.max(axis=-1, keepdims=True)
-        log_z = top + np.log(np.exp(logits - top).sum(axis=-1, keepdims=True))
-        log_marg = logits - log_z
-        marg = np.exp(log_marg)
-        h = -np.sum(marg * np.where(marg > 0, log_marg, 0.0), axis=-1) + np.einsum(
-            "pcm,pm->pc", marg, h_within
-        )
-        g_star = self.configurations[focal, movers]  # (P,)
-        q_star = np.exp(_at(b, focal)[:, None] + f[per, :, g_star] - log_z[..., 0])
-        return self._kl_to_preference(-h, q_star)
-
-
-def _at(x: np.ndarray, rows) -> np.ndarray:
-    """``x[rows]`` for one row; ``x[rows[j], j]`` for one row per column."""
-    return x[rows] if np.ndim(rows) == 0 else x[rows, np.arange(x.shape[1])]

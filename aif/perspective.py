@@ -30,6 +30,7 @@ from epistemica.aif.evidence import (
     check_order,
     check_robot,
     check_sensors,
+    noise_attenuation,
     stack_evidence,
 )
 
@@ -156,12 +157,15 @@ def predicted_evidence(
     bearing: np.ndarray,
     eta: float,
     eta_bearing: float,
+    position_noise: float = 0.0,
 ) -> np.ndarray:
     """Evidence ``(P, b, n, m)`` of every perspective with ``robot`` at each candidate.
 
     Unchecked core for the controller: ``positions (n, 2)``, ``candidates (b, 2)``,
     ``goals (m, 2)``, ``bearing`` a boolean mask of the bearing robots; ``views[0]`` is
-    ``robot``'s own (root) perspective.
+    ``robot``'s own (root) perspective. With ``position_noise > 0`` (variance, m², of the
+    observed positions of the others) each row is attenuated by
+    :func:`~epistemica.aif.evidence.noise_attenuation` as ``robot`` sees the scene.
 
     Examples
     --------
@@ -188,4 +192,9 @@ def predicted_evidence(
     others = np.arange(positions.shape[0]) != robot
     e[0, :, robot] = e[0, 0, robot]  # own motion is not evidence about own goal
     e[1:, :, others] = e[1:, :1, others]
+    if position_noise > 0:
+        factor = noise_attenuation(
+            positions[None], np.array([robot]), bearing, position_noise, eta, eta_bearing
+        )[0]
+        e *= factor[None, None, :, None]
     return e

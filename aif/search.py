@@ -31,10 +31,38 @@ from epistemica.aif._validate import as_finite, positive_int
 from epistemica.aif.motion import predict_poses
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["prune_dominated", "receding_horizon"]
+__all__ = ["MAX_BEAM", "MAX_HORIZON", "check_search", "prune_dominated", "receding_horizon"]
+
+#: The deepest look-ahead and widest beam accepted: a search costs about horizon x beam
+#: one-step decisions, so these already cost thousands; horizon=10**6 would not return.
+MAX_HORIZON, MAX_BEAM = 64, 256
 
 # Poses equal to this many decimals are the same pose (headings compared wrapped).
 _POSE_DECIMALS = 9
+
+
+def check_search(horizon, beam) -> tuple[int, int]:
+    """``(horizon, beam)`` checked: integers >= 1, at most :data:`MAX_HORIZON` and :data:`MAX_BEAM`.
+
+    Examples
+    --------
+    >>> check_search(3, 4)
+    (3, 4)
+    >>> check_search(1, MAX_BEAM + 1)
+    Traceback (most recent call last):
+    ...
+    epistemica.del_.errors.InvalidArgumentError: beam must be at most 256, got 257
+    hint: a receding horizon is re-planned every step; a few steps suffice
+    """
+    hint = "horizon 1 is the one-step controller"
+    checked = positive_int(horizon, "horizon", hint), positive_int(beam, "beam", hint)
+    for name, value, most in (("horizon", horizon, MAX_HORIZON), ("beam", beam, MAX_BEAM)):
+        if value > most:  # each depth costs about beam one-step decisions
+            raise InvalidArgumentError(
+                f"{name} must be at most {most}, got {value!r}",
+                hint="a receding horizon is re-planned every step; a few steps suffice",
+            )
+    return checked
 
 
 def prune_dominated(nodes, cost, origin, beam: int):

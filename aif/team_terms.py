@@ -1,13 +1,13 @@
 """The expected free energy of every robot of a team in one pass (private).
 
-:meth:`OneStepEFE._terms` handles one robot: its root perspective over the candidate
+:meth:`OneStepEFE.batch_terms` handles one robot: its root perspective over the candidate
 columns, its modelled perspectives grouped by goal. Here the same passes run once for the
 whole team: the root columns of all robots side by side in one ``(k, columns)`` array
 (a robot whose root does not change with its move contributes one column, as in the
 single call), and the modelled perspectives of all robots in one ``(k, perspectives)``
 array, each column with its robot's prior, focal configuration and mover. Used by
 :mod:`~epistemica.aif.team` for the Bayes rule when both arrays stay within the chunk
-size; otherwise it falls back to one ``_terms`` call per robot.
+size; otherwise it falls back to one ``batch_terms`` call per robot.
 """
 
 from __future__ import annotations

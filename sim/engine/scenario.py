@@ -17,21 +17,28 @@ True
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from epistemica.aif.evidence import SENSORS
-from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.engine._scenario_checks import (
+    MAX_STEPS,
+    check_contacts,
+    check_epistemics,
+    check_goal_knowledge,
+    check_mission,
+    check_numbers,
+    check_places,
+    count,
+    fail,
+)
 from epistemica.sim.engine.draws import draw_layout
-from epistemica.sim.engine.dynamics import SENSOR_MODELS, Dynamics, Sensor, Unicycle
+from epistemica.sim.engine.dynamics import SENSOR_MODELS, Dynamics, Sensor
 from epistemica.sim.engine.events import EventRule
-from epistemica.sim.engine.obstacles import CLEARANCE, inside, polygon, polygon_distance
 from epistemica.sim.kinds.base import MissionKind
 from epistemica.sim.kinds.registry import KINDS, PAPER_KINDS
 
-__all__ = ["OBSERVATIONS", "SCENARIO_KINDS", "Scenario"]
+__all__ = ["MAX_GOALS", "MAX_ROBOTS", "MAX_STEPS", "OBSERVATIONS", "SCENARIO_KINDS", "Scenario"]
 
 #: The kinds a :class:`Scenario` holds (a joint mission's world is a
 #: :class:`~epistemica.sim.kinds.collaborative.CollaborativeScenario`).
@@ -39,44 +46,8 @@ SCENARIO_KINDS = tuple(name for name, kind in KINDS.items() if not kind.joint)
 
 #: Observation models: ``"paper"`` (noisy positions) and ``"honest"`` (what the sensor gives).
 OBSERVATIONS = ("paper", "honest")
-#: The longest trial a scenario may ask for (steps): what a mission file accepts too.
-MAX_STEPS = 100_000
 #: The largest team and goal count of the published protocol's scenarios (as mission files).
 MAX_ROBOTS, MAX_GOALS = 12, 64
-
-
-def _fail(message: str, hint: str) -> InvalidArgumentError:
-    return InvalidArgumentError(message, hint=hint)
-
-
-def _array(value, name: str, columns: Sequence[int]) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise _fail(f"{name} must be numbers, got {value!r}", "pass a list of rows") from exc
-    if a.ndim != 2 or a.shape[1] not in columns or a.shape[0] == 0:
-        want = " or ".join(f"(n, {c})" for c in columns)
-        raise _fail(f"{name} must have shape {want}, got {a.shape}", f"one row per {name[:-1]}")
-    if not np.all(np.isfinite(a)):
-        raise _fail(f"{name} contains NaN or infinity", "every coordinate must be a number")
-    return a
-
-
-def _per_robot(value, name: str, n: int, low: float, high: float) -> np.ndarray:
-    a = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
-    if np.any(~(a >= low)) or np.any(a > high):  # ~(a >= low) also catches NaN
-        raise _fail(f"{name} must lie in [{low}, {high}], got {a.tolist()}", "one value per robot")
-    return a
-
-
-def _non_negative(value, name: str, allow_none: bool = False, positive: bool = False):
-    if value is None and allow_none:
-        return None
-    v = float(value)
-    if not math.isfinite(v) or v < 0 or (positive and v == 0):
-        bound = "> 0" if positive else ">= 0"
-        raise _fail(f"{name} must be a finite number {bound}, got {value!r}", f"e.g. {name}=1.0")
-    return v
 
 
 @dataclass(frozen=True, eq=False)
@@ -204,86 +175,26 @@ class Scenario:
             set_(self, "mission", self.mission.name)
         if self.mission not in SCENARIO_KINDS:
             # a joint (collaborative) mission's world is a CollaborativeScenario
-            raise _fail(
+            raise fail(
                 f"unknown mission {self.mission!r}", f"use one of {', '.join(SCENARIO_KINDS)}"
             )
         if not isinstance(self.observation, Sensor) and self.observation not in OBSERVATIONS:
-            raise _fail(
+            raise fail(
                 f"unknown observation model {self.observation!r}",
                 f"use one of {', '.join(OBSERVATIONS)}",
             )
-        starts = _array(self.starts, "starts", (2, 3))
-        if starts.shape[1] == 2:
-            starts = np.column_stack([starts, np.zeros(len(starts))])
-        goals = _array(self.goals, "goals", (2,))
+        starts, goals = check_places(self)
         n, m = starts.shape[0], goals.shape[0]
-        sensors = (self.sensors,) if isinstance(self.sensors, str) else tuple(self.sensors)
-        bad = [s for s in sensors if s not in SENSORS]
-        if bad or len(sensors) != n:
-            raise _fail(
-                f"sensors {list(sensors)!r} for {n} robots",
-                f"one of {', '.join(SENSORS)} per robot",
-            )
-        set_(self, "sensors", sensors)
-        for name in ("position_noise", "angle_noise", "process_noise"):
-            set_(self, name, _non_negative(getattr(self, name), name))
-        for name in ("workspace", "dt", "success_radius"):
-            set_(self, name, _non_negative(getattr(self, name), name, positive=True))
-        for name in ("sensing_range", "discovery_range"):
-            set_(self, name, _non_negative(getattr(self, name), name, allow_none=True))
-        outside = np.any((starts[:, :2] < 0) | (starts[:, :2] > self.workspace), axis=1)
-        if np.any(outside):
-            raise _fail(
-                f"robot {int(np.argmax(outside))} starts at {starts[outside][0, :2].tolist()}, "
-                f"outside the workspace [0, {self.workspace:g}]²",
-                "move the start inside, or enlarge `workspace`",
-            )
-        set_(self, "max_speed", _per_robot(self.max_speed, "max_speed", n, 0.0, 1e6))
-        set_(self, "max_turn", _per_robot(self.max_turn, "max_turn", n, 0.0, math.pi))
-        for name in ("max_steps", "dwell"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-                raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=5")
-            if value > MAX_STEPS:  # a trial's arrays are preallocated per step
-                raise _fail(f"{name} must be at most {MAX_STEPS:,}, got {value!r}", "e.g. 150")
-            set_(self, name, int(value))
-        self._check_goal_knowledge(n, m)
-        self._check_mission(n, m)
-        _check_epistemics(self, n, m)
-        _check_contacts(self, starts, goals)
+        check_numbers(self, starts)
+        check_goal_knowledge(self, n, m)
+        check_mission(self, n, m)
+        check_epistemics(self, n, m)
+        check_contacts(self, starts, goals)
         for name, value in (("starts", starts), ("goals", goals)):
             value.setflags(write=False)
             set_(self, name, value)
         for name in ("max_speed", "max_turn"):
             getattr(self, name).setflags(write=False)
-
-    def _check_goal_knowledge(self, n: int, m: int) -> None:
-        if self.known_goals is None:
-            return
-        known = np.array(self.known_goals)
-        if known.shape != (n, m) or known.dtype != bool:
-            raise _fail(
-                f"known_goals must be ({n}, {m}) booleans, got {known.shape} {known.dtype}",
-                "row i marks the goals robot i knows at the start",
-            )
-        known.setflags(write=False)
-        object.__setattr__(self, "known_goals", known)
-
-    def _check_mission(self, n: int, m: int) -> None:
-        kind = self.kind
-        if kind.capacities:
-            if self.capacities is None:
-                raise _fail("a capacity mission needs `capacities`", "one count per goal")
-            object.__setattr__(self, "capacities", tuple(int(c) for c in self.capacities))
-        elif self.capacities is not None:
-            raise _fail(f"`capacities` given for a {self.mission} mission", "drop it")
-        if kind.tasks:
-            if self.tasking is not None and (not isinstance(self.tasking, int) or self.tasking < 1):
-                raise _fail(f"tasking must be an integer >= 1, got {self.tasking!r}", "e.g. 3")
-            return
-        if kind.count(n, m, self.capacities) == 0:
-            # Building the (empty) set raises the specific error: too few goals, ...
-            kind.configurations(n, m, self.capacities)
 
     @property
     def sensor(self) -> Sensor:
@@ -337,7 +248,7 @@ class Scenario:
         names = {f.name for f in fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
-            raise _fail(f"Scenario has no field {unknown[0]!r}", f"fields: {', '.join(names)}")
+            raise fail(f"Scenario has no field {unknown[0]!r}", f"fields: {', '.join(names)}")
         return replace(self, **changes)
 
     @classmethod
@@ -374,102 +285,14 @@ class Scenario:
         """
         kind = KINDS.get(mission) if isinstance(mission, str) else None
         if kind is None or kind.paper is None:
-            raise _fail(
+            raise fail(
                 f"the paper protocol has no {mission!r} mission",
                 f"use {', '.join(PAPER_KINDS)}",
             )
-        n = _count(robots, "robots", MAX_ROBOTS)
-        m = _count(goals if goals is not None else kind.default_goals(n), "goals", MAX_GOALS)
+        n = count(robots, "robots", MAX_ROBOTS)
+        m = count(goals if goals is not None else kind.default_goals(n), "goals", MAX_GOALS)
         layout = draw_layout(seed, n, m, clustered=kind.tasks)
         defaults = dict(kind.paper)
         starts = np.column_stack([layout.starts, np.zeros(n)])
         task_goals, sensors = layout.goals, layout.sensors
         return cls(mission, starts, task_goals, sensors, **{**defaults, **options})
-
-
-def _check_epistemics(scenario: Scenario, n: int, m: int) -> None:
-    """Names, events, closed goals, told and suggested facts, the table of valid rows."""
-    set_ = object.__setattr__
-    for name, count, prefix in (("robot_names", n, "r"), ("goal_names", m, "g")):
-        names = getattr(scenario, name)
-        names = tuple(f"{prefix}{i + 1}" for i in range(count)) if names is None else names
-        if len(names) != count or len(set(names)) != count:
-            raise _fail(f"{name} must be {count} distinct names, got {names!r}", "one each")
-        set_(scenario, name, tuple(str(x) for x in names))
-    events = tuple(scenario.events)
-    for rule in events:
-        if not isinstance(rule, EventRule):
-            raise _fail(
-                f"events must be EventRule objects, got {rule!r}",
-                "compile them from a mission file, or use "
-                "epistemica.mission.library_event('settle', 'nearby')",
-            )
-    set_(scenario, "events", events)
-    closed = np.zeros(m, dtype=bool) if scenario.closed is None else np.array(scenario.closed)
-    if closed.shape != (m,) or closed.dtype != bool:
-        raise _fail(f"closed must be {m} booleans, got {closed!r}", "one per goal")
-    closed.setflags(write=False)
-    set_(scenario, "closed", closed)
-    for name in ("told", "suggested"):
-        facts = []
-        for observers, formula in getattr(scenario, name):
-            mask = np.asarray(observers, dtype=bool)
-            if mask.shape != (n,):
-                raise _fail(f"{name} observers must be {n} booleans", "one per robot")
-            facts.append((tuple(bool(x) for x in mask), formula))
-        set_(scenario, name, tuple(facts))
-    if scenario.valid is None:
-        return
-    if scenario.kind.tasks:
-        raise _fail(f"`valid` is not used by a {scenario.mission} mission", "drop it")
-    rows = np.array(scenario.valid)
-    if rows.ndim != 2 or rows.shape[1] != n or rows.shape[0] == 0:
-        raise _fail(f"valid must be (k, {n}) goal indices, got {rows.shape}", "one per robot")
-    if not np.issubdtype(rows.dtype, np.integer) or rows.min() < 0 or rows.max() >= m:
-        raise _fail(f"valid must hold goal indices 0..{m - 1}", "one row per configuration")
-    rows.setflags(write=False)
-    set_(scenario, "valid", rows)
-
-
-def _check_contacts(scenario: Scenario, starts: np.ndarray, goals: np.ndarray) -> None:
-    """Dynamics, robot radii and obstacles: no start and no goal inside an obstacle."""
-    set_ = object.__setattr__
-    if scenario.dynamics is None:
-        set_(scenario, "dynamics", Unicycle())
-    elif not isinstance(scenario.dynamics, Dynamics):
-        raise _fail(
-            f"dynamics must have a step(poses, controls, dt) method, got {scenario.dynamics!r}",
-            "use epistemica.sim.engine.dynamics.Unicycle(), or an object of your own",
-        )
-    n = starts.shape[0]
-    if scenario.robot_radius is not None:
-        radius = _per_robot(scenario.robot_radius, "robot_radius", n, 0.0, scenario.workspace)
-        radius.setflags(write=False)
-        set_(scenario, "robot_radius", radius)
-    obstacles = tuple(polygon(p) for p in scenario.obstacles)
-    set_(scenario, "obstacles", obstacles)
-    radii = np.zeros(n) if scenario.robot_radius is None else scenario.robot_radius
-    for k, poly in enumerate(obstacles):
-        for i, start in enumerate(starts[:, :2]):
-            if polygon_distance(start, start, poly) < max(radii[i], CLEARANCE):
-                raise _fail(
-                    f"robot {i} starts at {start.tolist()}, in obstacle {k}",
-                    "move the start (or the obstacle); a place drawn at random may fall "
-                    "in an obstacle: place robots explicitly when there are obstacles",
-                )
-        hit = inside(goals, poly)
-        if hit.any():
-            g = int(np.argmax(hit))
-            raise _fail(
-                f"goal {g} at {goals[g].tolist()} lies in obstacle {k}: no robot can reach it",
-                "move the goal (or the obstacle); a place drawn at random may fall in "
-                "an obstacle: place goals explicitly when there are obstacles",
-            )
-
-
-def _count(value, name: str, limit: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise _fail(f"{name} must be an integer >= 1, got {value!r}", f"e.g. {name}=3")
-    if value > limit:  # the levels' sets of configurations grow as goals^robots
-        raise _fail(f"{name} must be at most {limit}, got {value!r}", "the simulator's limit")
-    return int(value)

@@ -204,7 +204,7 @@ def test_function_form():
 
 
 def test_chunked_passes_agree(monkeypatch):
-    import epistemica.aif.controller as controller_module
+    import epistemica.aif.one_step as one_step_module
 
     sensors = ["bearing", "range", "bearing", "range"]
     rng = np.random.default_rng(5)
@@ -213,13 +213,13 @@ def test_chunked_passes_agree(monkeypatch):
     configs = valid_configurations("allocation", 4, 4)
     cands = predict_poses(poses[0], control_grid())[:, :2]
     whole = Controller(goals, sensors, configs, order=3).terms(0, poses, cands)
-    monkeypatch.setattr(controller_module, "_CHUNK_CELLS", 50)  # two rows' worth per chunk
+    monkeypatch.setattr(one_step_module, "CHUNK_CELLS", 50)  # two rows' worth per chunk
     chunked = Controller(goals, sensors, configs, order=3).terms(0, poses, cands)
     np.testing.assert_allclose(chunked.G, whole.G, atol=1e-12)
 
 
 def test_float32_passes_for_large_sets_agree_with_float64(monkeypatch):
-    import epistemica.aif.controller as controller_module
+    import epistemica.aif.one_step as one_step_module
 
     n = 8
     rng = np.random.default_rng(2)
@@ -229,7 +229,7 @@ def test_float32_passes_for_large_sets_agree_with_float64(monkeypatch):
     configs = valid_configurations("allocation", n, n)  # 40,320 rows: float32 passes
     cands = predict_poses(poses[0], control_grid())[:, :2]
     g32 = Controller(goals, sensors, configs, order=3).evaluate(0, poses, cands)
-    monkeypatch.setattr(controller_module, "_FLOAT32_ROWS", 10**9)
+    monkeypatch.setattr(one_step_module, "FLOAT32_ROWS", 10**9)
     g64 = Controller(goals, sensors, configs, order=3).evaluate(0, poses, cands)
     np.testing.assert_allclose(g32, g64, atol=5e-5)
     assert np.argmin(g32) == np.argmin(g64)

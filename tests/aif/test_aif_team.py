@@ -215,6 +215,21 @@ def _root_risk(ctrl, poses, xs, prior):
     return terms.belief_risk[1:] * views[0].weight
 
 
+def test_a_robot_that_models_nobody_takes_an_empty_list_of_modelled_priors():
+    # At order 2 a bearing robot among range robots models no teammate's belief.
+    ctrl = Controller(
+        [[10, 0], [-10, 0], [0, 10]],
+        ["bearing", "range", "range"],
+        valid_configurations("allocation", 3, 3),
+        order=2,
+    )
+    poses = [[6.0, 1.0, 0.0], [-5.0, 2.0, 1.0], [1.0, 6.0, 0.0]]
+    assert len(ctrl.perspectives(0)) == 1
+    plain = ctrl.decide(0, poses)
+    empty = ctrl.decide(0, poses, modelled_priors=[])
+    assert np.array_equal(plain.G, empty.G) and plain.control == empty.control
+
+
 def test_modelled_priors_are_validated():
     ctrl = _two_goal_controller()
     with pytest.raises(InvalidArgumentError, match="modelled perspectives"):

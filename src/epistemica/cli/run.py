@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 from epistemica.answers import answer, atom_meanings
 from epistemica.cli.exit import EXIT_INTERRUPTED
@@ -188,6 +189,20 @@ def _animate(mission, level: str, seed: int, path: Path, others: list[str]) -> N
     write_page(path.with_suffix(".html"), trial_page(traces[0], mission.name, traces[1:]))
 
 
+class _Claim(NamedTuple):
+    """One line of ``check``'s answer: a claim of the file, or ``--formula``."""
+
+    name: str
+    text: str
+    expected: bool | None  # None: a question, not a claim
+    holds: bool
+    when: str
+
+    @property
+    def failed(self) -> bool:
+        return self.expected is not None and self.expected != self.holds
+
+
 def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
     """``check`` on a mission file: its claims, or ``--formula``, now or ``--after`` steps.
 
@@ -215,67 +230,85 @@ def check_mission(args: argparse.Namespace, text: str | None = None) -> int:
         seed = mission.study.seed if args.seed is None else args.seed
         level = args.reasoning or mission.study.levels[-1]
         where = f"after {args.after} steps of trial {seed} ({level})"
+    asked = None
     if args.formula is not None:
-        formula = parse_formula(args.formula)
-        if args.robot is not None:
-            if args.robot not in mission.robots:
-                raise InvalidArgumentError(
-                    f"unknown robot {args.robot!r}", hint=f"robots: {', '.join(mission.robots)}"
-                )
-            formula = parse_formula(f"K[{args.robot}] ({args.formula})")
-        chosen = model(args.after, args.seed, args.reasoning)
-        expected = None if args.expect is None else args.expect == "true"  # None: a question
-        claims = [("--formula", str(formula), expected, mission.holds(formula, chosen), where)]
-        # A mission's model has a designated world per configuration: say how many.
-        asked = answer(chosen, formula, mission.robots)
+        claim, asked = _formula_claim(mission, args, model, where)
+        claims = [claim]
     else:
-        claims = []
-        for c in mission.checks:
-            after, seed, level = c.after, c.seed, c.level
-            if args.after is not None:  # --after overrides every claim's own moment
-                after, seed, level = args.after, args.seed, args.reasoning
-            label = (
-                where
-                if after is None or args.after is not None
-                else (
-                    f"after {after} steps of trial {mission.study.seed if seed is None else seed}"
-                )
-            )
-            holds = mission.holds(c.check.formula, model(after, seed, level))
-            claims.append((c.check.name, c.check.text, c.check.expected, holds, label))
-    failed = [c for c in claims if c[2] is not None and c[2] != c[3]]
-    if args.formula is None:
-        asked = None
+        claims = _file_claims(mission, args, model, where)
+    failed = [c for c in claims if c.failed]
     if args.json:
         out = [
             {
-                "name": n,
-                "formula": t,
-                "expected": e,
-                "holds": h,
-                "ok": None if e is None else e == h,
-                "when": w,
+                "name": c.name,
+                "formula": c.text,
+                "expected": c.expected,
+                "holds": c.holds,
+                "ok": None if c.expected is None else not c.failed,
+                "when": c.when,
             }
-            for n, t, e, h, w in claims
+            for c in claims
         ]
         if asked is not None:
             out[0].update(true_in=asked[0], designated=asked[1])
         print_json("mission-check", {"file": args.file, "when": where, "claims": out})
         return EXIT_FALSE if failed else EXIT_OK
-    robots = ", ".join(mission.robots)
-    print(f"{args.file}: {where}; {model(args.after, args.seed, args.reasoning).n_worlds} "
-          f"worlds, robots {robots}")  # fmt: skip
-    for name, text, expected, holds, label in claims:
-        mark = "    " if expected is None else "ok  " if expected == holds else "FAIL"
-        moment = "" if label == where else f" [{label}]"
-        word = "true " if holds else "false"
-        if asked is not None and 0 < asked[0] < asked[1]:
-            word = "neither"
-        print(f"  {mark}  {word}  {name}{moment}: {text}")
-    if asked is not None:
-        print(f"          {asked[2]}")
-        for line in atom_meanings(args.formula, mission.robots):
-            print(f"          {line}")
+    chosen = model(args.after, args.seed, args.reasoning)
+    print(f"{args.file}: {where}; {chosen.n_worlds} worlds, robots {', '.join(mission.robots)}")
+    _print_claims(claims, where, asked, args.formula, mission.robots)
     if args.formula is None or args.expect is not None:
         print(f"{len(claims) - len(failed)} passed, {len(failed)} failed")
     return EXIT_FALSE if failed else EXIT_OK
+
+
+def _formula_claim(mission, args: argparse.Namespace, model, where: str) -> tuple[_Claim, tuple]:
+    """``--formula`` (as ``--robot`` knows it) on the chosen model, and :func:`answer`'s
+    count of the designated configurations where it is true."""
+    formula = parse_formula(args.formula)
+    if args.robot is not None:
+        if args.robot not in mission.robots:
+            raise InvalidArgumentError(
+                f"unknown robot {args.robot!r}", hint=f"robots: {', '.join(mission.robots)}"
+            )
+        formula = parse_formula(f"K[{args.robot}] ({args.formula})")
+    chosen = model(args.after, args.seed, args.reasoning)
+    expected = None if args.expect is None else args.expect == "true"  # None: a question
+    claim = _Claim("--formula", str(formula), expected, mission.holds(formula, chosen), where)
+    # A mission's model has a designated world per configuration: say how many.
+    return claim, answer(chosen, formula, mission.robots)
+
+
+def _file_claims(mission, args: argparse.Namespace, model, where: str) -> list[_Claim]:
+    """The file's claims, each at its own moment unless ``--after`` sets one for all."""
+    claims = []
+    for c in mission.checks:
+        after, seed, level = c.after, c.seed, c.level
+        if args.after is not None:  # --after overrides every claim's own moment
+            after, seed, level = args.after, args.seed, args.reasoning
+        label = (
+            where
+            if after is None or args.after is not None
+            else (f"after {after} steps of trial {mission.study.seed if seed is None else seed}")
+        )
+        holds = mission.holds(c.check.formula, model(after, seed, level))
+        claims.append(_Claim(c.check.name, c.check.text, c.check.expected, holds, label))
+    return claims
+
+
+def _print_claims(claims: list[_Claim], where: str, asked, formula, robots) -> None:
+    """One line per claim (``ok``/``FAIL`` when it has an expected value); for ``--formula``
+    the count of configurations and what its atoms stand for."""
+    for claim in claims:
+        if claim.expected is None:
+            mark = "    "
+        else:
+            mark = "FAIL" if claim.failed else "ok  "
+        moment = "" if claim.when == where else f" [{claim.when}]"
+        word = "true " if claim.holds else "false"
+        if asked is not None and 0 < asked[0] < asked[1]:
+            word = "neither"
+        print(f"  {mark}  {word}  {claim.name}{moment}: {claim.text}")
+    if asked is not None:
+        print(f"          {asked[2]}")
+        for line in atom_meanings(formula, robots):
+            print(f"          {line}")
