@@ -248,14 +248,7 @@ class Planner:
             context.evidence = context.evidence + as_finite(
                 evidence, "evidence", ndim=2, shape=context.times.shape
             )
-        G = context.costs((robot,), self.order)
-        if self.convention > 0:  # the shared tie-break: symmetric standoffs resolve alike
-            mass = np.bincount(self.configurations[:, robot], weights=weights,
-                               minlength=G.shape[0])  # fmt: skip
-            G = G + self.convention * self.tau * (1.0 - mass / mass.max())
-        if previous is not None and 0 <= previous < G.shape[0] and np.isfinite(G[previous]):
-            G = G + self.commitment * self.tau
-            G[previous] -= self.commitment * self.tau
+        G = self._own_costs(context, robot, weights, previous)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
         preds = np.stack(
@@ -265,13 +258,24 @@ class Planner:
         if self.horizon > 1 and self.order >= 1 and n > 1:
             wait = context.waiting(robot, preds, moving)
         best = int(np.argmin(G))
-        goal = WAIT if wait < G[best] else best
+        goal = WAIT if wait < G[best] or not np.isfinite(G[best]) else best
         belief = context.belief((robot,), preds)
-        chosen = self.configurations[:, robot] == goal
-        focal = int(np.argmax(np.where(chosen, belief, -1.0))) if goal != WAIT else int(
-            np.argmax(belief)
-        )  # fmt: skip
+        mine = self.configurations[:, robot] == goal if goal != WAIT else np.ones(len(belief))
+        focal = int(np.argmax(np.where(mine, belief, -1.0)))
         return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal)
+
+    def _own_costs(self, context, robot: int, weights, previous) -> np.ndarray:
+        """``(m,)`` the robot's own expected times, with the convention's tie-break and
+        the cost of changing its goal."""
+        G = context.costs((robot,), self.order)
+        if self.convention > 0:  # the shared tie-break: symmetric standoffs resolve alike
+            mass = np.bincount(self.configurations[:, robot], weights=weights,
+                               minlength=G.shape[0])  # fmt: skip
+            G = G + self.convention * self.tau * (1.0 - mass / mass.max())
+        if previous is not None and 0 <= previous < G.shape[0] and np.isfinite(G[previous]):
+            G = G + self.commitment * self.tau
+            G[previous] -= self.commitment * self.tau
+        return G
 
 
 class _Context:
@@ -339,10 +343,10 @@ class _Context:
         for level in orders:
             G = self.costs(chain, level)
             finite = np.isfinite(G)
-            q += (
-                np.where(finite, np.exp(-(G - G[finite].min()) / self.p.tau), 0.0)
-                / np.exp(-(G[finite] - G[finite].min()) / self.p.tau).sum()
-            )
+            if not finite.any():  # a chain with an empty set predicts nothing at this order
+                continue
+            weights = np.where(finite, np.exp(-(G - G[finite].min()) / self.p.tau), 0.0)
+            q += self.p.hierarchy ** (max(order, 0) - level) * weights / weights.sum()
         if len(chain) > 1:  # a teammate: weigh by where it is seen and how it moves
             q = q * np.exp(self.evidence[chain[-1]] - self.evidence[chain[-1]].max())
         total = q.sum()

@@ -8,8 +8,11 @@ configurations of the goals it knows of. The parts, each with one job:
 - :mod:`~epistemica.sim.policies.search`: the rendezvous search for missing teammates;
 - :class:`~epistemica.sim.policies.explore.Explorer`: a robot that knows too few goals sweeps the
   workspace;
-- this module: the team prior (from the common view), the controllers (one team call per
-  shared controller) and the record of each decision.
+- :mod:`~epistemica.sim.policies.active_stages`: the controller over a set, the team prior
+  (from the common view) and the act: one team call per shared controller, the planner
+  (:mod:`~epistemica.sim.policies.planning`), or the prior's mode;
+- this module: the pipeline, each stage returning values (sets -> priors -> act ->
+  record), and the record of each decision.
 
 Every rule and constant is a field of :class:`~epistemica.sim.policies.parameters.ActiveParameters`.
 The control grid respects the robot's limits: four speeds up to its ``max_speed`` and
@@ -19,23 +22,19 @@ in ``[-max_turn, max_turn]``).
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
 
 from epistemica.aif.controller import Controller
-from epistemica.aif.decision import Decision
 from epistemica.aif.information import entropy
-from epistemica.aif.motion import DEFAULT_HEADING_CHANGES, control_grid
-from epistemica.aif.prior import shared_rank, team_log_prior
 from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.active_stages import ControllerStage
 from epistemica.sim.policies.anticipation import anticipated_prior
 from epistemica.sim.policies.baselines import Convention
 from epistemica.sim.policies.common_view import CommonView
 from epistemica.sim.policies.configuration_sets import ConfigurationSets, nested_sets
 from epistemica.sim.policies.explore import Explorer
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.policies.planning import PlanningStage, chains_of
+from epistemica.sim.policies.planning import chains_of
 from epistemica.sim.policies.policy import Decisions, Policy, steer
 from epistemica.sim.policies.search import RendezvousSearch
 from epistemica.sim.policies.teammate_models import TeammateModels
@@ -44,17 +43,6 @@ __all__ = ["ORDERS", "ActiveInference"]
 
 #: Order of reasoning of each active-inference level.
 ORDERS = {"first": 1, "second": 2, "third": 3}
-
-
-def _grid(max_speed: float, max_turn: float, headings: int) -> np.ndarray:
-    speeds = max_speed * np.array([0.0, 1 / 3, 2 / 3, 1.0])
-    if max_turn >= np.pi and headings == len(DEFAULT_HEADING_CHANGES):
-        changes = DEFAULT_HEADING_CHANGES
-    elif max_turn >= np.pi:
-        changes = np.linspace(-np.pi, np.pi, headings, endpoint=False)
-    else:
-        changes = np.linspace(-max_turn, max_turn, headings + 1)
-    return control_grid(speeds, changes)
 
 
 class ActiveInference(Policy):
@@ -93,11 +81,8 @@ class ActiveInference(Policy):
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)
         p = self.parameters
-        self._controllers: dict[tuple, Controller] = {}
-        # Keyed by the controller object, weakly: per-step controllers come and go, and
-        # an id() of a collected one may be reused by the next.
-        self._ranks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-        self._beliefs: dict[int, tuple[Controller, np.ndarray]] = {}  # robot -> (ctrl, q)
+        self._stage = ControllerStage(scenario, p, self.order)
+        self._plans = self._stage.plans
         self._sets = ConfigurationSets(scenario, p)
         # Too few goals known for any valid configuration: sweep the workspace for more,
         # then fall back to the convention on what is known.
@@ -122,51 +107,6 @@ class ActiveInference(Policy):
             else None
         )
         self.common_view = CommonView(scenario, p, self.order)
-        self._plans = PlanningStage(scenario, p, self.order) if p.planning else None
-
-    # -- controllers and priors ----------------------------------------------------------
-
-    def _controller(self, robot: int, goals: np.ndarray, rows, shared: bool) -> Controller:
-        s = self.scenario
-        if not shared:  # a set of its own each step: no caching
-            return self._build(robot, goals, rows())
-        key = (float(s.max_speed[robot]), float(s.max_turn[robot]), goals.tobytes())
-        ctrl = self._controllers.get(key)
-        if ctrl is None:
-            ctrl = self._build(robot, goals, rows())
-            if len(self._controllers) > 64:  # multitask subsets change: bound the cache
-                self._controllers.clear()
-            self._controllers[key] = ctrl
-        return ctrl
-
-    def _build(self, robot: int, goals: np.ndarray, rows: np.ndarray) -> Controller:
-        s, p = self.scenario, self.parameters
-        options = {"position_noise": s.position_noise, **dict(p.controller)}
-        grid = _grid(s.max_speed[robot], s.max_turn[robot], p.headings)
-        return Controller(
-            s.goals[goals], s.sensors, rows, order=self.order, controls=grid, dt=s.dt, **options
-        )
-
-    def _priors(self, ctrl: Controller, views: np.ndarray, robots) -> list:
-        """Each robot's prior from its own view ``views[j]`` (``None``: uniform)."""
-        p = self.parameters
-        log_prior = np.zeros((len(robots), ctrl.configurations.shape[0]))
-        if p.prior_scale is not None:
-            rank = self._ranks.get(ctrl)
-            if rank is None:
-                rank = self._ranks[ctrl] = shared_rank(ctrl.goals, ctrl.configurations)
-            log_prior += team_log_prior(
-                views, ctrl.goals, ctrl.configurations, p.prior_scale, p.tie_weight, rank
-            )
-        for j, robot in enumerate(robots):
-            remembered = self._beliefs.get(robot)
-            if p.memory > 0 and remembered is not None and remembered[0] is ctrl:
-                with np.errstate(divide="ignore"):
-                    log_prior[j] += p.memory * np.log(remembered[1])
-        top = log_prior.max(axis=1, keepdims=True)
-        prior = np.exp(np.maximum(log_prior - top, p.log_prior_floor))
-        # Each row normalised alone: a 1-D sum rounds as the single robot's call did.
-        return [q / q.sum() if lp.any() else None for q, lp in zip(prior, log_prior, strict=True)]
 
     # -- the step ------------------------------------------------------------------------
 
@@ -200,28 +140,17 @@ class ActiveInference(Policy):
                 self._decide_nested(out, row, observations, robot, choice)
                 continue
             out.unpruned[row] = -1
-            ctrl = self._controller(robot, choice.goals, choice.rows, choice.shared)
+            ctrl = self._stage.controller(robot, choice.goals, choice.rows, choice.shared)
             groups.setdefault(id(ctrl), (ctrl, choice.goals, []))[2].append((row, robot))
         for ctrl, goals, members in groups.values():
             rows, team = zip(*members, strict=True)
-            priors = self._priors(ctrl, self.common_view.views(observations, team), team)
+            priors = self._stage.priors(ctrl, self.common_view.views(observations, team), team)
             if self._teammates is not None:
                 private = [self.common_view.private(robot) for robot in team]
                 priors = self._teammates.mix(
                     team, observations, goals, ctrl.configurations, priors, private
                 )
-            if not self.parameters.free_energy:
-                decisions = [
-                    self._prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
-                    for robot, prior in zip(team, priors, strict=True)
-                ]
-            elif self._plans is not None:
-                decisions = [
-                    self._plans.decide(ctrl, goals, robot, observations, prior)
-                    for robot, prior in zip(team, priors, strict=True)
-                ]
-            else:
-                decisions = ctrl.decide_team(observations.poses, team, priors)
+            decisions = self._stage.act(ctrl, goals, team, observations, priors)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         if self._teammates is not None:  # what each robot reads of its teammates, for the record
@@ -241,19 +170,6 @@ class ActiveInference(Policy):
             return
         if target is not None:
             self._steer(out, row, robot, pose, target)
-
-    def _prior_mode(self, ctrl: Controller, robot: int, pose, prior) -> Decision:
-        """The ablation of expected free energy: straight for the robot's own goal in the
-        prior's most probable configuration (the first on ties; uniform when ``None``)."""
-        k = ctrl.configurations.shape[0]
-        belief = np.full(k, 1.0 / k) if prior is None else np.asarray(prior, dtype=float)
-        focal = int(np.argmax(belief))
-        target = ctrl.goals[ctrl.configurations[focal, robot]]
-        s = self.scenario
-        control = steer(pose[None], target[None], s.max_speed[[robot]], s.max_turn[[robot]], s.dt)
-        empty = np.zeros(0)
-        return Decision((float(control[0, 0]), float(control[0, 1])), -1, empty, empty, belief,
-                        focal)  # fmt: skip
 
     def _steer(self, out: Decisions, row: int, robot: int, pose, target) -> None:
         """Drive ``robot`` straight for ``target`` (exploring and searching)."""
@@ -292,8 +208,8 @@ class ActiveInference(Policy):
             self.parameters.revision,
         )
         keep = sets.union
-        ctrl = self._controller(robot, choice.goals, lambda: rows[keep], shared=False)
-        base = self._priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]
+        ctrl = self._stage.controller(robot, choice.goals, lambda: rows[keep], shared=False)
+        base = self._stage.priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]
         base = np.full(int(keep.sum()), 1.0) if base is None else base
         if self._teammates is not None:  # every perspective starts from the type mixture
             base = self._teammates.mix(
@@ -319,7 +235,7 @@ class ActiveInference(Policy):
             def redecide(teammate: int, goal: int) -> np.ndarray:
                 moved = view.copy()
                 moved[teammate, :2] = ctrl.goals[goal]
-                prior = self._priors(ctrl, moved[None], (robot,))[0]
+                prior = self._stage.priors(ctrl, moved[None], (robot,))[0]
                 return np.full(len(base), 1.0) if prior is None else prior
 
             own = anticipated_prior(
@@ -339,7 +255,7 @@ class ActiveInference(Policy):
                 modelled_priors=[restricted(m) for m in sets.modelled] or None,
             )
         else:
-            d = self._prior_mode(ctrl, robot, observations.poses[robot, robot], own)
+            d = self._stage.prior_mode(ctrl, robot, observations.poses[robot, robot], own)
         self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
 
     def _record_nested(self, out, row, robot, ctrl, choice, rows, sets, d) -> None:
@@ -358,8 +274,7 @@ class ActiveInference(Policy):
         return {j: m for j, m in sets.pairs.items() if (sets.own & ~m).any()}
 
     def _record(self, out: Decisions, row: int, robot: int, ctrl, goals, d) -> None:
-        if self.parameters.memory > 0:
-            self._beliefs[robot] = (ctrl, d.belief)
+        self._stage.remember(robot, ctrl, d.belief)
         out.controls[row] = d.control
         out.focal[row] = goals[ctrl.configurations[d.focal]]
         out.entropy[row] = entropy(d.belief)
