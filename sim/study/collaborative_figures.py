@@ -7,7 +7,7 @@ out once done), each robot (disc, trail, dashed sensing circle) with what it doe
 (``explore``, ``fetch``, or the task it heads to) and rings around the robots that observed
 an event at that moment. Beside it: which robot knows of which task, and what one robot
 (the one that fetched teammates most often: its reason to fetch is a teammate that does
-not know) knows each teammate knows, both read from the trace's ``knows`` and
+not know) knows each teammate knows, both read from the trace's ``tasks_known`` and
 ``aware_since``; and the events observed so far with their observers.
 
 Examples
@@ -68,7 +68,7 @@ class CollaborativeFrame:
         self.robots, self.tasks = list(trace["robots"]), list(trace["goals"])
         n, m = len(self.robots), len(self.tasks)
         self.poses = np.asarray(trace["poses"], dtype=float)
-        self.knows = np.asarray(trace["knows"], dtype=int).reshape(-1, n, m)
+        self.knows = np.asarray(trace["tasks_known"], dtype=int).reshape(-1, n, m)
         self.steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, n)
         self.since = np.asarray(trace["aware_since"], dtype=int).reshape(n, n, m)
         self.done = np.asarray(trace["tasks_done"], dtype=int)
