@@ -30,8 +30,16 @@ from epistemica.input_files import read_input
 from epistemica.mission import parse_mission
 from epistemica.output_files import check_output
 from epistemica.sim.engine.simulate import simulate
-from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
-from epistemica.sim.study.trace import FORMAT, READABLE, decode, trial_trace
+from epistemica.sim.kinds.registry import kind_of_trace
+from epistemica.sim.study.palette import ROBOT_COLOURS, fetching_robot, focus_robot
+from epistemica.sim.study.trace import (
+    FORMAT,
+    READABLE,
+    decode,
+    task_learning,
+    trial_trace,
+    upgraded,
+)
 
 __all__ = ["read_trace", "run_view", "trial_page"]
 
@@ -158,35 +166,41 @@ def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] 
     >>> "demo: 2 robots, seed 0: zero failed within 5 steps; first" in html
     True
     """
-    traces = [trace, *others]
-    for t in traces:
+    traces = []
+    for t in [trace, *others]:
         if not isinstance(t, dict) or t.get("format") != FORMAT:
             raise InvalidArgumentError(
                 "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
             )
-        if t.get("kind") is not None:  # a joint trial: no beliefs or sets to replay
-            raise InvalidArgumentError(
-                "a collaborative trial's trace has no beliefs or configuration sets to replay",
-                hint="read it with epistemica.sim.study.store.read_trace; the page replays "
-                "other missions",
-            )
-        _check_fields(t)
-    trials = [{"trace": t, "level": _level(t), "focus": _focus(t)} for t in traces]
+        traces.append(upgraded(t))
+    trials = [_trial(t) for t in traces]
+    if len({tuple(p["panels"]) for p in trials}) > 1:
+        raise InvalidArgumentError(
+            "the traces are of different kinds of mission", hint="compare levels of one trial"
+        )
     verdicts = "; ".join(f"{p['level']} {_outcome(p['trace'])}" for p in trials)
     head = f"{mission}: " if mission else ""
-    title = f"{head}{len(trace['robots'])} robots, seed {trace['seed']}: {verdicts}"
+    title = f"{head}{len(traces[0]['robots'])} robots, seed {traces[0]['seed']}: {verdicts}"
     data = {"trials": trials, "colours": list(ROBOT_COLOURS), "fps": _FPS}
     return page(title, "trial_view.js", data)
 
 
-def _focus(trace: dict[str, Any]) -> int:
+def _trial(trace: dict[str, Any]) -> dict[str, Any]:
+    """A column's data: the trace, its level, its kind's panels, the robot whose model of
+    its teammates is shown first and, of a joint trial, how each robot learned each task."""
+    kind = kind_of_trace(trace)
+    _check_fields(trace, _JOINT_FIELDS if kind.joint else _GOAL_FIELDS)
+    column = {"trace": trace, "level": _level(trace), "panels": list(kind.panels)}
     try:
-        return focus_robot(trace)
+        column["focus"] = fetching_robot(trace) if kind.joint else focus_robot(trace)
+        if kind.joint:
+            column["learned"] = task_learning(trace)
     except (KeyError, TypeError, ValueError, IndexError) as exc:  # a hand-made trace
         raise InvalidArgumentError(
             f"the trace is incomplete ({type(exc).__name__}: {exc})",
             hint="traces are written by epistemica.sim.study.trace",
         ) from None
+    return column
 
 
 def _level(trace: dict[str, Any]) -> str:
@@ -202,9 +216,14 @@ def _outcome(trace: dict[str, Any]) -> str:
 #: The fields the page's title and focus are read from, with their JSON types.
 _FIELDS = {"robots": list, "goals": list, "policies": list, "poses": list, "seed": int,
            "success": bool, "steps": int}  # fmt: skip
+_GOAL_FIELDS = {**_FIELDS, "modelled": list, "considered": list}
+#: A joint trial's: its task ledger and what each robot steered to.
+_JOINT_FIELDS = {**_FIELDS, "goal_positions": list, "needs": list, "tasks_done": list,
+                 "steer_to": list, "tasks_known": list, "aware_since": list, "events": list,
+                 "sensing_range": (int, float)}  # fmt: skip
 
 
-def _check_fields(trace: dict[str, Any]) -> None:
+def _check_fields(trace: dict[str, Any], fields: dict[str, Any]) -> None:
     """Refuse a trace of another version or without the fields the page reads."""
     if trace.get("version") not in READABLE:
         raise InvalidArgumentError(
@@ -212,9 +231,12 @@ def _check_fields(trace: dict[str, Any]) -> None:
             + ", ".join(map(str, READABLE)),
             hint="re-run the trial with this version",
         )
-    for key, kind in _FIELDS.items():
-        if not isinstance(trace.get(key), kind):
+    for key, kind in fields.items():
+        if not isinstance(trace.get(key), kind) or isinstance(trace.get(key), bool) != (
+            kind is bool
+        ):
+            name = "number" if isinstance(kind, tuple) else kind.__name__
             raise InvalidArgumentError(
-                f"the trace's {key!r} is {trace.get(key)!r:.40}, not a JSON {kind.__name__}",
+                f"the trace's {key!r} is {trace.get(key)!r:.40}, not a JSON {name}",
                 hint="traces are written by epistemica.sim.study.trace",
             )

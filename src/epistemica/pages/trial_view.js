@@ -1,9 +1,16 @@
 // epistemica trial replay: one column per trial (two levels of the same seed side by side),
-// one shared slider. Each column: the map (obstacles, goals open and closed, axes in metres,
-// sensing radii, estimates, events), what each robot knows (the goals it knows of and how it
-// learned them, the configuration it acts on, its configuration set), the focus robot's
-// model of each teammate's knowledge, each robot's belief, the set sizes and the events.
-// Traces: format epistemica-trace, version 1 or 2; the knowledge fields are optional.
+// one shared slider. Each column: the map (obstacles, goals or tasks, axes in metres, sensing
+// radii, events), then the panels its mission kind names (page.trials[k].panels, the kind's
+// `panels`), each drawn by its builder in PANELS:
+//   goal missions   knowledge (the goals each robot knows of and how, the configuration it
+//                   acts on and its set; a chosen robot's model of each teammate's
+//                   knowledge), belief, sets (configuration-set sizes, teammate reading),
+//                   events; on the map, where each robot places each teammate;
+//   joint missions  targets (what each robot steers to, on the map and in a table; tasks
+//                   with the robots they need and when they were done), tasks_known (the
+//                   tasks each robot knows of, since when and how), teammates_known (what a
+//                   chosen robot knows each teammate knows of), events.
+// Traces: format epistemica-trace, version 1 to 3; the knowledge fields are optional.
 // The page state is exposed as window.epistemicaView for scripts and tests.
 "use strict";
 (function () {
@@ -28,6 +35,36 @@
     return [1, 2, 5, 10].map((f) => f * p).find((s) => s >= raw);
   }
 
+  // A table of robots (rows, in their colours) by goals or tasks (columns), then the
+  // columns `extra` names ([class, heading] each); its goal headings and cells.
+  function robotTable(parent, attrs, t, rows, extra) {
+    const table = el("table", attrs, parent);
+    const head = el("tr", {}, table);
+    el("th", {}, head, "");
+    const heads = t.goals.map((g) => el("th", {}, head, g));
+    (extra || []).forEach(([, heading]) => el("th", {}, head, heading));
+    const cells = rows.map((i) => {
+      const tr = el("tr", { "data-robot": t.robots[i] }, table);
+      el("th", { style: `color:${colour(i)}` }, tr, t.robots[i]);
+      return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
+        extra: (extra || []).map(([name]) => el("td", { class: name }, tr, "")) };
+    });
+    return { heads, cells };
+  }
+
+  // A select of the robot whose model of its teammates a panel shows, in a heading.
+  function robotChooser(ctx, id, text, onChange) {
+    const title = el("h3", {}, ctx.col, "");
+    const chooser = el("select", { class: "model-robot", id: id }, title);
+    ctx.t.robots.forEach((r, i) => {
+      const option = el("option", { value: i }, chooser, r);
+      if (i === ctx.focus) option.selected = true;
+    });
+    title.append(text);
+    chooser.addEventListener("change", () => onChange(Number(chooser.value)));
+    return chooser;
+  }
+
   const outcome = (t) => (t.success ? `succeeded at step ${t.steps}`
     : `failed: not done within ${t.steps} steps`);
 
@@ -38,34 +75,11 @@
   const slider = el("input", { id: "step", type: "range", min: 0, max: last, value: 0 }, controls);
   const label = el("span", { id: "step-label" }, controls);
   const columns = el("div", { class: "row" }, app);
-  const views = page.trials.map((p, k) => column(p, k));
 
-  function column(p, k) {
-    const t = p.trace, focus = p.focus, n = t.robots.length, m = t.goals.length;
-    const col = el("div", { class: "column", id: `trial-${k}`, "data-level": p.level }, columns);
-    el("h2", { class: "level" }, col, `${p.level}: ${outcome(t)}`);
-
-    // Knowledge per step, from the optional `knows` changes (absent: all common knowledge).
-    const known = [], how = [];  // known[step][i][j][g]; how[i][j][g] = [step, how]
-    const blank = () => t.robots.map(() => t.robots.map(() => t.goals.map(() => false)));
-    let now = t.knows ? blank() : t.robots.map(() => t.robots.map(() => t.goals.map(() => true)));
-    for (let i = 0; i < n; i++) how.push(t.robots.map(() => t.goals.map(() => [0, "start"])));
-    const byStep = {};
-    (t.knows || []).forEach((c) => (byStep[c[0]] = byStep[c[0]] || []).push(c));
-    for (let s = 0; s <= t.steps; s++) {
-      if (byStep[s]) {
-        now = now.map((a) => a.map((b) => b.slice()));
-        for (const [step, i, j, g, v, h] of byStep[s]) {
-          now[i][j][g] = !!v;
-          if (v) how[i][j][g] = [step, h];
-        }
-      }
-      known.push(now);
-    }
-    // Closed goals per step, from the optional `closed` changes.
-    const closedAt = [];
+  // Closed goals per step, from the optional `closed` changes.
+  function closedSteps(t) {
+    const closedAt = [], closing = {};
     let shut = t.goals.map(() => false);
-    const closing = {};
     (t.closed || []).forEach((c) => (closing[c[0]] = closing[c[0]] || []).push(c));
     for (let s = 0; s <= t.steps; s++) {
       if (closing[s]) {
@@ -74,8 +88,14 @@
       }
       closedAt.push(shut);
     }
+    return closedAt;
+  }
 
-    // The map: world coordinates in metres, y up, with axes and a scale bar.
+  // The map: world coordinates in metres, y up, with axes and a scale bar; goals (tasks),
+  // obstacles; each step the trails, sensing circles, event rings and robots, and what the
+  // panels add (ctx.overlays).
+  function buildMap(ctx) {
+    const t = ctx.t, k = ctx.k, n = ctx.n;
     const pts = [];
     t.poses.forEach((s) => s.forEach((q) => pts.push(q)));
     t.goal_positions.forEach((g) => pts.push(g));
@@ -87,8 +107,9 @@
     const size = 430, margin = 30, span = Math.max(hi[0] - lo[0], hi[1] - lo[1]);
     const scale = (size - margin - 6) / span;
     const X = (x) => margin + (x - lo[0]) * scale, Y = (y) => size - margin - (y - lo[1]) * scale;
+    Object.assign(ctx, { X, Y, scale });
     const map = el("svg:svg", { class: "map", id: `map-${k}`, width: size, height: size,
-      viewBox: `0 0 ${size} ${size}` }, col);
+      viewBox: `0 0 ${size} ${size}` }, ctx.col);
     const tick = tickStep(span, 6), axes = el("svg:g", { class: "axes" }, map);
     el("svg:line", { x1: margin, y1: size - margin, x2: size - 4, y2: size - margin,
       stroke: "#888" }, axes);
@@ -115,7 +136,7 @@
     (t.obstacles || []).forEach((poly) => el("svg:polygon", {
       points: poly.map((q) => `${X(q[0])},${Y(q[1])}`).join(" "), fill: "#777",
       "fill-opacity": 0.55, stroke: "#333", class: "obstacle" }, map));
-    const goalMarks = t.goal_positions.map((g, j) => {
+    ctx.goalMarks = t.goal_positions.map((g, j) => {
       el("svg:circle", { cx: X(g[0]), cy: Y(g[1]), r: t.success_radius * scale,
         fill: "#ccc", "fill-opacity": 0.5, class: "goal-area" }, map);
       const star = [];
@@ -126,69 +147,189 @@
       const mark = el("svg:polygon", { points: star.join(" "), class: "goal",
         "data-name": t.goals[j] }, map);
       const name = el("svg:text", { x: X(g[0]) + 9, y: Y(g[1]) - 7, "font-size": 13,
-        "font-weight": 700 }, map, t.goals[j]);
+        "font-weight": 700, class: "goal-name" }, map, t.goals[j]);
       return [mark, name];
     });
     const layer = el("svg:g", { class: "moving" }, map);
-    const legend = el("div", { class: "legend" }, col);
-    t.robots.forEach((r, i) => {
-      const s = el("span", {}, legend);
-      el("span", { class: "swatch", style: `background:${colour(i)}` }, s);
-      s.appendChild(document.createTextNode(`${r} (${t.sensors[i]}, ${t.policies[i]})`));
-    });
-    el("div", { class: "note" }, col, "★ goal (grey disc: success radius; ☆ hollow: closed); "
-      + "dark polygon: obstacle; dashed circle: sensing radius; × in a robot's colour: where "
-      + "it places a teammate; ring: observed an event; a robot under another is drawn as a "
-      + "wider ring around it");
+    ctx.layer = layer;
+    ctx.closedAt = closedSteps(t);
+    // A goal drawn open (filled) or closed (hollow), named as `text` says.
+    ctx.markGoal = (j, closed, text) => {
+      const [mark, name] = ctx.goalMarks[j];
+      mark.setAttribute("fill", closed ? "#fff" : "#000");
+      mark.setAttribute("stroke", closed ? "#000" : "#fff");
+      mark.setAttribute("stroke-width", closed ? 1.5 : 1);
+      mark.classList.toggle("closed", closed);
+      name.textContent = text;
+    };
 
-    // What each robot knows: the goals it knows of (and how, from which step), the
-    // configuration it acts on and the size of its configuration set.
-    el("h3", {}, col, "What each robot knows (✓ knows of the goal: how, step; · does not; "
+    ctx.drawMap = (step) => {
+      layer.replaceChildren();
+      const pose = t.poses[step];
+      ctx.closedAt[step].forEach((c, j) => ctx.markGoal(j, c,
+        c ? `${t.goals[j]} (closed)` : t.goals[j]));
+      for (let i = 0; i < n; i++) {
+        const trail = t.poses.slice(0, step + 1).map((q) => `${X(q[i][0])},${Y(q[i][1])}`);
+        el("svg:polyline", { points: trail.join(" "), fill: "none", stroke: colour(i),
+          "stroke-width": 1.5, "stroke-opacity": 0.7 }, layer);
+        if (t.sensing_range !== null) {
+          el("svg:circle", { cx: X(pose[i][0]), cy: Y(pose[i][1]), r: t.sensing_range * scale,
+            fill: "none", stroke: colour(i), "stroke-dasharray": "6 4", class: "sensing",
+            "data-robot": t.robots[i] }, layer);
+        }
+      }
+      ctx.overlays.forEach((draw) => draw(step, pose));
+      for (const e of t.events) {
+        if (e[0] !== step) continue;
+        for (const o of e[3]) {
+          el("svg:circle", { cx: X(pose[o][0]), cy: Y(pose[o][1]), r: 16, fill: "none",
+            stroke: colour(o), "stroke-width": 3, class: "event-ring" }, layer);
+        }
+      }
+      // Robots: one drawn where an earlier one already is (within a marker) gets a wider
+      // ring, so that a robot under another stays visible.
+      const placed = [];
+      for (let i = 0; i < n; i++) {
+        const [x, y, h] = pose[i];
+        const under = placed.filter((q) => Math.hypot(X(x) - q[0], Y(y) - q[1]) < 12).length;
+        placed.push([X(x), Y(y)]);
+        el("svg:line", { x1: X(x), y1: Y(y), x2: X(x + 1.4 * Math.cos(h)),
+          y2: Y(y + 1.4 * Math.sin(h)), stroke: colour(i), "stroke-width": 3 }, layer);
+        const r = 6 + 4 * under;
+        el("svg:circle", under ? { cx: X(x), cy: Y(y), r: r, fill: "none", stroke: colour(i),
+          "stroke-width": 3, class: "robot stacked", "data-robot": t.robots[i] }
+          : { cx: X(x), cy: Y(y), r: r, fill: colour(i), stroke: "#000", class: "robot",
+            "data-robot": t.robots[i] }, layer);
+      }
+    };
+  }
+
+  // Where each robot placed each teammate when it decided (goal traces: `estimates`).
+  function estimatesOverlay(ctx) {
+    const t = ctx.t, X = ctx.X, Y = ctx.Y;
+    return (step, pose) => {
+      const decided = Math.min(step, t.steps - 1);
+      if (decided < 0) return;
+      for (let i = 0; i < ctx.n; i++) {
+        for (let j = 0; j < ctx.n; j++) {
+          const e = t.estimates[decided][i][j];
+          if (i === j || e[0] === null || e[1] === null) continue;
+          el("svg:line", { x1: X(e[0]), y1: Y(e[1]), x2: X(pose[j][0]), y2: Y(pose[j][1]),
+            stroke: colour(i), "stroke-opacity": 0.5 }, ctx.layer);
+          el("svg:text", { x: X(e[0]), y: Y(e[1]) + 5, "text-anchor": "middle",
+            "font-size": 15, fill: colour(i), class: "estimate" }, ctx.layer, "×");
+        }
+      }
+    };
+  }
+
+  // ---- The panels of goal missions -------------------------------------------------------
+
+  // What each robot knows: the goals it knows of (and how, from which step), the
+  // configuration it acts on and the size of its configuration set; a chosen robot's model
+  // of each teammate's knowledge.
+  function knowledgePanel(ctx) {
+    const t = ctx.t, n = ctx.n, k = ctx.k;
+    // Knowledge per step, from the optional `knows` changes (absent: all common knowledge).
+    const known = [], how = [];  // known[step][i][j][g]; how[i][j][g] = [step, how]
+    const blank = () => t.robots.map(() => t.robots.map(() => t.goals.map(() => false)));
+    let now = t.knows ? blank() : t.robots.map(() => t.robots.map(() => t.goals.map(() => true)));
+    for (let i = 0; i < n; i++) how.push(t.robots.map(() => t.goals.map(() => [0, "start"])));
+    const byStep = {};
+    (t.knows || []).forEach((c) => (byStep[c[0]] = byStep[c[0]] || []).push(c));
+    for (let s = 0; s <= t.steps; s++) {
+      if (byStep[s]) {
+        now = now.map((a) => a.map((b) => b.slice()));
+        for (const [step, i, j, g, v, h] of byStep[s]) {
+          now[i][j][g] = !!v;
+          if (v) how[i][j][g] = [step, h];
+        }
+      }
+      known.push(now);
+    }
+    el("h3", {}, ctx.col, "What each robot knows (✓ knows of the goal: how, step; · does not; "
       + "red: expects a teammate at a goal it takes the teammate not to know of)");
-    const kt = el("table", { class: "knowledge", id: `knowledge-${k}` }, col);
-    const khead = el("tr", {}, kt);
-    el("th", {}, khead, "");
-    const goalHeads = t.goals.map((g) => el("th", {}, khead, g));
-    el("th", {}, khead, "acts on");
-    el("th", {}, khead, "configurations");
-    const krows = t.robots.map((r, i) => {
-      const tr = el("tr", { "data-robot": r }, kt);
-      el("th", { style: `color:${colour(i)}` }, tr, r);
-      return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
-        acts: el("td", { class: "acts" }, tr, ""), sets: el("td", { class: "sets" }, tr, "") };
+    const own = robotTable(ctx.col, { class: "knowledge", id: `knowledge-${k}` }, t,
+      t.robots.map((r, i) => i), [["acts", "acts on"], ["sets", "configurations"]]);
+    let modeller = ctx.focus, model = null;
+    const mt = el("div", {}, ctx.col);
+    robotChooser(ctx, `model-robot-${k}`, "'s model of what each teammate knows (✓ it takes "
+      + "the teammate to know of the goal; ✗ not; red: wrong)", (who) => {
+      buildModel(who);
+      draw(Math.min(window.epistemicaView.step, t.steps));
     });
-    // One robot's model of each teammate's knowledge: the focus robot's, or the one chosen.
-    const fname = t.robots[focus];
-    const mtitle = el("h3", {}, col, "");
-    const chooser = el("select", { class: "model-robot", id: `model-robot-${k}` }, mtitle);
-    t.robots.forEach((r, i) => {
-      const option = el("option", { value: i }, chooser, r);
-      if (i === focus) option.selected = true;
-    });
-    mtitle.append("'s model of what each teammate knows (✓ it takes the teammate to know of "
-      + "the goal; ✗ not; red: wrong)");
-    const mt = el("table", { class: "model", id: `model-${k}` }, col);
-    let modeller = focus, mrows = [];
+    ctx.col.appendChild(mt);
     function buildModel(who) {
       modeller = who;
       mt.replaceChildren();
-      const mhead = el("tr", {}, mt);
-      el("th", {}, mhead, "");
-      t.goals.forEach((g) => el("th", {}, mhead, g));
-      el("th", {}, mhead, "set it models");
-      mrows = t.robots.map((r, j) => {
-        if (j === who) return null;
-        const tr = el("tr", { "data-robot": r }, mt);
-        el("th", { style: `color:${colour(j)}` }, tr, r);
-        return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
-          sets: el("td", { class: "sets" }, tr, "") };
+      model = robotTable(mt, { class: "model", id: `model-${k}` }, t,
+        t.robots.map((r, j) => j).filter((j) => j !== who), [["sets", "set it models"]]);
+    }
+    buildModel(ctx.focus);
+
+    function goalCell(cell, yes, h, closed, wrong) {
+      cell.replaceChildren();
+      cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "")
+        + (closed ? " closed" : "");
+      cell.appendChild(document.createTextNode(yes ? "✓" : "·"));
+      if (yes && h) el("small", {}, cell, ` ${h[1]}${h[0] ? " " + h[0] : ""}`);
+    }
+
+    function draw(s) {
+      const decided = Math.min(s, t.steps - 1);
+      const K = known[s], shut = ctx.closedAt[s];
+      own.heads.forEach((th, g) => (th.textContent = shut[g]
+        ? `${t.goals[g]} (closed)` : t.goals[g]));
+      own.cells.forEach((row, i) => {
+        row.goals.forEach((cell, g) => {
+          const h = K[i][i][g] && t.knows ? how[i][i][g] : null;
+          goalCell(cell, K[i][i][g], h && h[0] <= s ? h : [0, "start"], shut[g], false);
+        });
+        const [acts, sets] = row.extra;
+        const focal = decided >= 0 ? t.focal[decided][i] : null;
+        if (!focal || focal[i] < 0) {
+          acts.textContent = "not computed";
+          acts.className = "acts not-computed";
+        } else {
+          // An expectation the robot's own knowledge contradicts (it takes the teammate
+          // not to know of that goal) is marked: the reason a lower level fails.
+          acts.replaceChildren(`heads for ${t.goals[focal[i]]}`);
+          acts.className = "acts";
+          focal.forEach((g, j) => {
+            if (j === i || g < 0) return;
+            acts.append(acts.childNodes.length > 1 ? ", " : "; expects ");
+            el("span", K[i][j][g] ? { class: "expect" } : { class: "expect wrong",
+              title: `${t.robots[i]} takes ${t.robots[j]} not to know of ${t.goals[g]}` },
+            acts, `${t.robots[j]}→${t.goals[g]}`);
+          });
+        }
+        const c = decided >= 0 ? t.considered[decided][i] : 0;
+        const u = decided >= 0 && t.unpruned ? t.unpruned[decided][i] : c;
+        sets.textContent = c > 0 ? (u > c ? `${c} (of ${u})` : String(c)) : "not computed";
+        sets.className = c > 0 ? "sets" : "sets not-computed";
+      });
+      const others = t.robots.map((r, j) => j).filter((j) => j !== modeller);
+      model.cells.forEach((row, r) => {
+        const j = others[r];
+        row.goals.forEach((cell, g) => {
+          const yes = K[modeller][j][g], wrong = yes !== K[j][j][g];
+          cell.replaceChildren();
+          cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "");
+          cell.textContent = yes ? "✓" : "✗";
+        });
+        const v = decided >= 0 ? t.modelled[decided][modeller][j] : 0;
+        row.extra[0].textContent = v > 0 ? String(v) : "not computed";
+        row.extra[0].className = v > 0 ? "sets" : "sets not-computed";
       });
     }
-    buildModel(focus);
+    return draw;
+  }
 
-    // Belief table: rows robots, columns goals, grey level = probability.
-    el("h3", {}, col, "Each robot's belief that a goal is its own (n/c: not computed)");
-    const table = el("table", { class: "belief", id: `belief-${k}` }, col);
+  // Belief table: rows robots, columns goals, grey level = probability.
+  function beliefPanel(ctx) {
+    const t = ctx.t;
+    el("h3", {}, ctx.col, "Each robot's belief that a goal is its own (n/c: not computed)");
+    const table = el("table", { class: "belief", id: `belief-${ctx.k}` }, ctx.col);
     const head = el("tr", {}, table);
     el("th", {}, head, "");
     t.goals.forEach((g) => el("th", {}, head, g));
@@ -197,10 +338,29 @@
       el("th", { style: `color:${colour(i)}` }, tr, r);
       return t.goals.map(() => el("td", {}, tr, ""));
     });
+    return (step) => {
+      const decided = Math.min(step, t.steps - 1);
+      cells.forEach((row, i) => {
+        const beliefs = decided >= 0 ? t.goal_belief[decided][i] : null;
+        const computed = beliefs && beliefs.some((v) => v !== null && v > 0);
+        row.forEach((cell, g) => {
+          const v = computed ? beliefs[g] : null;
+          const grey = v === null ? 255 : Math.round(255 * (1 - v));
+          cell.textContent = v === null ? "n/c" : v.toFixed(2);
+          cell.className = v === null ? "not-computed" : "";
+          cell.style.background = v === null ? "" : `rgb(${grey},${grey},${grey})`;
+          cell.style.color = v !== null && v > 0.55 ? "#fff" : "";
+        });
+      });
+    };
+  }
 
-    // Configuration-set sizes: own (solid) and the focus robot's model of each teammate's.
-    el("h3", {}, col, `Configuration sets: own (solid), ${fname}'s model of each teammate's `
-      + "(dashed, wide)");
+  // Configuration-set sizes: own (solid) and the focus robot's model of each teammate's;
+  // what the focus robot (else the first that kept any) reads of its teammates' behaviour.
+  function setsPanel(ctx) {
+    const t = ctx.t, k = ctx.k, focus = ctx.focus, col = ctx.col;
+    el("h3", {}, col, `Configuration sets: own (solid), ${t.robots[focus]}'s model of each `
+      + "teammate's (dashed, wide)");
     const W = 430, H = 170, padL = 44, padB = 30;
     const chart = el("svg:svg", { class: "sets-chart", id: `sets-${k}`, width: W, height: H },
       col);
@@ -236,7 +396,6 @@
     t.robots.forEach((r, i) => line(own.map((s) => s[i]), i, false));
     const cursor = el("svg:line", { y1: 18, y2: H - padB, stroke: "#555" }, chart);
 
-    // What the focus robot (else the first that kept any) reads of its teammates' behaviour.
     const types = t.teammate_types || null;
     const kept = types ? t.robots.map((r, i) => i)
       .filter((i) => types.some((s) => s[i].some((row) => row.every((v) => v !== null)))) : [];
@@ -247,140 +406,8 @@
         + "likely of the behaviour library, its posterior)");
       reading = el("div", { class: "events reading", id: `reading-${k}` }, col);
     }
-    el("h3", {}, col, "Events observed (and by whom)");
-    const events = el("div", { class: "events", id: `events-${k}` }, col);
-
-    function eventText(e) {
-      const seen = e[3].map((o) => t.robots[o]).join(", ") || "nobody";
-      const named = e[2].filter((a) => typeof a === "string" && a);
-      const about = named.length ? `(${named.join(", ")})` : "";
-      return `step ${e[0]}: ${e[1]}${about}, seen by ${seen}`;
-    }
-
-    function drawMap(step) {
-      layer.replaceChildren();
-      const pose = t.poses[step], decided = Math.min(step, t.steps - 1);
-      closedAt[step].forEach((c, j) => {
-        goalMarks[j][0].setAttribute("fill", c ? "#fff" : "#000");
-        goalMarks[j][0].setAttribute("stroke", c ? "#000" : "#fff");
-        goalMarks[j][0].setAttribute("stroke-width", c ? 1.5 : 1);
-        goalMarks[j][0].classList.toggle("closed", c);
-        goalMarks[j][1].textContent = c ? `${t.goals[j]} (closed)` : t.goals[j];
-      });
-      for (let i = 0; i < n; i++) {
-        const trail = t.poses.slice(0, step + 1).map((q) => `${X(q[i][0])},${Y(q[i][1])}`);
-        el("svg:polyline", { points: trail.join(" "), fill: "none", stroke: colour(i),
-          "stroke-width": 1.5, "stroke-opacity": 0.7 }, layer);
-        if (t.sensing_range !== null) {
-          el("svg:circle", { cx: X(pose[i][0]), cy: Y(pose[i][1]), r: t.sensing_range * scale,
-            fill: "none", stroke: colour(i), "stroke-dasharray": "6 4", class: "sensing",
-            "data-robot": t.robots[i] }, layer);
-        }
-      }
-      if (decided >= 0) {
-        for (let i = 0; i < n; i++) {
-          for (let j = 0; j < n; j++) {
-            const e = t.estimates[decided][i][j];
-            if (i === j || e[0] === null || e[1] === null) continue;
-            el("svg:line", { x1: X(e[0]), y1: Y(e[1]), x2: X(pose[j][0]), y2: Y(pose[j][1]),
-              stroke: colour(i), "stroke-opacity": 0.5 }, layer);
-            el("svg:text", { x: X(e[0]), y: Y(e[1]) + 5, "text-anchor": "middle",
-              "font-size": 15, fill: colour(i), class: "estimate" }, layer, "×");
-          }
-        }
-      }
-      for (const e of t.events) {
-        if (e[0] !== step) continue;
-        for (const o of e[3]) {
-          el("svg:circle", { cx: X(pose[o][0]), cy: Y(pose[o][1]), r: 16, fill: "none",
-            stroke: colour(o), "stroke-width": 3, class: "event-ring" }, layer);
-        }
-      }
-      // Robots: one drawn where an earlier one already is (within a marker) gets a wider
-      // ring, so that a robot under another stays visible.
-      const placed = [];
-      for (let i = 0; i < n; i++) {
-        const [x, y, h] = pose[i];
-        const under = placed.filter((q) => Math.hypot(X(x) - q[0], Y(y) - q[1]) < 12).length;
-        placed.push([X(x), Y(y)]);
-        el("svg:line", { x1: X(x), y1: Y(y), x2: X(x + 1.4 * Math.cos(h)),
-          y2: Y(y + 1.4 * Math.sin(h)), stroke: colour(i), "stroke-width": 3 }, layer);
-        const r = 6 + 4 * under;
-        el("svg:circle", under ? { cx: X(x), cy: Y(y), r: r, fill: "none", stroke: colour(i),
-          "stroke-width": 3, class: "robot stacked", "data-robot": t.robots[i] }
-          : { cx: X(x), cy: Y(y), r: r, fill: colour(i), stroke: "#000", class: "robot",
-            "data-robot": t.robots[i] }, layer);
-      }
-    }
-
-    function goalCell(cell, yes, h, closed, wrong) {
-      cell.replaceChildren();
-      cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "")
-        + (closed ? " closed" : "");
-      cell.appendChild(document.createTextNode(yes ? "✓" : "·"));
-      if (yes && h) el("small", {}, cell, ` ${h[1]}${h[0] ? " " + h[0] : ""}`);
-    }
-
-    function drawKnowledge(step) {
-      const s = Math.min(step, t.steps), decided = Math.min(step, t.steps - 1);
-      const K = known[s], shut = closedAt[s];
-      goalHeads.forEach((th, g) => (th.textContent = shut[g] ? `${t.goals[g]} (closed)`
-        : t.goals[g]));
-      krows.forEach((row, i) => {
-        row.goals.forEach((cell, g) => {
-          const h = K[i][i][g] && t.knows ? how[i][i][g] : null;
-          goalCell(cell, K[i][i][g], h && h[0] <= s ? h : [0, "start"], shut[g], false);
-        });
-        const focal = decided >= 0 ? t.focal[decided][i] : null;
-        if (!focal || focal[i] < 0) {
-          row.acts.textContent = "not computed";
-          row.acts.className = "acts not-computed";
-        } else {
-          // An expectation the robot's own knowledge contradicts (it takes the teammate
-          // not to know of that goal) is marked: the reason a lower level fails.
-          row.acts.replaceChildren(`heads for ${t.goals[focal[i]]}`);
-          row.acts.className = "acts";
-          focal.forEach((g, j) => {
-            if (j === i || g < 0) return;
-            row.acts.append(row.acts.childNodes.length > 1 ? ", " : "; expects ");
-            el("span", K[i][j][g] ? { class: "expect" } : { class: "expect wrong",
-              title: `${t.robots[i]} takes ${t.robots[j]} not to know of ${t.goals[g]}` },
-            row.acts, `${t.robots[j]}→${t.goals[g]}`);
-          });
-        }
-        const c = decided >= 0 ? t.considered[decided][i] : 0;
-        const u = decided >= 0 && t.unpruned ? t.unpruned[decided][i] : c;
-        row.sets.textContent = c > 0 ? (u > c ? `${c} (of ${u})` : String(c)) : "not computed";
-        row.sets.className = c > 0 ? "sets" : "sets not-computed";
-      });
-      mrows.forEach((row, j) => {
-        if (!row) return;
-        row.goals.forEach((cell, g) => {
-          const yes = K[modeller][j][g], wrong = yes !== K[j][j][g];
-          cell.replaceChildren();
-          cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "");
-          cell.textContent = yes ? "✓" : "✗";
-        });
-        const v = decided >= 0 ? t.modelled[decided][modeller][j] : 0;
-        row.sets.textContent = v > 0 ? String(v) : "not computed";
-        row.sets.className = v > 0 ? "sets" : "sets not-computed";
-      });
-    }
-
-    function drawPanels(step) {
+    return (step) => {
       const decided = Math.min(step, t.steps - 1);
-      cells.forEach((row, i) => {
-        const beliefs = decided >= 0 ? t.goal_belief[decided][i] : null;
-        const computed = beliefs && beliefs.some((v) => v !== null && v > 0);
-        row.forEach((cell, g) => {
-          const v = computed ? beliefs[g] : null;
-          const grey = v === null ? 255 : Math.round(255 * (1 - v));
-          cell.textContent = v === null ? "n/c" : v.toFixed(2);
-          cell.className = v === null ? "not-computed" : "";
-          cell.style.background = v === null ? "" : `rgb(${grey},${grey},${grey})`;
-          cell.style.color = v !== null && v > 0.55 ? "#fff" : "";
-        });
-      });
       cursor.setAttribute("x1", cx(Math.max(decided, 0)));
       cursor.setAttribute("x2", cx(Math.max(decided, 0)));
       if (reading) {
@@ -391,26 +418,170 @@
           el("div", {}, reading, `${t.robots[j]}: ${t.types[g]} ${row[g].toFixed(2)}`);
         });
       }
+    };
+  }
+
+  // ---- The panels of joint (collaborative) missions ----------------------------------------
+
+  const ACTIONS = { "-1": "explore", "-2": "fetch", "-3": "wait" };
+  const target = (t, v) => ACTIONS[v] || `→${t.goals[v]}`;
+
+  // What each robot steers to (beside it on the map, and in a table with the step it began);
+  // each task named with the robots it needs and, once done, when.
+  function targetsPanel(ctx) {
+    const t = ctx.t, k = ctx.k;
+    const name = (j, s) => `${t.goals[j]} ×${t.needs[j]}`
+      + (t.tasks_done[j] >= 0 && t.tasks_done[j] <= s ? ` (done at ${t.tasks_done[j]})` : "");
+    ctx.overlays.push((step, pose) => {
+      const decided = Math.min(step, t.steps - 1);
+      t.goals.forEach((g, j) => {
+        const done = t.tasks_done[j] >= 0 && t.tasks_done[j] <= step;
+        ctx.markGoal(j, done, name(j, step));
+        ctx.goalMarks[j][0].classList.toggle("done", done);
+      });
+      if (decided < 0) return;
+      t.robots.forEach((r, i) => el("svg:text", { x: ctx.X(pose[i][0]) + 9,
+        y: ctx.Y(pose[i][1]) + 14, "font-size": 11, fill: colour(i), class: "target",
+        "data-robot": r }, ctx.layer, target(t, t.steer_to[decided][i])));
+    });
+    el("h3", {}, ctx.col, "What each robot steers to (→ a task; explore; fetch: goes to tell "
+      + "a teammate; wait: for helpers at a task), since which step");
+    const table = el("table", { class: "targets", id: `targets-${k}` }, ctx.col);
+    const rows = t.robots.map((r, i) => {
+      const tr = el("tr", { "data-robot": r }, table);
+      el("th", { style: `color:${colour(i)}` }, tr, r);
+      return [el("td", { class: "target" }, tr, ""), el("td", { class: "since" }, tr, "")];
+    });
+    return (step) => {
+      const decided = Math.min(step, t.steps - 1);
+      rows.forEach(([what, since], i) => {
+        if (decided < 0) {
+          what.textContent = "not decided";
+          since.textContent = "";
+          return;
+        }
+        let first = decided;
+        while (first > 0 && t.steer_to[first - 1][i] === t.steer_to[decided][i]) first--;
+        what.textContent = target(t, t.steer_to[decided][i]);
+        since.textContent = `since ${first}`;
+      });
+    };
+  }
+
+  // The tasks each robot knows of: since when (aware_since) and how (page: learned).
+  function tasksKnownPanel(ctx) {
+    const t = ctx.t, p = ctx.p;
+    const how = t.robots.map(() => t.goals.map(() => null));
+    (p.learned || []).forEach(([step, i, g, h]) => (how[i][g] = [step, h]));
+    el("h3", {}, ctx.col, "The tasks each robot knows of (✓ how, since which step; · not yet; "
+      + "×k: robots the task needs)");
+    const tab = robotTable(ctx.col, { class: "knowledge tasks", id: `knowledge-${ctx.k}` }, t,
+      t.robots.map((r, i) => i));
+    return (step) => {
+      const decided = Math.min(step, t.steps - 1);
+      tab.heads.forEach((th, g) => {
+        const done = t.tasks_done[g] >= 0 && t.tasks_done[g] <= step;
+        th.textContent = `${t.goals[g]} ×${t.needs[g]}${done ? " (done)" : ""}`;
+      });
+      tab.cells.forEach((row, i) => row.goals.forEach((cell, g) => {
+        const yes = decided >= 0 && !!t.tasks_known[decided][i][g];
+        cell.replaceChildren(yes ? "✓" : "·");
+        cell.className = "goal-cell " + (yes ? "known" : "unknown");
+        const h = how[i][g];
+        if (yes && h && h[0] <= step) el("small", {}, cell, ` ${h[1]} ${h[0]}`);
+      }));
+    };
+  }
+
+  // What a chosen robot knows each teammate knows of (aware_since[i][j][g] <= step).
+  function teammatesKnownPanel(ctx) {
+    const t = ctx.t, k = ctx.k;
+    let who = ctx.focus, tab = null;
+    const holder = el("div", {}, ctx.col);
+    robotChooser(ctx, `model-robot-${k}`, " knows that each teammate knows of (✓ since which "
+      + "step; · does not know it; amber: the teammate does know of it)", (chosen) => {
+      build(chosen);
+      draw(Math.min(window.epistemicaView.step, t.steps));
+    });
+    ctx.col.appendChild(holder);
+    function build(chosen) {
+      who = chosen;
+      holder.replaceChildren();
+      tab = robotTable(holder, { class: "model tasks", id: `model-${k}` }, t,
+        t.robots.map((r, j) => j).filter((j) => j !== chosen));
+    }
+    build(ctx.focus);
+    function draw(step) {
+      const others = t.robots.map((r, j) => j).filter((j) => j !== who);
+      tab.cells.forEach((row, r) => row.goals.forEach((cell, g) => {
+        const j = others[r], since = t.aware_since[who][j][g];
+        const yes = since >= 0 && since <= step;
+        const theirs = t.aware_since[j][j][g] >= 0 && t.aware_since[j][j][g] <= step;
+        cell.textContent = yes ? `✓ ${since}` : "·";
+        cell.className = "goal-cell " + (yes ? "known" : "unknown")
+          + (!yes && theirs ? " unaware" : "");
+      }));
+    }
+    return draw;
+  }
+
+  // ---- Shared by every kind -------------------------------------------------------------
+
+  function eventsPanel(ctx) {
+    const t = ctx.t;
+    el("h3", {}, ctx.col, "Events observed (and by whom)");
+    const events = el("div", { class: "events", id: `events-${ctx.k}` }, ctx.col);
+    function eventText(e) {
+      const seen = e[3].map((o) => t.robots[o]).join(", ") || "nobody";
+      const named = e[2].filter((a) => typeof a === "string" && a);
+      const about = named.length ? `(${named.join(", ")})` : "";
+      return `step ${e[0]}: ${e[1]}${about}, seen by ${seen}`;
+    }
+    return (step) => {
       events.replaceChildren();
       const seen = t.events.filter((e) => e[0] <= step);
       if (!seen.length) el("div", {}, events, "(none yet)");
       seen.forEach((e) => el("div", { class: e[0] === step ? "now" : "" }, events, eventText(e)));
-    }
+    };
+  }
 
-    chooser.addEventListener("change", () => {
-      buildModel(Number(chooser.value));
-      drawKnowledge(Math.min(window.epistemicaView.step, t.steps));
+  const PANELS = {
+    knowledge: knowledgePanel, belief: beliefPanel, sets: setsPanel,
+    targets: targetsPanel, tasks_known: tasksKnownPanel, teammates_known: teammatesKnownPanel,
+    events: eventsPanel,
+  };
+
+  function column(p, k) {
+    const t = p.trace;
+    const col = el("div", { class: "column", id: `trial-${k}`, "data-level": p.level }, columns);
+    el("h2", { class: "level" }, col, `${p.level}: ${outcome(t)}`);
+    const ctx = { t, p, k, col, n: t.robots.length, focus: p.focus, overlays: [] };
+    buildMap(ctx);
+    if (t.estimates) ctx.overlays.push(estimatesOverlay(ctx));
+    const legend = el("div", { class: "legend" }, col);
+    t.robots.forEach((r, i) => {
+      const s = el("span", {}, legend);
+      el("span", { class: "swatch", style: `background:${colour(i)}` }, s);
+      s.appendChild(document.createTextNode(`${r} (${t.sensors[i]}, ${t.policies[i]})`));
     });
-
+    const joint = p.panels.includes("targets");
+    el("div", { class: "note" }, col, (joint
+      ? "★ task (×k: robots it needs at once; grey disc: completion radius; ☆ hollow: done); "
+      : "★ goal (grey disc: success radius; ☆ hollow: closed); × in a robot's colour: where "
+        + "it places a teammate; ")
+      + "dark polygon: obstacle; dashed circle: sensing radius; ring: observed an event; a "
+      + "robot under another is drawn as a wider ring around it");
+    const draws = p.panels.filter((name) => PANELS[name]).map((name) => PANELS[name](ctx));
     return {
       draw(step) {
         const s = Math.min(step, t.steps);
-        drawMap(s);
-        drawKnowledge(s);
-        drawPanels(s);
+        ctx.drawMap(s);
+        draws.forEach((draw) => draw(s));
       },
     };
   }
+
+  const views = page.trials.map((p, k) => column(p, k));
 
   const state = {
     step: 0, playing: false, timer: null, last: last,
