@@ -406,6 +406,7 @@ def frame_for(trace: dict[str, Any], mission: str = "") -> TraceFrame | JointFra
     --------
     >>> from epistemica.sim import simulate
     >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+    >>> from epistemica.sim.study.trace import trial_trace
     >>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1).replace(max_steps=4)
     >>> frame = frame_for(trial_trace(s, simulate(s, "third", seed=1)))
     >>> type(frame).__name__, frame.panels == s.kind.panels
