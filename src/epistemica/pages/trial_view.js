@@ -146,8 +146,10 @@
       }
       const mark = el("svg:polygon", { points: star.join(" "), class: "goal",
         "data-name": t.goals[j] }, map);
-      const name = el("svg:text", { x: X(g[0]) + 9, y: Y(g[1]) - 7, "font-size": 13,
-        "font-weight": 700, class: "goal-name" }, map, t.goals[j]);
+      const right = X(g[0]) > 0.65 * size;  // named on its left near the right edge
+      const name = el("svg:text", { x: X(g[0]) + (right ? -9 : 9), y: Y(g[1]) - 7,
+        "text-anchor": right ? "end" : "start", "font-size": 13, "font-weight": 700,
+        class: "goal-name" }, map, t.goals[j]);
       return [mark, name];
     });
     const layer = el("svg:g", { class: "moving" }, map);
