@@ -182,7 +182,7 @@ def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] 
     head = f"{mission}: " if mission else ""
     title = f"{head}{len(traces[0]['robots'])} robots, seed {traces[0]['seed']}: {verdicts}"
     data = {"trials": trials, "colours": list(ROBOT_COLOURS), "fps": _FPS}
-    return page(title, "trial_view.js", data)
+    return page(title, ("trial_parts.js", "trial_panels.js", "trial_view.js"), data)
 
 
 def _trial(trace: dict[str, Any]) -> dict[str, Any]:
