@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 import pytest
-from _browser import CHROMIUM, Browser
+from _browser import CHROMIUM
 
 from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
@@ -28,13 +28,6 @@ pytestmark = pytest.mark.skipif(
 )
 PIL = pytest.importorskip("PIL.Image")
 SPECS = os.path.join(os.path.dirname(__file__), "..", "specs", "puzzles")
-
-
-@pytest.fixture(scope="module")
-def browser():
-    b = Browser()
-    yield b
-    b.close()
 
 
 @pytest.fixture(scope="module")

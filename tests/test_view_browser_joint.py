@@ -1,31 +1,22 @@
 """The replay page of a collaborative (joint) trial in a real headless Chromium: the map, what
 each robot steers to, the tasks each robot knows of and how, and what a chosen robot knows
-each teammate knows, checked against the simulated trials for every robot at every step."""
+each teammate knows, checked against the simulated trials for every robot at every step.
+The ``browser`` fixture (tests/conftest.py) skips without Chromium."""
 
 from __future__ import annotations
 
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
 import pytest
-from _browser import CHROMIUM, Browser
 
 from epistemica.cli import main
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
 
-pytestmark = pytest.mark.skipif(
-    CHROMIUM is None, reason="no Chromium executable on PATH (Debian: apt-get install chromium)"
-)
 SPEC = str(Path(__file__).resolve().parents[1] / "specs/collaborative/tasks_3.epi")
 LEVELS = ("third", "first")
-
-
-@pytest.fixture(scope="module")
-def browser():
-    b = Browser()
-    yield b
-    b.close()
 
 
 @pytest.fixture(scope="module")
@@ -167,3 +158,19 @@ def test_a_results_file_of_collaborative_trials_views(browser, tmp_path, monkeyp
     assert browser.texts("#targets-0 td.target") == [
         _target(int(v), m.scenario(0).task_names) for v in trial.steer_to[5]
     ]
+
+
+def test_each_robots_targets_over_the_trial_are_its_record(browser, joint):
+    page, s, trials = joint
+    browser.open(page, "window.epistemicaView")
+    for k, trial in enumerate(trials):
+        bars = browser.js(
+            f"[...document.querySelectorAll('#timeline-{k} rect.segment')].map(r => "
+            "[r.dataset.robot, r.dataset.target, +r.dataset.from, +r.dataset.to])"
+        )
+        for i, name in enumerate(s.robot_names):
+            mine = [bar[1:] for bar in bars if bar[0] == name]
+            drawn = [what for what, a, b in mine for _ in range(a, b + 1)]
+            assert drawn == [_target(int(v), s.task_names) for v in trial.steer_to[:, i]]
+            # one bar per run: neighbours differ
+            assert all(x[0] != y[0] for x, y in pairwise(mine))

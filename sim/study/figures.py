@@ -25,16 +25,11 @@ from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
 from epistemica.sim.study.figure_parts import (
     FONT_SIZE,
-    draw_events,
     draw_goals,
     draw_obstacles,
-    event_panel,
-    move_robots,
     pyplot,
-    robot_artists,
     save_figure,
     set_map_limits,
-    trace_title,
     write_gif,
 )
 from epistemica.sim.study.frames import FRAMES, JointFrame, TraceFrame, frame_for
@@ -49,19 +44,14 @@ __all__ = [
     "TraceFrame",
     "animate_trace",
     "animate_trial",
-    "draw_events",
     "draw_goals",
-    "event_panel",
     "fetching_robot",
     "focus_robot",
     "frame_for",
-    "move_robots",
     "plot_trial",
     "pyplot",
-    "robot_artists",
     "save_figure",
     "set_map_limits",
-    "trace_title",
     "write_gif",
 ]
 

@@ -14,7 +14,7 @@
 // The panel builders over `parts` (epistemicaParts), by name.
 function epistemicaPanels(parts) {
   "use strict";
-  const { colour, el, tickStep, robotTable, robotChooser } = parts;
+  const { colour, el, tickStep, robotTable, teammateTable } = parts;
 
   // ---- The panels of goal missions -------------------------------------------------------
 
@@ -44,21 +44,9 @@ function epistemicaPanels(parts) {
       + "red: expects a teammate at a goal it takes the teammate not to know of)");
     const own = robotTable(ctx.col, { class: "knowledge", id: `knowledge-${k}` }, t,
       t.robots.map((r, i) => i), [["acts", "acts on"], ["sets", "configurations"]]);
-    let modeller = ctx.focus, model = null;
-    const mt = el("div", {}, ctx.col);
-    robotChooser(ctx, `model-robot-${k}`, "'s model of what each teammate knows (✓ it takes "
-      + "the teammate to know of the goal; ✗ not; red: wrong)", (who) => {
-      buildModel(who);
-      draw(Math.min(window.epistemicaView.step, t.steps));
-    });
-    ctx.col.appendChild(mt);
-    function buildModel(who) {
-      modeller = who;
-      mt.replaceChildren();
-      model = robotTable(mt, { class: "model", id: `model-${k}` }, t,
-        t.robots.map((r, j) => j).filter((j) => j !== who), [["sets", "set it models"]]);
-    }
-    buildModel(ctx.focus);
+    const model = teammateTable(ctx, { class: "model", id: `model-${k}` },
+      [["sets", "set it models"]], "'s model of what each teammate knows (✓ it takes the "
+      + "teammate to know of the goal; ✗ not; red: wrong)", (step) => draw(step));
 
     function goalCell(cell, yes, h, closed, wrong) {
       cell.replaceChildren();
@@ -101,8 +89,8 @@ function epistemicaPanels(parts) {
         sets.textContent = c > 0 ? (u > c ? `${c} (of ${u})` : String(c)) : "not computed";
         sets.className = c > 0 ? "sets" : "sets not-computed";
       });
-      const others = t.robots.map((r, j) => j).filter((j) => j !== modeller);
-      model.cells.forEach((row, r) => {
+      const modeller = model.who, others = t.robots.map((r, j) => j).filter((j) => j !== modeller);
+      model.table.cells.forEach((row, r) => {
         const j = others[r];
         row.goals.forEach((cell, g) => {
           const yes = K[modeller][j][g], wrong = yes !== K[j][j][g];
@@ -238,15 +226,18 @@ function epistemicaPanels(parts) {
         "data-robot": r }, ctx.layer, target(t, t.steer_to[decided][i])));
     });
     el("h3", {}, ctx.col, "What each robot steers to (→ a task; explore; fetch: goes to tell "
-      + "a teammate; wait: for helpers at a task), since which step");
+      + "a teammate; wait: for helpers at a task), since which step, and over the trial (bars: "
+      + "blue a task, darker for later tasks; grey explore; red fetch; amber wait)");
     const table = el("table", { class: "targets", id: `targets-${k}` }, ctx.col);
     const rows = t.robots.map((r, i) => {
       const tr = el("tr", { "data-robot": r }, table);
       el("th", { style: `color:${colour(i)}` }, tr, r);
       return [el("td", { class: "target" }, tr, ""), el("td", { class: "since" }, tr, "")];
     });
+    const cursor = targetTimeline(ctx);
     return (step) => {
       const decided = Math.min(step, t.steps - 1);
+      cursor(decided);
       rows.forEach(([what, since], i) => {
         if (decided < 0) {
           what.textContent = "not decided";
@@ -258,6 +249,47 @@ function epistemicaPanels(parts) {
         what.textContent = target(t, t.steer_to[decided][i]);
         since.textContent = `since ${first}`;
       });
+    };
+  }
+
+  // Each robot's targets over the trial: one row per robot, one bar per run of steps with
+  // the same target (a task: blue, darker for later tasks, named; explore: pale; fetch: red;
+  // wait: amber), and a cursor at the step shown (the function returned moves it).
+  function targetTimeline(ctx) {
+    const t = ctx.t, m = t.goals.length, W = 430, padL = 30, row = 16, top = 4;
+    const H = top + row * t.robots.length + 18;
+    const svg = el("svg:svg", { class: "targets-chart", id: `timeline-${ctx.k}`, width: W,
+      height: H }, ctx.col);
+    const x = (s) => padL + (s / Math.max(1, t.steps)) * (W - padL - 8);
+    const fill = (v) => (v >= 0 ? `hsl(215, 45%, ${72 - (40 * v) / Math.max(1, m - 1)}%)`
+      : { "-1": "#eeeeee", "-2": "#e07070", "-3": "#f0c060" }[v]);
+    t.robots.forEach((r, i) => {
+      const y = top + i * row;
+      el("svg:text", { x: padL - 4, y: y + 11, "text-anchor": "end", "font-size": 11,
+        fill: colour(i) }, svg, r);
+      for (let a = 0; a < t.steps;) {
+        const v = t.steer_to[a][i];
+        let b = a;
+        while (b + 1 < t.steps && t.steer_to[b + 1][i] === v) b++;
+        el("svg:rect", { x: x(a), y: y, width: Math.max(x(b + 1) - x(a), 0.5), height: row - 3,
+          fill: fill(v), class: "segment", "data-robot": r, "data-target": target(t, v),
+          "data-from": a, "data-to": b }, svg);
+        if (v >= 0 && x(b + 1) - x(a) > 22) {
+          el("svg:text", { x: x(a) + 2, y: y + 10, "font-size": 9, fill: "#fff" }, svg,
+            t.goals[v]);
+        }
+        a = b + 1;
+      }
+    });
+    const xtick = tickStep(Math.max(t.steps, 1), 5);
+    for (let s = 0; s <= t.steps; s += xtick) {
+      el("svg:text", { x: x(s), y: H - 3, "text-anchor": "middle", "font-size": 10,
+        class: "tick x" }, svg, String(s));
+    }
+    const cursor = el("svg:line", { y1: 0, y2: H - 14, stroke: "#000" }, svg);
+    return (step) => {
+      cursor.setAttribute("x1", x(Math.max(step, 0) + 0.5));
+      cursor.setAttribute("x2", x(Math.max(step, 0) + 0.5));
     };
   }
 
@@ -288,25 +320,13 @@ function epistemicaPanels(parts) {
 
   // What a chosen robot knows each teammate knows of (aware_since[i][j][g] <= step).
   function teammatesKnownPanel(ctx) {
-    const t = ctx.t, k = ctx.k;
-    let who = ctx.focus, tab = null;
-    const holder = el("div", {}, ctx.col);
-    robotChooser(ctx, `model-robot-${k}`, " knows that each teammate knows of (✓ since which "
-      + "step; · does not know it; amber: the teammate does know of it)", (chosen) => {
-      build(chosen);
-      draw(Math.min(window.epistemicaView.step, t.steps));
-    });
-    ctx.col.appendChild(holder);
-    function build(chosen) {
-      who = chosen;
-      holder.replaceChildren();
-      tab = robotTable(holder, { class: "model tasks", id: `model-${k}` }, t,
-        t.robots.map((r, j) => j).filter((j) => j !== chosen));
-    }
-    build(ctx.focus);
+    const t = ctx.t;
+    const model = teammateTable(ctx, { class: "model tasks", id: `model-${ctx.k}` }, [],
+      " knows that each teammate knows of (✓ since which step; · does not know it; amber: the "
+      + "teammate does know of it)", (step) => draw(step));
     function draw(step) {
-      const others = t.robots.map((r, j) => j).filter((j) => j !== who);
-      tab.cells.forEach((row, r) => row.goals.forEach((cell, g) => {
+      const who = model.who, others = t.robots.map((r, j) => j).filter((j) => j !== who);
+      model.table.cells.forEach((row, r) => row.goals.forEach((cell, g) => {
         const j = others[r], since = t.aware_since[who][j][g];
         const yes = since >= 0 && since <= step;
         const theirs = t.aware_since[j][j][g] >= 0 && t.aware_since[j][j][g] <= step;

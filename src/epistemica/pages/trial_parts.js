@@ -1,5 +1,6 @@
 // epistemica trial replay, the parts every column shares whatever the mission's kind: DOM and
-// SVG helpers, a table of robots by goals or tasks, a robot chooser, the map (axes in metres,
+// SVG helpers, a table of robots by goals or tasks, a chosen robot's table of its teammates,
+// the map (axes in metres,
 // scale bar, obstacles, goals or tasks, trails, sensing circles, event rings, robots) and the
 // estimates overlay of goal traces. The page's one script is trial_parts.js, trial_panels.js
 // (the panels, by name) and trial_view.js (the columns, the slider), in that order.
@@ -42,17 +43,32 @@ function epistemicaParts(colours) {
     return { heads, cells };
   }
 
-  // A select of the robot whose model of its teammates a panel shows, in a heading.
-  function robotChooser(ctx, id, text, onChange) {
+  // A chosen robot's table of its teammates (rows) by goals or tasks, then the `extra`
+  // columns: a select of the robot in a heading (`text` after it; first the focus robot),
+  // the table rebuilt when another is chosen and redrawn by `redraw(step)`. The robot and
+  // the table now: view.who, view.table (robotTable's).
+  function teammateTable(ctx, attrs, extra, text, redraw) {
+    const t = ctx.t, view = { who: ctx.focus, table: null };
     const title = el("h3", {}, ctx.col, "");
-    const chooser = el("select", { class: "model-robot", id: id }, title);
-    ctx.t.robots.forEach((r, i) => {
+    const chooser = el("select", { class: "model-robot", id: `model-robot-${ctx.k}` }, title);
+    t.robots.forEach((r, i) => {
       const option = el("option", { value: i }, chooser, r);
       if (i === ctx.focus) option.selected = true;
     });
     title.append(text);
-    chooser.addEventListener("change", () => onChange(Number(chooser.value)));
-    return chooser;
+    const holder = el("div", {}, ctx.col);
+    const build = (who) => {
+      view.who = who;
+      holder.replaceChildren();
+      view.table = robotTable(holder, attrs, t, t.robots.map((r, j) => j).filter((j) => j !== who),
+        extra);
+    };
+    chooser.addEventListener("change", () => {
+      build(Number(chooser.value));
+      redraw(Math.min(window.epistemicaView.step, t.steps));
+    });
+    build(ctx.focus);
+    return view;
   }
 
   // Closed goals per step, from the optional `closed` changes.
@@ -204,5 +220,5 @@ function epistemicaParts(colours) {
     };
   }
 
-  return { colour, el, tickStep, robotTable, robotChooser, buildMap, estimatesOverlay };
+  return { colour, el, tickStep, robotTable, teammateTable, buildMap, estimatesOverlay };
 }
