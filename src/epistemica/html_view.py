@@ -8,8 +8,8 @@ package data. This module imports no
 simulator code, so that ``show --html`` starts as fast as ``show``.
 
 - :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.study.trace`) replayed with
-  the panels of the animation (:mod:`epistemica.sim.study.figures`); a slider scrubs, a button
-  plays and pauses.
+  the panels of its mission kind, as the animation draws them
+  (:mod:`epistemica.sim.study.figures`); a slider scrubs, a button plays and pauses.
 - :func:`model_page`: a model as ``epistemica show --json`` writes it (worlds, relations per
   agent, designated worlds), the spec's claims with their truth sets computed by
   epistemica, and a box that evaluates static formulas (propositional, ``K``, ``B``,

@@ -1,11 +1,15 @@
 """``epistemica view FILE``: a trial's replay as one self-contained HTML page.
 
-:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`), one column per level of
-the same seed with one shared slider: the map (obstacles, open and closed goals, axes in
-metres, sensing radii, estimates, events), what each robot knows (the goals it knows of and
-how it learned them, the configuration it acts on, its configuration set), the focus
-robot's model of each teammate's knowledge, each robot's belief (``n/c`` where not
-computed), the configuration-set sizes and the events; a button plays and pauses.
+:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`) of any mission kind, one
+column per level of the same seed with one shared slider: the map (obstacles, goals or tasks,
+axes in metres, sensing radii, events), then the panels the trace's kind names
+(:class:`~epistemica.sim.kinds.base.MissionKind` ``panels``). A goal mission's: what each
+robot knows (the goals it knows of and how it learned them, the configuration it acts on,
+its configuration set), a chosen robot's model of each teammate's knowledge, each robot's
+belief (``n/c`` where not computed), the configuration-set sizes. A collaborative
+mission's: each task with the robots it needs and when it was done, what each robot steers
+to (now, since when, over the trial), the tasks each robot knows of (since when, how), what
+a chosen robot knows each teammate knows of. Both: the events; a button plays and pauses.
 
 ``view`` writes the replay page of one trial (:func:`trial_page`)
 from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.study.trace.encode`),
