@@ -176,7 +176,10 @@ def test_a_joint_trace_of_version_2_views_with_its_tasks_known(tmp_path, joint_t
     [
         ({"kind": "relay"}, "a trace of an unknown kind 'relay'"),
         ({"steer_to": None}, "the trace's 'steer_to' is None, not a JSON list"),
-        ({"aware_since": [[[0]]]}, "the trace is incomplete"),
+        ({"aware_since": [[[0]]]}, "the trace's 'aware_since' is not an array of shape (3, 3, 3)"),
+        ({"steer_to": [[0, 1]]}, "the trace's 'steer_to' is not an array of shape ("),
+        ({"poses": [[[0, 0, 0]], "x"]}, "the trace's 'poses' is not an array of shape ("),
+        ({"events": [[0, "found", ["r1"]]]}, "the trace is incomplete"),
     ],
 )
 def test_a_bad_joint_trace_exits_2_with_a_hint(tmp_path, joint_trace, change, message):

@@ -27,6 +27,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import MAX_SOURCE_BYTES, read_source
 from epistemica.html_view import page, write_page
@@ -194,6 +196,8 @@ def _trial(trace: dict[str, Any]) -> dict[str, Any]:
     its teammates is shown first and, of a joint trial, how each robot learned each task."""
     kind = kind_of_trace(trace)
     _check_fields(trace, _JOINT_FIELDS if kind.joint else _GOAL_FIELDS)
+    if kind.joint:
+        _check_shapes(trace)
     column = {"trace": trace, "level": _level(trace), "panels": list(kind.panels)}
     try:
         column["focus"] = fetching_robot(trace) if kind.joint else focus_robot(trace)
@@ -225,6 +229,29 @@ _GOAL_FIELDS = {**_FIELDS, "modelled": list, "considered": list}
 _JOINT_FIELDS = {**_FIELDS, "goal_positions": list, "needs": list, "tasks_done": list,
                  "steer_to": list, "tasks_known": list, "aware_since": list, "events": list,
                  "sensing_range": (int, float)}  # fmt: skip
+
+
+def _check_shapes(trace: dict[str, Any]) -> None:
+    """Refuse a joint trace whose arrays do not fit its steps, robots and tasks (the page
+    would index past them)."""
+    steps, n, m = trace["steps"], len(trace["robots"]), len(trace["goals"])
+    shapes = {"poses": (steps + 1, n, 3), "goal_positions": (m, 2), "needs": (m,),
+              "tasks_done": (m,), "steer_to": (steps, n), "tasks_known": (steps, n, m),
+              "aware_since": (n, n, m), "sensors": (n,), "policies": (n,)}  # fmt: skip
+    for key, shape in shapes.items():
+        try:
+            found = np.shape(np.asarray(trace[key], dtype=object if key in _NAMES else float))
+        except (TypeError, ValueError):  # ragged, or not numbers
+            found = None
+        if found != shape:
+            raise InvalidArgumentError(
+                f"the trace's {key!r} is not an array of shape {shape} ({steps} steps, "
+                f"{n} robots, {m} tasks)",
+                hint="traces are written by epistemica.sim.study.trace",
+            )
+
+
+_NAMES = ("sensors", "policies")
 
 
 def _check_fields(trace: dict[str, Any], fields: dict[str, Any]) -> None:
