@@ -18,12 +18,10 @@ function epistemicaPanels(parts) {
 
   // ---- The panels of goal missions -------------------------------------------------------
 
-  // What each robot knows: the goals it knows of (and how, from which step), the
-  // configuration it acts on and the size of its configuration set; a chosen robot's model
-  // of each teammate's knowledge.
-  function knowledgePanel(ctx) {
-    const t = ctx.t, n = ctx.n, k = ctx.k;
-    // Knowledge per step, from the optional `knows` changes (absent: all common knowledge).
+  // Who takes whom to know of which goal at each step, from the optional `knows` changes
+  // (absent: every goal common knowledge): [known[step][i][j][g], how[i][j][g] = [step, how]].
+  function knownSteps(t) {
+    const n = t.robots.length;
     const known = [], how = [];  // known[step][i][j][g]; how[i][j][g] = [step, how]
     const blank = () => t.robots.map(() => t.robots.map(() => t.goals.map(() => false)));
     let now = t.knows ? blank() : t.robots.map(() => t.robots.map(() => t.goals.map(() => true)));
@@ -40,6 +38,15 @@ function epistemicaPanels(parts) {
       }
       known.push(now);
     }
+    return [known, how];
+  }
+
+  // What each robot knows: the goals it knows of (and how, from which step), the
+  // configuration it acts on and the size of its configuration set; a chosen robot's model
+  // of each teammate's knowledge.
+  function knowledgePanel(ctx) {
+    const t = ctx.t, k = ctx.k;
+    const [known, how] = knownSteps(t);
     el("h3", {}, ctx.col, "What each robot knows (✓ knows of the goal: how, step; · does not; "
       + "red: expects a teammate at a goal it takes the teammate not to know of)");
     const own = robotTable(ctx.col, { class: "knowledge", id: `knowledge-${k}` }, t,

@@ -86,25 +86,9 @@ function epistemicaParts(colours) {
     return closedAt;
   }
 
-  // The map: world coordinates in metres, y up, with axes and a scale bar; goals (tasks),
-  // obstacles; each step the trails, sensing circles, event rings and robots, and what the
-  // panels add (ctx.overlays).
-  function buildMap(ctx) {
-    const t = ctx.t, k = ctx.k, n = ctx.n;
-    const pts = [];
-    t.poses.forEach((s) => s.forEach((q) => pts.push(q)));
-    t.goal_positions.forEach((g) => pts.push(g));
-    (t.obstacles || []).forEach((poly) => poly.forEach((q) => pts.push(q)));
-    const xs = pts.map((q) => q[0]).filter(Number.isFinite);
-    const ys = pts.map((q) => q[1]).filter(Number.isFinite);
-    const lo = [Math.min(0, ...xs) - 1, Math.min(0, ...ys) - 1];
-    const hi = [Math.max(t.workspace, ...xs) + 1, Math.max(t.workspace, ...ys) + 1];
-    const size = 430, margin = 30, span = Math.max(hi[0] - lo[0], hi[1] - lo[1]);
-    const scale = (size - margin - 6) / span;
-    const X = (x) => margin + (x - lo[0]) * scale, Y = (y) => size - margin - (y - lo[1]) * scale;
-    Object.assign(ctx, { X, Y, scale });
-    const map = el("svg:svg", { class: "map", id: `map-${k}`, width: size, height: size,
-      viewBox: `0 0 ${size} ${size}` }, ctx.col);
+  // The map's axes (ticks in metres from `lo`, over `span`) and scale bar (one tick long).
+  function drawAxes(map, X, Y, lo, span, scale) {
+    const size = +map.getAttribute("width"), margin = X(lo[0]);
     const tick = tickStep(span, 6), axes = el("svg:g", { class: "axes" }, map);
     el("svg:line", { x1: margin, y1: size - margin, x2: size - 4, y2: size - margin,
       stroke: "#888" }, axes);
@@ -128,10 +112,12 @@ function epistemicaParts(colours) {
       y2: size - margin - 10, stroke: "#000", "stroke-width": 3 }, bar);
     el("svg:text", { x: size - 14 - (tick * scale) / 2, y: size - margin - 15,
       "text-anchor": "middle", "font-size": 11 }, bar, `${tick} m`);
-    (t.obstacles || []).forEach((poly) => el("svg:polygon", {
-      points: poly.map((q) => `${X(q[0])},${Y(q[1])}`).join(" "), fill: "#777",
-      "fill-opacity": 0.55, stroke: "#333", class: "obstacle" }, map));
-    ctx.goalMarks = t.goal_positions.map((g, j) => {
+  }
+
+  // Goals (tasks) as stars on discs of their success radius, named; [star, name] each.
+  function drawGoals(map, t, X, Y, scale) {
+    const size = +map.getAttribute("width");
+    return t.goal_positions.map((g, j) => {
       el("svg:circle", { cx: X(g[0]), cy: Y(g[1]), r: t.success_radius * scale,
         fill: "#ccc", "fill-opacity": 0.5, class: "goal-area" }, map);
       const star = [];
@@ -147,6 +133,32 @@ function epistemicaParts(colours) {
         class: "goal-name" }, map, t.goals[j]);
       return [mark, name];
     });
+  }
+
+  // The map: world coordinates in metres, y up, with axes and a scale bar; goals (tasks),
+  // obstacles; each step the trails, sensing circles, event rings and robots, and what the
+  // panels add (ctx.overlays).
+  function buildMap(ctx) {
+    const t = ctx.t, k = ctx.k, n = ctx.n;
+    const pts = [];
+    t.poses.forEach((s) => s.forEach((q) => pts.push(q)));
+    t.goal_positions.forEach((g) => pts.push(g));
+    (t.obstacles || []).forEach((poly) => poly.forEach((q) => pts.push(q)));
+    const xs = pts.map((q) => q[0]).filter(Number.isFinite);
+    const ys = pts.map((q) => q[1]).filter(Number.isFinite);
+    const lo = [Math.min(0, ...xs) - 1, Math.min(0, ...ys) - 1];
+    const hi = [Math.max(t.workspace, ...xs) + 1, Math.max(t.workspace, ...ys) + 1];
+    const size = 430, margin = 30, span = Math.max(hi[0] - lo[0], hi[1] - lo[1]);
+    const scale = (size - margin - 6) / span;
+    const X = (x) => margin + (x - lo[0]) * scale, Y = (y) => size - margin - (y - lo[1]) * scale;
+    Object.assign(ctx, { X, Y, scale });
+    const map = el("svg:svg", { class: "map", id: `map-${k}`, width: size, height: size,
+      viewBox: `0 0 ${size} ${size}` }, ctx.col);
+    drawAxes(map, X, Y, lo, span, scale);
+    (t.obstacles || []).forEach((poly) => el("svg:polygon", {
+      points: poly.map((q) => `${X(q[0])},${Y(q[1])}`).join(" "), fill: "#777",
+      "fill-opacity": 0.55, stroke: "#333", class: "obstacle" }, map));
+    ctx.goalMarks = drawGoals(map, t, X, Y, scale);
     const layer = el("svg:g", { class: "moving" }, map);
     ctx.layer = layer;
     ctx.closedAt = closedSteps(t);
