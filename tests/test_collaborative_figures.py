@@ -69,6 +69,13 @@ def test_the_frame_draws_what_the_trace_says():
                     assert (row == trial.knowledge.knows_goals((focus, j))).all()
             gids = {a.get_gid() for a in artists if a.get_gid()}
             assert {f"robot:{r}" for r in s.robot_names} <= gids
+            # each task: the robots it needs, and once done the step it was done
+            labels = [a for a in frame.fig.findobj() if str(a.get_gid()).startswith("needs:")]
+            needs = {a.get_gid(): a.get_text() for a in labels}
+            for t, name in enumerate(s.task_names):
+                done = trial.tasks_done[t]
+                when = f", done at {done}" if 0 <= done <= step else ""
+                assert needs[f"needs:{name}"] == f"×{s.needs[t]}{when}"
         assert (frame.nested_at(last) >= frame.nested_at(0)).all()  # knowledge only grows
     finally:
         frame.close()

@@ -329,9 +329,12 @@ class JointFrame:
         self.map_axes = ax = fig.add_subplot(grid[:, 0])
         draw_obstacles(ax, trace.get("obstacles", []))
         draw_goals(ax, self.places, self.tasks, trace["success_radius"])
-        for (x, y), k in zip(self.places, trace["needs"], strict=True):  # robots it needs
+        self.needs = [int(k) for k in trace["needs"]]
+        self.need_labels = [  # robots it needs, and once done when
             ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
-                        fontsize=FONT_SIZE)  # fmt: skip
+                        fontsize=FONT_SIZE, gid=f"needs:{name}")
+            for (x, y), k, name in zip(self.places, self.needs, self.tasks, strict=True)
+        ]  # fmt: skip
         set_map_limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
         self.trails, self.discs, self.sensing = robot_artists(
             ax, self.robots, self.poses[0], trace["sensing_range"]
@@ -381,6 +384,9 @@ class JointFrame:
                             fontsize=FONT_SIZE - 1, color=robot_colour(i))  # fmt: skip
             self.transient.append(label)
         finished = (self.done >= 0) & (self.done <= step)
+        for t, label in enumerate(self.need_labels):
+            done = f", done at {self.done[t]}" if finished[t] else ""
+            label.set_text(f"×{self.needs[t]}{done}")
         for t in np.flatnonzero(finished):
             self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])
         shade = np.where(finished[None], 0.35, 0.0)  # done columns grey
