@@ -1,5 +1,5 @@
-"""The animation of a collaborative trial and the nested knowledge its trace keeps
-(sim/study/collaborative_figures.py, the trace's ``aware_since``)."""
+"""The animation of a collaborative trial, drawn as its kind's panels (sim/study/frames.py,
+``JointFrame``), and the nested knowledge its trace keeps (the trace's ``aware_since``)."""
 
 from pathlib import Path
 
@@ -10,11 +10,14 @@ from PIL import Image
 
 from epistemica.cli import main
 from epistemica.mission import load_mission
-from epistemica.sim import simulate
-from epistemica.sim.study.collaborative_figures import (
-    CollaborativeFrame,
-    animate_collaborative,
+from epistemica.sim import KINDS, Scenario, simulate
+from epistemica.sim.study.figures import (
+    FRAMES,
+    JointFrame,
+    TraceFrame,
+    animate_trace,
     fetching_robot,
+    frame_for,
 )
 from epistemica.sim.study.trace import trial_trace
 
@@ -51,7 +54,7 @@ def test_the_frame_draws_what_the_trace_says():
     focus = fetching_robot(trace)
     fetched = (trial.steer_to == -2).sum(axis=0)
     assert fetched[focus] == fetched.max() and fetched.max() > 0  # third fetches on seed 1
-    frame = CollaborativeFrame(trace, "tasks_3")
+    frame = JointFrame(trace, "tasks_3")
     try:
         last = trial.steps - 1
         for step in (0, trial.steps // 2, last):
@@ -66,15 +69,40 @@ def test_the_frame_draws_what_the_trace_says():
                     assert (row == trial.knowledge.knows_goals((focus, j))).all()
             gids = {a.get_gid() for a in artists if a.get_gid()}
             assert {f"robot:{r}" for r in s.robot_names} <= gids
+            # each task: the robots it needs, and once done the step it was done
+            labels = [a for a in frame.fig.findobj() if str(a.get_gid()).startswith("needs:")]
+            needs = {a.get_gid(): a.get_text() for a in labels}
+            for t, name in enumerate(s.task_names):
+                done = trial.tasks_done[t]
+                when = f", done at {done}" if 0 <= done <= step else ""
+                assert needs[f"needs:{name}"] == f"×{s.needs[t]}{when}"
         assert (frame.nested_at(last) >= frame.nested_at(0)).all()  # knowledge only grows
     finally:
         frame.close()
 
 
+def test_every_kind_is_drawn_by_the_frame_of_its_panels():
+    by_trace_kind = {}
+    for kind in KINDS.values():
+        assert [f for f in FRAMES if f.panels == kind.panels], kind  # some frame draws them
+        assert by_trace_kind.setdefault(kind.trace_kind, kind.panels) == kind.panels
+    s, trial = _trial(1, steps=10)
+    goal = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=5)
+    for scenario, trace, frame_class in (
+        (s, trial_trace(s, trial), JointFrame),
+        (goal, trial_trace(goal, simulate(goal, "first", seed=0)), TraceFrame),
+    ):
+        frame = frame_for(trace)
+        try:
+            assert type(frame) is frame_class and frame.panels == scenario.kind.panels
+        finally:
+            frame.close()
+
+
 def test_the_animation_has_one_frame_a_step_up_to_sixty(tmp_path):
     s, trial = _trial(1)
     path = tmp_path / "t.gif"
-    count = animate_collaborative(trial_trace(s, trial), path, mission="tasks_3")
+    count = animate_trace(trial_trace(s, trial), path, mission="tasks_3")
     assert count == min(trial.steps + 1, 60)
     assert Image.open(path).n_frames == count
 
@@ -99,6 +127,10 @@ def test_run_animates_the_trial_third_gains_most_on(tmp_path, capsys, monkeypatc
     best = min(gains, key=lambda s: (-gains[s], s))
     assert f"animation (third, seed {best}: {gains[best]} steps sooner than first" in out
     assert Image.open(tmp_path / "runs" / "small.gif").n_frames > 1
+    # and its replay page, as for a goal mission: third beside the level that failed there
+    # or else the other level
+    page = (tmp_path / "runs" / "small.html").read_text()
+    assert f"seed {best}: third " in page and "; first " in page
 
 
 def test_the_animated_seed_without_a_gain_and_when_chosen():

@@ -298,7 +298,7 @@ def test_a_stored_collaborative_trace_is_the_trial(tmp_path):
     trial = simulate(m.scenario(3), "third", 3, parameters=m.parameters)
     assert trace["kind"] == "collaborative" and trace["steps"] == trial.steps
     assert np.allclose(trace["poses"], trial.trajectory, atol=0.006)
-    assert trace["knows"] == trial.knows.astype(int).tolist()
+    assert trace["tasks_known"] == trial.knows.astype(int).tolist() and "knows" not in trace
     assert trace["tasks_done"] == trial.tasks_done.tolist()
     assert trace["needs"] == list(m.scenario(3).needs)
     names = m.robots + m.goals
@@ -321,13 +321,14 @@ def test_sweep_stores_a_collaborative_mission(capsys, tmp_path, monkeypatch):
     assert "unknown collaborative level" in capsys.readouterr().err
 
 
-def test_view_of_a_collaborative_result_is_a_clean_error(capsys, tmp_path, monkeypatch):
+def test_view_of_a_collaborative_result_replays_it(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert main(["run", _small(tmp_path, 20), "--trials", "1", "--levels", "first",
                  "--no-gif"]) == 0  # fmt: skip
-    assert main(["view", "runs/small.sqlite", "-o", "v.html"]) == 2
-    err = capsys.readouterr().err
-    assert "collaborative" in err and "Traceback" not in err
+    assert main(["view", "runs/small.sqlite", "-o", "v.html"]) == 0
+    html = (tmp_path / "v.html").read_text()
+    assert '"kind":"collaborative"' in html and '"panels":["targets"' in html
+    assert "Traceback" not in capsys.readouterr().err
 
 
 def test_a_backed_waiter_waits_longer():

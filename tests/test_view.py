@@ -145,3 +145,55 @@ def test_model_page_carries_the_model_and_the_claims_truth_sets(tmp_path):
         truth = evaluate(model, check.formula, spec.actions)
         assert claim["worlds"] == [n for n, t in zip(ordered, truth.tolist(), strict=True) if t]
         assert claim["holds"] == bool(truth[model.designated_positions].all())
+
+
+@pytest.fixture(scope="module")
+def joint_trace():
+    """A short collaborative trial's trace."""
+    from epistemica.mission import load_mission
+
+    mission = load_mission(str(SPECS / "collaborative" / "tasks_3.epi"))
+    scenario = mission.scenario(1).replace(max_steps=30)
+    return trial_trace(scenario, simulate(scenario, "third", seed=1))
+
+
+def test_a_joint_trace_of_version_2_views_with_its_tasks_known(tmp_path, joint_trace):
+    old = {k: v for k, v in joint_trace.items() if k != "tasks_known"}
+    old.update(version=2, knows=joint_trace["tasks_known"])
+    (tmp_path / "old.json").write_text(json.dumps(old))
+    out = tmp_path / "old.html"
+    assert main(["view", str(tmp_path / "old.json"), "-o", str(out)]) == 0
+    trial = _data(out.read_text())["trials"][0]
+    assert trial["trace"]["tasks_known"] == joint_trace["tasks_known"]
+    assert "knows" not in trial["trace"] and trial["panels"][-1] == "events"
+    since = joint_trace["aware_since"]  # how each robot learned each task it knew of
+    mine = [[i, t, since[i][i][t]] for i in range(3) for t in range(3) if since[i][i][t] >= 0]
+    assert sorted([i, t, step] for step, i, t, _ in trial["learned"]) == mine
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"kind": "relay"}, "a trace of an unknown kind 'relay'"),
+        ({"steer_to": None}, "the trace's 'steer_to' is None, not a JSON list"),
+        ({"aware_since": [[[0]]]}, "the trace's 'aware_since' is not an array of shape (3, 3, 3)"),
+        ({"steer_to": [[0, 1]]}, "the trace's 'steer_to' is not an array of shape ("),
+        ({"poses": [[[0, 0, 0]], "x"]}, "the trace's 'poses' is not an array of shape ("),
+        ({"events": [[0, "found", ["r1"]]]}, "the trace is incomplete"),
+    ],
+)
+def test_a_bad_joint_trace_exits_2_with_a_hint(tmp_path, joint_trace, change, message):
+    (tmp_path / "bad.json").write_text(json.dumps({**joint_trace, **change}))
+    proc = subprocess.run(
+        [sys.executable, "-m", "epistemica", "view", str(tmp_path / "bad.json")],
+        capture_output=True, text=True, cwd=tmp_path, timeout=60,
+    )  # fmt: skip
+    assert proc.returncode == 2 and message in proc.stderr and "hint:" in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_levels_are_compared_within_one_kind(joint_trace, long_trace):
+    from epistemica.del_.errors import InvalidArgumentError
+
+    with pytest.raises(InvalidArgumentError, match="different kinds of mission"):
+        trial_page(long_trace, "", [joint_trace])

@@ -14,6 +14,8 @@ Examples
 ([[0, 1], [1, 0]], False)
 >>> kind_named("multitask").tasks, kind_named("multitask").default_goals(3)
 (True, 20)
+>>> kind_named("collaborative").panels
+('targets', 'tasks_known', 'teammates_known', 'events')
 """
 
 from __future__ import annotations
@@ -23,7 +25,15 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["MissionKind"]
+__all__ = ["GOAL_PANELS", "JOINT_PANELS", "MissionKind"]
+
+#: The panels beside the map of a goal trial's figure and page (goal and multitask
+#: missions): what each robot knows of (and what the focus robot takes its teammates to
+#: know), each robot's belief, the configuration-set sizes, the events.
+GOAL_PANELS = ("knowledge", "belief", "sets", "events")
+#: The panels of a joint trial's: what each robot steers to, the tasks each robot knows of
+#: (since when, how), what a chosen robot knows each teammate knows, the events.
+JOINT_PANELS = ("targets", "tasks_known", "teammates_known", "events")
 
 
 @runtime_checkable
@@ -56,6 +66,11 @@ class MissionKind(Protocol):
     trace_kind : str or None
         The ``kind`` field of its trials' traces (``None``: goal-mission traces, which
         carry beliefs and configuration sets).
+    panels : tuple of str
+        The panels a picture of one of its trials draws beside the map, in order
+        (:data:`GOAL_PANELS`, :data:`JOINT_PANELS`): the animation
+        (:mod:`epistemica.sim.study.figures`) and the replay page (``epistemica view``)
+        draw those; kinds with the same ``trace_kind`` have the same panels.
     """
 
     name: str
@@ -67,6 +82,7 @@ class MissionKind(Protocol):
     paper: tuple[tuple[str, float], ...] | None
     study_levels: tuple[str, ...]
     trace_kind: str | None
+    panels: tuple[str, ...]
 
     def default_goals(self, robots: int) -> int:
         """How many goals (tasks) a generated trial has for ``robots`` robots."""

@@ -31,6 +31,7 @@ from scipy.optimize import linear_sum_assignment
 
 from epistemica.aif.configurations import count_configurations, valid_configurations
 from epistemica.sim.engine.missions import gathered, matched, within
+from epistemica.sim.kinds.base import GOAL_PANELS
 
 __all__ = ["ALLOCATION", "CAPACITY", "RENDEZVOUS", "GoalKind"]
 
@@ -52,6 +53,7 @@ class GoalKind:
     joint: bool = False
     study_levels: tuple[str, ...] = _STUDY_LEVELS
     trace_kind: str | None = None
+    panels: tuple[str, ...] = GOAL_PANELS
 
     def __str__(self) -> str:
         return self.name

@@ -18,7 +18,8 @@ hint: use one of rendezvous, allocation, capacity, multitask, collaborative
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from epistemica.sim.kinds.base import MissionKind
 from epistemica.sim.kinds.goal import ALLOCATION, CAPACITY, RENDEZVOUS
 from epistemica.sim.kinds.tasks import COLLABORATIVE, MULTITASK
 
-__all__ = ["KINDS", "PAPER_KINDS", "kind_named", "mission_holds"]
+__all__ = ["KINDS", "PAPER_KINDS", "kind_named", "kind_of_trace", "mission_holds"]
 
 #: Mission kind name -> kind, in the order the docs list them.
 KINDS: dict[str, MissionKind] = {
@@ -47,6 +48,32 @@ def kind_named(name: str | MissionKind) -> MissionKind:
             f"unknown mission kind {name!r}", hint=f"use one of {', '.join(KINDS)}"
         )
     return kind
+
+
+def kind_of_trace(trace: Mapping[str, Any]) -> MissionKind:
+    """The kind of the trial a trace (:mod:`epistemica.sim.study.trace`) records, as far as
+    its picture goes: the first kind whose ``trace_kind`` is the trace's ``kind`` field
+    (absent: a goal trial's trace; every kind writing one draws the same panels).
+
+    Examples
+    --------
+    >>> kind_of_trace({"kind": "collaborative"}).joint, kind_of_trace({}).panels[0]
+    (True, 'knowledge')
+    >>> kind_of_trace({"kind": "relay"})
+    Traceback (most recent call last):
+        ...
+    epistemica.del_.errors.InvalidArgumentError: a trace of an unknown kind 'relay'
+    hint: traces are written by epistemica.sim.study.trace; kinds: collaborative
+    """
+    field = trace.get("kind")
+    for kind in KINDS.values():
+        if kind.trace_kind == field:
+            return kind
+    written = ", ".join(k.trace_kind for k in KINDS.values() if k.trace_kind is not None)
+    raise InvalidArgumentError(
+        f"a trace of an unknown kind {field!r:.40}",
+        hint=f"traces are written by epistemica.sim.study.trace; kinds: {written}",
+    )
 
 
 def mission_holds(

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
+from epistemica.sim.kinds.base import GOAL_PANELS, JOINT_PANELS
 
 __all__ = ["COLLABORATIVE", "MULTITASK", "TaskKind"]
 
@@ -38,6 +39,7 @@ class TaskKind:
     paper: tuple[tuple[str, float], ...] | None = None
     study_levels: tuple[str, ...] = ("zero", "convention", "first", "third")
     trace_kind: str | None = None
+    panels: tuple[str, ...] = GOAL_PANELS
     tasks: bool = True
     joint: bool = False
     gathers: bool = False
@@ -91,4 +93,5 @@ COLLABORATIVE = TaskKind(
     joint=True,
     study_levels=("convention", "first", "third-shared", "third", "oracle"),
     trace_kind="collaborative",
+    panels=JOINT_PANELS,
 )

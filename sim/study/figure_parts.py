@@ -1,9 +1,9 @@
-"""The drawing parts the trial figures share: matplotlib on Agg, saving, the map (goals,
-closed goals, obstacles, limits and axes), robots and their sensing circles, the events
-panel, and GIF writing.
+"""The drawing parts the trial figures share: matplotlib on Agg, saving, the title, the map
+(goals, closed goals, obstacles, limits and axes), robots and their sensing circles, a table
+of robots by goals, the events panel, and GIF writing.
 
-Used by :mod:`epistemica.sim.study.figures` (a trial's picture and animation) and
-:mod:`epistemica.sim.study.collaborative_figures`. matplotlib is imported only when drawing, with
+Used by :mod:`epistemica.sim.study.figures` (a trial's picture and animation, the panels of
+every mission kind). matplotlib is imported only when drawing, with
 the Agg backend (no display needed); without it :func:`pyplot` raises an
 :class:`~epistemica.del_.errors.EpistemicaError` naming the extra to install. GIFs are
 written by Pillow.
@@ -33,9 +33,11 @@ __all__ = [
     "move_robots",
     "pyplot",
     "robot_artists",
+    "robot_table",
     "save_figure",
     "set_closed",
     "set_map_limits",
+    "trace_title",
     "unwritable",
     "write_gif",
 ]
@@ -81,6 +83,29 @@ def unwritable(what: str, path, err: OSError) -> EpistemicaError:
         f"cannot write the {what} {path}: {err.strerror or err}",
         hint="write it to a folder that exists, is writable and has room",
     )
+
+
+def trace_title(trace: dict, mission: str = "") -> str:
+    """The title of a trace's figure: mission, team size, levels, seed and outcome."""
+    steps = trace["steps"]
+    outcome = f"succeeded at step {steps}" if trace["success"] else f"failed within {steps} steps"
+    levels = ", ".join(dict.fromkeys(trace["policies"]))
+    head = f"{mission}, " if mission else ""
+    return f"{head}{len(trace['robots'])} robots, {levels}, seed {trace['seed']}: {outcome}"
+
+
+def robot_table(ax, names: list[str], robots, columns: list[str], title: str):
+    """A grey table on ``ax``: one row per robot (``names``, coloured as ``robots``), one
+    column per goal or task; its image (``set_data`` an array in 0..1.6, dark: more)."""
+    image = ax.imshow(np.zeros((len(names), len(columns))), cmap="Greys", vmin=0, vmax=1.6,
+                      aspect="auto", interpolation="nearest")  # fmt: skip
+    ax.set_xticks(np.arange(len(columns)), columns, fontsize=FONT_SIZE)
+    ax.set_yticks(np.arange(len(names)), names, fontsize=FONT_SIZE)
+    for label, i in zip(ax.get_yticklabels(), robots, strict=True):
+        label.set_color(robot_colour(i))
+        label.set_fontweight("bold")
+    ax.set_title(title, fontsize=FONT_SIZE, loc="left")
+    return image
 
 
 def draw_goals(ax, goals: np.ndarray, names, radius: float, closed=None) -> list:

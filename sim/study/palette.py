@@ -18,7 +18,14 @@ import numpy as np
 from epistemica.sim.policies.levels import REASONING
 from epistemica.sim.study.trace import known_goals
 
-__all__ = ["LEVEL_COLOURS", "ROBOT_COLOURS", "focus_robot", "level_style", "robot_colour"]
+__all__ = [
+    "LEVEL_COLOURS",
+    "ROBOT_COLOURS",
+    "fetching_robot",
+    "focus_robot",
+    "level_style",
+    "robot_colour",
+]
 
 #: A qualitative palette without grey or black (those are the goals').
 ROBOT_COLOURS = (
@@ -66,6 +73,20 @@ def level_style(level: str) -> tuple[str, str, str]:
 def robot_colour(i: int) -> str:
     """The colour of robot ``i`` (0-based) in every figure and the browser view."""
     return ROBOT_COLOURS[i % len(ROBOT_COLOURS)]
+
+
+def fetching_robot(trace: dict[str, Any]) -> int:
+    """The robot whose nested knowledge a joint trial's picture shows first: the one that
+    fetched a teammate on the most steps (its reason to fetch is a teammate that does not
+    know; the lowest index on a tie, robot 0 if none did).
+
+    Examples
+    --------
+    >>> fetching_robot({"robots": ["a", "b", "c"], "steer_to": [[-1, -2, 0], [-2, -2, 0]]})
+    1
+    """
+    steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, len(trace["robots"]))
+    return int(np.argmax((steer == -2).sum(axis=0)))
 
 
 def focus_robot(trace: dict[str, Any]) -> int:

@@ -1,4 +1,4 @@
-"""A trial's per-step record as a compact, versioned document (``epistemica-trace`` v2).
+"""A trial's per-step record as a compact, versioned document (``epistemica-trace`` v3).
 
 What a figure, a browser replay or an audit needs of a trial, and nothing of the process
 that ran it: the world (names, goals, sensors, ranges), the true poses step by step, each
@@ -12,7 +12,8 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 
 ==================  ==========================================================================
 ``format``          ``"epistemica-trace"``
-``version``         ``2`` (version 1, read too, gave event arguments as indices)
+``version``         ``3`` (1 and 2 read too: version 1 gave event arguments as indices,
+                    version 2 named a joint trial's ``tasks_known`` ``knows``)
 ``robots``          ``n`` names; ``goals``: ``m`` names
 ``goal_positions``  ``(m, 2)`` metres
 ``workspace``       side of the workspace (m); ``sensing_range``: m or ``null`` (unlimited)
@@ -44,10 +45,12 @@ Fields (arrays as nested lists; ``T`` steps, ``n`` robots, ``m`` goals):
 A trial of a joint (collaborative) mission carries ``kind: "collaborative"`` and, in place
 of beliefs and configuration sets, its task ledger: ``needs`` (robots per task),
 ``tasks_done`` (``m``: the step each task was done, -1 never), ``steer_to`` (``(T, n)``: the
-task each robot headed to, -1 exploring, -2 fetching a teammate, -3 waiting), ``knows``
-(``(T, n, m)``: the tasks each robot knew of) and ``aware_since`` (``(n, n, m)``: the first
-step robot ``i`` knew that robot ``j`` knows of task ``t``); its events name their
-arguments as the rule bound them.
+task each robot headed to, -1 exploring, -2 fetching a teammate, -3 waiting),
+``tasks_known`` (``(T, n, m)``: 1 where robot ``i`` knew of task ``t`` when it decided) and
+``aware_since`` (``(n, n, m)``: the first step robot ``i`` knew that robot ``j`` knows of
+task ``t``, -1 never); its events name their arguments as the rule bound them. Version 2
+wrote ``tasks_known`` as ``knows``, the name goal traces give their change list:
+:func:`upgraded` (which :func:`decode` applies) renames it.
 
 Every field from ``knows`` on is optional: traces without them (written before they were
 recorded, or of trials where they are empty) read as they did.
@@ -58,7 +61,7 @@ Examples
 >>> s = Scenario.paper("rendezvous", 2, 2, seed=0)
 >>> trace = trial_trace(s, simulate(s, "convention", seed=0))
 >>> trace["version"], len(trace["poses"]) == trace["steps"] + 1
-(2, True)
+(3, True)
 >>> decode(encode(trace)) == trace
 True
 """
@@ -85,7 +88,9 @@ __all__ = [
     "decode",
     "encode",
     "known_goals",
+    "task_learning",
     "trial_trace",
+    "upgraded",
 ]
 
 #: The largest trace document read, inflated (a stored trace is about 2 kB compressed;
@@ -93,9 +98,9 @@ __all__ = [
 MAX_TRACE_BYTES = 16 << 20
 
 FORMAT = "epistemica-trace"
-VERSION = 2
+VERSION = 3
 #: The versions :func:`decode` reads.
-READABLE = (1, 2)
+READABLE = (1, 2, 3)
 
 
 def _rounded(array: np.ndarray, decimals: int) -> list:
@@ -163,7 +168,7 @@ def _joint_trace(s: CollaborativeScenario, trial: Trial) -> dict[str, Any]:
         "poses": np.round(trial.trajectory, 2).tolist(),
         "tasks_done": [int(d) for d in trial.tasks_done],
         "steer_to": np.asarray(trial.steer_to, dtype=int).tolist(),
-        "knows": np.asarray(trial.knows, dtype=int).tolist(),
+        "tasks_known": np.asarray(trial.knows, dtype=int).tolist(),
         "aware_since": np.asarray(trial.aware_since, dtype=int).tolist(),
         "events": events,
     }
@@ -259,6 +264,59 @@ def known_goals(trace: dict[str, Any]) -> np.ndarray | None:
     return out
 
 
+def task_learning(trace: dict[str, Any]) -> list[list]:
+    """How each robot of a joint trace came to know of each task it knew of: ``[step, i, t,
+    how]`` in order of step, ``step`` being ``aware_since[i][i][t]`` and ``how`` the name of
+    an event of that step robot ``i`` observed about task ``t``, else ``"seen"`` (the task
+    within its sensing range then, to the trace's 2 decimals), else ``"told"`` (a level that
+    shares news).
+
+    Examples
+    --------
+    >>> trace = {"robots": ["a", "b"], "goals": ["t1"], "goal_positions": [[0.0, 0.0]],
+    ...          "sensing_range": 5.0, "poses": [[[1.0, 0, 0], [20.0, 0, 0]]] * 4,
+    ...          "aware_since": [[[0], [3]], [[3], [3]]], "events": [[3, "found", ["a", "t1"],
+    ...          [1]]]}
+    >>> task_learning(trace)
+    [[0, 0, 0, 'seen'], [3, 1, 0, 'found']]
+    """
+    robots, tasks = trace["robots"], trace["goals"]
+    since = np.asarray(trace["aware_since"], dtype=int).reshape(len(robots), len(robots), -1)
+    places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+    poses = np.asarray(trace["poses"], dtype=float)
+    reach = float(trace["sensing_range"]) + 0.02  # poses and places are rounded to 0.01 m
+    out = []
+    for i, t in np.argwhere(np.diagonal(since).T >= 0):
+        step = int(since[i, i, t])
+        told = [e[1] for e in trace["events"] if e[0] == step and i in e[3] and tasks[t] in e[2]]
+        near = np.hypot(*(poses[min(step, len(poses) - 1), i, :2] - places[t])) <= reach
+        out.append([step, int(i), int(t), told[0] if told else "seen" if near else "told"])
+    return sorted(out)
+
+
+def upgraded(trace: dict[str, Any]) -> dict[str, Any]:
+    """``trace`` with today's field names (the same dict when nothing changes).
+
+    A joint trace of version 2 or earlier (``kind`` set) kept the tasks each robot knew of
+    under ``knows``, the key whose goal-trace meaning is a list of changes; it is moved to
+    ``tasks_known``. The version is left as written.
+
+    Examples
+    --------
+    >>> old = {"version": 2, "kind": "collaborative", "knows": [[[1, 0]]]}
+    >>> sorted(upgraded(old)), upgraded(old)["tasks_known"]
+    (['kind', 'tasks_known', 'version'], [[[1, 0]]])
+    >>> goal = {"version": 2, "knows": [[0, 0, 0, 0, 1, "start"]]}
+    >>> upgraded(goal) is goal
+    True
+    """
+    if trace.get("kind") is None or "knows" not in trace or "tasks_known" in trace:
+        return trace
+    out = {key: value for key, value in trace.items() if key != "knows"}
+    out["tasks_known"] = trace["knows"]
+    return out
+
+
 def encode(trace: dict[str, Any]) -> bytes:
     """The trace as zlib-compressed JSON (NaN written as ``null``)."""
     text = json.dumps(trace, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
@@ -291,4 +349,4 @@ def decode(blob: bytes) -> dict[str, Any]:
             + ", ".join(map(str, READABLE)),
             hint="re-run the trial with this version",
         )
-    return trace
+    return upgraded(trace)

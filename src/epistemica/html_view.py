@@ -3,12 +3,13 @@
 Each page is one file with its script, style and data inline (the data as JSON in a
 ``<script type="application/json">`` element): it opens offline, from disk, with no server
 and no network. The assets are in ``src/epistemica/pages/`` (``page.html``, ``view.css``,
-``trial_view.js``, ``model_view.js``), shipped as package data. This module imports no
+``trial_parts.js``, ``trial_panels.js``, ``trial_view.js``, ``model_view.js``), shipped as
+package data. This module imports no
 simulator code, so that ``show --html`` starts as fast as ``show``.
 
 - :func:`epistemica.view.trial_page`: a trace (:mod:`epistemica.sim.study.trace`) replayed with
-  the panels of the animation (:mod:`epistemica.sim.study.figures`); a slider scrubs, a button
-  plays and pauses.
+  the panels of its mission kind, as the animation draws them
+  (:mod:`epistemica.sim.study.figures`); a slider scrubs, a button plays and pauses.
 - :func:`model_page`: a model as ``epistemica show --json`` writes it (worlds, relations per
   agent, designated worlds), the spec's claims with their truth sets computed by
   epistemica, and a box that evaluates static formulas (propositional, ``K``, ``B``,
@@ -65,10 +66,13 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def page(title: str, script: str, data: dict[str, Any]) -> str:
-    """The page titled ``title`` running the asset ``script`` over ``data`` (embedded JSON)."""
+def page(title: str, script: str | tuple[str, ...], data: dict[str, Any]) -> str:
+    """The page titled ``title`` running the asset ``script`` (several: in that order, in
+    one script element) over ``data`` (embedded JSON)."""
     escaped = title.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-    parts = {"title": escaped, "style": _asset("view.css"), "script": _asset(script)}
+    names = (script,) if isinstance(script, str) else script
+    code = "\n".join(_asset(name) for name in names)
+    parts = {"title": escaped, "style": _asset("view.css"), "script": code}
     parts["data"] = _json(data)
     # Split on the markers once, so that no inserted text is searched for markers again.
     pieces = _asset("page.html").split("@@")

@@ -94,6 +94,8 @@ def _step_rows(row: dict, trace: dict) -> list[tuple]:
             considered = _at(trace, "considered", step, i)
             unpruned = _at(trace, "unpruned", step, i)
             count = int(known[step, i, i].sum()) if known is not None else len(goals)
+            if "tasks_known" in trace:  # a joint trial: the tasks it knew of
+                count = int(sum(trace["tasks_known"][step][i]))
             values = (row["id"], row["mission"], row["reasoning"], row["seed"], step, name)
             x, y, heading = (nan if v is None else v for v in pose[i][:3])
             out.append((*values, x, y, heading, considered, unpruned, goal, belief, count))

@@ -1,11 +1,15 @@
 """``epistemica view FILE``: a trial's replay as one self-contained HTML page.
 
-:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`), one column per level of
-the same seed with one shared slider: the map (obstacles, open and closed goals, axes in
-metres, sensing radii, estimates, events), what each robot knows (the goals it knows of and
-how it learned them, the configuration it acts on, its configuration set), the focus
-robot's model of each teammate's knowledge, each robot's belief (``n/c`` where not
-computed), the configuration-set sizes and the events; a button plays and pauses.
+:func:`trial_page` replays a trace (:mod:`epistemica.sim.study.trace`) of any mission kind, one
+column per level of the same seed with one shared slider: the map (obstacles, goals or tasks,
+axes in metres, sensing radii, events), then the panels the trace's kind names
+(:class:`~epistemica.sim.kinds.base.MissionKind` ``panels``). A goal mission's: what each
+robot knows (the goals it knows of and how it learned them, the configuration it acts on,
+its configuration set), a chosen robot's model of each teammate's knowledge, each robot's
+belief (``n/c`` where not computed), the configuration-set sizes. A collaborative
+mission's: each task with the robots it needs and when it was done, what each robot steers
+to (now, since when, over the trial), the tasks each robot knows of (since when, how), what
+a chosen robot knows each teammate knows of. Both: the events; a button plays and pauses.
 
 ``view`` writes the replay page of one trial (:func:`trial_page`)
 from a trace file (JSON, or the compressed bytes of :func:`epistemica.sim.study.trace.encode`),
@@ -23,6 +27,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import MAX_SOURCE_BYTES, read_source
 from epistemica.html_view import page, write_page
@@ -30,8 +36,16 @@ from epistemica.input_files import read_input
 from epistemica.mission import parse_mission
 from epistemica.output_files import check_output
 from epistemica.sim.engine.simulate import simulate
-from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
-from epistemica.sim.study.trace import FORMAT, READABLE, decode, trial_trace
+from epistemica.sim.kinds.registry import kind_of_trace
+from epistemica.sim.study.palette import ROBOT_COLOURS, fetching_robot, focus_robot
+from epistemica.sim.study.trace import (
+    FORMAT,
+    READABLE,
+    decode,
+    task_learning,
+    trial_trace,
+    upgraded,
+)
 
 __all__ = ["read_trace", "run_view", "trial_page"]
 
@@ -158,35 +172,43 @@ def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] 
     >>> "demo: 2 robots, seed 0: zero failed within 5 steps; first" in html
     True
     """
-    traces = [trace, *others]
-    for t in traces:
+    traces = []
+    for t in [trace, *others]:
         if not isinstance(t, dict) or t.get("format") != FORMAT:
             raise InvalidArgumentError(
                 "not an epistemica trace", hint="traces are written by epistemica.sim.study.trace"
             )
-        if t.get("kind") is not None:  # a joint trial: no beliefs or sets to replay
-            raise InvalidArgumentError(
-                "a collaborative trial's trace has no beliefs or configuration sets to replay",
-                hint="read it with epistemica.sim.study.store.read_trace; the page replays "
-                "other missions",
-            )
-        _check_fields(t)
-    trials = [{"trace": t, "level": _level(t), "focus": _focus(t)} for t in traces]
+        traces.append(upgraded(t))
+    trials = [_trial(t) for t in traces]
+    if len({tuple(p["panels"]) for p in trials}) > 1:
+        raise InvalidArgumentError(
+            "the traces are of different kinds of mission", hint="compare levels of one trial"
+        )
     verdicts = "; ".join(f"{p['level']} {_outcome(p['trace'])}" for p in trials)
     head = f"{mission}: " if mission else ""
-    title = f"{head}{len(trace['robots'])} robots, seed {trace['seed']}: {verdicts}"
+    title = f"{head}{len(traces[0]['robots'])} robots, seed {traces[0]['seed']}: {verdicts}"
     data = {"trials": trials, "colours": list(ROBOT_COLOURS), "fps": _FPS}
-    return page(title, "trial_view.js", data)
+    return page(title, ("trial_parts.js", "trial_panels.js", "trial_view.js"), data)
 
 
-def _focus(trace: dict[str, Any]) -> int:
+def _trial(trace: dict[str, Any]) -> dict[str, Any]:
+    """A column's data: the trace, its level, its kind's panels, the robot whose model of
+    its teammates is shown first and, of a joint trial, how each robot learned each task."""
+    kind = kind_of_trace(trace)
+    _check_fields(trace, _JOINT_FIELDS if kind.joint else _GOAL_FIELDS)
+    if kind.joint:
+        _check_shapes(trace)
+    column = {"trace": trace, "level": _level(trace), "panels": list(kind.panels)}
     try:
-        return focus_robot(trace)
+        column["focus"] = fetching_robot(trace) if kind.joint else focus_robot(trace)
+        if kind.joint:
+            column["learned"] = task_learning(trace)
     except (KeyError, TypeError, ValueError, IndexError) as exc:  # a hand-made trace
         raise InvalidArgumentError(
             f"the trace is incomplete ({type(exc).__name__}: {exc})",
             hint="traces are written by epistemica.sim.study.trace",
         ) from None
+    return column
 
 
 def _level(trace: dict[str, Any]) -> str:
@@ -202,9 +224,37 @@ def _outcome(trace: dict[str, Any]) -> str:
 #: The fields the page's title and focus are read from, with their JSON types.
 _FIELDS = {"robots": list, "goals": list, "policies": list, "poses": list, "seed": int,
            "success": bool, "steps": int}  # fmt: skip
+_GOAL_FIELDS = {**_FIELDS, "modelled": list, "considered": list}
+#: A joint trial's: its task ledger and what each robot steered to.
+_JOINT_FIELDS = {**_FIELDS, "goal_positions": list, "needs": list, "tasks_done": list,
+                 "steer_to": list, "tasks_known": list, "aware_since": list, "events": list,
+                 "sensing_range": (int, float)}  # fmt: skip
 
 
-def _check_fields(trace: dict[str, Any]) -> None:
+def _check_shapes(trace: dict[str, Any]) -> None:
+    """Refuse a joint trace whose arrays do not fit its steps, robots and tasks (the page
+    would index past them)."""
+    steps, n, m = trace["steps"], len(trace["robots"]), len(trace["goals"])
+    shapes = {"poses": (steps + 1, n, 3), "goal_positions": (m, 2), "needs": (m,),
+              "tasks_done": (m,), "steer_to": (steps, n), "tasks_known": (steps, n, m),
+              "aware_since": (n, n, m), "sensors": (n,), "policies": (n,)}  # fmt: skip
+    for key, shape in shapes.items():
+        try:
+            found = np.shape(np.asarray(trace[key], dtype=object if key in _NAMES else float))
+        except (TypeError, ValueError):  # ragged, or not numbers
+            found = None
+        if found != shape:
+            raise InvalidArgumentError(
+                f"the trace's {key!r} is not an array of shape {shape} ({steps} steps, "
+                f"{n} robots, {m} tasks)",
+                hint="traces are written by epistemica.sim.study.trace",
+            )
+
+
+_NAMES = ("sensors", "policies")
+
+
+def _check_fields(trace: dict[str, Any], fields: dict[str, Any]) -> None:
     """Refuse a trace of another version or without the fields the page reads."""
     if trace.get("version") not in READABLE:
         raise InvalidArgumentError(
@@ -212,9 +262,12 @@ def _check_fields(trace: dict[str, Any]) -> None:
             + ", ".join(map(str, READABLE)),
             hint="re-run the trial with this version",
         )
-    for key, kind in _FIELDS.items():
-        if not isinstance(trace.get(key), kind):
+    for key, kind in fields.items():
+        if not isinstance(trace.get(key), kind) or isinstance(trace.get(key), bool) != (
+            kind is bool
+        ):
+            name = "number" if isinstance(kind, tuple) else kind.__name__
             raise InvalidArgumentError(
-                f"the trace's {key!r} is {trace.get(key)!r:.40}, not a JSON {kind.__name__}",
+                f"the trace's {key!r} is {trace.get(key)!r:.40}, not a JSON {name}",
                 hint="traces are written by epistemica.sim.study.trace",
             )

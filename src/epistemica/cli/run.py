@@ -2,7 +2,8 @@
 
 ``run`` compiles a mission file, runs its Monte Carlo comparison of reasoning levels (local
 processes, one SQLite row per trial under ``runs/``, resumed when run again), prints the
-results table and writes the figure (PNG) and one animated trial (GIF). ``check`` on a
+results table and writes the figure (PNG) and one trial as an animation (GIF) and a replay
+page (HTML, beside it the same seed at another level), whatever the mission's kind. ``check`` on a
 mission file evaluates its claims, or one formula, on the initial model, or on the model
 after the first steps of a seeded trial (each observation event applied by product update).
 """
@@ -24,7 +25,6 @@ from epistemica.html_view import write_page
 from epistemica.mission import load_mission, parse_mission
 from epistemica.run import mission_trials
 from epistemica.sim.engine.simulate import simulate
-from epistemica.sim.study.collaborative_figures import animate_collaborative
 from epistemica.sim.study.figures import animate_trace
 from epistemica.sim.study.report import disputed_seed, format_table, plot_levels, summarise
 from epistemica.sim.study.trace import trial_trace
@@ -100,12 +100,9 @@ def _run_study(mission, args: argparse.Namespace) -> int:
             plot_levels(cells, path, mission.name)
         print(f"figure: {', '.join(map(str, figures))}")
         gif = out.with_suffix(".gif")
-        if mission.kind.joint and not args.no_gif:
-            level, seed, why = _collaborative_trial(args.trial, rows, specs)
-            _animate_collaborative(mission, level, seed, gif)
-            print(f"animation ({level}, seed {seed}{why}): {gif}")
-        elif not args.no_gif:
-            level, seed, why = _animated_trial(args.trial, rows, specs)
+        if not args.no_gif:
+            chosen = _collaborative_trial if mission.kind.joint else _animated_trial
+            level, seed, why = chosen(args.trial, rows, specs)
             before = _beside(level, seed, rows, specs)
             _animate(mission, level, seed, gif, before)
             beside = f" ({level} beside {before[0]})" if before else ""
@@ -165,15 +162,9 @@ def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[s
     return level, seed, f": {gains[seed]} steps sooner than first, the most of any seed"
 
 
-def _animate_collaborative(mission, level: str, seed: int, path: Path) -> None:
-    scenario = mission.scenario(seed)
-    trial = simulate(scenario, level, seed=seed, parameters=mission.parameters)
-    animate_collaborative(trial_trace(scenario, trial), path, mission=mission.name)
-
-
 def _animate(mission, level: str, seed: int, path: Path, others: list[str]) -> None:
-    """The GIF of ``level``'s trial at ``seed``; its page, with the ``others`` levels'
-    trials of the same seed beside it."""
+    """The GIF of ``level``'s trial at ``seed`` (any kind: the kind's panels); its page,
+    with the ``others`` levels' trials of the same seed beside it."""
     scenario = mission.scenario(seed)
     traces = []
     for reasoning in [level, *others]:

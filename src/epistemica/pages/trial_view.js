@@ -1,32 +1,15 @@
 // epistemica trial replay: one column per trial (two levels of the same seed side by side),
-// one shared slider. Each column: the map (obstacles, goals open and closed, axes in metres,
-// sensing radii, estimates, events), what each robot knows (the goals it knows of and how it
-// learned them, the configuration it acts on, its configuration set), the focus robot's
-// model of each teammate's knowledge, each robot's belief, the set sizes and the events.
-// Traces: format epistemica-trace, version 1 or 2; the knowledge fields are optional.
+// one shared slider. Each column: the map, then the panels its mission kind names
+// (trial_panels.js), from the parts every kind shares (trial_parts.js).
+// Traces: format epistemica-trace, version 1 to 3; the knowledge fields are optional.
 // The page state is exposed as window.epistemicaView for scripts and tests.
-"use strict";
 (function () {
+  "use strict";
   const page = JSON.parse(document.getElementById("data").textContent);
-  const colours = page.colours;
-  const SVG = "http://www.w3.org/2000/svg";
-  const colour = (i) => colours[i % colours.length];
+  const parts = epistemicaParts(page.colours);
+  const PANELS = epistemicaPanels(parts);
+  const { buildMap, colour, el, estimatesOverlay } = parts;
   const last = Math.max(...page.trials.map((p) => p.trace.steps));
-
-  function el(tag, attrs, parent, text) {
-    const node = tag.startsWith("svg:")
-      ? document.createElementNS(SVG, tag.slice(4)) : document.createElement(tag);
-    for (const [k, v] of Object.entries(attrs || {})) node.setAttribute(k, v);
-    if (text !== undefined) node.textContent = text;
-    if (parent) parent.appendChild(node);
-    return node;
-  }
-
-  // A round step for axis ticks: 1, 2 or 5 times a power of ten, about `count` ticks.
-  function tickStep(span, count) {
-    const raw = span / Math.max(count, 1), p = Math.pow(10, Math.floor(Math.log10(raw)));
-    return [1, 2, 5, 10].map((f) => f * p).find((s) => s >= raw);
-  }
 
   const outcome = (t) => (t.success ? `succeeded at step ${t.steps}`
     : `failed: not done within ${t.steps} steps`);
@@ -38,379 +21,38 @@
   const slider = el("input", { id: "step", type: "range", min: 0, max: last, value: 0 }, controls);
   const label = el("span", { id: "step-label" }, controls);
   const columns = el("div", { class: "row" }, app);
-  const views = page.trials.map((p, k) => column(p, k));
 
   function column(p, k) {
-    const t = p.trace, focus = p.focus, n = t.robots.length, m = t.goals.length;
+    const t = p.trace;
     const col = el("div", { class: "column", id: `trial-${k}`, "data-level": p.level }, columns);
     el("h2", { class: "level" }, col, `${p.level}: ${outcome(t)}`);
-
-    // Knowledge per step, from the optional `knows` changes (absent: all common knowledge).
-    const known = [], how = [];  // known[step][i][j][g]; how[i][j][g] = [step, how]
-    const blank = () => t.robots.map(() => t.robots.map(() => t.goals.map(() => false)));
-    let now = t.knows ? blank() : t.robots.map(() => t.robots.map(() => t.goals.map(() => true)));
-    for (let i = 0; i < n; i++) how.push(t.robots.map(() => t.goals.map(() => [0, "start"])));
-    const byStep = {};
-    (t.knows || []).forEach((c) => (byStep[c[0]] = byStep[c[0]] || []).push(c));
-    for (let s = 0; s <= t.steps; s++) {
-      if (byStep[s]) {
-        now = now.map((a) => a.map((b) => b.slice()));
-        for (const [step, i, j, g, v, h] of byStep[s]) {
-          now[i][j][g] = !!v;
-          if (v) how[i][j][g] = [step, h];
-        }
-      }
-      known.push(now);
-    }
-    // Closed goals per step, from the optional `closed` changes.
-    const closedAt = [];
-    let shut = t.goals.map(() => false);
-    const closing = {};
-    (t.closed || []).forEach((c) => (closing[c[0]] = closing[c[0]] || []).push(c));
-    for (let s = 0; s <= t.steps; s++) {
-      if (closing[s]) {
-        shut = shut.slice();
-        for (const [, g, v] of closing[s]) shut[g] = !!v;
-      }
-      closedAt.push(shut);
-    }
-
-    // The map: world coordinates in metres, y up, with axes and a scale bar.
-    const pts = [];
-    t.poses.forEach((s) => s.forEach((q) => pts.push(q)));
-    t.goal_positions.forEach((g) => pts.push(g));
-    (t.obstacles || []).forEach((poly) => poly.forEach((q) => pts.push(q)));
-    const xs = pts.map((q) => q[0]).filter(Number.isFinite);
-    const ys = pts.map((q) => q[1]).filter(Number.isFinite);
-    const lo = [Math.min(0, ...xs) - 1, Math.min(0, ...ys) - 1];
-    const hi = [Math.max(t.workspace, ...xs) + 1, Math.max(t.workspace, ...ys) + 1];
-    const size = 430, margin = 30, span = Math.max(hi[0] - lo[0], hi[1] - lo[1]);
-    const scale = (size - margin - 6) / span;
-    const X = (x) => margin + (x - lo[0]) * scale, Y = (y) => size - margin - (y - lo[1]) * scale;
-    const map = el("svg:svg", { class: "map", id: `map-${k}`, width: size, height: size,
-      viewBox: `0 0 ${size} ${size}` }, col);
-    const tick = tickStep(span, 6), axes = el("svg:g", { class: "axes" }, map);
-    el("svg:line", { x1: margin, y1: size - margin, x2: size - 4, y2: size - margin,
-      stroke: "#888" }, axes);
-    el("svg:line", { x1: margin, y1: 4, x2: margin, y2: size - margin, stroke: "#888" }, axes);
-    for (let v = Math.ceil(lo[0] / tick) * tick; v <= lo[0] + span; v += tick) {
-      el("svg:line", { x1: X(v), x2: X(v), y1: size - margin, y2: size - margin + 4,
-        stroke: "#888" }, axes);
-      el("svg:text", { x: X(v), y: size - margin + 15, "text-anchor": "middle",
-        "font-size": 10, class: "tick x" }, axes, String(+v.toFixed(6)));
-    }
-    for (let v = Math.ceil(lo[1] / tick) * tick; v <= lo[1] + span; v += tick) {
-      el("svg:line", { x1: margin - 4, x2: margin, y1: Y(v), y2: Y(v), stroke: "#888" }, axes);
-      el("svg:text", { x: margin - 6, y: Y(v) + 3, "text-anchor": "end", "font-size": 10,
-        class: "tick y" }, axes, String(+v.toFixed(6)));
-    }
-    el("svg:text", { x: size - 6, y: size - 3, "text-anchor": "end", "font-size": 10 }, axes,
-      "x (m)");
-    el("svg:text", { x: 3, y: 12, "font-size": 10 }, axes, "y (m)");
-    const bar = el("svg:g", { class: "scale-bar" }, map);
-    el("svg:line", { x1: size - 14 - tick * scale, x2: size - 14, y1: size - margin - 10,
-      y2: size - margin - 10, stroke: "#000", "stroke-width": 3 }, bar);
-    el("svg:text", { x: size - 14 - (tick * scale) / 2, y: size - margin - 15,
-      "text-anchor": "middle", "font-size": 11 }, bar, `${tick} m`);
-    (t.obstacles || []).forEach((poly) => el("svg:polygon", {
-      points: poly.map((q) => `${X(q[0])},${Y(q[1])}`).join(" "), fill: "#777",
-      "fill-opacity": 0.55, stroke: "#333", class: "obstacle" }, map));
-    const goalMarks = t.goal_positions.map((g, j) => {
-      el("svg:circle", { cx: X(g[0]), cy: Y(g[1]), r: t.success_radius * scale,
-        fill: "#ccc", "fill-opacity": 0.5, class: "goal-area" }, map);
-      const star = [];
-      for (let q = 0; q < 10; q++) {
-        const a = Math.PI / 2 + (q * Math.PI) / 5, r = q % 2 ? 4 : 10;
-        star.push(`${X(g[0]) + r * Math.cos(a)},${Y(g[1]) - r * Math.sin(a)}`);
-      }
-      const mark = el("svg:polygon", { points: star.join(" "), class: "goal",
-        "data-name": t.goals[j] }, map);
-      const name = el("svg:text", { x: X(g[0]) + 9, y: Y(g[1]) - 7, "font-size": 13,
-        "font-weight": 700 }, map, t.goals[j]);
-      return [mark, name];
-    });
-    const layer = el("svg:g", { class: "moving" }, map);
+    const ctx = { t, p, k, col, n: t.robots.length, focus: p.focus, overlays: [] };
+    buildMap(ctx);
+    if (t.estimates) ctx.overlays.push(estimatesOverlay(ctx));
     const legend = el("div", { class: "legend" }, col);
     t.robots.forEach((r, i) => {
       const s = el("span", {}, legend);
       el("span", { class: "swatch", style: `background:${colour(i)}` }, s);
       s.appendChild(document.createTextNode(`${r} (${t.sensors[i]}, ${t.policies[i]})`));
     });
-    el("div", { class: "note" }, col, "★ goal (grey disc: success radius; ☆ hollow: closed); "
-      + "dark polygon: obstacle; dashed circle: sensing radius; × in a robot's colour: where "
-      + "it places a teammate; ring: observed an event; a robot under another is drawn as a "
-      + "wider ring around it");
-
-    // What each robot knows: the goals it knows of (and how, from which step), the
-    // configuration it acts on and the size of its configuration set.
-    el("h3", {}, col, "What each robot knows (✓ knows of the goal: how, step; · does not; "
-      + "red: expects a teammate at a goal it takes the teammate not to know of)");
-    const kt = el("table", { class: "knowledge", id: `knowledge-${k}` }, col);
-    const khead = el("tr", {}, kt);
-    el("th", {}, khead, "");
-    const goalHeads = t.goals.map((g) => el("th", {}, khead, g));
-    el("th", {}, khead, "acts on");
-    el("th", {}, khead, "configurations");
-    const krows = t.robots.map((r, i) => {
-      const tr = el("tr", { "data-robot": r }, kt);
-      el("th", { style: `color:${colour(i)}` }, tr, r);
-      return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
-        acts: el("td", { class: "acts" }, tr, ""), sets: el("td", { class: "sets" }, tr, "") };
-    });
-    // One robot's model of each teammate's knowledge: the focus robot's, or the one chosen.
-    const fname = t.robots[focus];
-    const mtitle = el("h3", {}, col, "");
-    const chooser = el("select", { class: "model-robot", id: `model-robot-${k}` }, mtitle);
-    t.robots.forEach((r, i) => {
-      const option = el("option", { value: i }, chooser, r);
-      if (i === focus) option.selected = true;
-    });
-    mtitle.append("'s model of what each teammate knows (✓ it takes the teammate to know of "
-      + "the goal; ✗ not; red: wrong)");
-    const mt = el("table", { class: "model", id: `model-${k}` }, col);
-    let modeller = focus, mrows = [];
-    function buildModel(who) {
-      modeller = who;
-      mt.replaceChildren();
-      const mhead = el("tr", {}, mt);
-      el("th", {}, mhead, "");
-      t.goals.forEach((g) => el("th", {}, mhead, g));
-      el("th", {}, mhead, "set it models");
-      mrows = t.robots.map((r, j) => {
-        if (j === who) return null;
-        const tr = el("tr", { "data-robot": r }, mt);
-        el("th", { style: `color:${colour(j)}` }, tr, r);
-        return { goals: t.goals.map(() => el("td", { class: "goal-cell" }, tr, "")),
-          sets: el("td", { class: "sets" }, tr, "") };
-      });
-    }
-    buildModel(focus);
-
-    // Belief table: rows robots, columns goals, grey level = probability.
-    el("h3", {}, col, "Each robot's belief that a goal is its own (n/c: not computed)");
-    const table = el("table", { class: "belief", id: `belief-${k}` }, col);
-    const head = el("tr", {}, table);
-    el("th", {}, head, "");
-    t.goals.forEach((g) => el("th", {}, head, g));
-    const cells = t.robots.map((r, i) => {
-      const tr = el("tr", {}, table);
-      el("th", { style: `color:${colour(i)}` }, tr, r);
-      return t.goals.map(() => el("td", {}, tr, ""));
-    });
-
-    // Configuration-set sizes: own (solid) and the focus robot's model of each teammate's.
-    el("h3", {}, col, `Configuration sets: own (solid), ${fname}'s model of each teammate's `
-      + "(dashed, wide)");
-    const W = 430, H = 170, padL = 44, padB = 30;
-    const chart = el("svg:svg", { class: "sets-chart", id: `sets-${k}`, width: W, height: H },
-      col);
-    const own = t.considered, nested = t.modelled;
-    const values = [];
-    own.forEach((s) => s.forEach((v) => values.push(v)));
-    nested.forEach((s) => s[focus].forEach((v) => values.push(v)));
-    const top = Math.max(1, ...values), logScale = top > 20;
-    const cx = (s) => padL + (s / Math.max(1, t.steps)) * (W - padL - 10);
-    const cy = (v) => {
-      const f = logScale ? Math.log(Math.max(v, 1)) / Math.log(top) : v / top;
-      return H - padB - f * (H - padB - 18);
-    };
-    el("svg:line", { x1: padL, y1: H - padB, x2: W - 8, y2: H - padB, stroke: "#888" }, chart);
-    el("svg:line", { x1: padL, y1: 18, x2: padL, y2: H - padB, stroke: "#888" }, chart);
-    const yt = logScale ? [1, 10, 100, 1000, 10000, 100000].filter((v) => v <= top)
-      : [0, Math.round(top / 2), top].filter((v, i, a) => a.indexOf(v) === i);
-    yt.forEach((v) => el("svg:text", { x: padL - 4, y: cy(v) + 4, "text-anchor": "end",
-      "font-size": 10, class: "tick y" }, chart, String(v)));
-    const xtick = tickStep(Math.max(t.steps, 1), 5);
-    for (let s = 0; s <= t.steps; s += xtick) {
-      el("svg:text", { x: cx(s), y: H - padB + 13, "text-anchor": "middle", "font-size": 10,
-        class: "tick x" }, chart, String(s));
-    }
-    el("svg:text", { x: W - 10, y: H - 3, "text-anchor": "end", "font-size": 10 }, chart, "step");
-    el("svg:text", { x: 2, y: 10, "font-size": 10 }, chart,
-      logScale ? "configurations (log)" : "configurations");
-    const line = (series, i, dashed) => el("svg:polyline", {
-      points: series.map((v, s) => `${cx(s)},${cy(v)}`).join(" "), fill: "none",
-      stroke: colour(i), "stroke-width": dashed ? 4 : 1.6, "stroke-opacity": dashed ? 0.45 : 1,
-      "stroke-dasharray": dashed ? "6 4" : "", class: dashed ? "nested" : "own" }, chart);
-    t.robots.forEach((r, j) => { if (j !== focus) line(nested.map((s) => s[focus][j]), j, true); });
-    t.robots.forEach((r, i) => line(own.map((s) => s[i]), i, false));
-    const cursor = el("svg:line", { y1: 18, y2: H - padB, stroke: "#555" }, chart);
-
-    // What the focus robot (else the first that kept any) reads of its teammates' behaviour.
-    const types = t.teammate_types || null;
-    const kept = types ? t.robots.map((r, i) => i)
-      .filter((i) => types.some((s) => s[i].some((row) => row.every((v) => v !== null)))) : [];
-    const reader = kept.includes(focus) ? focus : kept[0];
-    let reading = null;
-    if (kept.length) {
-      el("h3", {}, col, `What ${t.robots[reader]} reads of its teammates' behaviour (the most `
-        + "likely of the behaviour library, its posterior)");
-      reading = el("div", { class: "events reading", id: `reading-${k}` }, col);
-    }
-    el("h3", {}, col, "Events observed (and by whom)");
-    const events = el("div", { class: "events", id: `events-${k}` }, col);
-
-    function eventText(e) {
-      const seen = e[3].map((o) => t.robots[o]).join(", ") || "nobody";
-      const named = e[2].filter((a) => typeof a === "string" && a);
-      const about = named.length ? `(${named.join(", ")})` : "";
-      return `step ${e[0]}: ${e[1]}${about}, seen by ${seen}`;
-    }
-
-    function drawMap(step) {
-      layer.replaceChildren();
-      const pose = t.poses[step], decided = Math.min(step, t.steps - 1);
-      closedAt[step].forEach((c, j) => {
-        goalMarks[j][0].setAttribute("fill", c ? "#fff" : "#000");
-        goalMarks[j][0].setAttribute("stroke", c ? "#000" : "#fff");
-        goalMarks[j][0].setAttribute("stroke-width", c ? 1.5 : 1);
-        goalMarks[j][0].classList.toggle("closed", c);
-        goalMarks[j][1].textContent = c ? `${t.goals[j]} (closed)` : t.goals[j];
-      });
-      for (let i = 0; i < n; i++) {
-        const trail = t.poses.slice(0, step + 1).map((q) => `${X(q[i][0])},${Y(q[i][1])}`);
-        el("svg:polyline", { points: trail.join(" "), fill: "none", stroke: colour(i),
-          "stroke-width": 1.5, "stroke-opacity": 0.7 }, layer);
-        if (t.sensing_range !== null) {
-          el("svg:circle", { cx: X(pose[i][0]), cy: Y(pose[i][1]), r: t.sensing_range * scale,
-            fill: "none", stroke: colour(i), "stroke-dasharray": "6 4", class: "sensing",
-            "data-robot": t.robots[i] }, layer);
-        }
-      }
-      if (decided >= 0) {
-        for (let i = 0; i < n; i++) {
-          for (let j = 0; j < n; j++) {
-            const e = t.estimates[decided][i][j];
-            if (i === j || e[0] === null || e[1] === null) continue;
-            el("svg:line", { x1: X(e[0]), y1: Y(e[1]), x2: X(pose[j][0]), y2: Y(pose[j][1]),
-              stroke: colour(i), "stroke-opacity": 0.5 }, layer);
-            el("svg:text", { x: X(e[0]), y: Y(e[1]) + 5, "text-anchor": "middle",
-              "font-size": 15, fill: colour(i), class: "estimate" }, layer, "×");
-          }
-        }
-      }
-      for (const e of t.events) {
-        if (e[0] !== step) continue;
-        for (const o of e[3]) {
-          el("svg:circle", { cx: X(pose[o][0]), cy: Y(pose[o][1]), r: 16, fill: "none",
-            stroke: colour(o), "stroke-width": 3, class: "event-ring" }, layer);
-        }
-      }
-      // Robots: one drawn where an earlier one already is (within a marker) gets a wider
-      // ring, so that a robot under another stays visible.
-      const placed = [];
-      for (let i = 0; i < n; i++) {
-        const [x, y, h] = pose[i];
-        const under = placed.filter((q) => Math.hypot(X(x) - q[0], Y(y) - q[1]) < 12).length;
-        placed.push([X(x), Y(y)]);
-        el("svg:line", { x1: X(x), y1: Y(y), x2: X(x + 1.4 * Math.cos(h)),
-          y2: Y(y + 1.4 * Math.sin(h)), stroke: colour(i), "stroke-width": 3 }, layer);
-        const r = 6 + 4 * under;
-        el("svg:circle", under ? { cx: X(x), cy: Y(y), r: r, fill: "none", stroke: colour(i),
-          "stroke-width": 3, class: "robot stacked", "data-robot": t.robots[i] }
-          : { cx: X(x), cy: Y(y), r: r, fill: colour(i), stroke: "#000", class: "robot",
-            "data-robot": t.robots[i] }, layer);
-      }
-    }
-
-    function goalCell(cell, yes, h, closed, wrong) {
-      cell.replaceChildren();
-      cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "")
-        + (closed ? " closed" : "");
-      cell.appendChild(document.createTextNode(yes ? "✓" : "·"));
-      if (yes && h) el("small", {}, cell, ` ${h[1]}${h[0] ? " " + h[0] : ""}`);
-    }
-
-    function drawKnowledge(step) {
-      const s = Math.min(step, t.steps), decided = Math.min(step, t.steps - 1);
-      const K = known[s], shut = closedAt[s];
-      goalHeads.forEach((th, g) => (th.textContent = shut[g] ? `${t.goals[g]} (closed)`
-        : t.goals[g]));
-      krows.forEach((row, i) => {
-        row.goals.forEach((cell, g) => {
-          const h = K[i][i][g] && t.knows ? how[i][i][g] : null;
-          goalCell(cell, K[i][i][g], h && h[0] <= s ? h : [0, "start"], shut[g], false);
-        });
-        const focal = decided >= 0 ? t.focal[decided][i] : null;
-        if (!focal || focal[i] < 0) {
-          row.acts.textContent = "not computed";
-          row.acts.className = "acts not-computed";
-        } else {
-          // An expectation the robot's own knowledge contradicts (it takes the teammate
-          // not to know of that goal) is marked: the reason a lower level fails.
-          row.acts.replaceChildren(`heads for ${t.goals[focal[i]]}`);
-          row.acts.className = "acts";
-          focal.forEach((g, j) => {
-            if (j === i || g < 0) return;
-            row.acts.append(row.acts.childNodes.length > 1 ? ", " : "; expects ");
-            el("span", K[i][j][g] ? { class: "expect" } : { class: "expect wrong",
-              title: `${t.robots[i]} takes ${t.robots[j]} not to know of ${t.goals[g]}` },
-            row.acts, `${t.robots[j]}→${t.goals[g]}`);
-          });
-        }
-        const c = decided >= 0 ? t.considered[decided][i] : 0;
-        const u = decided >= 0 && t.unpruned ? t.unpruned[decided][i] : c;
-        row.sets.textContent = c > 0 ? (u > c ? `${c} (of ${u})` : String(c)) : "not computed";
-        row.sets.className = c > 0 ? "sets" : "sets not-computed";
-      });
-      mrows.forEach((row, j) => {
-        if (!row) return;
-        row.goals.forEach((cell, g) => {
-          const yes = K[modeller][j][g], wrong = yes !== K[j][j][g];
-          cell.replaceChildren();
-          cell.className = "goal-cell " + (yes ? "known" : "unknown") + (wrong ? " wrong" : "");
-          cell.textContent = yes ? "✓" : "✗";
-        });
-        const v = decided >= 0 ? t.modelled[decided][modeller][j] : 0;
-        row.sets.textContent = v > 0 ? String(v) : "not computed";
-        row.sets.className = v > 0 ? "sets" : "sets not-computed";
-      });
-    }
-
-    function drawPanels(step) {
-      const decided = Math.min(step, t.steps - 1);
-      cells.forEach((row, i) => {
-        const beliefs = decided >= 0 ? t.goal_belief[decided][i] : null;
-        const computed = beliefs && beliefs.some((v) => v !== null && v > 0);
-        row.forEach((cell, g) => {
-          const v = computed ? beliefs[g] : null;
-          const grey = v === null ? 255 : Math.round(255 * (1 - v));
-          cell.textContent = v === null ? "n/c" : v.toFixed(2);
-          cell.className = v === null ? "not-computed" : "";
-          cell.style.background = v === null ? "" : `rgb(${grey},${grey},${grey})`;
-          cell.style.color = v !== null && v > 0.55 ? "#fff" : "";
-        });
-      });
-      cursor.setAttribute("x1", cx(Math.max(decided, 0)));
-      cursor.setAttribute("x2", cx(Math.max(decided, 0)));
-      if (reading) {
-        reading.replaceChildren();
-        types[Math.max(decided, 0)][reader].forEach((row, j) => {
-          if (j === reader || row.some((v) => v === null)) return;
-          const g = row.indexOf(Math.max(...row));
-          el("div", {}, reading, `${t.robots[j]}: ${t.types[g]} ${row[g].toFixed(2)}`);
-        });
-      }
-      events.replaceChildren();
-      const seen = t.events.filter((e) => e[0] <= step);
-      if (!seen.length) el("div", {}, events, "(none yet)");
-      seen.forEach((e) => el("div", { class: e[0] === step ? "now" : "" }, events, eventText(e)));
-    }
-
-    chooser.addEventListener("change", () => {
-      buildModel(Number(chooser.value));
-      drawKnowledge(Math.min(window.epistemicaView.step, t.steps));
-    });
-
+    const joint = p.panels.includes("targets");
+    el("div", { class: "note" }, col, (joint
+      ? "★ task (×k: robots it needs at once; grey disc: completion radius; ☆ hollow: done); "
+      : "★ goal (grey disc: success radius; ☆ hollow: closed); × in a robot's colour: where "
+        + "it places a teammate; ")
+      + "dark polygon: obstacle; dashed circle: sensing radius; ring: observed an event; a "
+      + "robot under another is drawn as a wider ring around it");
+    const draws = p.panels.filter((name) => PANELS[name]).map((name) => PANELS[name](ctx));
     return {
       draw(step) {
         const s = Math.min(step, t.steps);
-        drawMap(s);
-        drawKnowledge(s);
-        drawPanels(s);
+        ctx.drawMap(s);
+        draws.forEach((draw) => draw(s));
       },
     };
   }
+
+  const views = page.trials.map((p, k) => column(p, k));
 
   const state = {
     step: 0, playing: false, timer: null, last: last,

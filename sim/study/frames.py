@@ -1,0 +1,426 @@
+"""The animation's frames: one figure per set of panels a mission kind names, the map on the
+left and the kind's panels (:class:`~epistemica.sim.kinds.base.MissionKind` ``panels``)
+beside it; :meth:`draw` shows one step of a trace (:mod:`epistemica.sim.study.trace`).
+
+- :class:`TraceFrame` (:data:`~epistemica.sim.kinds.base.GOAL_PANELS`, goal and multitask
+  missions): each robot's belief about its own goal (``n/c`` where it was not computed,
+  ``·`` on a goal it does not know of), what each robot knows of (and what the focus robot
+  takes each teammate not to know of), the configuration-set sizes over time (own solid,
+  the focus robot's model of each teammate's dashed), the events; on the map, where each
+  robot places each teammate.
+- :class:`JointFrame` (:data:`~epistemica.sim.kinds.base.JOINT_PANELS`, collaborative
+  missions): each task with the number of robots it needs (crossed out once done), what
+  each robot steers to (a task, ``explore``, ``fetch``, ``wait``), which robot knows of
+  which task, what one robot knows each teammate knows, the events.
+
+:func:`frame_for` picks the frame whose panels are the trace's kind's (:data:`FRAMES`);
+:mod:`epistemica.sim.study.figures` writes the animation.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from epistemica.del_.errors import EpistemicaError
+from epistemica.sim.kinds.base import GOAL_PANELS, JOINT_PANELS
+from epistemica.sim.kinds.registry import kind_of_trace
+from epistemica.sim.study.figure_parts import (
+    FONT_SIZE,
+    draw_events,
+    draw_goals,
+    draw_obstacles,
+    event_panel,
+    move_robots,
+    pyplot,
+    robot_artists,
+    robot_table,
+    set_closed,
+    set_map_limits,
+    trace_title,
+)
+from epistemica.sim.study.palette import fetching_robot, focus_robot, robot_colour
+from epistemica.sim.study.trace import known_goals
+
+__all__ = ["FRAMES", "JointFrame", "TraceFrame", "frame_for"]
+
+
+class TraceFrame:
+    """The animation's figure over a goal trial's trace; :meth:`draw` shows one step.
+
+    Artists carry ``gid`` tags (``robot:NAME``, ``sensing:NAME``, ``goal:NAME``,
+    ``estimate:A->B``, ``event:NAME``) so that tests and tools can find them.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario, simulate
+    >>> from epistemica.sim.study.trace import trial_trace
+    >>> s = Scenario.paper("rendezvous", 3, seed=0, max_steps=5, sensing_range=8.0)
+    >>> frame = TraceFrame(trial_trace(s, simulate(s, "third", seed=0)))
+    >>> len(frame.sensing), frame.belief_axes.get_xticklabels()[0].get_text()
+    (3, 'g1')
+    >>> frame.close()
+    """
+
+    panels = GOAL_PANELS
+
+    def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
+        self.plt = plt = pyplot()
+        self.trace = trace
+        self.robots, self.goals = list(trace["robots"]), list(trace["goals"])
+        self.poses = np.asarray(trace["poses"], dtype=float)
+        self.belief = np.asarray(trace["goal_belief"], dtype=float)
+        self.considered = np.asarray(trace["considered"], dtype=float)
+        self.modelled = np.asarray(trace["modelled"], dtype=float)
+        self.estimates = np.asarray(trace["estimates"], dtype=float)
+        self.focus = focus_robot(trace) if focus is None else focus
+        self.title = trace_title(trace, mission)
+        n = len(self.robots)
+        self.fig = fig = plt.figure(figsize=(13.0, 7.0))
+        grid = fig.add_gridspec(
+            3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.15, 0.75), wspace=0.28
+        )
+        self.map_axes = fig.add_subplot(grid[:, 0])
+        self.belief_axes = fig.add_subplot(grid[0, 1])
+        self.sets_axes = fig.add_subplot(grid[1, 1])
+        self.events_axes = fig.add_subplot(grid[2, 1])
+        goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        draw_obstacles(self.map_axes, trace.get("obstacles", []))
+        self.goal_marks = draw_goals(self.map_axes, goals, self.goals, trace["success_radius"])
+        self.closed = _closed_steps(trace)
+        self.known = known_goals(trace)
+        set_map_limits(self.map_axes, self.poses[:, :, :2], goals, trace["workspace"])
+        ax = self.map_axes
+        self.trails, self.discs, self.sensing = robot_artists(
+            ax, self.robots, self.poses[0], trace.get("sensing_range")
+        )
+        colours = [robot_colour(i) for i in range(n)]
+        self.estimate_marks = [
+            [ax.plot([], [], "x-", color=colours[i], ms=7, lw=0.8, alpha=0.6,
+                     gid=f"estimate:{a}->{b}")[0] for j, b in enumerate(self.robots) if j != i]
+            for i, a in enumerate(self.robots)
+        ]  # fmt: skip
+        self.transient: list = []
+        self._reading_setup()
+        self._map_legend()
+        self._belief_panel()
+        self.knowing = self.belief_axes.text(
+            1.03, 1.0, "", transform=self.belief_axes.transAxes, va="top", ha="left",
+            fontsize=FONT_SIZE, family="monospace", gid="knowledge",
+        )  # fmt: skip
+        self._sets_panel()
+        self.event_lines = event_panel(self.events_axes)
+        self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
+        fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
+
+    def _map_legend(self) -> None:
+        from matplotlib.lines import Line2D
+
+        extra = [
+            Line2D([], [], marker="*", color="k", ls="", ms=12, label="goal"),
+            Line2D([], [], marker="x", color="0.3", ls="", label="where a robot places a teammate"),
+        ]
+        if self.sensing:
+            extra.append(Line2D([], [], ls="--", color="0.3", label="sensing radius"))
+        self.map_axes.legend(
+            handles=[*self.discs, *extra],
+            fontsize=FONT_SIZE,
+            loc="upper left",
+            bbox_to_anchor=(-0.02, -0.08),
+            ncol=3,
+            frameon=False,
+        )
+
+    def _belief_panel(self) -> None:
+        ax, n, m = self.belief_axes, len(self.robots), len(self.goals)
+        self.belief_image = ax.imshow(
+            np.zeros((n, m)), cmap="Greys", vmin=0, vmax=1, aspect="auto", interpolation="nearest"
+        )
+        ax.set_xticks(np.arange(m), self.goals if m <= 12 else [""] * m, fontsize=FONT_SIZE)
+        ax.set_yticks(np.arange(n), self.robots, fontsize=FONT_SIZE)
+        for i, label in enumerate(ax.get_yticklabels()):
+            label.set_color(robot_colour(i))
+            label.set_fontweight("bold")
+        ax.set_title("each robot's belief that a goal is its own", fontsize=FONT_SIZE, loc="left")
+        small = n * m <= 48
+        self.belief_numbers = [
+            [ax.text(g, i, "", ha="center", va="center", fontsize=FONT_SIZE) for g in range(m)]
+            for i in range(n)
+        ] if small else []  # fmt: skip
+
+    def _sets_panel(self) -> None:
+        ax, f = self.sets_axes, self.focus
+        steps = np.arange(len(self.considered))
+        for i, name in enumerate(self.robots):
+            ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
+        for j, name in enumerate(self.robots):
+            if j != f and len(self.modelled):
+                ax.plot(  # wide and pale under the solid lines: visible where they agree
+                    steps,
+                    self.modelled[:, f, j],
+                    "--",
+                    color=robot_colour(j),
+                    lw=4.0,
+                    alpha=0.45,
+                    zorder=1,
+                    label=f"{self.robots[f]}'s model of {name}'s",
+                )
+        if len(self.considered) and np.nanmax(self.considered) > 20:
+            ax.set_yscale("log")
+        else:
+            ax.set_ylim(bottom=0)
+        ax.set_ylabel("configurations", fontsize=FONT_SIZE)
+        ax.set_xlabel("step", fontsize=FONT_SIZE)
+        ax.tick_params(labelsize=FONT_SIZE)
+        ax.set_title(
+            f"configuration sets: own (solid), {self.robots[f]}'s model of each teammate's "
+            "(dashed)",
+            fontsize=FONT_SIZE,
+            loc="left",
+        )
+        ax.legend(fontsize=FONT_SIZE, loc="upper left", bbox_to_anchor=(1.01, 1.05), frameon=False)
+        self.cursor = ax.axvline(0, color="0.4", lw=0.8)
+
+    def draw(self, step: int, since: int | None = None) -> list:
+        """Show ``step`` (events of steps after ``since`` ringed on the map); the artists."""
+        for artist in self.transient:
+            artist.remove()
+        self.transient.clear()
+        pose, ax = self.poses[step], self.map_axes
+        decided = min(step, len(self.belief) - 1)
+        move_robots(self, step)
+        for i in range(len(self.robots)):
+            dx, dy = 1.2 * np.cos(pose[i, 2]), 1.2 * np.sin(pose[i, 2])
+            self.transient.append(
+                ax.arrow(pose[i, 0], pose[i, 1], dx, dy, width=0.12, color=robot_colour(i))
+            )
+        set_closed(self.goal_marks, self.closed[min(step, len(self.closed) - 1)])
+        if decided >= 0:
+            self._draw_estimates(decided, pose)
+            self._draw_belief(decided)
+            self._draw_reading(decided)
+            self.knowing.set_text(self.knowledge_text(decided))
+        self._draw_events(step, step - 1 if since is None else since)
+        self.cursor.set_xdata([decided, decided])
+        self.heading.set_text(f"{self.title}   step {step}")
+        return [*self.trails, *self.discs, *self.transient, self.heading]
+
+    def _reading_setup(self) -> None:
+        """What one robot reads of its teammates' behaviour (teammate models), if kept: the
+        focus robot, or else the first robot that kept them."""
+        self.reading = None
+        if "teammate_types" not in self.trace:
+            return
+        self.types = np.asarray(self.trace["teammate_types"], dtype=float)  # (T, n, n, K)
+        kept = [i for i in range(self.types.shape[1]) if np.isfinite(self.types[:, i]).any()]
+        if not kept:
+            return
+        self.reader = self.focus if self.focus in kept else kept[0]
+        self.reading = self.sets_axes.text(
+            1.01, -0.3, "", transform=self.sets_axes.transAxes, va="top", ha="left",
+            fontsize=FONT_SIZE, family="monospace", gid="reading",
+        )  # fmt: skip
+
+    def _draw_reading(self, step: int) -> None:
+        if self.reading is None:
+            return
+        lines = [
+            f"{self.robots[self.reader]}'s read of its",
+            "teammates' behaviour",
+            "(posterior):",
+        ]
+        for j, name in enumerate(self.robots):
+            row = self.types[step, self.reader, j]
+            if j != self.reader and np.isfinite(row).all():
+                k = int(np.argmax(row))
+                lines.append(f"{name} {self.trace['types'][k]} {row[k]:.2f}")
+        self.reading.set_text("\n".join(lines))
+
+    def _draw_estimates(self, step: int, pose: np.ndarray) -> None:
+        for i, marks in enumerate(self.estimate_marks):
+            others = [j for j in range(len(self.robots)) if j != i]
+            for mark, j in zip(marks, others, strict=True):
+                x, y = self.estimates[step, i, j]
+                if np.isfinite(x) and np.isfinite(y):
+                    mark.set_data([x, pose[j, 0]], [y, pose[j, 1]])
+                    mark.set_markevery([0])
+                else:
+                    mark.set_data([], [])
+
+    def _draw_belief(self, step: int) -> None:
+        values = self.belief[step]
+        self.belief_image.set_data(np.nan_to_num(values))
+        computed = np.nansum(values, axis=1) > 0  # a robot not consulted has no belief
+        for i, row in enumerate(self.belief_numbers):
+            for g, text in enumerate(row):
+                value = values[i, g]
+                if not computed[i]:
+                    text.set_text("n/c")
+                elif self.known is not None and not self.known[step, i, i, g]:
+                    text.set_text("·")
+                else:
+                    text.set_text("" if not np.isfinite(value) else f"{value:.2f}")
+                text.set_color("w" if computed[i] and np.isfinite(value) and value > 0.55 else "k")
+
+    def knowledge_text(self, step: int) -> str:
+        """What each robot knows of at ``step`` and what the focus robot takes each teammate
+        not to know of (every goal known to all without the trace's ``knows``)."""
+        if self.known is None:
+            return "every goal known\nto every robot"
+        lines = ["knows of:"]
+        for i, name in enumerate(self.robots):
+            own = [g for g, k in zip(self.goals, self.known[step, i, i], strict=True) if k]
+            lines.append(f"{name} {' '.join(own) or '-'}")
+        f = self.focus
+        for j, name in enumerate(self.robots):
+            hidden = self.known[step, f, f] & ~self.known[step, f, j]
+            if j != f and hidden.any():
+                goals = " ".join(g for g, h in zip(self.goals, hidden, strict=True) if h)
+                lines.append(f"{self.robots[f]}: {name} does\n  not know of {goals}")
+        return "\n".join(lines)
+
+    def _draw_events(self, step: int, since: int) -> None:
+        self.transient += draw_events(self, step, since)
+
+    def close(self) -> None:
+        """Release the figure."""
+        self.plt.close(self.fig)
+
+
+def _closed_steps(trace: dict[str, Any]) -> np.ndarray:
+    """``(T + 1, m)`` the goals closed at each step, from the trace's ``closed`` changes."""
+    steps, m = int(trace["steps"]), len(trace["goals"])
+    out = np.zeros((steps + 1, m), dtype=bool)
+    for step, g, shut in sorted(trace.get("closed", [])):
+        out[step:, g] = bool(shut)
+    return out
+
+
+_ACTIONS = {-1: "explore", -2: "fetch", -3: "wait"}
+
+
+class JointFrame:
+    """The animation's figure over a joint (collaborative) trial's trace; :meth:`draw`
+    shows one step (see the module docstring).
+
+    Artists carry ``gid`` tags as in :class:`TraceFrame`; :meth:`knows_at` and
+    :meth:`nested_at` are the two tables drawn beside the map, read from the trace's
+    ``tasks_known`` and ``aware_since``.
+    """
+
+    panels = JOINT_PANELS
+
+    def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
+        self.plt = plt = pyplot()
+        self.trace = trace
+        self.robots, self.tasks = list(trace["robots"]), list(trace["goals"])
+        n, m = len(self.robots), len(self.tasks)
+        self.poses = np.asarray(trace["poses"], dtype=float)
+        self.knows = np.asarray(trace["tasks_known"], dtype=int).reshape(-1, n, m)
+        self.steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, n)
+        self.since = np.asarray(trace["aware_since"], dtype=int).reshape(n, n, m)
+        self.done = np.asarray(trace["tasks_done"], dtype=int)
+        self.places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        self.focus = fetching_robot(trace) if focus is None else focus
+        self.title = trace_title(trace, mission)
+        self.fig = fig = plt.figure(figsize=(13.0, 7.0))
+        grid = fig.add_gridspec(3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.0, 0.8))
+        self.map_axes = ax = fig.add_subplot(grid[:, 0])
+        draw_obstacles(ax, trace.get("obstacles", []))
+        draw_goals(ax, self.places, self.tasks, trace["success_radius"])
+        self.needs = [int(k) for k in trace["needs"]]
+        self.need_labels = [  # robots it needs, and once done when
+            ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
+                        fontsize=FONT_SIZE, gid=f"needs:{name}")
+            for (x, y), k, name in zip(self.places, self.needs, self.tasks, strict=True)
+        ]  # fmt: skip
+        set_map_limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
+        self.trails, self.discs, self.sensing = robot_artists(
+            ax, self.robots, self.poses[0], trace["sensing_range"]
+        )
+        ax.legend(handles=self.discs, fontsize=FONT_SIZE, loc="upper left",
+                  bbox_to_anchor=(-0.02, -0.06), ncol=min(n, 8), frameon=False)  # fmt: skip
+        self.others = others = [j for j in range(n) if j != self.focus]
+        note = " (dark: knows; columns of tasks done: grey)"
+        self.knows_image = robot_table(
+            fig.add_subplot(grid[0, 1]),
+            self.robots,
+            range(n),
+            self.tasks,
+            "which robot knows of which task" + note,
+        )
+        self.nested_image = robot_table(
+            fig.add_subplot(grid[1, 1]), [self.robots[j] for j in others], others, self.tasks,
+            f"what {self.robots[self.focus]} knows each teammate knows of" + note,
+        )  # fmt: skip
+        self.event_lines = event_panel(fig.add_subplot(grid[2, 1]))
+        self.transient: list = []
+        self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
+        fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
+
+    def knows_at(self, step: int) -> np.ndarray:
+        """``(n, m)`` 1 where robot ``i`` knew of task ``t`` at ``step``."""
+        return self.knows[min(step, len(self.knows) - 1)]
+
+    def nested_at(self, step: int) -> np.ndarray:
+        """``(n - 1, m)`` 1 where the focus robot knew at ``step`` that each teammate (in
+        robot order, the focus robot left out) knows of task ``t``."""
+        since = self.since[self.focus, self.others]
+        return ((since >= 0) & (since <= step)).astype(int)
+
+    def draw(self, step: int, since: int | None = None) -> list:
+        """Show ``step`` (events of steps after ``since`` ringed on the map); the artists."""
+        for artist in self.transient:
+            artist.remove()
+        self.transient.clear()
+        ax, pose = self.map_axes, self.poses[step]
+        decided = min(step, len(self.steer) - 1)
+        move_robots(self, step)
+        for i in range(len(self.robots)):
+            target = int(self.steer[decided, i]) if decided >= 0 else -1
+            action = _ACTIONS.get(target) or f"→{self.tasks[target]}"
+            label = ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,
+                            fontsize=FONT_SIZE - 1, color=robot_colour(i))  # fmt: skip
+            self.transient.append(label)
+        finished = (self.done >= 0) & (self.done <= step)
+        for t, label in enumerate(self.need_labels):
+            done = f", done at {self.done[t]}" if finished[t] else ""
+            label.set_text(f"×{self.needs[t]}{done}")
+        for t in np.flatnonzero(finished):
+            self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])
+        shade = np.where(finished[None], 0.35, 0.0)  # done columns grey
+        self.knows_image.set_data(np.maximum(self.knows_at(step), shade))
+        self.nested_image.set_data(np.maximum(self.nested_at(step), shade))
+        self.transient += draw_events(self, step, step - 1 if since is None else since)
+        self.heading.set_text(f"{self.title}   step {step}")
+        return [*self.trails, *self.discs, *self.transient, self.heading]
+
+    def close(self) -> None:
+        """Release the figure."""
+        self.plt.close(self.fig)
+
+
+#: The frames, each drawing the map and the panels it names (``panels``).
+FRAMES = (TraceFrame, JointFrame)
+
+
+def frame_for(trace: dict[str, Any], mission: str = "") -> TraceFrame | JointFrame:
+    """The animation's figure over ``trace``: the frame drawing its kind's panels.
+
+    Examples
+    --------
+    >>> from epistemica.sim import simulate
+    >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+    >>> from epistemica.sim.study.trace import trial_trace
+    >>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1).replace(max_steps=4)
+    >>> frame = frame_for(trial_trace(s, simulate(s, "third", seed=1)))
+    >>> type(frame).__name__, frame.panels == s.kind.panels
+    ('JointFrame', True)
+    >>> frame.close()
+    """
+    panels = kind_of_trace(trace).panels
+    frame = next((f for f in FRAMES if f.panels == panels), None)
+    if frame is None:  # a kind added without its drawing
+        raise EpistemicaError(f"no figure draws the panels {', '.join(panels)}")
+    return frame(trace, mission)
