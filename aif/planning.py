@@ -318,6 +318,8 @@ class _Context:
         if order == 0:
             weights = self.prior if mask is None else self.prior[mask]
             mass = np.bincount(own, weights=weights, minlength=m)
+            if not mass.sum() > 0:  # a prior with no mass on the set: every row alike
+                mass = np.bincount(own, minlength=m).astype(float)
             with np.errstate(divide="ignore"):
                 return np.where(mass > 0, -np.log(mass / mass.sum()) * p.tau, np.inf)
         preds = np.stack(
