@@ -48,7 +48,7 @@ def test_python_blocks_in_the_docs_run(path, line, code, monkeypatch, capsys):
     exec(compile(code, f"{path.name}:{line}", "exec"), {"__name__": "__docs__"})
 
 
-def _commands() -> list[tuple[Path, int, str]]:
+def documented_commands() -> list[tuple[Path, int, str]]:
     """Every ``epistemica ...`` line of the docs' bash blocks (continuations joined, the
     comment cut), except those with placeholders (``...``, ``HOST``)."""
     out = []
@@ -66,7 +66,9 @@ def _commands() -> list[tuple[Path, int, str]]:
 
 
 @pytest.mark.parametrize(
-    ("path", "line", "command"), _commands(), ids=lambda v: v.name if isinstance(v, Path) else ""
+    ("path", "line", "command"),
+    documented_commands(),
+    ids=lambda v: v.name if isinstance(v, Path) else "",
 )
 def test_documented_commands_parse(path, line, command):
     """Each documented command's options exist as written (the command line parses; running
