@@ -78,7 +78,15 @@ from typing import Any, ClassVar
 import numpy as np
 
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
-from epistemica.sim.engine._env_checks import checked_actions, checked_seed, checked_shaping
+from epistemica.sim.engine._env_checks import (
+    checked_actions,
+    checked_keywords,
+    checked_options,
+    checked_robot,
+    checked_seed,
+    checked_shaping,
+    checked_teammates,
+)
 from epistemica.sim.engine._env_view import (
     action_space,
     agent_views,
@@ -182,7 +190,7 @@ class MissionEnv(ParallelEnv):
         self.epistemic, self.normalized = bool(epistemic), bool(normalized)
         self.scenario = self._scenario(seed)
         s = self.scenario
-        self.scripted = self._scripted(teammates or {})
+        self.scripted = self._scripted(checked_teammates(teammates))
         self.possible_agents = [r for i, r in enumerate(s.robot_names) if i not in self.scripted]
         if not self.possible_agents:
             raise InvalidArgumentError(
@@ -211,6 +219,7 @@ class MissionEnv(ParallelEnv):
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         """Start trial ``seed`` (default: the next seed); returns observations and infos."""
+        checked_options(options)
         self.seed_ = self._next_seed if seed is None else checked_seed(seed, "reset(seed=...)")
         self._next_seed = self.seed_ + 1
         s = self.scenario = self._scenario(self.seed_)
@@ -409,6 +418,10 @@ class MissionEnv(ParallelEnv):
         return poses
 
 
+#: The keywords of :class:`MissionEnv` that :class:`RobotEnv` passes on.
+_OPTIONS = ("parameters", "shaping", "render_mode", "seed", "epistemic", "normalized")
+
+
 class RobotEnv(gymnasium.Env):
     """One robot of a mission as a Gymnasium environment, its teammates driven by a level.
 
@@ -435,14 +448,10 @@ class RobotEnv(gymnasium.Env):
     metadata: ClassVar[dict] = MissionEnv.metadata
 
     def __init__(self, source, robot: str | int = 0, teammates: str = "third", **options) -> None:
+        checked_keywords(options, _OPTIONS)
         first = MissionEnv(source, **{k: v for k, v in options.items() if k != "render_mode"})
         names = first.scenario.robot_names
-        if isinstance(robot, str) and robot in names:
-            robot = names.index(robot)
-        if isinstance(robot, bool) or not isinstance(robot, int) or not 0 <= robot < len(names):
-            raise InvalidArgumentError(
-                f"no robot {robot!r} in this mission", hint=f"robots: {', '.join(names)}"
-            )
+        robot = checked_robot(robot, names)
         others = {j: teammates for j in range(len(names)) if j != robot}
         self.multi = MissionEnv(source, others, **options)
         self.agent = names[robot]
