@@ -38,9 +38,10 @@ workspace side), headings wrapped into ``[-pi, pi)``, so that every space is a b
 float32 ``Box`` (``gymnasium.utils.env_checker.check_env`` passes without a warning).
 ``state()`` is the global state for a centralised critic (``state_space``: every true pose,
 every goal, which goals are open, the step over the step limit, flattened, float32).
-Importing this module registers Gymnasium ids (:mod:`epistemica.sim.engine.env_registry`):
-``gymnasium.make("epistemica/Rendezvous-v0")`` is a :class:`RobotEnv` of
-``specs/rendezvous.epi``.
+Importing this module registers the published protocol's Gymnasium ids
+(:mod:`epistemica.sim.engine.env_registry`): ``gymnasium.make("epistemica/Rendezvous-v0")``
+is a :class:`RobotEnv` drawing the layouts ``specs/rendezvous.epi`` draws; importing
+:mod:`epistemica.envs` registers one id per mission file and generated family besides.
 
 Reward (shared by the team, the same for every agent): the mission's progress made at
 this step, ``Δ(held / dwell)`` (steps on which the mission held, towards the ``dwell``
