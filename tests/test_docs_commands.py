@@ -7,8 +7,9 @@ What the test changes, and why (nothing else is changed):
 
 - the budget: ``run`` and ``sweep`` take ``--trials 1`` (instead of the file's or the
   written number; ``--paper-scale``, 50 trials per level, is dropped for it), so that every
-  page's commands run in seconds rather than hours; the command line is otherwise as
-  written;
+  page's commands run in seconds rather than hours, and ``--workers 1`` (in this process: a
+  pool of every core would start its processes for a handful of trials, on a machine the
+  suite shares); the command line is otherwise as written;
 - placeholders for a user's files: ``my_mission.epi`` (a mission of the reader's whose
   robots are ``r1..rN``) is :data:`MY_MISSION`;
 - an output that needs an optional extra the test environment lacks (``--parquet``:
@@ -26,23 +27,17 @@ import shlex
 from pathlib import Path
 
 import pytest
+from test_cli_missions_swept import TEAM
 from test_docs_examples import DOCS, ROOT, documented_commands
 
 from epistemica.cli import main
 
 pytest.importorskip("matplotlib")  # run, simulate --gif and report draw figures
 
-#: The reader's own mission of the docs' ``sweep --mission my_mission.epi --robots 2..8``:
-#: robots and goals as spans up to ``N`` (docs/language.md, "The team size as a
-#: parameter"), two cheap levels.
-MY_MISSION = """\
-mission rendezvous
-workspace 30
-robot r1..rN: random at random
-goal g1..gN at random
-sensing noise 0.5 model paper
-simulate robots 3 trials 2 seed 0 steps 60 levels zero, convention
-"""
+#: The reader's own mission of the docs' ``sweep --mission my_mission.epi --robots 2..8``
+#: (robots and goals as spans up to ``N``, docs/language.md "The team size as a
+#: parameter"): the one the team-size tests use, two cheap levels.
+MY_MISSION = TEAM
 
 #: An output flag -> the module it needs (an optional extra's).
 OPTIONAL = {"--parquet": "pyarrow"}
@@ -52,8 +47,8 @@ _WRITES = ("--gif", "--png", "--csv", "--parquet", "--html", "--dot")
 
 
 def budgeted(argv: list[str]) -> list[str]:
-    """``argv`` at the test's budget: ``run`` and ``sweep`` with one trial per cell; without
-    the outputs whose optional library is missing."""
+    """``argv`` at the test's budget: ``run`` and ``sweep`` with one trial per cell, in this
+    process; without the outputs whose optional library is missing."""
     out = list(argv)
     for flag, module in OPTIONAL.items():
         if flag in out and importlib.util.find_spec(module) is None:
@@ -66,7 +61,7 @@ def budgeted(argv: list[str]) -> list[str]:
         out[out.index("--trials") + 1] = "1"
     else:
         out += ["--trials", "1"]
-    return out
+    return [*out, "--workers", "1"]
 
 
 def claimed_outputs(argv: list[str]) -> list[str]:
@@ -92,9 +87,9 @@ def claimed_outputs(argv: list[str]) -> list[str]:
 
 def test_the_budget_and_the_claimed_files_read_the_command_line_as_documented():
     run = ["run", "specs/rendezvous.epi", "--paper-scale"]
-    assert budgeted(run) == ["run", "specs/rendezvous.epi", "--trials", "1"]
+    assert budgeted(run) == ["run", "specs/rendezvous.epi", "--trials", "1", "--workers", "1"]
     assert budgeted(["sweep", "--trials", "50", "--out", "x"]) == [
-        *("sweep", "--trials", "1", "--out", "x")
+        *("sweep", "--trials", "1", "--out", "x", "--workers", "1")
     ]
     assert budgeted(["check", "a.epi"]) == ["check", "a.epi"]
     assert claimed_outputs(["run", "a/b.epi", "--no-gif"]) == [
