@@ -1,5 +1,5 @@
 """Gymnasium ids for every mission family (``epistemica.envs``): every shipped mission file
-the environment steps, the nested ones included, and every generated family; each id makes
+(the nested and the collaborative ones included) and every generated family; each id makes
 the mission it names, resets and steps, and ``check_env`` passes without a warning on a
 representative few."""
 
@@ -20,30 +20,34 @@ from epistemica.del_.errors import InvalidArgumentError  # noqa: E402
 from epistemica.envs import IDS, env_id, mission_files, register  # noqa: E402
 from epistemica.generate import mission_text  # noqa: E402
 from epistemica.mission import load_mission, parse_mission  # noqa: E402
-from epistemica.sim.engine.env import MissionEnv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = ROOT / "specs"
 
 
-def _missions() -> dict[Path, bool]:
-    """Every mission file under specs/ -> whether it is joint (by compiling it: the
-    language's own answer, not the registry's first-line reading)."""
+def _missions() -> dict[Path, str]:
+    """Every mission file under specs/ -> its kind (by compiling it: the language's own
+    answer, not the registry's reading of the first statement)."""
     out = {}
     for path in sorted(SPECS.rglob("*.epi")):
         first = next(
             line for line in path.read_text().splitlines() if line.strip() and line[0] != "#"
         )
         if first.split()[0] == "mission":
-            out[path] = load_mission(path).kind.joint
+            out[path] = load_mission(path).kind.name
     return out
 
 
 MISSIONS = _missions()
-FILE_IDS = {env_id(path, SPECS): path for path, joint in MISSIONS.items() if not joint}
+FILE_IDS = {env_id(path, SPECS): path for path in MISSIONS}
 
 
-def test_every_shipped_mission_the_environment_steps_has_an_id_and_no_other_file_does():
+def _places(scenario) -> np.ndarray:
+    """The goals, or a collaborative mission's tasks."""
+    return scenario.goals if hasattr(scenario, "goals") else scenario.tasks
+
+
+def test_every_shipped_mission_has_an_id_and_no_other_file_does():
     assert len(IDS) == len(set(IDS))  # no two files share an id
     assert mission_files(SPECS) == sorted(FILE_IDS.values())
     assert set(FILE_IDS) <= set(IDS)
@@ -51,12 +55,11 @@ def test_every_shipped_mission_the_environment_steps_has_an_id_and_no_other_file
     assert len(nested) == 10 and all(env_id(p, SPECS) in IDS for p in nested)
     assert "epistemica/Nested-PrivateGoal-3-v0" in IDS
     assert "epistemica/Stress-AllocationNoise64-2-v0" in IDS  # the size stays apart
-    joint = [p for p, j in MISSIONS.items() if j]
-    assert joint and not any(env_id(p, SPECS) in IDS for p in joint)  # collaborative: none
+    assert "epistemica/Collaborative-Tasks-5-v0" in IDS
+    assert set(MISSIONS.values()) >= {"rendezvous", "allocation", "multitask", "collaborative"}
     generated = [i for i in IDS if i.startswith("epistemica/Generated-")]
-    assert generated == [
-        f"epistemica/Generated-{f}-v0" for f in ("Rendezvous", "Allocation", "Asymmetry")
-    ]
+    families = ("Rendezvous", "Allocation", "Asymmetry", "Collaborative")
+    assert generated == [f"epistemica/Generated-{f}-v0" for f in families]
     paper = ["epistemica/Rendezvous-v0", "epistemica/Allocation-v0", "epistemica/Multitask-v0"]
     assert set(IDS) == set(paper) | set(FILE_IDS) | set(generated)
 
@@ -68,21 +71,21 @@ def test_each_file_id_makes_its_mission_resets_and_steps(name):
     expected = load_mission(FILE_IDS[name]).scenario(3)
     made = env.unwrapped.multi.scenario
     assert np.array_equal(made.starts, expected.starts)
-    assert np.array_equal(made.goals, expected.goals)
+    assert np.array_equal(_places(made), _places(expected))
     assert env.observation_space.contains(observation)
     observation, reward, _, truncated, _ = env.step(env.action_space.sample())
     assert env.observation_space.contains(observation) and np.isfinite(reward)
     assert env.unwrapped.multi.step_count == 1 and not truncated
 
 
-@pytest.mark.parametrize("family", ["rendezvous", "allocation", "asymmetry"])
+@pytest.mark.parametrize("family", ["rendezvous", "allocation", "asymmetry", "collaborative"])
 def test_each_generated_id_makes_the_mission_of_its_generator_seed(family):
     name = f"epistemica/Generated-{family.capitalize()}-v0"
     for seed in (0, 7):
         env = gymnasium.make(name, generator_seed=seed)
         env.reset(seed=1)
         expected = parse_mission(mission_text(family, seed)).scenario(1)
-        assert np.array_equal(env.unwrapped.multi.scenario.goals, expected.goals)
+        assert np.array_equal(_places(env.unwrapped.multi.scenario), _places(expected))
         assert np.array_equal(env.unwrapped.multi.scenario.starts, expected.starts)
         env.step(env.action_space.sample())
 
@@ -96,6 +99,8 @@ def test_each_generated_id_makes_the_mission_of_its_generator_seed(family):
         ("epistemica/Stress-RendezvousHardest-5-v0", {}),
         ("epistemica/Generated-Asymmetry-v0", {"generator_seed": 3}),
         ("epistemica/Generated-Allocation-v0", {"generator_seed": 11}),
+        ("epistemica/Collaborative-Tasks-3-v0", {"epistemic": True}),
+        ("epistemica/Generated-Collaborative-v0", {"generator_seed": 2}),
     ],
     ids=lambda v: v.split("/")[1] if isinstance(v, str) else "",
 )
@@ -130,8 +135,3 @@ def test_register_reads_the_folder_it_is_given(tmp_path):
     finally:
         register()  # the shipped ids again
         del gymnasium.registry["epistemica/Team-TwoOfUs-v0"]
-
-
-def test_a_collaborative_mission_is_still_refused_by_the_environment():
-    with pytest.raises(InvalidArgumentError, match="collaborative"):
-        MissionEnv(load_mission(SPECS / "collaborative" / "tasks_3.epi"))

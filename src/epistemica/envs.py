@@ -6,24 +6,22 @@ Importing this module registers (again: replaced) one id per
 - **published protocol family** (:mod:`epistemica.sim.engine.env_registry`, registered by
   importing :mod:`epistemica.sim.engine.env`): ``epistemica/Rendezvous-v0``,
   ``Allocation-v0``, ``Multitask-v0``;
-- **shipped mission file** of the repository's ``specs/`` folder (the nested missions, the
-  events, the stress suite, ...): ``epistemica/<Folder>-<Name>-v0`` from its path,
-  ``nested/private_goal_3.epi`` -> ``epistemica/Nested-PrivateGoal-3-v0``,
-  ``capacity.epi`` -> ``epistemica/Specs-Capacity-v0`` (:func:`env_id`). ``specs/`` is in a
-  source checkout, not in the wheel: elsewhere :func:`register` takes the folder;
+- **shipped mission file** of the repository's ``specs/`` folder (the nested missions,
+  the events, the stress suite, the collaborative missions, ...), named from its path
+  (:func:`env_id`): ``nested/private_goal_3.epi`` -> ``epistemica/Nested-PrivateGoal-3-v0``,
+  ``capacity.epi`` -> ``epistemica/Specs-Capacity-v0``. ``specs/`` is in a source
+  checkout, not in the wheel: elsewhere :func:`register` takes the folder;
 - **generated family** (:mod:`epistemica.generate`): ``epistemica/Generated-Rendezvous-v0``,
-  ``Generated-Allocation-v0``, ``Generated-Asymmetry-v0``, one generated mission each,
-  drawn from generator seed ``generator_seed`` (a keyword of ``gymnasium.make``, default
-  0; a mission's team, goals and workspace fix the spaces, so one environment holds one
-  mission, and another generator seed is another environment).
+  ``Generated-Allocation-v0``, ``Generated-Asymmetry-v0``, ``Generated-Collaborative-v0``:
+  the mission drawn from generator seed ``generator_seed`` (a keyword of
+  ``gymnasium.make``, default 0; a mission's team, goals and workspace fix the spaces, so
+  one environment holds one mission, and another generator seed is another environment).
 
 Each id makes a :class:`~epistemica.sim.engine.env.RobotEnv` of the mission's first robot
 among teammates of a reasoning level (``teammates=``, default ``"third"``) with actions in
 ``[-1, 1]²`` (``normalized=True``); each reset draws trial ``seed`` (a mission file's
 layout where it is drawn at random, the noise) and every keyword of ``RobotEnv`` passes
 through ``gymnasium.make``. A mission file's ``policy`` line is the teammates' parameters.
-Collaborative missions (``specs/collaborative/``, the ``collaborative`` family) have no
-id: the environment does not step their joint run yet (it refuses them).
 
 Examples
 --------
@@ -64,9 +62,8 @@ __all__ = [
 
 #: The repository's ``specs/`` folder (present in a source checkout).
 SPECS = Path(__file__).resolve().parents[2] / "specs"
-#: The generated families that have ids (every one the environment can step).
-GENERATED = tuple(f for f in FAMILIES if f != "collaborative")
-_KIND = re.compile(r"^mission\s+(\w+)", re.M)
+#: The generated families that have ids (every one).
+GENERATED = tuple(FAMILIES)
 
 
 def _camel(name: str) -> str:
@@ -87,15 +84,10 @@ def env_id(path: str | Path, specs: str | Path) -> str:
 
 
 def mission_files(specs: str | Path = SPECS) -> list[Path]:
-    """The mission files under ``specs`` that the environment steps (every kind but the
-    joint one, collaborative), sorted; none when the folder is absent."""
-    out = []
-    for path in sorted(Path(specs).rglob("*.epi")):
-        text = path.read_text(encoding="utf-8")
-        kind = _KIND.search(text)
-        if file_kind(text)[0] == "mission" and kind and kind.group(1) != "collaborative":
-            out.append(path)
-    return out
+    """The mission files under ``specs`` (spec files left out), sorted; none when the
+    folder is absent."""
+    paths = sorted(Path(specs).rglob("*.epi"))
+    return [p for p in paths if file_kind(p.read_text(encoding="utf-8"))[0] == "mission"]
 
 
 def _robot_env(mission: Mission, robot: str | int, teammates: str, options: dict) -> RobotEnv:
