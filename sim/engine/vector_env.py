@@ -19,8 +19,8 @@ mission's success rule held for ``dwell`` steps and the reward of
 :class:`~epistemica.sim.engine.env.MissionEnv` (progress plus ``shaping`` times the change of the
 distance potential). The noise comes from one generator per batch, so a copy's trial is not
 ``simulate``'s trial of the same seed (with no noise it is: tests/sim/test_vector_env.py).
-Families with observation events, obstacles, robot discs, closed goals, multitask or other
-sensors are refused: step them with :class:`~epistemica.sim.engine.env.MissionEnv`.
+Families with observation events, obstacles, robot discs, closed goals, multitask or
+collaborative missions or other sensors are refused: step them with :class:`~epistemica.sim.engine.env.MissionEnv`.
 
 Examples
 --------
@@ -266,6 +266,11 @@ def _potential(d: np.ndarray, radius: np.ndarray, workspace: np.ndarray) -> np.n
 
 def _check_plain(s: Scenario) -> None:
     """Refuse what the batched world does not model (the module notes)."""
+    if s.kind.joint:
+        raise InvalidArgumentError(
+            f"the vectorised environment does not model a {s.kind} mission",
+            hint="step such missions with epistemica.sim.engine.env.MissionEnv",
+        )
     why = []
     if s.events:
         why.append("observation events")

@@ -24,6 +24,7 @@ from epistemica.mission import load_mission
 from epistemica.sim import simulate
 from epistemica.sim.engine.env import MissionEnv, RobotEnv
 from epistemica.sim.engine.missions import distances
+from epistemica.sim.engine.vector_env import VectorMissionEnv
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 
 FOLDER = Path(__file__).resolve().parents[2] / "specs" / "collaborative"
@@ -140,3 +141,9 @@ def test_render_is_refused_with_a_pointer_to_run():
     with pytest.raises(InvalidArgumentError, match="collaborative") as info:
         MissionEnv(mission, render_mode="rgb_array")
     assert "epistemica run" in info.value.hint
+
+
+def test_the_vectorised_env_refuses_a_collaborative_mission_with_a_pointer():
+    with pytest.raises(InvalidArgumentError, match="collaborative mission") as info:
+        VectorMissionEnv(load_mission(FOLDER / "tasks_3.epi"), num_envs=2)
+    assert "MissionEnv" in info.value.hint
