@@ -20,7 +20,8 @@ mission's success rule held for ``dwell`` steps and the reward of
 distance potential). The noise comes from one generator per batch, so a copy's trial is not
 ``simulate``'s trial of the same seed (with no noise it is: tests/sim/test_vector_env.py).
 Families with observation events, obstacles, robot discs, closed goals, multitask or
-collaborative missions or other sensors are refused: step them with :class:`~epistemica.sim.engine.env.MissionEnv`.
+collaborative missions or other sensors are refused: step them with
+:class:`~epistemica.sim.engine.env.MissionEnv`.
 
 Examples
 --------
