@@ -42,7 +42,7 @@ def test_doctest_examples_in_the_docs_pass(path, monkeypatch):
 )
 def test_python_blocks_in_the_docs_run(path, line, code, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
-    if "epistemica.sim.engine.env" in code:
+    if "epistemica.sim.engine.env" in code or "epistemica.envs" in code:
         pytest.importorskip("gymnasium")
         pytest.importorskip("pettingzoo")
     exec(compile(code, f"{path.name}:{line}", "exec"), {"__name__": "__docs__"})
