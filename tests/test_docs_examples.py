@@ -1,7 +1,7 @@
 """The documentation's code runs as written: every ``>>>`` example of README.md and
 docs/*.md (``python -m doctest FILE`` passes), and every other Python block, from the
 repository's root (where the blocks' paths, ``specs/...``, point); every documented
-``epistemica`` command parses."""
+``epistemica`` command parses (and runs: tests/test_docs_commands.py)."""
 
 from __future__ import annotations
 
@@ -71,8 +71,8 @@ def documented_commands() -> list[tuple[Path, int, str]]:
     ids=lambda v: v.name if isinstance(v, Path) else "",
 )
 def test_documented_commands_parse(path, line, command):
-    """Each documented command's options exist as written (the command line parses; running
-    them all, sweeps of thousands of trials included, is the job of their own tests)."""
+    """Each documented command's options exist as written, exactly (tests/test_docs_commands.py
+    runs them all, at one trial per cell)."""
     argv = shlex.split(command)[1:]
     try:
         build_parser().parse_args(argv)
