@@ -41,13 +41,20 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import gymnasium
-
+from epistemica.del_.errors import EpistemicaError
 from epistemica.generate import FAMILIES, Options, mission_text
 from epistemica.input_files import file_kind
 from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim.engine.env import RobotEnv
 from epistemica.sim.engine.env_registry import register as register_paper_families
+
+try:
+    import gymnasium
+except ImportError as exc:  # pragma: no cover - the env extra is missing
+    raise EpistemicaError(
+        "epistemica.envs needs gymnasium",
+        hint='install the env extra: pip install "epistemica[env]"',
+    ) from exc
 
 __all__ = [
     "GENERATED",
