@@ -77,22 +77,24 @@ class JointWorld:
         lo, hi = position_bounds(s)
         poses = clipped(view.poses, lo, hi).astype(np.float32)
         where = np.clip(view.estimates, lo, hi).astype(np.float32)
-        seen = (view.last_seen == view.step) | np.eye(n, dtype=bool)
+        index = np.arange(n)
+        where[index, index] = poses[:, :2]  # its own row: exact
+        seen = ((view.last_seen == view.step) | np.eye(n, dtype=bool)).astype(np.int8)
         knows = np.diagonal(view.aware).T  # (n, m): robot i knows of task t
         tasks = np.where(knows[..., None], np.clip(s.tasks, lo, hi)[None], 0.0)
+        tasks = tasks.astype(np.float32)
         needs = np.where(knows, np.asarray(s.needs), 0)
+        known = knows.astype(np.int8)
         events = event_flags(s, new_events)
         out = {}
         for i in robots:
-            mine = where[i].copy()
-            mine[i] = poses[i, :2]
             out[i] = {
                 "pose": poses[i],
-                "teammates": mine,
-                "seen": seen[i].astype(np.int8),
-                "tasks": tasks[i].astype(np.float32),
-                "known_tasks": knows[i].astype(np.int8),
-                "needs": needs[i].astype(np.int64),
+                "teammates": where[i],
+                "seen": seen[i],
+                "tasks": tasks[i],
+                "known_tasks": known[i],
+                "needs": needs[i],
                 "done": view.knowledge.knows_done((i,)).astype(np.int8),
                 "step": step,
             }
