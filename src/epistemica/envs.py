@@ -41,20 +41,13 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from epistemica.del_.errors import EpistemicaError
+import gymnasium  # the env extra: pip install "epistemica[env]"
+
 from epistemica.generate import FAMILIES, Options, mission_text
 from epistemica.input_files import file_kind
 from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim.engine.env import RobotEnv
 from epistemica.sim.engine.env_registry import register as register_paper_families
-
-try:
-    import gymnasium
-except ImportError as exc:  # pragma: no cover - the env extra is missing
-    raise EpistemicaError(
-        "epistemica.envs needs gymnasium",
-        hint='install the env extra: pip install "epistemica[env]"',
-    ) from exc
 
 __all__ = [
     "GENERATED",
