@@ -1,7 +1,7 @@
 """The documentation's code runs as written: every ``>>>`` example of README.md and
 docs/*.md (``python -m doctest FILE`` passes), and every other Python block, from the
 repository's root (where the blocks' paths, ``specs/...``, point); every documented
-``epistemica`` command parses."""
+``epistemica`` command parses (and runs: tests/test_docs_commands.py)."""
 
 from __future__ import annotations
 
@@ -42,13 +42,13 @@ def test_doctest_examples_in_the_docs_pass(path, monkeypatch):
 )
 def test_python_blocks_in_the_docs_run(path, line, code, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
-    if "epistemica.sim.engine.env" in code:
+    if "epistemica.sim.engine.env" in code or "epistemica.envs" in code:
         pytest.importorskip("gymnasium")
         pytest.importorskip("pettingzoo")
     exec(compile(code, f"{path.name}:{line}", "exec"), {"__name__": "__docs__"})
 
 
-def _commands() -> list[tuple[Path, int, str]]:
+def documented_commands() -> list[tuple[Path, int, str]]:
     """Every ``epistemica ...`` line of the docs' bash blocks (continuations joined, the
     comment cut), except those with placeholders (``...``, ``HOST``)."""
     out = []
@@ -66,11 +66,13 @@ def _commands() -> list[tuple[Path, int, str]]:
 
 
 @pytest.mark.parametrize(
-    ("path", "line", "command"), _commands(), ids=lambda v: v.name if isinstance(v, Path) else ""
+    ("path", "line", "command"),
+    documented_commands(),
+    ids=lambda v: v.name if isinstance(v, Path) else "",
 )
 def test_documented_commands_parse(path, line, command):
-    """Each documented command's options exist as written (the command line parses; running
-    them all, sweeps of thousands of trials included, is the job of their own tests)."""
+    """Each documented command's options exist as written, exactly (tests/test_docs_commands.py
+    runs them all, at one trial per cell)."""
     argv = shlex.split(command)[1:]
     try:
         build_parser().parse_args(argv)

@@ -1,7 +1,9 @@
 """What one robot of :mod:`epistemica.sim.engine.env` observes, what it may do, and the reward.
 
 Helper of :mod:`epistemica.sim.engine.env` (gymnasium is imported by the caller and passed in as
-``spaces``, so this module needs no optional dependency of its own).
+``spaces``, so this module needs no optional dependency of its own): the functions, and
+:class:`GoalWorld`, the goal and multitask missions' side of the environment
+(:class:`~epistemica.sim.engine._env_joint.JointWorld` is the collaborative one's).
 """
 
 from __future__ import annotations
@@ -11,14 +13,20 @@ import numpy as np
 from epistemica.sim.engine.missions import distances
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.engine.simulate import TrialRun
 
 __all__ = [
+    "GoalWorld",
     "action_space",
     "agent_views",
+    "clipped",
     "controls",
+    "event_flags",
     "observation_space",
     "position_bounds",
+    "positions",
     "potential",
+    "robot_space",
     "state_space",
     "state_vector",
 ]
@@ -30,23 +38,24 @@ def position_bounds(s: Scenario) -> tuple[float, float]:
     return -float(s.workspace), 2.0 * float(s.workspace)
 
 
-def _positions(spaces, s: Scenario, shape: tuple):
+def positions(spaces, s: Scenario, shape: tuple):
+    """A float32 ``Box`` of positions of ``shape`` within :func:`position_bounds`."""
     lo, hi = position_bounds(s)
     return spaces.Box(low=np.float32(lo), high=np.float32(hi), shape=shape, dtype=np.float32)
 
 
-def observation_space(spaces, s: Scenario, epistemic: bool = False):
-    """The observation space of every robot of ``s`` (see :mod:`epistemica.sim.engine.env`)."""
-    n, m = s.n_robots, s.n_goals
+def robot_space(spaces, s, m: int, kinds: dict, epistemic: bool):
+    """A robot's observation space over ``m`` goals or tasks: its pose, the teammates,
+    whom it sees, the kind's own parts ``kinds``, the step, the events (a mission with
+    events) and, with ``epistemic``, ``teammates_know`` ``(n, m)``."""
+    n = s.n_robots
     lo, hi = position_bounds(s)
     pose = np.array([[lo, lo, -np.pi], [hi, hi, np.pi]], dtype=np.float32)
     parts = {
         "pose": spaces.Box(low=pose[0], high=pose[1], dtype=np.float32),
-        "teammates": _positions(spaces, s, (n, 2)),
+        "teammates": positions(spaces, s, (n, 2)),
         "seen": spaces.MultiBinary(n),
-        "goals": _positions(spaces, s, (m, 2)),
-        "known_goals": spaces.MultiBinary(m),
-        "closed": spaces.MultiBinary(m),
+        **kinds,
         "step": spaces.Discrete(s.max_steps + 1),
     }
     if s.events:
@@ -54,6 +63,17 @@ def observation_space(spaces, s: Scenario, epistemic: bool = False):
     if epistemic:
         parts["teammates_know"] = spaces.MultiBinary((n, m))
     return spaces.Dict(parts)
+
+
+def observation_space(spaces, s: Scenario, epistemic: bool = False):
+    """The observation space of every robot of ``s`` (see :mod:`epistemica.sim.engine.env`)."""
+    m = s.n_goals
+    goals = {
+        "goals": positions(spaces, s, (m, 2)),
+        "known_goals": spaces.MultiBinary(m),
+        "closed": spaces.MultiBinary(m),
+    }
+    return robot_space(spaces, s, m, goals, epistemic)
 
 
 def action_space(spaces, s: Scenario, robot: int, normalized: bool = False):
@@ -79,25 +99,30 @@ def controls(s: Scenario, robots, actions: np.ndarray) -> np.ndarray:
     return np.stack([speed, a[:, 1] * s.max_turn[robots]], axis=1)
 
 
-def state_space(spaces, s: Scenario):
-    """The global state's space: every true pose ``(n, 3)``, every goal ``(m, 2)``, which
-    goals are open ``(m,)`` and the step over the step limit, flattened (float32)."""
-    n, m = s.n_robots, s.n_goals
+def state_space(spaces, s: Scenario, m: int | None = None):
+    """The global state's space: every true pose ``(n, 3)``, every goal ``(m, 2)`` (or
+    ``m`` tasks), which are open ``(m,)`` and the step over the step limit, flattened
+    (float32)."""
+    n, m = s.n_robots, s.n_goals if m is None else m
     lo, hi = position_bounds(s)
     low = np.concatenate([np.tile([lo, lo, -np.pi], n), np.full(2 * m, lo), np.zeros(m + 1)])
     high = np.concatenate([np.tile([hi, hi, np.pi], n), np.full(2 * m, hi), np.ones(m + 1)])
     return spaces.Box(low=low.astype(np.float32), high=high.astype(np.float32), dtype=np.float32)
 
 
-def state_vector(s: Scenario, poses: np.ndarray, open_goals: np.ndarray, step: int) -> np.ndarray:
-    """The global state (:func:`state_space`) of true ``poses`` and ``open_goals``."""
+def state_vector(
+    s, poses: np.ndarray, open_goals: np.ndarray, step: int, places: np.ndarray | None = None
+) -> np.ndarray:
+    """The global state (:func:`state_space`) of true ``poses`` and ``open_goals`` (of
+    ``places``, default the goals)."""
     lo, hi = position_bounds(s)
-    poses = _clipped(poses, lo, hi)
-    parts = [poses.ravel(), np.clip(s.goals, lo, hi).ravel(), open_goals.astype(float)]
+    places = s.goals if places is None else places
+    poses = clipped(poses, lo, hi)
+    parts = [poses.ravel(), np.clip(places, lo, hi).ravel(), open_goals.astype(float)]
     return np.concatenate([*parts, [step / max(s.max_steps, 1)]]).astype(np.float32)
 
 
-def _clipped(poses: np.ndarray, lo: float, hi: float) -> np.ndarray:
+def clipped(poses: np.ndarray, lo: float, hi: float) -> np.ndarray:
     """Positions clipped into the bounds, headings wrapped into ``[-pi, pi)``."""
     out = np.array(poses, dtype=float)
     out[..., :2] = np.clip(out[..., :2], lo, hi)
@@ -116,19 +141,13 @@ def agent_views(
     """Each robot's observation (robot index -> dict) from the team's ``obs``
     (``teammates_know``: ``(n, n, m)``, the goals robot ``i`` takes robot ``j`` to know of,
     put in as ``teammates_know`` when given)."""
-    n = s.n_robots
     lo, hi = position_bounds(s)
-    poses = _clipped(obs.poses, lo, hi).astype(np.float32)
+    poses = clipped(obs.poses, lo, hi).astype(np.float32)
     known = obs.known_goals
     goals = np.where(known[..., None], np.clip(s.goals, lo, hi)[None], 0.0).astype(np.float32)
     known_i8, closed_i8 = known.astype(np.int8), obs.known_done.astype(np.int8)
     seen_i8 = obs.seen.astype(np.int8)
-    events = None
-    if s.events:
-        rule = {r.name: k for k, r in enumerate(s.events)}
-        events = np.zeros((n, len(s.events)), dtype=np.int8)
-        for record in new_events:
-            events[list(record[-1]), rule[record[1]]] = 1
+    events = event_flags(s, new_events)
     views = {}
     for i in robots:
         view = {
@@ -148,6 +167,19 @@ def agent_views(
     return views
 
 
+def event_flags(s, new_events: list[tuple]) -> np.ndarray | None:
+    """``(n, R)``: robot ``i`` observed an event of rule ``k`` among ``new_events`` (the
+    run's records: ``(step, rule, arguments, observers)``); None for a mission without
+    events."""
+    if not s.events:
+        return None
+    rule = {r.name: k for k, r in enumerate(s.events)}
+    events = np.zeros((s.n_robots, len(s.events)), dtype=np.int8)
+    for record in new_events:
+        events[list(record[-1]), rule[record[1]]] = 1
+    return events
+
+
 def potential(s: Scenario, poses: np.ndarray, open_goals: np.ndarray) -> float:
     """Minus the mean distance (in workspaces) from each robot to its nearest open goal
     beyond the success radius: 0 when every robot is at an open goal."""
@@ -155,3 +187,57 @@ def potential(s: Scenario, poses: np.ndarray, open_goals: np.ndarray) -> float:
         return 0.0
     d = distances(poses, s.goals[open_goals]).min(axis=1)
     return -float(np.maximum(d - s.success_radius, 0.0).sum()) / (len(d) * s.workspace)
+
+
+class GoalWorld:
+    """Spaces, observations, state and reward terms of a goal or multitask mission ``s``
+    (the functions above, over :class:`~epistemica.sim.engine.simulate.TrialRun`)."""
+
+    def __init__(self, spaces, s: Scenario, epistemic: bool) -> None:
+        self.s, self.epistemic = s, epistemic
+        self.observation_space = observation_space(spaces, s, epistemic)
+        self.state_space = state_space(spaces, s)
+
+    def start(self, s: Scenario, streams, groups) -> TrialRun:
+        """The run of a trial of ``s`` (the scenario of the trial from now on: a mission
+        draws one per seed, within the spaces of the first)."""
+        self.s = s
+        return TrialRun(s, streams)
+
+    def views(self, run: TrialRun, obs: Observations, step: int, new_events, robots) -> dict:
+        """Each of ``robots``' observation (robot index -> dict) at ``step``."""
+        s, know = self.s, None
+        if self.epistemic:
+            know = np.ones((s.n_robots, s.n_robots, s.n_goals), dtype=bool)
+            if run.known is not None:
+                know = run.known[min(step, len(run.known) - 1)]
+        return agent_views(s, obs, step, new_events, robots, teammates_know=know)
+
+    def declare(self, run: TrialRun, targets: dict[int, int]) -> None:
+        """Nothing: a goal mission's robots declare no task they head to."""
+
+    def state(self, run: TrialRun, step: int) -> np.ndarray:
+        """The global state (:func:`state_vector`)."""
+        return state_vector(self.s, run.poses, run.open, step)
+
+    def progress(self, run: TrialRun) -> float:
+        """``held / dwell``, or for a multitask mission the share of the tasks done."""
+        s = self.s
+        if s.kind.tasks:
+            return float(np.count_nonzero(run.done >= 0)) / s.n_goals
+        return min(run.held, s.dwell) / s.dwell
+
+    def potential(self, run: TrialRun) -> float:
+        """:func:`potential` of the run's poses."""
+        return potential(self.s, run.poses, run.open)
+
+    def last(self, obs: Observations, run: TrialRun) -> Observations:
+        """The observation after the last step: the last one, each robot's own pose now."""
+        poses = obs.poses.copy()
+        index = np.arange(self.s.n_robots)
+        poses[index, index] = run.poses
+        return obs._replace(poses=poses)
+
+    def info(self, run: TrialRun) -> dict:
+        """What every agent's info adds: steps the mission held, success."""
+        return {"held": run.held, "success": bool(run.success)}

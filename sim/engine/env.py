@@ -9,8 +9,9 @@ draws that seed's layout). Every robot is an agent, named as in the mission (``r
 Both need the ``env`` extra: ``pip install "epistemica[env]"``.
 
 The environment steps the simulator's own :class:`~epistemica.sim.engine.simulate.TrialRun`
-(perception, events, knowledge, dynamics, contacts): given the controls a level would
-choose (:meth:`MissionEnv.level_actions`), it runs exactly the trial
+(perception, events, knowledge, dynamics, contacts), or for a collaborative mission its
+:class:`~epistemica.sim.engine.joint.JointRun`: given the controls a level would choose
+(:meth:`MissionEnv.level_actions`), it runs exactly the trial
 :func:`~epistemica.sim.engine.simulate` runs for the same seed.
 
 Spaces (robot ``i``, ``n`` robots, ``m`` goals, ``R`` event rules):
@@ -33,14 +34,25 @@ action             ``Box`` float32 ``(speed, heading change)`` in ``[0, max_spee
                    [-max_turn, max_turn]`` of that robot (values outside are clipped)
 =================  ============================================================================
 
+A collaborative mission's robot observes, instead of goals, the tasks it found
+(``tasks`` ``(m, 2)``, zeros for the others; ``known_tasks``), how many robots each needs
+(``needs``, ``MultiDiscrete``: 0 for a task it does not know), the tasks it knows done
+(``done``), where it last saw each teammate (``teammates``) and whom it sees now
+(``seen``); ``teammates_know`` is the tasks it knows each robot to know of, the reward
+counts tasks done, the shaping potential measures to the nearest task not done
+(:mod:`epistemica.sim.engine._env_joint`). Teammates may observe where a robot heads
+(``heading`` events): an agent whose action is the one :meth:`MissionEnv.level_actions`
+gave it at that step heads where that level heads, any other agent explores.
+
 Positions are bounded: observed positions are clipped into ``[-W, 2W]`` (``W`` the
 workspace side), headings wrapped into ``[-pi, pi)``, so that every space is a bounded
 float32 ``Box`` (``gymnasium.utils.env_checker.check_env`` passes without a warning).
 ``state()`` is the global state for a centralised critic (``state_space``: every true pose,
 every goal, which goals are open, the step over the step limit, flattened, float32).
-Importing this module registers Gymnasium ids (:mod:`epistemica.sim.engine.env_registry`):
-``gymnasium.make("epistemica/Rendezvous-v0")`` is a :class:`RobotEnv` of
-``specs/rendezvous.epi``.
+Importing this module registers the published protocol's Gymnasium ids
+(:mod:`epistemica.sim.engine.env_registry`): ``gymnasium.make("epistemica/Rendezvous-v0")``
+is a :class:`RobotEnv` drawing the layouts ``specs/rendezvous.epi`` draws; importing
+:mod:`epistemica.envs` registers one id per mission file and generated family besides.
 
 Reward (shared by the team, the same for every agent): the mission's progress made at
 this step, ``Δ(held / dwell)`` (steps on which the mission held, towards the ``dwell``
@@ -78,21 +90,25 @@ from typing import Any, ClassVar
 import numpy as np
 
 from epistemica.del_.errors import EpistemicaError, InvalidArgumentError
-from epistemica.sim.engine._env_checks import checked_actions, checked_seed, checked_shaping
-from epistemica.sim.engine._env_view import (
-    action_space,
-    agent_views,
-    observation_space,
-    potential,
-    state_space,
-    state_vector,
+from epistemica.sim.engine._env_checks import (
+    checked_actions,
+    checked_keywords,
+    checked_options,
+    checked_robot,
+    checked_seed,
+    checked_shaping,
+    checked_teammates,
 )
+from epistemica.sim.engine._env_joint import JointWorld
+from epistemica.sim.engine._env_view import GoalWorld, action_space
 from epistemica.sim.engine._env_view import controls as controls_of
 from epistemica.sim.engine._streams import trial_streams
 from epistemica.sim.engine.env_registry import register
+from epistemica.sim.engine.joint import JointRun
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.simulate import TrialRun, policy_groups
 from epistemica.sim.engine.trial import Trial
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.study.figures import plot_trial, pyplot
 
 try:
@@ -106,6 +122,9 @@ except ImportError as exc:  # pragma: no cover - the env extra is missing
     ) from exc
 
 __all__ = ["MissionEnv", "RobotEnv"]
+
+#: The scenarios an environment takes as they are (a mission draws one per seed).
+WORLDS = (Scenario, CollaborativeScenario)
 
 #: The name a robot driven through the environment has in a trial's ``policies``.
 EXTERNAL = "env"
@@ -159,17 +178,10 @@ class MissionEnv(ParallelEnv):
         epistemic: bool = False,
         normalized: bool = False,
     ) -> None:
-        if not isinstance(source, Scenario) and not callable(getattr(source, "scenario", None)):
+        if not isinstance(source, WORLDS) and not callable(getattr(source, "scenario", None)):
             raise InvalidArgumentError(
                 f"expected a Scenario or a mission, got {type(source).__name__}",
                 hint="pass Scenario.paper(...) or epistemica.mission.load_mission(path)",
-            )
-        if getattr(getattr(source, "kind", None), "joint", False):
-            raise InvalidArgumentError(
-                "the environment does not step collaborative missions yet (their joint "
-                "run has no observation and action spaces)",
-                hint="run it with 'epistemica run FILE', or use a rendezvous, allocation, "
-                "capacity or multitask mission",
             )
         if render_mode not in (None, "rgb_array"):
             raise InvalidArgumentError(
@@ -182,7 +194,7 @@ class MissionEnv(ParallelEnv):
         self.epistemic, self.normalized = bool(epistemic), bool(normalized)
         self.scenario = self._scenario(seed)
         s = self.scenario
-        self.scripted = self._scripted(teammates or {})
+        self.scripted = self._scripted(checked_teammates(teammates))
         self.possible_agents = [r for i, r in enumerate(s.robot_names) if i not in self.scripted]
         if not self.possible_agents:
             raise InvalidArgumentError(
@@ -190,14 +202,22 @@ class MissionEnv(ParallelEnv):
                 hint="leave at least one robot out of `teammates`",
             )
         self._index = {name: i for i, name in enumerate(s.robot_names)}
-        self._observation_space = observation_space(spaces, s, self.epistemic)
-        self.state_space = state_space(spaces, s)
+        if s.kind.joint and render_mode is not None:
+            raise InvalidArgumentError(
+                "render() draws goal and multitask trials; a collaborative one has no picture "
+                "of a single step yet",
+                hint="leave render_mode out; 'epistemica run FILE' animates a collaborative trial",
+            )
+        world = JointWorld if s.kind.joint else GoalWorld
+        self.world = world(spaces, s, self.epistemic)
+        self._observation_space = self.world.observation_space
+        self.state_space = self.world.state_space
         self._action_spaces = {
             r: action_space(spaces, s, self._index[r], self.normalized) for r in s.robot_names
         }
         self._next_seed = seed
         self.agents: list[str] = []
-        self.run: TrialRun | None = None
+        self.run: TrialRun | JointRun | None = None
 
     # -- PettingZoo's interface ------------------------------------------------------
 
@@ -211,13 +231,15 @@ class MissionEnv(ParallelEnv):
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         """Start trial ``seed`` (default: the next seed); returns observations and infos."""
+        checked_options(options)
         self.seed_ = self._next_seed if seed is None else checked_seed(seed, "reset(seed=...)")
         self._next_seed = self.seed_ + 1
         s = self.scenario = self._scenario(self.seed_)
         self.streams = trial_streams(self.seed_, s.n_robots)
-        self.run = TrialRun(s, self.streams)
         self.groups = self._start(self.scripted)
+        self.run = self.world.start(s, self.streams, self.groups)
         self._advisors: dict[str, list] = {}
+        self._advice: dict[str, tuple] = {}  # level_actions' rows and targets, this step
         self.step_count, self._mark = 0, 0
         self.agents = list(self.possible_agents)
         self.returns = dict.fromkeys(self.agents, 0.0)
@@ -250,17 +272,28 @@ class MissionEnv(ParallelEnv):
             )
         robots = [self._index[a] for a in self.agents]
         chosen = checked_actions(self.agents, actions)
-        controls[robots] = controls_of(s, robots, chosen) if self.normalized else chosen
+        chosen = controls_of(s, robots, chosen) if self.normalized else chosen
+        speed, turn = s.max_speed[robots], s.max_turn[robots]  # clipped as the run would
+        controls[robots] = np.stack(
+            [np.clip(chosen[:, 0], 0.0, speed), np.clip(chosen[:, 1], -turn, turn)], axis=1
+        )
         run.decide(t, self.observations, self.groups, controls)
+        advised = {
+            self._index[a]: target
+            for a, (row, target) in self._advice.items()
+            if np.array_equal(np.asarray(actions[a], dtype=float), row)
+        }
+        self.world.declare(run, advised)
+        self._advice = {}
         success = run.advance(t, controls)
         self.step_count = t + 1
-        progress = self._current_progress()
+        progress = self.world.progress(run)
         now = self._current_potential()
         reward = progress - self._progress + self.shaping * (now - self._potential)
         self._progress, self._potential = progress, now
         over = success or self.step_count >= s.max_steps
         if over:
-            self.observations = self.observations._replace(poses=self._final_poses())
+            self.observations = self.world.last(self.observations, run)
         else:
             self.observations = run.perceive(self.step_count)
         agents = self.agents
@@ -277,8 +310,7 @@ class MissionEnv(ParallelEnv):
     def state(self) -> np.ndarray:
         """The global state (``state_space``): every true pose, every goal, which goals are
         open and the step over the step limit, flattened (float32)."""
-        run = self._running()
-        return state_vector(self.scenario, run.poses, run.open, self.step_count)
+        return self.world.state(self._running(), self.step_count)
 
     def render(self):
         """The trial so far as an RGB image ``(height, width, 3)`` uint8 (or None)."""
@@ -307,10 +339,16 @@ class MissionEnv(ParallelEnv):
         if level not in self._advisors:
             robots = [self._index[a] for a in self.possible_agents]
             self._advisors[level] = self._start(dict.fromkeys(robots, level))
-        controls = np.zeros((self.scenario.n_robots, 2))
+        n = self.scenario.n_robots
+        controls, steer = np.zeros((n, 2)), np.full(n, -1)
         for policy, robots in self._advisors[level]:
-            controls[robots] = policy.decide(self.observations, robots).controls
-        return {a: controls[self._index[a]] for a in self.agents}
+            decisions = policy.decide(self.observations, robots)
+            controls[robots] = decisions.controls
+            if decisions.steer_to is not None:
+                steer[robots] = decisions.steer_to
+        actions = {a: controls[self._index[a]] for a in self.agents}
+        self._advice = {a: (actions[a].copy(), int(steer[self._index[a]])) for a in self.agents}
+        return actions
 
     def trial(self) -> Trial:
         """The record of the trial so far (a :class:`~epistemica.sim.Trial`)."""
@@ -324,7 +362,7 @@ class MissionEnv(ParallelEnv):
     # -- helpers -------------------------------------------------------------------------
 
     def _scenario(self, seed: int) -> Scenario:
-        if isinstance(self.source, Scenario):
+        if isinstance(self.source, WORLDS):
             return self.source
         return self.source.scenario(seed)
 
@@ -364,7 +402,7 @@ class MissionEnv(ParallelEnv):
                 started.append((policy, robots))
         return started
 
-    def _running(self) -> TrialRun:
+    def _running(self) -> TrialRun | JointRun:
         if self.run is None:
             raise InvalidArgumentError("the environment has no trial", hint="call reset() first")
         return self.run
@@ -374,39 +412,19 @@ class MissionEnv(ParallelEnv):
         new = run.events[self._mark :]
         self._mark = len(run.events)
         robots = [self._index[a] for a in self.agents]
-        know = None
-        if self.epistemic:
-            s = self.scenario
-            know = np.ones((s.n_robots, s.n_robots, s.n_goals), dtype=bool)
-            if run.known is not None:
-                know = run.known[min(self.step_count, len(run.known) - 1)]
-        views = agent_views(
-            self.scenario, self.observations, self.step_count, new, robots, teammates_know=know
-        )
+        views = self.world.views(run, self.observations, self.step_count, new, robots)
         return {a: views[self._index[a]] for a in self.agents}
 
     def _infos(self) -> dict[str, dict]:
-        run = self._running()
-        info = {"step": self.step_count, "held": run.held, "success": bool(run.success)}
+        info = {"step": self.step_count, **self.world.info(self._running())}
         return {a: dict(info) for a in self.agents}
 
-    def _current_progress(self) -> float:
-        run, s = self._running(), self.scenario
-        if s.kind.tasks:
-            return float(np.count_nonzero(run.done >= 0)) / s.n_goals
-        return min(run.held, s.dwell) / s.dwell
-
     def _current_potential(self) -> float:
-        run = self._running()
-        if not self.shaping:
-            return 0.0
-        return potential(self.scenario, run.poses, run.open)
+        return self.world.potential(self._running()) if self.shaping else 0.0
 
-    def _final_poses(self) -> np.ndarray:
-        poses = self.observations.poses.copy()
-        index = np.arange(self.scenario.n_robots)
-        poses[index, index] = self._running().poses
-        return poses
+
+#: The keywords of :class:`MissionEnv` that :class:`RobotEnv` passes on.
+_OPTIONS = ("parameters", "shaping", "render_mode", "seed", "epistemic", "normalized")
 
 
 class RobotEnv(gymnasium.Env):
@@ -435,14 +453,10 @@ class RobotEnv(gymnasium.Env):
     metadata: ClassVar[dict] = MissionEnv.metadata
 
     def __init__(self, source, robot: str | int = 0, teammates: str = "third", **options) -> None:
+        checked_keywords(options, _OPTIONS)
         first = MissionEnv(source, **{k: v for k, v in options.items() if k != "render_mode"})
         names = first.scenario.robot_names
-        if isinstance(robot, str) and robot in names:
-            robot = names.index(robot)
-        if isinstance(robot, bool) or not isinstance(robot, int) or not 0 <= robot < len(names):
-            raise InvalidArgumentError(
-                f"no robot {robot!r} in this mission", hint=f"robots: {', '.join(names)}"
-            )
+        robot = checked_robot(robot, names)
         others = {j: teammates for j in range(len(names)) if j != robot}
         self.multi = MissionEnv(source, others, **options)
         self.agent = names[robot]

@@ -1,4 +1,6 @@
-"""Gymnasium ids for the mission families: ``gymnasium.make("epistemica/Rendezvous-v0")``.
+"""Gymnasium ids for the published protocol's families: ``epistemica/Rendezvous-v0``, ...
+(the ids of the mission files and the generated families are the package root's,
+:mod:`epistemica.envs`, which reads mission files; importing it registers these too).
 
 A family draws one trial's layout per seed (:class:`PaperFamily`, the published protocol's
 generator, :meth:`epistemica.sim.Scenario.paper`); each id makes a

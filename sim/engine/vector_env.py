@@ -19,8 +19,9 @@ mission's success rule held for ``dwell`` steps and the reward of
 :class:`~epistemica.sim.engine.env.MissionEnv` (progress plus ``shaping`` times the change of the
 distance potential). The noise comes from one generator per batch, so a copy's trial is not
 ``simulate``'s trial of the same seed (with no noise it is: tests/sim/test_vector_env.py).
-Families with observation events, obstacles, robot discs, closed goals, multitask or other
-sensors are refused: step them with :class:`~epistemica.sim.engine.env.MissionEnv`.
+Families with observation events, obstacles, robot discs, closed goals, multitask or
+collaborative missions or other sensors are refused: step them with
+:class:`~epistemica.sim.engine.env.MissionEnv`.
 
 Examples
 --------
@@ -40,7 +41,7 @@ import numpy as np
 
 from epistemica.aif.motion import turn_then_move
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.engine._env_checks import checked_seed, checked_shaping
+from epistemica.sim.engine._env_checks import checked_count, checked_seed, checked_shaping
 from epistemica.sim.engine.dynamics import PaperSensor, Unicycle
 from epistemica.sim.engine.events import STILL
 from epistemica.sim.engine.scenario import Scenario
@@ -66,10 +67,7 @@ class VectorMissionEnv:
     def __init__(
         self, source, num_envs: int, shaping: float = 1.0, normalized: bool = False
     ) -> None:
-        if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
-            raise InvalidArgumentError(
-                f"num_envs must be a whole number >= 1, got {num_envs!r}", hint="e.g. 64"
-            )
+        num_envs = checked_count(num_envs, "num_envs")
         if not isinstance(source, Scenario) and not callable(getattr(source, "scenario", None)):
             raise InvalidArgumentError(
                 f"expected a Scenario or a mission family, got {type(source).__name__}",
@@ -109,6 +107,8 @@ class VectorMissionEnv:
 
     def step(self, actions) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray]:
         """Apply ``(num_envs, n, 2)`` actions; observations, rewards, terminated, truncated."""
+        if not self.scenarios:
+            raise InvalidArgumentError("the environment has no trials", hint="call reset() first")
         controls = self._controls(actions)
         controls[..., 0] *= self.dt  # the distance moved this step
         before = self.poses
@@ -267,6 +267,11 @@ def _potential(d: np.ndarray, radius: np.ndarray, workspace: np.ndarray) -> np.n
 
 def _check_plain(s: Scenario) -> None:
     """Refuse what the batched world does not model (the module notes)."""
+    if s.kind.joint:
+        raise InvalidArgumentError(
+            f"the vectorised environment does not model a {s.kind} mission",
+            hint="step such missions with epistemica.sim.engine.env.MissionEnv",
+        )
     why = []
     if s.events:
         why.append("observation events")

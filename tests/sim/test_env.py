@@ -36,7 +36,7 @@ def _shipped(stress: bool) -> list[Path]:
             mission = load_mission(path)
         except SourceError:
             continue
-        if not mission.kind.joint:  # no spaces for a joint run yet: refused below
+        if not mission.kind.joint:  # collaborative: tests/sim/test_env_joint.py
             out.append(path)
     return out
 
@@ -47,12 +47,6 @@ STRESS = _shipped(stress=True)
 
 def _ids(paths):
     return [str(p.relative_to(ROOT / "specs")) for p in paths]
-
-
-def test_a_collaborative_mission_is_refused_with_a_pointer_to_run():
-    mission = load_mission(ROOT / "specs" / "collaborative" / "tasks_3.epi")
-    with pytest.raises(InvalidArgumentError, match="epistemica run"):
-        MissionEnv(mission)
 
 
 def test_every_kind_of_shipped_mission_is_covered():

@@ -19,6 +19,8 @@ from epistemica.del_.errors import InvalidArgumentError  # noqa: E402
 from epistemica.mission import load_mission  # noqa: E402
 from epistemica.sim import Scenario, simulate  # noqa: E402
 from epistemica.sim.engine.env import MissionEnv, RobotEnv  # noqa: E402
+from epistemica.sim.engine.env_registry import PaperFamily  # noqa: E402
+from epistemica.sim.engine.vector_env import VectorMissionEnv  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 PRIVATE = ROOT / "specs" / "nested" / "private_goal_3.epi"
@@ -126,3 +128,40 @@ def test_step_without_a_mapping_or_for_an_unknown_agent_is_refused():
         env.step({**actions, "r3": np.zeros(2)})  # a scripted teammate is no agent
     env.step(actions)  # and the trial goes on
     assert env.step_count == 1
+
+
+def test_the_other_bad_arguments_are_refused_with_what_to_pass():
+    s = Scenario.paper("rendezvous", 2, 2, seed=0)
+    with pytest.raises(InvalidArgumentError, match="teammates must map robots to levels"):
+        MissionEnv(s, teammates=["r1"])
+    with pytest.raises(InvalidArgumentError, match="a level's name or a Policy"):
+        RobotEnv(s, teammates=["third"])
+    with pytest.raises(InvalidArgumentError, match=r"unknown keyword.*colour") as info:
+        RobotEnv(s, colour="red")
+    assert "shaping" in info.value.hint
+    with pytest.raises(InvalidArgumentError, match="no robot 'r7'"):
+        RobotEnv(s, robot="r7")
+    assert RobotEnv(s, robot=np.int64(1)).agent == "r2"  # numpy's integers are indices too
+    env = MissionEnv(s)
+    with pytest.raises(InvalidArgumentError, match=r"options=\.\.\.\) must be a dict"):
+        env.reset(seed=0, options=5)
+    env.reset(seed=0, options={})
+    env.reset(seed=np.int64(2))
+    assert env.seed_ == 2
+
+
+def test_the_vectorised_env_refuses_bad_arguments_too():
+    family = PaperFamily("rendezvous", 2, 2)
+    for count in (0, True, "4", 2.5):
+        with pytest.raises(InvalidArgumentError, match="num_envs must be a whole number >= 1"):
+            VectorMissionEnv(family, num_envs=count)
+    assert VectorMissionEnv(family, num_envs=np.int64(2)).num_envs == 2
+    env = VectorMissionEnv(family, num_envs=2)
+    with pytest.raises(InvalidArgumentError, match="call reset"):
+        env.step(np.zeros((2, 2, 2)))
+    with pytest.raises(InvalidArgumentError, match="shaping must be a finite number"):
+        VectorMissionEnv(family, num_envs=2, shaping=math.nan)
+    env.reset(seed=0)
+    for bad in (None, "abc", np.zeros((3, 2, 2)), np.full((2, 2, 2), np.nan)):
+        with pytest.raises(InvalidArgumentError, match=r"finite \(2, 2, 2\) array"):
+            env.step(bad)
