@@ -299,7 +299,10 @@ class _Context:
         for length in range(min(len(chain), max(self.p.order, 1)), 0, -1):
             found = self.sets.get(chain[:length])
             if found is not None:
-                return np.asarray(found, dtype=bool)
+                found = np.asarray(found, dtype=bool)
+                # A chain that keeps nothing (its facts contradict each other) restricts
+                # nothing, as in the one-step controller's priors.
+                return found if found.any() else None
         return None
 
     def key(self, chain: tuple[int, ...], order: int) -> tuple:
@@ -315,6 +318,8 @@ class _Context:
         mask = self.mask(chain)
         rows = p.configurations if mask is None else p.configurations[mask]
         own = rows[:, agent]
+        if own.size == 0:  # the chain keeps no configuration: no option
+            return np.full(m, np.inf)
         if order == 0:
             weights = self.prior if mask is None else self.prior[mask]
             mass = np.bincount(own, weights=weights, minlength=m)
