@@ -212,8 +212,8 @@ class Planner:
         sets : mapping, optional
             Chain of robots ``(robot, l, ...)`` -> ``(k,)`` booleans: the configurations
             ``robot`` knows that the last robot of the chain keeps, as the chain's middle
-            robots see it (a chain without an entry takes its longest prefix that has one;
-            default every configuration).
+            robots see it (a chain without an entry takes its longest prefix that has one,
+            a chain whose set is empty restricts nothing; default every configuration).
         moving : array_like, optional
             ``(n,)`` in ``[0, 1]``: how much of its speed each teammate was seen to use
             (what waiting can reveal); default 1.
