@@ -84,11 +84,21 @@ class TeammateModel:
         self.starts = np.stack(np.meshgrid(cells, cells), axis=-1).reshape(-1, 2)
         self.alive = np.ones((n, n, len(self.starts)), dtype=bool)
         self.legs = [np.hypot(*(route.points[0] - self.starts).T) for route in self.routes]
+        self._places: dict[tuple, np.ndarray] = {}  # (teammate, step) -> its hypotheses
 
     # -- hypotheses of a never-seen teammate ------------------------------------------
 
     def _hypotheses(self, j: int, step: float) -> np.ndarray:
-        """``(g, 2)`` where teammate ``j`` is at ``step`` from each start of the grid."""
+        """``(g, 2)`` where teammate ``j`` is at ``step`` from each start of the grid
+        (computed once per teammate and step: every robot's prediction reads it)."""
+        key = (j, step)
+        if key not in self._places:
+            if len(self._places) > 4 * self.s.n_robots:  # only the current step is read
+                self._places.clear()
+            self._places[key] = self._unseen_places(j, step)
+        return self._places[key]
+
+    def _unseen_places(self, j: int, step: float) -> np.ndarray:
         travel, legs = step * self.s.max_speed[j], self.legs[j]
         route = self.routes[j]
         on_leg = travel < legs
