@@ -252,6 +252,57 @@ def test_every_pair_of_small_lts_agrees_with_the_naive_refinement():
         assert same_partition(found.tolist(), _naive_lts(initial, sources, targets, labels))
 
 
+def test_sparse_edges_with_computed_or_given_loneliness_agree_with_the_naive_refinement():
+    """Few edges among many nodes (loneliness found by a sort, not a count per node and
+    label), and the same graphs with each edge's loneliness given by the caller."""
+    rng = np.random.default_rng(5)
+    for _ in range(30):
+        n, m = int(rng.integers(40, 120)), int(rng.integers(1, 12))
+        sources, targets = rng.integers(0, n, m), rng.integers(0, n, m)
+        labels = rng.integers(0, 3, m)
+        initial = np.unique(rng.integers(0, 3, n), return_inverse=True)[1]
+        expected = _naive_lts(initial, sources, targets, labels)
+        pairs = list(zip(sources.tolist(), labels.tolist(), strict=True))
+        alone = np.array([pairs.count(pair) == 1 for pair in pairs])
+        for hint in (None, alone):
+            found = coarsest_partition(initial, sources, targets, labels, hint)
+            assert same_partition(found.tolist(), expected)
+
+
+def muddy_with_hidden_atoms(n: int, hidden: int) -> KripkeModel:
+    """Muddy children's 2^n worlds and partitions, only the last n - hidden atoms kept."""
+    atoms = [f"m{i}" for i in range(1, n + 1)]
+    observes = {f"c{i}": atoms[: i - 1] + atoms[i:] for i in range(1, n + 1)}
+    full = KripkeModel.from_observables(atoms, observes, designated=atoms)
+    return KripkeModel.from_arrays(
+        None,
+        full.atoms[hidden:],
+        np.ascontiguousarray(full.valuation[:, hidden:]),
+        full.agents,
+        dict(full.belief_relations),
+        dict(full.knowledge_relations),
+        full.designated_positions,
+    )
+
+
+def test_muddy_children_with_hidden_atoms_merge_exactly_by_the_visible_ones():
+    """Flipping a hidden atom maps the model onto itself and keeps the valuation, so
+    worlds merge exactly when they agree on the visible atoms (the partitions' labels
+    leave half their range unused: empty classes)."""
+    model = muddy_with_hidden_atoms(7, 3)
+    visible = [tuple(row) for row in model.valuation.tolist()]
+    classes = bisimulation_classes(model)
+    assert same_partition(classes.tolist(), visible)
+    assert same_partition(classes.tolist(), reference_classes(model))
+    assert model.minimize().n_worlds == 2 ** (7 - 3)
+
+
+def test_distinct_valuations_are_distinct_classes_without_refining():
+    model = muddy_with_hidden_atoms(6, 0)
+    assert same_partition(bisimulation_classes(model).tolist(), list(range(64)))
+    assert model.minimize().n_worlds == 64
+
+
 def reference_key(model) -> tuple:
     """The canonical key as first written (tuples, no contraction first): names are ranks
     of (label, sorted reached labels per agent and relation), refined to a fixed point."""
