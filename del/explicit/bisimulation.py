@@ -22,23 +22,72 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from epistemica.del_ import budget
 from epistemica.del_.errors import ModelError
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit._refinement import coarsest_partition, mix64, ranges
 from epistemica.del_.explicit._sparse import breadth_first_order, coo_matrix
-from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.explicit.relations import (
+    Arrows,
+    ClassArrows,
+    DenseArrows,
+    Partition,
+    Relation,
+    arrows_from_edges,
+)
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
 
 __all__ = [
+    "BYTES_PER_EDGE",
     "bisimilar",
     "bisimulation_classes",
+    "contraction_bytes",
+    "edge_count",
     "generated_submodel",
     "minimize",
     "quotient",
     "successor_sets",
 ]
+
+
+#: Peak bytes of the refinement per edge of its graph (edge lists, cells, the records of a
+#: round and their sorts; measured 127-138 on muddy children of 16-18 agents, 2-9 million
+#: edges: ``benchmarks/contraction_memory.py``).
+BYTES_PER_EDGE = 128
+
+
+def edge_count(relation: Relation) -> int:
+    """The number of edges a relation gives the refinement's graph: one per member of a
+    successor set (a partition's class lists each world once), without listing them.
+
+    >>> import numpy as np
+    >>> edge_count(Partition(np.array([0, 0, 1]))), edge_count(DenseArrows(np.ones((2, 2), bool)))
+    (3, 4)
+    """
+    if isinstance(relation, Partition):
+        return relation.n
+    if isinstance(relation, DenseArrows):
+        return int(np.count_nonzero(relation.matrix))
+    if isinstance(relation, Arrows):
+        return int(relation.matrix.nnz)
+    if isinstance(relation, ClassArrows):
+        sizes = np.array([len(t) for t in relation.targets], dtype=np.int64)
+        return int(sizes[relation.labels].sum()) if relation.n else 0
+    return relation.n * relation.n
+
+
+def contraction_bytes(model: ExplicitModel) -> int:
+    """Estimated peak bytes of contracting ``model`` (the refinement's graph: per relation
+    one edge from each world to its successor set, and the sets' edges to their members).
+
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": []})
+    >>> contraction_bytes(m) == BYTES_PER_EDGE * 2 * (4 + 4)
+    True
+    """
+    return BYTES_PER_EDGE * sum(model.n_worlds + edge_count(r) for r in _relations(model))
 
 
 def generated_submodel(model: ExplicitModel) -> ExplicitModel:
@@ -231,6 +280,9 @@ class _Graph:
 
     def __init__(self, model: ExplicitModel, valuation: np.ndarray | None = None) -> None:
         n = model.n_worlds
+        budget.require(
+            contraction_bytes(model), lambda: f"contracting a model of {n:,} worlds (bisimulation)"
+        )
         if valuation is None:
             valuation = _valuation_classes(model.valuation)
         n_blocks = int(valuation.max()) + 1 if n else 0

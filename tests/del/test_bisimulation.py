@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -362,3 +363,33 @@ def test_every_refinement_path_gives_exact_keys(monkeypatch_free, second, seed):
             assert same_partition(labels, reference_classes(first))
     finally:
         canonical._MASK_BITS, canonical.CONTRACT_ABOVE = saved
+
+
+def test_a_successor_set_shared_by_every_class_is_keyed_once(monkeypatch):
+    """Agent a considers all 256 worlds possible, b tells them apart (distinct valuations):
+    every class has a's one successor set, which the key lists once, not once per class
+    (256 x 256 labels; plank's Tiger needed 3 GiB so). The key is still canonical."""
+    from epistemica.del_.explicit import canonical
+
+    monkeypatch.setattr(canonical, "_MASK_BITS", 0)  # the hashed path, for many classes
+    atoms = [f"p{i}" for i in range(8)]
+    model = KripkeModel.from_observables(atoms, {"a": [], "b": atoms}, designated=atoms)
+    key = canonical_key(model)
+    size = sum(len(part) for part in key[1])
+    assert size < 128 * model.n_worlds  # the old listing of a alone: 2 * 8 * 256 * 256 bytes
+    assert key == canonical_key(permuted(model, 4))
+    assert key != canonical_key(model.repoint([0]))
+
+
+def test_contraction_and_search_respect_the_memory_budget():
+    """Contraction needs about BYTES_PER_EDGE per edge of its graph; refused above the
+    budget with a MemoryBudgetError naming it, done below."""
+    from epistemica.del_.budget import MemoryBudgetError, budget_scope
+    from epistemica.del_.explicit.bisimulation import BYTES_PER_EDGE
+
+    model = muddy_with_hidden_atoms(8, 4)
+    needed = BYTES_PER_EDGE * 8 * (256 + 256)  # per agent: world -> pair, pair -> worlds
+    with budget_scope(needed - 1), pytest.raises(MemoryBudgetError, match="contracting"):
+        bisimulation_classes(model)
+    with budget_scope(needed):
+        assert len(set(bisimulation_classes(model).tolist())) == 16
