@@ -146,8 +146,13 @@ class _Expander:
             self.done = np.zeros(relation.n_labels, dtype=bool)
         else:
             self.labels = None
-            matrix = relation.to_csr()
-            self.members, self.start = matrix.indices, matrix.indptr.astype(np.int64)
+            if isinstance(relation, Arrows):
+                self.members, self.start = relation.matrix.indices, relation.matrix.indptr
+            else:  # small dense matrices and class arrows: their edges (no scipy matrix)
+                rows, self.members = relation.edges()
+                order = np.argsort(rows, kind="stable")
+                rows, self.members = rows[order], self.members[order]
+                self.start = np.searchsorted(rows, np.arange(relation.n + 1))
             self.done = np.zeros(relation.n, dtype=bool)
 
     def successors(self, worlds: np.ndarray) -> np.ndarray:
