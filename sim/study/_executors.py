@@ -12,6 +12,7 @@ worker for ever).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import multiprocessing
 import os
@@ -53,8 +54,30 @@ def _watch_parent(parent: int) -> None:
 
 
 def _worker_start(parent: int) -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # discards a Ctrl-C held since the fork
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+
+
+@contextlib.contextmanager
+def _sigint_held() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) back while the pool forks its workers, then deliver it.
+
+    A SIGINT that arrives during ``fork`` raises KeyboardInterrupt inside an at-fork hook,
+    where Python prints "Exception ignored" and drops it: the sweep then ran to its end.
+    Held, it is raised in the driving loop once the workers exist (and the workers, which
+    inherit the held signal, discard it as they start ignoring SIGINT).
+    """
+    main = threading.current_thread() is threading.main_thread()
+    if not main or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def run_local(task: Callable, specs: Iterable, workers: int | None) -> Iterator:
@@ -63,10 +86,11 @@ def run_local(task: Callable, specs: Iterable, workers: int | None) -> Iterator:
         yield from map(task, specs)
         return
     size = workers or os.cpu_count() or 1
-    pool = multiprocessing.get_context().Pool(size, _worker_start, (os.getpid(),))
     done: queue.SimpleQueue = queue.SimpleQueue()
-    pending, in_flight = iter(specs), 0
+    pending, in_flight, pool = iter(specs), 0, None
     try:
+        with _sigint_held():  # a Ctrl-C held here is raised on leaving, pool made
+            pool = multiprocessing.get_context().Pool(size, _worker_start, (os.getpid(),))
         while True:
             while in_flight < 2 * size:
                 spec = next(pending, None)
@@ -84,8 +108,9 @@ def run_local(task: Callable, specs: Iterable, workers: int | None) -> Iterator:
                 raise result.error
             yield result
     finally:
-        pool.terminate()  # running trials are abandoned: their rows were never stored
-        pool.join()
+        if pool is not None:
+            pool.terminate()  # running trials are abandoned: their rows were never stored
+            pool.join()
 
 
 def run_cluster(

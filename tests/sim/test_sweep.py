@@ -213,6 +213,34 @@ def test_a_sweep_on_a_scheduler_without_workers_exits_2(tmp_path, monkeypatch, c
     assert "has had no worker for 1 s" in err and "Traceback" not in err
 
 
+# Ctrl-C (a SIGINT to this process) while the pool forks its first worker, from an
+# at-fork hook: where Python would raise it, it is printed as "Exception ignored" and lost.
+_CTRL_C_DURING_FORK = """
+import os, signal, sys
+from epistemica.sim.study._executors import run_local
+fired = []
+def hook():
+    if not fired:
+        fired.append(1)
+        os.kill(os.getpid(), signal.SIGINT)
+os.register_at_fork(after_in_parent=hook)
+try:
+    rows = list(run_local(abs, range(-20, 0), 2))
+except KeyboardInterrupt:
+    print("interrupted")
+    sys.exit(130)
+print("finished", len(rows))
+"""
+
+
+def test_a_ctrl_c_while_workers_fork_is_not_lost():
+    done = subprocess.run(
+        [sys.executable, "-c", _CTRL_C_DURING_FORK], capture_output=True, text=True, timeout=60
+    )
+    assert (done.returncode, done.stdout.strip()) == (130, "interrupted"), done.stderr
+    assert "Exception ignored" not in done.stderr
+
+
 def test_missing_dask_is_a_clear_error(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import fails
     status = main(
