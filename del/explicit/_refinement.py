@@ -93,10 +93,17 @@ def ranges(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 
 def mix64(values: np.ndarray) -> np.ndarray:
     """A fixed pseudo-random 64-bit value per integer (the splitmix64 finaliser)."""
-    z = values.astype(np.uint64) + _GOLDEN
-    z = (z ^ (z >> np.uint64(30))) * _MIX1
-    z = (z ^ (z >> np.uint64(27))) * _MIX2
-    return z ^ (z >> np.uint64(31))
+    z = values.astype(np.uint64)  # a copy; then in place, with one scratch array
+    z += _GOLDEN
+    scratch = z >> np.uint64(30)
+    z ^= scratch
+    z *= _MIX1
+    np.right_shift(z, np.uint64(27), out=scratch)
+    z ^= scratch
+    z *= _MIX2
+    np.right_shift(z, np.uint64(31), out=scratch)
+    z ^= scratch
+    return z
 
 
 class _Growing:
@@ -183,8 +190,7 @@ class _Refinement:
         self.cell_code = _Growing(np.int64, len(self.shared))
 
     def run(self) -> np.ndarray:
-        records = self._recount(None, first=True)
-        moved = self._split(records)
+        moved = self._split(self._recount(None, first=True))
         while len(moved):
             into = ranges(self.into[moved], self.into[moved + 1] - self.into[moved])
             moved = self._split(self._recount(into, first=False))
@@ -212,7 +218,8 @@ class _Refinement:
         np.not_equal(code[1:], code[:-1], out=starts[1:])
         records = code[starts]
         del code
-        cell = np.cumsum(starts) - 1
+        cell = np.cumsum(starts)
+        cell -= 1
         del starts
         base = self.cell_count.append(np.bincount(cell))
         self.cell_code.append(records)
@@ -242,14 +249,17 @@ class _Refinement:
         """Split blocks by the records of their nodes; return the nodes moved."""
         if not len(records):
             return records
-        records = np.sort(records)
+        records.sort()  # a fresh array of this round: sorted in place
         nodes, keys = np.divmod(records, self.span)
+        del records
         new_node = np.empty(len(nodes), dtype=bool)
         new_node[0] = True
         np.not_equal(nodes[1:], nodes[:-1], out=new_node[1:])
         begin = np.flatnonzero(new_node)
+        del new_node
         length = np.diff(np.append(begin, len(keys)))
         touched = nodes[begin]  # one per node, each with its sorted keys
+        del nodes
         digest = np.add.reduceat(mix64(keys), begin) ^ mix64(length)
         block = self.blocks[touched]
         # One sort by (block, the digest's top bits): blocks in order, equal digests together.
@@ -359,6 +369,10 @@ def _tally(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return found + low, counts[found]
 
 
+# Records compared at once by _mismatched (about 40 bytes each in flight).
+_COMPARED = 1 << 20
+
+
 def _mismatched(group: np.ndarray, begin: np.ndarray, length: np.ndarray, keys) -> np.ndarray:
     """Per node, whether its records (``keys[begin:begin+length]``) differ from those of
     the first node of its group (``group`` sorted). Only the other members of groups of
@@ -371,12 +385,15 @@ def _mismatched(group: np.ndarray, begin: np.ndarray, length: np.ndarray, keys) 
     mine_length, rep = length[check], first[check]
     wrong[check] = mine_length != length[rep]
     same = check[~wrong[check]]
-    if len(same):
-        size = length[same]
-        mine = keys[ranges(begin[same], size)]
-        theirs = keys[ranges(begin[first[same]], size)]
+    # Compared a piece at a time, so that the copies of the records stay small.
+    piece = max(1, _COMPARED // max(1, int(length[same].mean()))) if len(same) else 1
+    for i in range(0, len(same), piece):
+        part = same[i : i + piece]
+        size = length[part]
+        mine = keys[ranges(begin[part], size)]
+        theirs = keys[ranges(begin[first[part]], size)]
         starts = np.cumsum(size) - size
-        wrong[same] = np.add.reduceat((mine != theirs).astype(np.int64), starts) > 0
+        wrong[part] = np.logical_or.reduceat(mine != theirs, starts)
     return wrong
 
 

@@ -53,9 +53,9 @@ __all__ = [
 
 
 #: Peak bytes of the refinement per edge of its graph (edge lists, cells, the records of a
-#: round and their sorts; measured 127-138 on muddy children of 16-18 agents, 2-9 million
-#: edges: ``benchmarks/contraction_memory.py``).
-BYTES_PER_EDGE = 128
+#: round and their sorts; measured 90-97 on muddy children of 16-18 agents with hidden
+#: atoms, 2-9 million edges: ``benchmarks/contraction_memory.py``), with a margin.
+BYTES_PER_EDGE = 112
 
 
 def edge_count(relation: Relation) -> int:

@@ -210,11 +210,14 @@ def test_cycle_with_one_valuation_collapses_to_one_world():
     assert bisimilar(big, m.announce("p"))  # one p-world that sees itself
 
 
-def test_refinement_is_exact_under_forced_hash_collisions(monkeypatch):
-    """With a hash that maps everything to one value, groups are found by the exact check."""
+@pytest.mark.parametrize("compared", [1 << 20, 2])
+def test_refinement_is_exact_under_forced_hash_collisions(monkeypatch, compared):
+    """With a hash that maps everything to one value, groups are found by the exact check
+    (comparing the records in one piece, or a few nodes' records at a time)."""
     from epistemica.del_.explicit import _refinement
 
     monkeypatch.setattr(_refinement, "mix64", lambda values: np.zeros(len(values), np.uint64))
+    monkeypatch.setattr(_refinement, "_COMPARED", compared)
     rng = np.random.default_rng(3)
     for _ in range(20):
         n = int(rng.integers(2, 30))
