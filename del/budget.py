@@ -97,7 +97,8 @@ def require(n_bytes: float, what: str | Callable[[], str]) -> None:
         raise MemoryBudgetError(
             f"{what} needs about {_size(n_bytes)}, over the memory budget of {_size(budget)}",
             hint="use the symbolic backend (`--backend symbolic`, or "
-            "KripkeModel.to_symbolic()), or raise the memory budget",
+            "KripkeModel.to_symbolic()), or raise the memory budget (`--memory-budget GIB`, "
+            f"at least {n_bytes / 2**30:.3g} here)",
         )
 
 

@@ -31,6 +31,16 @@ def test_muddy_children_plan(capsys, search):
     assert "validated" in out
 
 
+def test_a_search_over_the_memory_budget_exits_2_naming_what_it_needs(capsys):
+    """--memory-budget covers the states the search stores: a budget that lets the model
+    be listed but not the states kept is refused cleanly, with the budget it would need."""
+    code, out, err = run(capsys, "plan", MUDDY, "--memory-budget", "0.0000005")
+    assert code == 2 and not out
+    assert "distinct states of the search needs about" in err
+    assert "over the memory budget of 536 bytes" in err  # 0.0000005 GiB
+    assert "--memory-budget GIB" in err and "Traceback" not in err
+
+
 def test_greedy_finds_a_valid_plan(capsys):
     code, out, _ = run(capsys, "plan", MUDDY, "--search", "greedy", "--json")
     data = json.loads(out)

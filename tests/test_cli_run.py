@@ -155,6 +155,40 @@ def test_check_after_steps_applies_the_trial_events(capsys):
             assert code == (0 if expected else 1)
 
 
+# Allocation of three robots to three goals: every configuration needs every goal, and
+# at step 2 everybody sees g2 close (issue 38, item 4).
+_CLOSES_A_NEEDED_GOAL = """mission allocation
+workspace 30
+robot r1: range at (13, 12)
+robot r2: range at (18, 10)
+robot r3: bearing at (27, 27)
+goal g1 at (4, 25)
+goal g2 at (15, 14)
+goal g3 at (26, 4)
+event door_shuts {
+    when step 2
+    closes g2
+    announces closed(g2)
+    full robots if near(g2, 100)
+}
+check "g2 closed": K[r1] closed(g2)
+simulate trials 1 seed 0 steps 20 levels third
+"""
+
+
+def test_an_event_closing_a_goal_every_configuration_needs_is_a_located_error(tmp_path, capsys):
+    path = tmp_path / "closes.epi"
+    path.write_text(_CLOSES_A_NEEDED_GOAL)
+    line = _CLOSES_A_NEEDED_GOAL.splitlines().index("event door_shuts {") + 1
+    assert main(["check", str(path)]) == 1  # before the event: nobody knows g2 is closed
+    capsys.readouterr()
+    assert main(["check", str(path), "--after", "4"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"{path}:{line}:7: error: after 4 steps of trial 0 no valid")
+    assert "event 'door_shuts' closed g2 at step 2" in err and "Traceback" not in err
+    assert main(["check", str(path), "--after", "1"]) == 1  # before step 2: a model
+
+
 def test_after_and_robot_are_for_missions_only(capsys):
     spec = ROOT / "specs" / "puzzles" / "coin_toss.epi"
     assert main(["check", str(spec), "--after", "3"]) == 2

@@ -34,7 +34,11 @@ _MIX2 = np.uint64(0x94D049BB133111EB)
 
 
 def coarsest_partition(
-    initial: np.ndarray, sources: np.ndarray, targets: np.ndarray, labels: np.ndarray
+    initial: np.ndarray,
+    sources: np.ndarray,
+    targets: np.ndarray,
+    labels: np.ndarray,
+    alone: np.ndarray | None = None,
 ) -> np.ndarray:
     """Block of each node in the coarsest stable refinement of ``initial``.
 
@@ -44,6 +48,10 @@ def coarsest_partition(
         The initial block of each node, labels ``0..k-1``.
     sources, targets, labels : arrays of int
         Edge ``i`` goes from ``sources[i]`` to ``targets[i]`` with label ``labels[i] >= 0``.
+        Edges listed in increasing order of target are used as given (no sorted copy).
+    alone : array of bool, optional
+        Whether edge ``i`` is the only edge of its source with its label (computed when
+        not given; a caller that knows it saves a sort of the edges).
 
     Returns
     -------
@@ -61,7 +69,7 @@ def coarsest_partition(
     >>> len(set(blocks.tolist()))
     3
     """
-    return _Refinement(initial, sources, targets, labels).run()
+    return _Refinement(initial, sources, targets, labels, alone).run()
 
 
 def ranges(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
@@ -85,10 +93,17 @@ def ranges(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 
 def mix64(values: np.ndarray) -> np.ndarray:
     """A fixed pseudo-random 64-bit value per integer (the splitmix64 finaliser)."""
-    z = values.astype(np.uint64) + _GOLDEN
-    z = (z ^ (z >> np.uint64(30))) * _MIX1
-    z = (z ^ (z >> np.uint64(27))) * _MIX2
-    return z ^ (z >> np.uint64(31))
+    z = values.astype(np.uint64)  # a copy; then in place, with one scratch array
+    z += _GOLDEN
+    scratch = z >> np.uint64(30)
+    z ^= scratch
+    z *= _MIX1
+    np.right_shift(z, np.uint64(27), out=scratch)
+    z ^= scratch
+    z *= _MIX2
+    np.right_shift(z, np.uint64(31), out=scratch)
+    z ^= scratch
+    return z
 
 
 class _Growing:
@@ -111,19 +126,34 @@ class _Growing:
 
 
 class _Refinement:
-    """The state of one refinement: blocks as a refinable partition, edge counts."""
+    """The state of one refinement: blocks as a refinable partition, edge counts.
+
+    Memory is what bounds the models it can take (tens of millions of edges): edges are
+    stored as 32-bit integers when they fit, and an edge alone in its cell (its source's
+    only edge of its label) has no cell stored, since its count can only drop to zero.
+    """
 
     def __init__(
-        self, initial: np.ndarray, sources: np.ndarray, targets: np.ndarray, labels: np.ndarray
+        self,
+        initial: np.ndarray,
+        sources: np.ndarray,
+        targets: np.ndarray,
+        labels: np.ndarray,
+        alone: np.ndarray | None,
     ) -> None:
         n = len(initial)
         self.blocks = np.asarray(initial, dtype=np.int64).copy()
+        index = np.int32 if n < 2**31 else np.int64
         # Edges sorted by target: the edges into a node are a run of positions. (A stable
         # sort merges runs: callers that list edges in runs of sorted targets pay less.)
-        by_target = np.argsort(np.asarray(targets, dtype=np.int64), kind="stable")
-        self.sources = np.asarray(sources, dtype=np.int64)[by_target]
-        self.targets = np.asarray(targets, dtype=np.int64)[by_target]
-        self.labels = np.asarray(labels, dtype=np.int64)[by_target]
+        targets = np.asarray(targets)
+        if len(targets) > 1 and (targets[1:] < targets[:-1]).any():
+            by_target = np.argsort(targets, kind="stable")
+        else:
+            by_target = slice(None)
+        self.sources = np.asarray(sources)[by_target].astype(index, copy=False)
+        self.targets = targets[by_target].astype(index, copy=False)
+        self.labels = np.asarray(labels)[by_target].astype(index, copy=False)
         self.width = int(self.labels.max()) + 1 if len(self.labels) else 1
         # Blocks as contiguous runs of `elements` (a refinable partition).
         self.elements = np.argsort(self.blocks, kind="stable")
@@ -147,34 +177,37 @@ class _Refinement:
         self.digest_bits = np.uint64(64) - self.block_bits
         if (n + 1) * self.span >= 2**63:
             raise OverflowError(f"{n} nodes are too many to code records in 64 bits")
-        self.cell_of_edge = np.zeros(len(self.sources), dtype=np.int64)
-        self.cell_count = _Growing(np.int64, 2 * len(self.sources))
-        self.cell_code = _Growing(np.int64, 2 * len(self.sources))
         # An edge that is its source's only edge of its label has a cell of its own: no
         # grouping needed (a world's edge to its successor set, any edge of a chain).
-        per_label = self.sources * self.width + self.labels
-        self.alone = np.bincount(per_label, minlength=(n + 1) * self.width)[per_label] == 1
-        self.code_base = self.sources * self.span + self.labels
+        if alone is None:
+            alone = _alone(self.sources, self.labels, self.width)
+        else:
+            alone = np.asarray(alone, dtype=bool)[by_target]
+        self.shared = np.flatnonzero(~alone).astype(index)
+        self.alone = alone
+        self.cell_of_edge = np.zeros(len(self.sources), dtype=np.int32)
+        self.cell_count = _Growing(np.int64, len(self.shared))
+        self.cell_code = _Growing(np.int64, len(self.shared))
 
     def run(self) -> np.ndarray:
-        records = self._recount(np.arange(len(self.sources)), first=True)
-        moved = self._split(records)
+        moved = self._split(self._recount(None, first=True))
         while len(moved):
             into = ranges(self.into[moved], self.into[moved + 1] - self.into[moved])
             moved = self._split(self._recount(into, first=False))
         return self.blocks
 
-    def _recount(self, edges: np.ndarray, first: bool) -> np.ndarray:
+    def _recount(self, edges: np.ndarray | None, first: bool) -> np.ndarray:
         """New cells for ``edges`` (into moved nodes); return the changes they make as
         record codes: per node, the keys of the blocks it now reaches among the pieces
-        concerned (its new cells, and its old cells whose count stays positive)."""
-        alone = self.alone[edges]
-        single, shared = edges[alone], edges[~alone]
-        # An edge alone in its cell: a new cell of count 1; the old one empties.
-        single_codes = self._codes(single)
-        base = self.cell_count.append(np.ones(len(single), dtype=np.int64))
-        self.cell_code.append(single_codes)
-        self.cell_of_edge[single] = base + np.arange(len(single))
+        concerned (its new cells, and its old cells whose count stays positive). The
+        first round (``edges`` None) counts every edge."""
+        # An edge alone in its cell: its new cell counts 1, and its old one drops to 0.
+        if first:  # every edge
+            single_codes, shared = self._codes(np.flatnonzero(self.alone)), self.shared
+        else:
+            alone = self.alone[edges]
+            single_codes, shared = self._codes(edges[alone]), edges[~alone]
+            del alone, edges
         if not len(shared):
             return single_codes
         code = self._codes(shared)
@@ -183,12 +216,19 @@ class _Refinement:
         starts = np.empty(len(code), dtype=bool)
         starts[0] = True
         np.not_equal(code[1:], code[:-1], out=starts[1:])
-        cell = np.cumsum(starts) - 1
         records = code[starts]
+        del code
+        cell = np.cumsum(starts)
+        cell -= 1
+        del starts
         base = self.cell_count.append(np.bincount(cell))
         self.cell_code.append(records)
-        old = self.cell_of_edge[shared]
-        self.cell_of_edge[shared[order]] = base + cell
+        if self.cell_count.size >= 2**31 and self.cell_of_edge.dtype != np.int64:
+            self.cell_of_edge = self.cell_of_edge.astype(np.int64)
+        old = None if first else self.cell_of_edge[shared]
+        cell += base
+        self.cell_of_edge[shared[order]] = cell
+        del cell, order
         if first:
             return np.concatenate([single_codes, records])
         touched, lost = _tally(old)
@@ -199,20 +239,27 @@ class _Refinement:
 
     def _codes(self, edges: np.ndarray) -> np.ndarray:
         """Record codes of edges: source, then the target's block and the label."""
-        return self.code_base[edges] + self.blocks[self.targets[edges]] * self.width
+        code = self.sources[edges].astype(np.int64)
+        code *= self.span
+        code += self.labels[edges]
+        code += self.blocks[self.targets[edges]] * self.width
+        return code
 
     def _split(self, records: np.ndarray) -> np.ndarray:
         """Split blocks by the records of their nodes; return the nodes moved."""
         if not len(records):
             return records
-        records = np.sort(records)
+        records.sort()  # a fresh array of this round: sorted in place
         nodes, keys = np.divmod(records, self.span)
+        del records
         new_node = np.empty(len(nodes), dtype=bool)
         new_node[0] = True
         np.not_equal(nodes[1:], nodes[:-1], out=new_node[1:])
         begin = np.flatnonzero(new_node)
+        del new_node
         length = np.diff(np.append(begin, len(keys)))
         touched = nodes[begin]  # one per node, each with its sorted keys
+        del nodes
         digest = np.add.reduceat(mix64(keys), begin) ^ mix64(length)
         block = self.blocks[touched]
         # One sort by (block, the digest's top bits): blocks in order, equal digests together.
@@ -297,6 +344,21 @@ class _Refinement:
         return moved
 
 
+def _alone(sources: np.ndarray, labels: np.ndarray, width: int) -> np.ndarray:
+    """Whether each edge is its source's only edge of its label."""
+    per_label = sources.astype(np.int64) * width + labels
+    if len(per_label) and int(per_label.max()) < 8 * len(per_label):
+        return np.bincount(per_label)[per_label] == 1
+    order = np.argsort(per_label, kind="stable")
+    ordered = per_label[order]
+    del per_label
+    differs = np.r_[True, ordered[1:] != ordered[:-1], True]
+    del ordered
+    alone = np.empty(len(order), dtype=bool)
+    alone[order] = differs[:-1] & differs[1:]
+    return alone
+
+
 def _tally(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The distinct values and how often each occurs (by counting when they are dense)."""
     low, high = int(values.min()), int(values.max())
@@ -305,6 +367,10 @@ def _tally(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     counts = np.bincount(values - low)
     found = np.flatnonzero(counts)
     return found + low, counts[found]
+
+
+# Records compared at once by _mismatched (about 40 bytes each in flight).
+_COMPARED = 1 << 20
 
 
 def _mismatched(group: np.ndarray, begin: np.ndarray, length: np.ndarray, keys) -> np.ndarray:
@@ -319,12 +385,15 @@ def _mismatched(group: np.ndarray, begin: np.ndarray, length: np.ndarray, keys) 
     mine_length, rep = length[check], first[check]
     wrong[check] = mine_length != length[rep]
     same = check[~wrong[check]]
-    if len(same):
-        size = length[same]
-        mine = keys[ranges(begin[same], size)]
-        theirs = keys[ranges(begin[first[same]], size)]
+    # Compared a piece at a time, so that the copies of the records stay small.
+    piece = max(1, _COMPARED // max(1, int(length[same].mean()))) if len(same) else 1
+    for i in range(0, len(same), piece):
+        part = same[i : i + piece]
+        size = length[part]
+        mine = keys[ranges(begin[part], size)]
+        theirs = keys[ranges(begin[first[part]], size)]
         starts = np.cumsum(size) - size
-        wrong[same] = np.add.reduceat((mine != theirs).astype(np.int64), starts) > 0
+        wrong[part] = np.logical_or.reduceat(mine != theirs, starts)
     return wrong
 
 

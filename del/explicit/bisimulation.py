@@ -22,23 +22,72 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from epistemica.del_ import budget
 from epistemica.del_.errors import ModelError
 from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit._refinement import coarsest_partition, mix64, ranges
 from epistemica.del_.explicit._sparse import breadth_first_order, coo_matrix
-from epistemica.del_.explicit.relations import Partition, Relation, arrows_from_edges
+from epistemica.del_.explicit.relations import (
+    Arrows,
+    ClassArrows,
+    DenseArrows,
+    Partition,
+    Relation,
+    arrows_from_edges,
+)
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
 
 __all__ = [
+    "BYTES_PER_EDGE",
     "bisimilar",
     "bisimulation_classes",
+    "contraction_bytes",
+    "edge_count",
     "generated_submodel",
     "minimize",
     "quotient",
     "successor_sets",
 ]
+
+
+#: Peak bytes of the refinement per edge of its graph (edge lists, cells, the records of a
+#: round and their sorts; measured 90-97 on muddy children of 16-18 agents with hidden
+#: atoms, 2-9 million edges: ``benchmarks/contraction_memory.py``), with a margin.
+BYTES_PER_EDGE = 112
+
+
+def edge_count(relation: Relation) -> int:
+    """The number of edges a relation gives the refinement's graph: one per member of a
+    successor set (a partition's class lists each world once), without listing them.
+
+    >>> import numpy as np
+    >>> edge_count(Partition(np.array([0, 0, 1]))), edge_count(DenseArrows(np.ones((2, 2), bool)))
+    (3, 4)
+    """
+    if isinstance(relation, Partition):
+        return relation.n
+    if isinstance(relation, DenseArrows):
+        return int(np.count_nonzero(relation.matrix))
+    if isinstance(relation, Arrows):
+        return int(relation.matrix.nnz)
+    if isinstance(relation, ClassArrows):
+        sizes = np.array([len(t) for t in relation.targets], dtype=np.int64)
+        return int(sizes[relation.labels].sum()) if relation.n else 0
+    return relation.n * relation.n
+
+
+def contraction_bytes(model: ExplicitModel) -> int:
+    """Estimated peak bytes of contracting ``model`` (the refinement's graph: per relation
+    one edge from each world to its successor set, and the sets' edges to their members).
+
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p", "q"], {"a": ["p"], "b": []})
+    >>> contraction_bytes(m) == BYTES_PER_EDGE * 2 * (4 + 4)
+    True
+    """
+    return BYTES_PER_EDGE * sum(model.n_worlds + edge_count(r) for r in _relations(model))
 
 
 def generated_submodel(model: ExplicitModel) -> ExplicitModel:
@@ -57,28 +106,64 @@ def generated_submodel(model: ExplicitModel) -> ExplicitModel:
     return model.restrict(reached)
 
 
-# Reachability first steps through the relations' own operations (a few numpy calls per
-# step, the whole model each time); a model not done after this many steps is searched
-# once over an explicit graph instead, in O(worlds + edges).
-_STEPS = 16
+# Reachability steps from the frontier only, expanding each partition class and each
+# world's arrows once (O(worlds + edges) in all, a few numpy calls per step and relation);
+# a model not done after this many steps (a long chain) is searched once over an
+# explicit graph instead.
+_STEPS = 64
 
 
 def _reached(model: ExplicitModel) -> np.ndarray:
     reached = np.zeros(model.n_worlds, dtype=bool)
     reached[model.designated_positions] = True
-    relations = _relations(model)
-    frontier = reached.copy()
+    expanders = [_Expander(r) for r in _relations(model)]
+    frontier = np.flatnonzero(reached)
     for _ in range(_STEPS):
-        if not frontier.any():
+        if not len(frontier):
             return reached
-        step = np.zeros_like(reached)
-        for r in relations:
-            step |= r.successors_of(frontier)
-        frontier = step & ~reached
-        reached |= frontier
-    if not frontier.any():
+        new = np.zeros(model.n_worlds, dtype=bool)
+        for e in expanders:
+            new[e.successors(frontier)] = True
+        new &= ~reached
+        reached |= new
+        frontier = np.flatnonzero(new)
+    if not len(frontier):
         return reached
     return _Graph(model).reached(model.designated_positions)
+
+
+class _Expander:
+    """One relation's successors of a set of worlds, each class or world expanded once."""
+
+    def __init__(self, relation: Relation) -> None:
+        if isinstance(relation, Partition):
+            self.labels = relation.labels
+            # Worlds sorted by class: class c is members[start[c]:start[c + 1]].
+            index = np.int32 if relation.n < 2**31 else np.int64
+            self.members = np.argsort(relation.labels, kind="stable").astype(index)
+            self.start = np.zeros(relation.n_labels + 1, dtype=np.int64)
+            np.cumsum(np.bincount(relation.labels, minlength=relation.n_labels), out=self.start[1:])
+            self.done = np.zeros(relation.n_labels, dtype=bool)
+        else:
+            self.labels = None
+            if isinstance(relation, Arrows):
+                self.members, self.start = relation.matrix.indices, relation.matrix.indptr
+            else:  # small dense matrices and class arrows: their edges (no scipy matrix)
+                rows, self.members = relation.edges()
+                order = np.argsort(rows, kind="stable")
+                rows, self.members = rows[order], self.members[order]
+                self.start = np.searchsorted(rows, np.arange(relation.n + 1))
+            self.done = np.zeros(relation.n, dtype=bool)
+
+    def successors(self, worlds: np.ndarray) -> np.ndarray:
+        if self.labels is None:
+            keys = worlds[~self.done[worlds]]
+        else:  # the classes of `worlds` not expanded yet, each once
+            fresh = np.zeros(len(self.done), dtype=bool)
+            fresh[self.labels[worlds]] = True
+            keys = np.flatnonzero(fresh & ~self.done)
+        self.done[keys] = True
+        return self.members[ranges(self.start[keys], self.start[keys + 1] - self.start[keys])]
 
 
 def bisimulation_classes(model: ExplicitModel) -> np.ndarray:
@@ -95,7 +180,10 @@ def bisimulation_classes(model: ExplicitModel) -> np.ndarray:
     """
     if not model.n_worlds:
         return np.zeros(0, dtype=np.intp)
-    return _Graph(model).classes()
+    valuation = _valuation_classes(model.valuation)
+    if int(valuation.max()) + 1 == model.n_worlds:  # valuations tell every world apart
+        return valuation
+    return _Graph(model, valuation).classes()
 
 
 def minimize(model: ExplicitModel) -> ExplicitModel:
@@ -195,27 +283,37 @@ class _Graph:
     everything else.
     """
 
-    def __init__(self, model: ExplicitModel) -> None:
+    def __init__(self, model: ExplicitModel, valuation: np.ndarray | None = None) -> None:
         n = model.n_worlds
-        valuation = _valuation_classes(model.valuation)
+        budget.require(
+            contraction_bytes(model), lambda: f"contracting a model of {n:,} worlds (bisimulation)"
+        )
+        if valuation is None:
+            valuation = _valuation_classes(model.valuation)
         n_blocks = int(valuation.max()) + 1 if n else 0
-        initial, sources, targets, labels = [valuation], [], [], []
-        count = n
-        for label, relation in enumerate(_relations(model)):
-            owner, n_sets, members, of_set = successor_sets(relation)
-            # Each edge list sorted by target, for the refinement's merge (see there).
-            by_set, by_member = np.argsort(owner), np.argsort(members, kind="stable")
-            sources += [by_set, of_set[by_member] + count]
-            targets += [owner[by_set] + count, members[by_member]]
-            labels += [np.full(n, 2 * label), np.full(len(members), 2 * label + 1)]
+        relations = _relations(model)
+        sets = [successor_sets(r) for r in relations]
+        self.n_nodes = n + sum(n_sets for _, n_sets, _, _ in sets)
+        index = np.int32 if self.n_nodes < 2**31 else np.int64
+        # Edges in increasing order of target (the refinement then uses them as they are):
+        # first each set's edges to its members (into worlds), then each world's edge to
+        # its set, relation by relation (set nodes are numbered in that order).
+        offsets = np.cumsum([n] + [n_sets for _, n_sets, _, _ in sets])[:-1]
+        into_worlds = _into_worlds(sets, offsets, index)
+        initial, sources, targets, labels, alone = [valuation], [], [], [], []
+        for label, ((owner, n_sets, _, _), offset) in enumerate(zip(sets, offsets, strict=True)):
+            by_set = np.argsort(owner, kind="stable")
+            sources.append(by_set.astype(index))
+            targets.append((owner[by_set] + offset).astype(index))
+            labels.append(np.full(n, 2 * label, dtype=index))
+            alone.append(np.ones(n, dtype=bool))  # one edge per world and label
             initial.append(np.full(n_sets, n_blocks + label))
-            count += n_sets
-        self.n_nodes = count
+        del sets
         self.initial = np.concatenate(initial)
-        empty = np.zeros(0, dtype=np.int64)
-        self.sources = np.concatenate(sources) if sources else empty
-        self.targets = np.concatenate(targets) if targets else empty
-        self.labels = np.concatenate(labels) if labels else empty
+        self.sources, self.targets, self.labels, self.alone = (
+            np.concatenate([first, *rest])
+            for first, rest in zip(into_worlds, (sources, targets, labels, alone), strict=True)
+        )
         self.n_worlds = n
 
     def reached(self, points: np.ndarray) -> np.ndarray:
@@ -232,20 +330,60 @@ class _Graph:
 
     def classes(self) -> np.ndarray:
         """Each world's class of the coarsest bisimulation, labels ``0..k-1``."""
-        blocks = coarsest_partition(self.initial, self.sources, self.targets, self.labels)
+        blocks = coarsest_partition(
+            self.initial, self.sources, self.targets, self.labels, self.alone
+        )
         return np.unique(blocks[: self.n_worlds], return_inverse=True)[1].reshape(-1)
+
+
+def _into_worlds(
+    sets: list[tuple[np.ndarray, int, np.ndarray, np.ndarray]], offsets: np.ndarray, index: type
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Sources, targets, labels and loneliness of the edges from successor sets to their
+    members, in increasing order of member (for partitions, one edge per world and
+    relation: no sort)."""
+    n = int(offsets[0]) if len(offsets) else 0
+    sources, labels, alone = [], [], []
+    for label, ((_, n_sets, _, of_set), offset) in enumerate(zip(sets, offsets, strict=True)):
+        sources.append((of_set + offset).astype(index))
+        labels.append(np.full(len(of_set), 2 * label + 1, dtype=index))
+        alone.append(np.bincount(of_set, minlength=n_sets)[of_set] == 1)
+    if not sets:
+        empty = np.zeros(0, dtype=index)
+        return empty, empty, empty, np.zeros(0, dtype=bool)
+    if all(len(members) == n and (members == np.arange(n)).all() for _, _, members, _ in sets):
+        # World w's edges are row w of an (n, relations) table: raveled, sorted by w.
+        return (
+            np.stack(sources, axis=1).ravel(),
+            np.repeat(np.arange(n, dtype=index), len(sets)),
+            np.stack(labels, axis=1).ravel(),
+            np.stack(alone, axis=1).ravel(),
+        )
+    members = np.concatenate([m for _, _, m, _ in sets])
+    order = np.argsort(members, kind="stable")
+    return (
+        np.concatenate(sources)[order],
+        members[order].astype(index),
+        np.concatenate(labels)[order],
+        np.concatenate(alone)[order],
+    )
 
 
 def successor_sets(relation: Relation) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
     """Each world's successor set: ``(set of each world, number of sets, members, and
     the set each member belongs to)``; worlds with equal successor sets share one."""
     if isinstance(relation, Partition):
-        # Unused labels are sets without members; compact only when they would abound.
-        compact = relation.n_labels > 2 * relation.n
-        classes = relation.compact() if compact else relation.labels.astype(np.int64)
+        # Labels numbered 0..k-1 in their order (unused labels would be sets without
+        # members, nodes that cost the refinement memory): by a sort when they are sparse.
+        if relation.n_labels > 2 * relation.n:
+            classes = relation.compact()
+        else:
+            used = np.zeros(relation.n_labels, dtype=bool)
+            used[relation.labels] = True
+            classes = (np.cumsum(used) - 1)[relation.labels]
         return (
             classes,
-            int(classes.max()) + 1 if compact and len(classes) else relation.n_labels,
+            int(classes.max()) + 1 if len(classes) else 0,
             np.arange(len(classes)),
             classes,
         )

@@ -220,13 +220,31 @@ def _canonical_hashes(
     first = np.unique(labels, return_index=True)[1]  # one world per class, by class
     parts = [rows[first].tobytes()]
     for r in relations:
-        # per class: the sorted distinct labels its successors have, with their count
-        chosen = sets[id(r)][0][first]
+        # Per class, which of the relation's distinct successor sets it has (numbered by
+        # first use in class order); per such set, its sorted distinct labels and their
+        # count. A set shared by many classes is listed once (one agent who considers
+        # every world possible would otherwise list every class once per class).
+        used, index = _first_use_order(sets[id(r)][0][first])
         starts, lengths = found[id(r)][1]
-        parts.append(lengths[chosen].tobytes())
-        parts.append(found[id(r)][2][ranges(starts[chosen], lengths[chosen])].tobytes())
+        parts.append(index.tobytes())
+        parts.append(lengths[used].tobytes())
+        parts.append(found[id(r)][2][ranges(starts[used], lengths[used])].tobytes())
     points = tuple(np.unique(labels[state.designated_positions]).tolist())
     return labels.tolist(), (tuple(atoms), tuple(parts), points)
+
+
+def _first_use_order(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct values in order of first occurrence, and each value's index there.
+
+    >>> used, index = _first_use_order(np.array([7, 3, 7, 5, 3]))
+    >>> used.tolist(), index.tolist()
+    ([7, 3, 5], [0, 1, 0, 2, 1])
+    """
+    distinct, first, inverse = np.unique(values, return_index=True, return_inverse=True)
+    order = np.argsort(first)
+    rank = np.empty(len(order), dtype=np.int64)
+    rank[order] = np.arange(len(order))
+    return distinct[order], rank[inverse.reshape(-1)]
 
 
 def _set_hashes(parts: tuple, labels: np.ndarray) -> tuple | None:

@@ -146,19 +146,31 @@ def observability_action(
     changes = _effects(effects)
     regions = _regions(agent_list, full_of, partial_of)
     any_partial = any(not isinstance(r[2], Bottom) for r in regions.values())
-    any_oblivious = any(not isinstance(r[3], Bottom) for r in regions.values())
     outcomes = _outcomes(senses, announces, name, any_partial)
     exec_f = None if executable is None else _formula(executable, "executable")
     if isinstance(exec_f, Top):
         exec_f = None
+    return _event_model(regions, outcomes, pre_f, exec_f, changes)
+
+
+def _event_model(
+    regions: dict[str, tuple[Formula, ...]],
+    outcomes,
+    pre_f: Formula,
+    exec_f: Formula | None,
+    changes: dict,
+) -> ActionModel:
+    """The event model: the real events of the outcomes, ``(skip)`` when some agent may
+    be oblivious, and each agent's edges by its observation regions."""
+    any_oblivious = any(not isinstance(r[3], Bottom) for r in regions.values())
     events, pres, seen, sources, designated = _events(outcomes, pre_f, exec_f)
     posts = {e: dict(changes) for e in events}
     if any_oblivious:
         events.append(SKIP_EVENT)
     relations: dict[str, list[tuple]] = {}
     knowledge: dict[str, list[tuple]] = {}
-    for a in agent_list:
-        relations[a], knowledge[a] = _agent_edges(regions[a], seen, sources, any_oblivious)
+    for a, region in regions.items():
+        relations[a], knowledge[a] = _agent_edges(region, seen, sources, any_oblivious)
     return ActionModel(events, pres, posts, relations, designated, knowledge)
 
 

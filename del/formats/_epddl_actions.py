@@ -33,7 +33,18 @@ from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.formats._epddl_formulas import conj, disj, negate
 from epistemica.del_.formats._epddl_ground import MAX_GROUND, Grounder, plank_name
 from epistemica.del_.formats._epddl_syntax import Source, mangle
-from epistemica.del_.language.formula import And, Atom, Bottom, Formula, Iff, Implies, Not, Or, Top
+from epistemica.del_.language.formula import (
+    And,
+    Atom,
+    Bottom,
+    Formula,
+    Iff,
+    Implies,
+    Not,
+    Or,
+    Top,
+    shared,
+)
 
 __all__ = ["MAX_ASSIGNMENTS", "ground_actions"]
 
@@ -435,7 +446,7 @@ def _event_model(g: Grounder, kind, pre, post, types, key: str, public, where) -
                 out.append((inner[e], inner[f]))
                 if dynamic and e in outer:
                     out.append((outer[e], inner[f]))
-    return ActionModel(events, pres, posts, rel, designated)
+    return _shared_model(g, events, pres, posts, rel, designated)
 
 
 def _conditioned_model(g: Grounder, kind, pre, post, static, options) -> ActionModel:
@@ -448,10 +459,27 @@ def _conditioned_model(g: Grounder, kind, pre, post, static, options) -> ActionM
             for e, f in sorted(kind.relations[kind.types[t]]):
                 edges.append((names[e], names[f], cond))
         rel[mangle(agent)] = edges
-    return ActionModel(
+    return _shared_model(
+        g,
         [names[v] for v in kind.events],
         {names[v]: pre[v] for v in kind.events},
         {names[v]: post[v] for v in kind.events},
         rel,
         [names[v] for v in kind.designated],
+    )
+
+
+def _shared_model(g: Grounder, events, pres, posts, rel, designated) -> ActionModel:
+    """The event model, its formulas shared with the task's other ground actions: equal
+    conditions are one object, which the checker's memo finds without comparing trees."""
+
+    def share(f):
+        return shared(f, g.formulas) if isinstance(f, Formula) else f
+
+    return ActionModel(
+        events,
+        {e: share(f) for e, f in pres.items()},
+        {e: {atom: share(f) for atom, f in post.items()} for e, post in posts.items()},
+        {a: [tuple(share(part) for part in edge) for edge in edges] for a, edges in rel.items()},
+        designated,
     )

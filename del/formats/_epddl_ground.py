@@ -275,6 +275,8 @@ class Grounder(_Terms):
         self.action_types: dict[str, tuple[Tree, Source]] = {}
         self.facts: set[tuple[str, tuple[str, ...]]] = set()
         self.names: dict[str, str] = {}  # epistemica name of an entity -> its EPDDL name
+        # One object per distinct formula of the ground actions (language.formula.shared).
+        self.formulas: dict[Formula, Formula] = {}
         self._domains: dict[frozenset, list[str]] = {}
         self._atoms_by_key: dict[str, Atom] = {}
         self._collect_domain()

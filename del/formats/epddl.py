@@ -54,6 +54,7 @@ from epistemica.del_.formats._epddl_formulas import conj
 from epistemica.del_.formats._epddl_ground import Grounder
 from epistemica.del_.formats._epddl_state import initial_state
 from epistemica.del_.formats._epddl_syntax import Source, parse
+from epistemica.del_.formats.kinds import is_epddl
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.spec import Spec, read_source
 
@@ -83,11 +84,6 @@ class EpddlTask:
     def plank_plan(self, plan: Iterable[str]) -> list[str]:
         """The plank names of the actions of ``plan`` (for ``plank validate -a``)."""
         return [self.plank_names[step] for step in plan]
-
-
-def is_epddl(path: str | Path) -> bool:
-    """Whether a path names an EPDDL file (by its extension, ``.epddl`` or ``.pddl``)."""
-    return Path(path).suffix.lower() in (".epddl", ".pddl")
 
 
 def parse_epddl(

@@ -55,6 +55,7 @@ from lark.exceptions import UnexpectedInput
 from epistemica.del_.errors import InvalidArgumentError, ParseError
 from epistemica.del_.explicit.action import ActionModel
 from epistemica.del_.formats._epddl_syntax import Source, position
+from epistemica.del_.formats.kinds import is_smcdel
 from epistemica.del_.language.formula import (
     And,
     Atom,
@@ -102,12 +103,6 @@ class SmcdelFile:
 
     spec: Spec
     where: tuple[tuple[str, Formula], ...] = ()
-
-
-def is_smcdel(path: str | Path) -> bool:
-    """Whether a path names an SMCDEL file (``.smcdel``, or SMCDEL's ``.smcdel.txt``)."""
-    name = str(path).lower()
-    return name.endswith(".smcdel") or name.endswith(".smcdel.txt")
 
 
 def load_smcdel(path: str | Path, backend: str = "auto") -> SmcdelFile:

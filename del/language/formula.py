@@ -28,6 +28,7 @@ K[a] (p & ~q)
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, fields
 
@@ -60,6 +61,7 @@ __all__ = [
     "fold",
     "iter_postorder",
     "map_atoms",
+    "shared",
     "with_children",
 ]
 
@@ -377,6 +379,35 @@ def map_atoms(formula: Formula, replace: Callable[[Atom], Formula]) -> Formula:
     return fold(formula, rebuild)
 
 
+def shared(formula: Formula, table: dict[Formula, Formula]) -> Formula:
+    """``formula`` rebuilt from the formulas of ``table``: every subformula equal to one
+    already there is that object, and the new ones are added.
+
+    Formulas passed through one table share their equal subformulas, so a memo keyed by
+    formula (the checker's truth sets) finds them by identity instead of comparing trees:
+    the ground actions of an EPDDL task repeat the same conditions many times.
+
+    Examples
+    --------
+    >>> table = {}
+    >>> first = shared(Atom("p") & Atom("q"), table)
+    >>> second = shared(~(Atom("p") & Atom("q")), table)
+    >>> second.children()[0] is first
+    True
+    """
+
+    def rebuild(node: Formula, inner: tuple[Formula, ...]) -> Formula:
+        found = table.get(node)
+        if found is not None and all(map(operator.is_, inner, found.children())):
+            return found
+        if not all(map(operator.is_, inner, node.children())):
+            node = _rebuilt(node, inner)  # the same formula, its parts from the table
+        table[node] = node
+        return node
+
+    return fold(formula, rebuild)
+
+
 def with_children(node: Formula, children: tuple[Formula, ...]) -> Formula:
     """``node`` with its immediate subformulas replaced by ``children`` (same order).
 
@@ -388,6 +419,11 @@ def with_children(node: Formula, children: tuple[Formula, ...]) -> Formula:
     """
     if children == node.children():
         return node
+    return _rebuilt(node, children)
+
+
+def _rebuilt(node: Formula, children: tuple[Formula, ...]) -> Formula:
+    """A new ``node`` with ``children`` as its immediate subformulas."""
     parts = iter(children)
     values = [
         next(parts) if isinstance(getattr(node, name), Formula) else getattr(node, name)

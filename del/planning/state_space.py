@@ -36,9 +36,10 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from epistemica.del_ import budget
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel
-from epistemica.del_.explicit.bisimulation import generated_submodel, quotient
+from epistemica.del_.explicit.bisimulation import edge_count, generated_submodel, quotient
 from epistemica.del_.explicit.canonical import canonical_classes
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.symbolic.structure import SymbolicModel
@@ -51,6 +52,7 @@ __all__ = [
     "StateStore",
     "check_problem",
     "search_states",
+    "state_bytes",
 ]
 
 #: The search strategies that :func:`search_states` accepts.
@@ -168,6 +170,7 @@ class _Search:
         self.max_depth, self.max_states = max_depth, max_states
         self.table = KeyedStates() if store is None else store
         self.root = self.table.add(initial)[0]
+        self.stored_bytes = state_bytes(self.table.states[self.root])
         self.parent: dict[int, tuple[int, str] | None] = {self.root: None}
         self.depth = {self.root: 0}
         self.expanded = self.generated = 0
@@ -208,7 +211,13 @@ class _Search:
                 yield name, found, False
                 continue
             index, new = self.table.add(child)
+            if new:
+                self.stored_bytes += state_bytes(self.table.states[index])
+                budget.require(self.stored_bytes, self._stored_what)
             yield name, index, new
+
+    def _stored_what(self) -> str:
+        return f"storing the {len(self.table):,} distinct states of the search"
 
     def reach(self, node: int, child: int, name: str) -> None:
         self.parent[child] = (node, name)
@@ -310,6 +319,23 @@ class KeyedStates:
         self.states.append(state)
         self._index[key] = len(self.states) - 1
         return len(self.states) - 1, True
+
+
+def state_bytes(state: Any) -> int:
+    """Estimated bytes a stored explicit state holds (its valuation matrix and about 16
+    bytes per edge of its relations); 0 for other states (BDDs are bounded by the symbolic
+    backend's node limit).
+
+    >>> from epistemica.del_ import KripkeModel
+    >>> m = KripkeModel.from_observables(["p"], {"a": []})
+    >>> state_bytes(m) == m.valuation.nbytes + 16 * 2
+    True
+    """
+    if not isinstance(state, KripkeModel):
+        return 0
+    relations = {id(r): r for r in state.belief_relations.values()}
+    relations.update({id(r): r for r in state.knowledge_relations.values()})
+    return state.valuation.nbytes + 16 * sum(edge_count(r) for r in relations.values())
 
 
 def _contracted(state: KripkeModel) -> tuple[KripkeModel, tuple]:

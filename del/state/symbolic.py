@@ -23,14 +23,17 @@ True
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KnowledgeStructure
 from epistemica.del_.state.state import Chain, EpistemicState, soft_in_order
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = [
     "belief_bdd",

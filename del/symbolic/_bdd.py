@@ -4,6 +4,9 @@ Every structure numbers its state variables by *slots* ``0, 1, 2, ...``; slot ``
 BDD variable ``2 s`` and its primed copy (the target of a relation) is ``2 s + 1``, so each
 variable sits next to its copy in the order, which keeps relations small. Slots are reused
 by unrelated structures: a BDD is only ever combined with BDDs of its own structure.
+
+oxidd is imported when the first BDD is made (or ``AND``, ``IMP``, ``BDDFunction`` are
+first read), so that commands on explicit models never pay for it.
 """
 
 from __future__ import annotations
@@ -11,15 +14,14 @@ from __future__ import annotations
 import contextlib
 import functools
 from collections.abc import Iterable, Iterator, Sequence
-
-from oxidd.bdd import BDDFunction, BDDManager
-from oxidd.util import BooleanOperator, DDMemoryError
+from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.errors import EpistemicaError
 
+if TYPE_CHECKING:
+    from oxidd.bdd import BDDFunction, BDDManager
+
 __all__ = [
-    "AND",
-    "IMP",
     "BDDFunction",
     "count",
     "cube",
@@ -28,12 +30,24 @@ __all__ = [
     "node_limit",
     "prime",
     "primed",
+    "substitution",
     "true",
     "var",
 ]
 
-AND = BooleanOperator.AND
-IMP = BooleanOperator.IMP
+
+def __getattr__(name: str) -> Any:
+    """``AND`` and ``IMP`` (oxidd's operators) and ``BDDFunction``, importing oxidd."""
+    if name in ("AND", "IMP"):
+        from oxidd.util import BooleanOperator
+
+        return getattr(BooleanOperator, name)
+    if name == "BDDFunction":
+        from oxidd.bdd import BDDFunction
+
+        return BDDFunction
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 # Inner-node capacity is an upper bound (memory is taken as nodes are made). oxidd does
 # not collect garbage by itself here, so every evaluation starts by collecting once the
@@ -46,6 +60,8 @@ _COLLECT_ABOVE = 1 << 22
 @functools.cache
 def manager() -> BDDManager:
     """The process-wide manager (created on first use)."""
+    from oxidd.bdd import BDDManager
+
     return BDDManager(_NODE_CAPACITY, _CACHE_CAPACITY, 1)
 
 
@@ -53,6 +69,8 @@ def manager() -> BDDManager:
 def node_limit() -> Iterator[None]:
     """Collect garbage if the manager is large; turn running out of nodes into an
     :class:`EpistemicaError`."""
+    from oxidd.util import DDMemoryError
+
     if manager().approx_num_inner_nodes() > _COLLECT_ABOVE:
         manager().gc()
     try:
@@ -134,10 +152,17 @@ def minterm(slots: Sequence[int], value: int, primed_copy: bool = False) -> BDDF
     return result
 
 
+def substitution(pairs: list[tuple[int, BDDFunction]]) -> Any:
+    """oxidd's substitution of the BDD variables ``pairs[i][0]`` by ``pairs[i][1]``."""
+    from oxidd.bdd import BDDFunction
+
+    return BDDFunction.make_substitution(pairs)
+
+
 @functools.lru_cache(maxsize=256)
 def _renaming(slots: tuple[int, ...]):
     m = manager()
-    return BDDFunction.make_substitution([(2 * s, m.var(2 * s + 1)) for s in slots])
+    return substitution([(2 * s, m.var(2 * s + 1)) for s in slots])
 
 
 def primed(f: BDDFunction, slots: Sequence[int]) -> BDDFunction:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -20,8 +20,10 @@ from epistemica.del_.explicit._model import ExplicitModel
 from epistemica.del_.explicit.relations import Partition
 from epistemica.del_.language.formula import atom_name
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["MAX_KRIPKE_WORLDS", "kripke_parts", "states", "to_kripke"]
 

@@ -26,11 +26,13 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Observes
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = [
     "describe_structure",

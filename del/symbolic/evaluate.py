@@ -30,12 +30,12 @@ from epistemica.del_.language.modalities import (
 )
 from epistemica.del_.language.walk import fold_nodes
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import box, intersection
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["evaluate", "propositional"]
 
@@ -106,7 +106,7 @@ def _connective(kind: type, left: BDDFunction, right: BDDFunction) -> BDDFunctio
     return left.equiv(right)
 
 
-Node = Generator[tuple, BDDFunction, BDDFunction]
+Node = Generator[tuple, "BDDFunction", "BDDFunction"]
 
 
 class _Run:

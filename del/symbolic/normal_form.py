@@ -43,14 +43,16 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from epistemica.del_.explicit.bisimulation import minimize
 from epistemica.del_.explicit.canonical import canonical_key
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.convert import to_kripke
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation, as_arrows
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = [
     "EXPLICIT_KEY_STATES",
@@ -263,7 +265,7 @@ def unprimed(f: BDDFunction, slots: Sequence[int]) -> BDDFunction:
 
 @functools.lru_cache(maxsize=256)
 def _unpriming(slots: tuple[int, ...]):
-    return BDDFunction.make_substitution([(2 * s + 1, _bdd.var(s)) for s in slots])
+    return _bdd.substitution([(2 * s + 1, _bdd.var(s)) for s in slots])
 
 
 @functools.lru_cache(maxsize=4096)
@@ -273,7 +275,7 @@ def _renaming(pairs: tuple[tuple[int, int], ...]):
     for old, new in pairs:
         _bdd.var(max(old, new))
         found += [(2 * old, _bdd.var(new)), (2 * old + 1, _bdd.prime(new))]
-    return BDDFunction.make_substitution(found)
+    return _bdd.substitution(found)
 
 
 def _cube(slots: Iterable[int]) -> BDDFunction:
@@ -320,7 +322,7 @@ def _substituted(relation: Relation, replaced: dict[int, BDDFunction], slots: li
     pairs = []
     for slot, f in replaced.items():
         pairs += [(2 * slot, f), (2 * slot + 1, _bdd.primed(f, slots))]
-    return Arrows(bdd.substitute(BDDFunction.make_substitution(pairs)))
+    return Arrows(bdd.substitute(_bdd.substitution(pairs)))
 
 
 def _atom_literal(f: BDDFunction) -> int | None:

@@ -32,6 +32,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.plausibility import PlausibilityModel
@@ -39,8 +40,10 @@ from epistemica.del_.language.formula import Atom, Formula, atom_name
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.language.plausibility_semantics import evaluate_plausibility
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import propositional
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["PlausibilityStructure"]
 

@@ -11,9 +11,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
+
+if TYPE_CHECKING:
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["Arrows", "Observes", "as_arrows", "box", "intersection"]
 

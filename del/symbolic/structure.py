@@ -53,13 +53,13 @@ from epistemica.del_.language.formula import (
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.language.walk import iter_nodes
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.evaluate import evaluate, propositional
 from epistemica.del_.symbolic.relations import Observes, Relation
 from epistemica.del_.symbolic.transform import product
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["SymbolicModel"]
 

@@ -25,11 +25,11 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from epistemica.del_.errors import ModelError
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.symbolic import _bdd
-from epistemica.del_.symbolic._bdd import BDDFunction
 from epistemica.del_.symbolic.relations import Arrows, Observes, Relation, as_arrows
 
 if TYPE_CHECKING:
     from epistemica.del_.explicit.action import ActionModel
+    from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = ["Product", "product"]
 

@@ -83,6 +83,7 @@ class MissionCompiler(MissionScope):
         self.random_knowledge = False
         self.teammates: list[tuple[str, str, Token]] = []
         self.events: dict[str, EventRule] = {}
+        self.event_tokens: dict[str, Token] = {}
         self.policy: list[tuple[str, Any, Token]] = []
         self.checks: list[MissionCheck] = []
         self.step_triggers: list[tuple[int, Token]] = []
@@ -239,6 +240,7 @@ class MissionCompiler(MissionScope):
         if seen_by == "everyone":
             rule = everyone_observes(rule)
         self.events[rule.name] = rule
+        self.event_tokens[rule.name] = token
 
     def policy_decl(self, node: Tree) -> None:
         for option in node.children:

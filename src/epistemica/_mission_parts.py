@@ -87,6 +87,7 @@ class MissionParts:
     obstacles: tuple[np.ndarray, ...] = ()
     team: int | None = None  # the team size N of spans r1..rN (None: the file has none)
     plausibility: tuple = ()  # PlausibilityOrder per 'plausibility' line, in file order
+    event_tokens: tuple[tuple[str, Token], ...] = ()  # each event's name, where declared
 
     @property
     def robot_names(self) -> tuple[str, ...]:
@@ -121,6 +122,7 @@ def assemble(comp: Any) -> MissionParts:
         learns=tuple(comp.learns),
         known_goals=_known(comp, end),
         events=tuple(comp.events.values()),
+        event_tokens=tuple(comp.event_tokens.items()),
         teammates=tuple(comp.teammates),
         policy=tuple(comp.policy),
         checks=tuple(comp.checks),

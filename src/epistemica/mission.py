@@ -377,7 +377,34 @@ class Mission:
         """The model after the first ``steps`` steps of a seeded trial (:meth:`trial`)."""
         if steps == 0:
             return self.model_of(self.knowledge(seed))
-        return self.model_of(self.trial(steps, seed, level).knowledge)
+        trial = self.trial(steps, seed, level)
+        try:
+            return self.model_of(trial.knowledge)
+        except InvalidArgumentError as exc:  # what was observed rules out every configuration
+            raise self._nothing_left(exc, trial) from None
+
+    def _nothing_left(self, exc: InvalidArgumentError, trial: Trial) -> SpecError:
+        """The error of a model with no configuration left after ``trial``, located at the
+        last event of the trial that closed a goal (the usual cause: a goal that every
+        valid configuration needs), else at the top of the file."""
+        rules = {rule.name: rule for rule in self.parts.events}
+        tokens = dict(self.parts.event_tokens)
+        closing = [e for e in trial.events if rules.get(e[1]) and rules[e[1]].closes]
+        if not closing:
+            return self._error(exc.message, exc.hint or "")
+        step, name = closing[-1][:2]
+        token = tokens[name]
+        return SpecError(
+            f"after {trial.steps} steps of trial {trial.seed} no valid configuration is left: "
+            f"event '{name}' closed {', '.join(rules[name].closes)} at step {step}, and every "
+            "configuration the robots considered needs it",
+            line=token.line,
+            column=token.column,
+            source=self.source,
+            filename=self.filename,
+            hint="check the model before the event (a smaller --after), or let the event "
+            "close a goal the mission can do without (more goals than robots)",
+        )
 
     def holds(
         self, formula: Formula | str, model: KripkeModel | PlausibilityModel | None = None

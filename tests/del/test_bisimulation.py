@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -209,11 +210,14 @@ def test_cycle_with_one_valuation_collapses_to_one_world():
     assert bisimilar(big, m.announce("p"))  # one p-world that sees itself
 
 
-def test_refinement_is_exact_under_forced_hash_collisions(monkeypatch):
-    """With a hash that maps everything to one value, groups are found by the exact check."""
+@pytest.mark.parametrize("compared", [1 << 20, 2])
+def test_refinement_is_exact_under_forced_hash_collisions(monkeypatch, compared):
+    """With a hash that maps everything to one value, groups are found by the exact check
+    (comparing the records in one piece, or a few nodes' records at a time)."""
     from epistemica.del_.explicit import _refinement
 
     monkeypatch.setattr(_refinement, "mix64", lambda values: np.zeros(len(values), np.uint64))
+    monkeypatch.setattr(_refinement, "_COMPARED", compared)
     rng = np.random.default_rng(3)
     for _ in range(20):
         n = int(rng.integers(2, 30))
@@ -250,6 +254,57 @@ def test_every_pair_of_small_lts_agrees_with_the_naive_refinement():
         initial = np.unique(rng.integers(0, 3, n), return_inverse=True)[1]
         found = coarsest_partition(initial, sources, targets, labels)
         assert same_partition(found.tolist(), _naive_lts(initial, sources, targets, labels))
+
+
+def test_sparse_edges_with_computed_or_given_loneliness_agree_with_the_naive_refinement():
+    """Few edges among many nodes (loneliness found by a sort, not a count per node and
+    label), and the same graphs with each edge's loneliness given by the caller."""
+    rng = np.random.default_rng(5)
+    for _ in range(30):
+        n, m = int(rng.integers(40, 120)), int(rng.integers(1, 12))
+        sources, targets = rng.integers(0, n, m), rng.integers(0, n, m)
+        labels = rng.integers(0, 3, m)
+        initial = np.unique(rng.integers(0, 3, n), return_inverse=True)[1]
+        expected = _naive_lts(initial, sources, targets, labels)
+        pairs = list(zip(sources.tolist(), labels.tolist(), strict=True))
+        alone = np.array([pairs.count(pair) == 1 for pair in pairs])
+        for hint in (None, alone):
+            found = coarsest_partition(initial, sources, targets, labels, hint)
+            assert same_partition(found.tolist(), expected)
+
+
+def muddy_with_hidden_atoms(n: int, hidden: int) -> KripkeModel:
+    """Muddy children's 2^n worlds and partitions, only the last n - hidden atoms kept."""
+    atoms = [f"m{i}" for i in range(1, n + 1)]
+    observes = {f"c{i}": atoms[: i - 1] + atoms[i:] for i in range(1, n + 1)}
+    full = KripkeModel.from_observables(atoms, observes, designated=atoms)
+    return KripkeModel.from_arrays(
+        None,
+        full.atoms[hidden:],
+        np.ascontiguousarray(full.valuation[:, hidden:]),
+        full.agents,
+        dict(full.belief_relations),
+        dict(full.knowledge_relations),
+        full.designated_positions,
+    )
+
+
+def test_muddy_children_with_hidden_atoms_merge_exactly_by_the_visible_ones():
+    """Flipping a hidden atom maps the model onto itself and keeps the valuation, so
+    worlds merge exactly when they agree on the visible atoms (the partitions' labels
+    leave half their range unused: empty classes)."""
+    model = muddy_with_hidden_atoms(7, 3)
+    visible = [tuple(row) for row in model.valuation.tolist()]
+    classes = bisimulation_classes(model)
+    assert same_partition(classes.tolist(), visible)
+    assert same_partition(classes.tolist(), reference_classes(model))
+    assert model.minimize().n_worlds == 2 ** (7 - 3)
+
+
+def test_distinct_valuations_are_distinct_classes_without_refining():
+    model = muddy_with_hidden_atoms(6, 0)
+    assert same_partition(bisimulation_classes(model).tolist(), list(range(64)))
+    assert model.minimize().n_worlds == 64
 
 
 def reference_key(model) -> tuple:
@@ -311,3 +366,33 @@ def test_every_refinement_path_gives_exact_keys(monkeypatch_free, second, seed):
             assert same_partition(labels, reference_classes(first))
     finally:
         canonical._MASK_BITS, canonical.CONTRACT_ABOVE = saved
+
+
+def test_a_successor_set_shared_by_every_class_is_keyed_once(monkeypatch):
+    """Agent a considers all 256 worlds possible, b tells them apart (distinct valuations):
+    every class has a's one successor set, which the key lists once, not once per class
+    (256 x 256 labels; plank's Tiger needed 3 GiB so). The key is still canonical."""
+    from epistemica.del_.explicit import canonical
+
+    monkeypatch.setattr(canonical, "_MASK_BITS", 0)  # the hashed path, for many classes
+    atoms = [f"p{i}" for i in range(8)]
+    model = KripkeModel.from_observables(atoms, {"a": [], "b": atoms}, designated=atoms)
+    key = canonical_key(model)
+    size = sum(len(part) for part in key[1])
+    assert size < 128 * model.n_worlds  # the old listing of a alone: 2 * 8 * 256 * 256 bytes
+    assert key == canonical_key(permuted(model, 4))
+    assert key != canonical_key(model.repoint([0]))
+
+
+def test_contraction_and_search_respect_the_memory_budget():
+    """Contraction needs about BYTES_PER_EDGE per edge of its graph; refused above the
+    budget with a MemoryBudgetError naming it, done below."""
+    from epistemica.del_.budget import MemoryBudgetError, budget_scope
+    from epistemica.del_.explicit.bisimulation import BYTES_PER_EDGE
+
+    model = muddy_with_hidden_atoms(8, 4)
+    needed = BYTES_PER_EDGE * 8 * (256 + 256)  # per agent: world -> pair, pair -> worlds
+    with budget_scope(needed - 1), pytest.raises(MemoryBudgetError, match="contracting"):
+        bisimulation_classes(model)
+    with budget_scope(needed):
+        assert len(set(bisimulation_classes(model).tolist())) == 16

@@ -131,3 +131,19 @@ def test_grammar_text_parses_and_printing_is_a_fixed_point(text):
     printed = str(f)
     assert parse_formula(printed) == f
     assert str(parse_formula(printed)) == printed
+
+
+@settings(max_examples=200, deadline=None)
+@given(formulas(), formulas())
+def test_shared_formulas_are_equal_and_share_every_equal_subformula(first, second):
+    """Passed through one table, two formulas keep their meaning (equal, same text) and
+    their equal subformulas become one object, compared here against a plain walk."""
+    from epistemica.del_.language.formula import shared
+    from epistemica.del_.language.walk import iter_postorder
+
+    table: dict = {}
+    one, two = shared(first, table), shared(second, table)
+    assert one == first and two == second and str(one) == str(first)
+    by_value: dict = {}
+    for node in [*iter_postorder(one), *iter_postorder(two)]:
+        assert by_value.setdefault(node, node) is node

@@ -57,6 +57,24 @@ def test_max_depth_bounds_and_reports_incompleteness():
     assert plan(s0, actions, "K[b] q", max_depth=2) == ["flip_q", "show_q"]
 
 
+def test_the_stored_states_count_against_the_memory_budget():
+    """The unsolvable switch problem stores a few dozen states of a few hundred bytes: a
+    budget of a few states' worth is refused, naming the states and the budget, and the
+    search completes under a larger one."""
+    from epistemica.del_.budget import MemoryBudgetError, budget_scope
+    from epistemica.del_.planning.state_space import state_bytes
+
+    s0, actions = switch_problem()
+    one = state_bytes(s0.minimize())
+    with budget_scope(3 * one), pytest.raises(MemoryBudgetError) as refused:
+        plan_with_stats(s0, actions, "K[b] p")
+    assert "distinct states of the search" in str(refused.value)
+    assert "over the memory budget of" in str(refused.value)
+    with budget_scope(100 * one):
+        bounded = plan_with_stats(s0, actions, "K[b] p")
+    assert bounded.distinct == plan_with_stats(s0, actions, "K[b] p").distinct
+
+
 @pytest.mark.parametrize("search", ["greedy", "astar"])
 def test_heuristic_searches_return_valid_plans(search):
     s0, actions = switch_problem()

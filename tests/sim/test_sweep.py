@@ -178,6 +178,69 @@ def test_dask_cluster_on_loopback_gives_identical_rows(tmp_path):
     assert outcomes(read_rows(out)) == expected
 
 
+def test_a_cluster_whose_workers_all_die_ends_the_sweep_with_a_clear_error():
+    """Every worker gone mid-sweep (the cluster scaled to none): the trials would wait
+    for ever; the driver gives up after ``patience`` seconds without a worker."""
+    distributed = pytest.importorskip("distributed")
+    from epistemica.sim.study._executors import WorkersLost, run_cluster
+
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        rows = run_cluster(time.sleep, iter([0.3] * 40), cluster.scheduler_address, 2, 1.0)
+        assert next(rows) is None  # one trial ran (time.sleep returns None)
+        cluster.scale(0)
+        start = time.monotonic()
+        with pytest.raises(WorkersLost, match="no worker for 1 s") as lost:
+            list(rows)
+        assert time.monotonic() - start < 15
+        assert "--resume" in lost.value.hint
+
+
+def test_a_sweep_on_a_scheduler_without_workers_exits_2(tmp_path, monkeypatch, capsys):
+    distributed = pytest.importorskip("distributed")
+    from epistemica.sim.study import _executors
+
+    monkeypatch.setattr(_executors, "NO_WORKER_SECONDS", 1.0)
+    with distributed.LocalCluster(
+        n_workers=0, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        argv = ["sweep", "--robots", "2", "--trials", "1", "--reasoning", "zero"]
+        out = str(tmp_path / "x.sqlite")
+        status = main([*argv, "--out", out, "--scheduler", cluster.scheduler_address])
+    assert status == 2
+    err = capsys.readouterr().err
+    assert "has had no worker for 1 s" in err and "Traceback" not in err
+
+
+# Ctrl-C (a SIGINT to this process) while the pool forks its first worker, from an
+# at-fork hook: where Python would raise it, it is printed as "Exception ignored" and lost.
+_CTRL_C_DURING_FORK = """
+import os, signal, sys
+from epistemica.sim.study._executors import run_local
+fired = []
+def hook():
+    if not fired:
+        fired.append(1)
+        os.kill(os.getpid(), signal.SIGINT)
+os.register_at_fork(after_in_parent=hook)
+try:
+    rows = list(run_local(abs, range(-20, 0), 2))
+except KeyboardInterrupt:
+    print("interrupted")
+    sys.exit(130)
+print("finished", len(rows))
+"""
+
+
+def test_a_ctrl_c_while_workers_fork_is_not_lost():
+    done = subprocess.run(
+        [sys.executable, "-c", _CTRL_C_DURING_FORK], capture_output=True, text=True, timeout=60
+    )
+    assert (done.returncode, done.stdout.strip()) == (130, "interrupted"), done.stderr
+    assert "Exception ignored" not in done.stderr
+
+
 def test_missing_dask_is_a_clear_error(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import fails
     status = main(

@@ -7,16 +7,32 @@ Helper of the command modules (imported when one of them runs). See
 from __future__ import annotations
 
 import argparse
-from typing import Any
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from epistemica.cli.plan_steps import split_plan
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.formats.epddl import EpddlTask, is_epddl, load_epddl
-from epistemica.del_.formats.smcdel import SmcdelFile, is_smcdel, load_smcdel
+from epistemica.del_.formats.kinds import is_epddl, is_smcdel
 from epistemica.del_.spec import Spec, parse_spec
 from epistemica.input_files import read_input
 
-__all__ = ["is_foreign", "load_input", "plank_line", "where_lines"]
+if TYPE_CHECKING:
+    from epistemica.del_.formats.epddl import EpddlTask
+    from epistemica.del_.formats.smcdel import SmcdelFile
+
+__all__ = ["READERS", "is_foreign", "load_input", "plank_line", "where_lines"]
+
+#: The readers of foreign formats, loaded by name when an input is in that format (their
+#: grammars and compilers cost a ``.epi`` check most of its start-up otherwise).
+READERS = {
+    "epddl": "epistemica.del_.formats.epddl:load_epddl",
+    "smcdel": "epistemica.del_.formats.smcdel:load_smcdel",
+}
+
+
+def _reader(kind: str) -> Any:
+    module, _, name = READERS[kind].partition(":")
+    return getattr(importlib.import_module(module), name)
 
 
 def load_input(
@@ -38,7 +54,7 @@ def load_input(
                 f"{args.file} is EPDDL: give the domain and the problem",
                 hint="epistemica plan DOMAIN.epddl PROBLEM.epddl [-l LIBRARY.epddl]",
             )
-        task = load_epddl(args.file, problem, libraries)
+        task = _reader("epddl")(args.file, problem, libraries)
         _translate(args, task.plank_names)
         return task.spec, task
     if libraries:
@@ -46,7 +62,7 @@ def load_input(
             "-l/--library applies to EPDDL tasks", hint="give a domain and a problem (.epddl)"
         )
     if is_smcdel(args.file):
-        found = load_smcdel(args.file, backend)
+        found = _reader("smcdel")(args.file, backend)
         return found.spec, found
     if text is None:
         text = read_input(args.file, command)[1]
