@@ -115,9 +115,14 @@ class Planner:
         The precision ``tau`` and the evidence scale ``eta``, as fractions of the goals'
         typical spread ``D`` (the median distance between two goals; for ``tau``, its
         travel time at the mean speed).
+    success_weight : float
+        The risk's weight on the outcome "the configuration forms": ``G(g) = E[T | formed]
+        / tau - success_weight * ln P(formed)`` (nats). 0 scores the expected completion
+        time with a mismatch costing ``repair`` instead.
     repair : float
-        The repair time of a mismatch, in units of the longest trip between two goals at
-        the slowest speed.
+        The repair time of a mismatch (with ``success_weight = 0``, and in the waiting
+        option's realised costs), in units of the longest trip between two goals at the
+        slowest speed.
     horizon : int
         Steps of the waiting option; 1 plans no waiting (the myopic ablation).
     particles : int
@@ -153,6 +158,7 @@ class Planner:
         commitment: float = 0.0,
         convention: float = 0.0,
         hierarchy: float = 0.0,
+        success_weight: float = 3.0,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -170,6 +176,11 @@ class Planner:
         self.commitment = float(as_finite(commitment, "commitment"))
         self.convention = float(as_finite(convention, "convention"))
         self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
+        self.success_weight = float(as_finite(success_weight, "success_weight"))
+        if self.success_weight < 0:
+            raise InvalidArgumentError(
+                "success_weight must be >= 0", hint="nats per nat of -ln P(success); 0: time"
+            )
         if not 0.0 <= self.hierarchy <= 1.0:
             raise InvalidArgumentError(
                 f"hierarchy must lie in [0, 1], got {hierarchy!r}", hint="0 is pure level-k"
@@ -264,6 +275,18 @@ class Planner:
         focal = int(np.argmax(np.where(mine, belief, -1.0)))
         return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal)
 
+    def risk(self, formed: np.ndarray, timed: np.ndarray, alone: np.ndarray) -> np.ndarray:
+        """Risk (s) of options whose configuration forms with probability ``formed``,
+        ``timed`` the sum of ``P(c) T(c)`` over those configurations, ``alone`` the own
+        trip: ``E[T | formed] - success_weight * tau * ln P(formed)``, or with
+        ``success_weight = 0`` the expected time with a mismatch costing ``alone +
+        repair``."""
+        if self.success_weight > 0:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                given = np.where(formed > 0, timed / formed, alone)
+            return given - self.success_weight * self.tau * np.log(np.maximum(formed, 1e-12))
+        return timed + (1.0 - formed) * (alone + self.repair)
+
     def _own_costs(self, context, robot: int, weights, previous) -> np.ndarray:
         """``(m,)`` the robot's own expected times, with the convention's tie-break and
         the cost of changing its goal."""
@@ -334,7 +357,7 @@ class _Context:
         finish = (self.row_times if mask is None else self.row_times[mask]).max(axis=1)
         valid = np.bincount(own, weights=w, minlength=m)
         timed = np.bincount(own, weights=w * finish, minlength=m)
-        expected = timed + (1.0 - valid) * (self.times[agent] + p.repair)
+        expected = p.risk(valid, timed, self.times[agent])
         options = np.bincount(own, minlength=m) > 0
         return np.where(options, expected, np.inf)
 
@@ -398,17 +421,20 @@ class _Context:
         slot = rows[:, robot][None] + m * np.arange(p.particles)[:, None]
         valid = np.bincount(slot.ravel(), weights=w.ravel(), minlength=m * p.particles)
         timed = np.bincount(slot.ravel(), (w * finish).ravel(), minlength=m * p.particles)
-        expected = (timed + (1 - valid) * np.tile(own_time + p.repair, p.particles)).reshape(
-            p.particles, m
-        )
+        expected = p.risk(valid, timed, np.tile(own_time, p.particles)).reshape(p.particles, m)
         options = np.bincount(rows[:, robot], minlength=m) > 0
         chosen = np.argmin(np.where(options[None], expected, np.inf), axis=1)  # (P,)
         # Realised: does the chosen goal complete the particle's configuration?
         match = (rows[None, :, others] == truth[:, None, :]).all(axis=2)
         match &= rows[None, :, robot] == chosen[:, None]
         done = np.where(match, finish, np.inf).min(axis=1)
-        realised = np.where(np.isfinite(done), done, own_time[chosen] + p.repair)
-        return float(realised.mean())
+        formed = np.isfinite(done)
+        share = formed.mean()
+        if p.success_weight > 0:  # the same risk, estimated from the particles
+            timed = done[formed].sum() if formed.any() else 0.0
+            return float(p.risk(np.array([share]), np.array([timed / p.particles]),
+                                np.array([own_time[chosen].mean()]))[0])  # fmt: skip
+        return float(np.where(formed, done, own_time[chosen] + p.repair).mean())
 
 
 def _quasi_uniform(count: int, dims: int) -> np.ndarray:

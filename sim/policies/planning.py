@@ -61,6 +61,7 @@ class PlanningStage:
             "commitment": p.plan_commitment,
             "convention": p.plan_convention,
             "hierarchy": p.plan_hierarchy,
+            "success_weight": p.plan_success,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak = p.plan_sigma, p.plan_leak

@@ -16,7 +16,8 @@ MEET = [[0, 0], [1, 1]]  # two robots, rendezvous at goal 0 or goal 1
 def test_expected_completion_time_by_hand():
     # Order 1, no sets: robot 1 is predicted at order 0 from the prior (uniform over the
     # two meetings) times its position's evidence exp(-d / eta). eta = 5 x 10 m.
-    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1, temperature=1.0, repair=1.0)
+    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1, temperature=1.0, repair=1.0,
+                      success_weight=0.0)  # fmt: skip
     positions = np.array([[4.0, 0.0], [10.0, 0.0]])
     result = planner.plan(0, positions)
     eta, repair, tau = 50.0, 10.0, 10.0  # diameter 10 m at speed 1; D / v = 10 s
@@ -29,6 +30,17 @@ def test_expected_completion_time_by_hand():
     np.testing.assert_allclose(result.G, expected / tau)
     assert result.goal == int(np.argmin(expected))
     np.testing.assert_allclose(result.predictions[1], pi1)
+
+
+def test_success_risk_by_hand():
+    # The default risk: E[T | the meeting forms] / tau - 3 ln P(it forms), tau = 10 s.
+    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1, temperature=1.0)
+    result = planner.plan(0, [[4.0, 0.0], [10.0, 0.0]])
+    pi1 = np.exp(-np.array([10.0, 0.0]) / 50.0)
+    pi1 /= pi1.sum()
+    expected = np.array([10.0, 6.0]) / 10.0 - 3.0 * np.log(pi1)
+    np.testing.assert_allclose(result.G, expected)
+    assert result.goal == 1
 
 
 def test_order_zero_heads_for_the_prior_mode():
@@ -80,7 +92,7 @@ def test_waiting_pays_when_the_teammate_is_undecided_and_far():
     # Allocation, robot 0 midway and slow to reach either goal; robot 1 far and moving,
     # equally likely to take either goal: guessing risks a long repair; waiting reveals.
     planner = Planner(GOALS, [[0, 1], [1, 0]], [1.0, 1.0], order=1, horizon=3, repair=3.0,
-                      evidence=0.2)  # fmt: skip
+                      evidence=0.2, success_weight=0.0)  # fmt: skip
     result = planner.plan(0, [[5.0, 0.0], [5.0, 30.0]])
     assert result.goal == WAIT
     assert result.wait < result.G.min()
