@@ -154,6 +154,19 @@ class CollaborativeParameters:
     heading_slack : float
         ``resume``: waypoints whose direction is within this cosine of the teammate's
         motion are the one it makes for (the same point on later laps of the sweep).
+
+    The planning levels (``plan-*``, :mod:`epistemica.sim.policies.collaborative_planning`;
+    times in units of the workspace's crossing time, side / mean speed):
+
+    plan_temperature : float
+        The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner`.
+    plan_repair : float
+        The cost of a task too few robots come to (``fail``).
+    plan_explore : float
+        Time saved per unknown task by one more explorer, as a fraction of ``fail``
+        shared by the team.
+    plan_commitment : float
+        Nats a robot pays to change the option it chose at its last plan.
     """
 
     lane_factor: float = 2.0
@@ -187,6 +200,10 @@ class CollaborativeParameters:
     rejoin_gap: float = 1.0
     still_fraction: float = 0.3
     heading_slack: float = 0.01
+    plan_temperature: float = 0.1
+    plan_repair: float = 2.0
+    plan_explore: float = 0.5
+    plan_commitment: float = 1.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
