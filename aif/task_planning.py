@@ -21,8 +21,9 @@ The predictions are where the order of reasoning enters, as in
 :mod:`epistemica.aif.planning`: at order ``k`` a robot predicts each teammate ``l`` as
 choosing by the same expected free energy at orders ``0 .. k - 1`` (a cognitive hierarchy)
 over the tasks the robot knows ``l`` knows of (the chain ``(i, l)``), and ``l``'s own
-predictions over the chains ``(i, l, j)``, down to order 0: the nearest task it knows of
-(exploring when it knows none), the convention every robot follows without planning.
+predictions over the chains ``(i, l, j)``, down to order 0: the convention every robot
+follows without planning (:func:`convention`: coalition by coalition, the task whose
+knowers assemble soonest gets them; a robot left out explores).
 
 Examples
 --------
@@ -46,12 +47,13 @@ from epistemica.aif._validate import as_finite, positive
 from epistemica.aif.evidence import check_order, check_robot
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times"]
+__all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
 
 
-def completion_times(arrivals, presence, needs, fail) -> np.ndarray:
+def completion_times(arrivals, presence, needs, fail, credit: float = 0.0) -> np.ndarray:
     """``(c,)`` the expected completion time of each column: the ``needs``-th arrival
-    among the robots that come, ``fail`` when fewer than ``needs`` come.
+    among the robots that come; when only ``c < needs`` come, ``fail`` less ``credit``
+    of its ``1 / needs`` share for each that came (those still to be brought cost less).
 
     Parameters
     ----------
@@ -63,6 +65,8 @@ def completion_times(arrivals, presence, needs, fail) -> np.ndarray:
         ``(c,)`` robots each column needs at once (``>= 1``).
     fail : array_like
         ``(c,)`` the cost of too few coming.
+    credit : float
+        In ``[0, 1]``: 0, too few is as bad as none; 1, the cost falls in proportion.
 
     Examples
     --------
@@ -70,15 +74,19 @@ def completion_times(arrivals, presence, needs, fail) -> np.ndarray:
 
     >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0]).tolist()
     [55.0]
+    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], credit=1.0).tolist()
+    [30.0]
     """
     a = np.asarray(arrivals, dtype=float)
     p = np.where(np.isfinite(a), np.asarray(presence, dtype=float), 0.0)
     order = np.argsort(a, axis=0, kind="stable")
     cols = np.arange(a.shape[1])
-    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail)
+    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail, credit)
 
 
-def _expected(a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail) -> np.ndarray:
+def _expected(
+    a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail, credit: float = 0.0
+) -> np.ndarray:
     """:func:`completion_times` of arrivals sorted down each column (``p`` likewise)."""
     cols = np.arange(a.shape[1])
     count = np.zeros((a.shape[1], int(needs.max(initial=1)) + 1))
@@ -91,7 +99,53 @@ def _expected(a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail) -> np.ndarr
         count[:, 1:] = count[:, 1:] * (1 - q[:, None]) + count[:, :-1] * q[:, None]
         count[:, 0] *= 1 - q
         count[cols, needs] = 0.0
-    return expected + count.sum(axis=1) * np.asarray(fail, dtype=float)
+    came = (count * np.arange(count.shape[1])[None]).sum(axis=1) / needs
+    missing = count.sum(axis=1) - credit * came  # each robot that came: ``credit`` of one
+    return expected + missing * np.asarray(fail, dtype=float)
+
+
+def convention(arrivals, knowers, needs) -> np.ndarray:
+    """``(n,)`` the task each robot goes to by the shared convention (-1: none, it
+    explores): coalition by coalition, the task whose ``needs`` nearest free knowers
+    assemble soonest (the latest of their arrivals is earliest) gets them, until no task
+    has enough free knowers.
+
+    Parameters
+    ----------
+    arrivals : array_like
+        ``(n, m)`` when each robot would reach each task (``inf``: never).
+    knowers : array_like
+        ``(n, m)`` booleans: the robot knows of the task (as whoever applies the
+        convention sees it).
+    needs : array_like
+        ``(m,)`` robots each task needs.
+
+    Examples
+    --------
+    Three robots; task 0 (needs 2) is known to robots 0 and 1, task 1 (needs 2) to all:
+    robots 1 and 2 reach task 1 by step 3, robots 0 and 1 task 0 by step 5, so task 1 goes
+    first, and task 0 is left with one free knower.
+
+    >>> convention([[5, 9], [2, 3], [9, 1]], [[1, 1], [1, 1], [0, 1]], [2, 2]).tolist()
+    [-1, 1, 1]
+    """
+    a = np.asarray(arrivals, dtype=float)
+    able = np.asarray(knowers, dtype=bool) & np.isfinite(a)
+    needs = np.asarray(needs, dtype=int)
+    out = np.full(a.shape[0], -1)
+    left = np.ones(a.shape[1], dtype=bool)
+    while left.any():
+        ok = able & (out < 0)[:, None] & left[None]
+        times = np.sort(np.where(ok, a, np.inf), axis=0)
+        latest = times[np.minimum(needs, a.shape[0]) - 1, np.arange(a.shape[1])]
+        latest = np.where(left & (needs <= a.shape[0]), latest, np.inf)
+        t = int(np.argmin(latest))
+        if not np.isfinite(latest[t]):
+            break
+        chosen = np.flatnonzero(ok[:, t])
+        out[chosen[np.argsort(a[chosen, t], kind="stable")[: needs[t]]]] = t
+        left[t] = False
+    return out
 
 
 class Fetch(NamedTuple):
@@ -149,8 +203,8 @@ class TaskPlanner:
     needs : sequence of int
         Robots each task needs at once.
     order : {0, 1, 2, 3}
-        Order of reasoning; 0 goes to the nearest open task it knows of without predicting
-        anyone (the prior's mode: the ablation of planning).
+        Order of reasoning; 0 follows the convention (:func:`convention`) without
+        predicting anyone (the prior's mode: the ablation of planning).
     temperature : float
         The precision ``tau``, in the units of the arrival times.
     fail : array_like
@@ -160,6 +214,14 @@ class TaskPlanner:
         ``fail`` divided by the team's size.
     commitment : float
         Nats a robot pays to change the option it chose at its last plan.
+    convention : float
+        Weight of the convention's choice for the robot (order 0, :func:`convention`) in
+        its own choice (``- convention * ln p0(option)`` nats, ``p0`` the convention's
+        choice with 5 % spread over every option): the shared tie-break that resolves
+        standoffs the same way for every robot.
+    credit : float
+        :func:`completion_times`' credit for the robots that come to a task too few come
+        to (0: all or nothing).
     """
 
     def __init__(
@@ -171,6 +233,8 @@ class TaskPlanner:
         fail=100.0,
         explore: float = 0.5,
         commitment: float = 0.0,
+        convention: float = 0.0,
+        credit: float = 0.0,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -181,7 +245,9 @@ class TaskPlanner:
         self.fail = np.broadcast_to(as_finite(fail, "fail"), (m,)).astype(float)
         self.explore = float(as_finite(explore, "explore"))
         self.commitment = float(as_finite(commitment, "commitment"))
-        if self.explore < 0 or self.commitment < 0 or np.any(self.fail <= 0):
+        self.convention = float(as_finite(convention, "convention"))
+        self.credit = float(np.clip(as_finite(credit, "credit"), 0.0, 1.0))
+        if min(self.explore, self.commitment, self.convention) < 0 or np.any(self.fail <= 0):
             raise InvalidArgumentError(
                 "explore and commitment must be >= 0 and fail > 0", hint="0 leaves them out"
             )
@@ -242,6 +308,10 @@ class TaskPlanner:
         else:
             extra = np.full(len(fetches), np.inf)
         G = np.concatenate([own, extra])
+        if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
+            prior = np.full(G.size, 0.05 / G.size)
+            prior[: m + 1] += 0.95 * _softmax(context.costs((robot,), 0), self.tau)
+            G = G - self.convention * self.tau * np.log(prior)
         if previous is not None and 0 <= previous < G.size and np.isfinite(G[previous]):
             G = G + self.commitment * self.tau
             G[previous] -= self.commitment * self.tau
@@ -307,17 +377,21 @@ class _Context:
         open_ = self._lookup(self.sets, chain)
         unknown = self._lookup(self.unknown, chain) or 0
         G = np.full(m + 1, np.inf)
-        if order == 0:  # the convention: the nearest open task, else explore
-            G[:m] = np.where(open_, self.arrivals[agent], np.inf)
-            if not np.isfinite(G[:m]).any():
-                G[m] = 0.0
+        if order == 0:  # the convention over who it knows knows of what, else explore
+            knowers = np.stack(
+                [open_ if j == agent else self._lookup(self.sets, (*chain, j)) for j in range(n)]
+            )
+            task = convention(self.arrivals, knowers, p.needs)[agent]
+            G[task if task >= 0 else m] = 0.0
             return G
         presence = np.zeros((n, 2 * m))  # without the agent, then with it
         for j in range(n):
             if j != agent:
                 presence[j, :m] = presence[j, m:] = self.choice((*chain, j), order - 1)[:m]
         presence[agent, m:] = 1.0
-        both = _expected(self.sorted, presence[self.order_, self.cols], self.needs2, self.fail2)
+        both = _expected(
+            self.sorted, presence[self.order_, self.cols], self.needs2, self.fail2, p.credit
+        )
         saved = both[m:] - both[:m]
         G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
         G[m] = -p.explore * float(p.fail.mean()) * unknown / n
@@ -356,7 +430,7 @@ class _Context:
         for j in range(n):
             if j != robot:
                 presence[j] = self.choice((robot, j), max(p.order - 1, 0))[:m]
-        without = completion_times(self.arrivals, presence, p.needs, p.fail)
+        without = completion_times(self.arrivals, presence, p.needs, p.fail, p.credit)
         tasks = np.array([f.task for f in fetches], dtype=int)
         helpers = np.array([f.helper for f in fetches], dtype=int)
         cols = np.arange(len(fetches))
@@ -365,5 +439,5 @@ class _Context:
         a[robot], q[robot] = [f.arrival for f in fetches], 1.0
         a[helpers, cols] = [f.helper_arrival for f in fetches]
         q[helpers, cols] = [f.found for f in fetches]
-        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks])
+        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], p.credit)
         return fetched - without[tasks]

@@ -167,6 +167,10 @@ class CollaborativeParameters:
         shared by the team.
     plan_commitment : float
         Nats a robot pays to change the option it chose at its last plan.
+    plan_convention : float
+        Weight (nats) of the shared convention's choice in the robot's own.
+    plan_credit : float
+        Credit (0-1) for a robot that comes to a task too few robots come to.
     """
 
     lane_factor: float = 2.0
@@ -204,6 +208,8 @@ class CollaborativeParameters:
     plan_repair: float = 2.0
     plan_explore: float = 0.5
     plan_commitment: float = 1.0
+    plan_convention: float = 1.0
+    plan_credit: float = 1.0
 
     def __post_init__(self) -> None:
         for f in fields(self):

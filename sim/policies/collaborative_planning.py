@@ -18,7 +18,7 @@ known and no option saves anything.
 ``plan-second``          order 2 over the nested sets ``(i, j)``
 ``plan-third``           order 3 over ``(i, j)`` and ``(i, j, l)``
 ``plan-third-shared``    order 3, every teammate taken to know what it knows (no fetching)
-``plan-third-priormode`` the same beliefs, no planning: the nearest open task it knows of
+``plan-third-priormode`` the same beliefs, no planning: the convention (order 0)
 =======================  ================================================================
 
 Examples
@@ -75,6 +75,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             fail=p.plan_repair * crossing,
             explore=p.plan_explore,
             commitment=p.plan_commitment,
+            convention=p.plan_convention,
+            credit=p.plan_credit,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
