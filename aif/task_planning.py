@@ -95,7 +95,7 @@ def _expected(
     for k in np.flatnonzero(p.any(axis=1)):  # robots that never come change nothing
         q = p[k]
         reach = count[cols, needs - 1] * q  # this arrival is the needs-th
-        expected += np.where(reach > 0, reach * a[k], 0.0)
+        expected += reach * np.where(reach > 0, a[k], 0.0)
         count[:, 1:] = count[:, 1:] * (1 - q[:, None]) + count[:, :-1] * q[:, None]
         count[:, 0] *= 1 - q
         count[cols, needs] = 0.0
@@ -388,7 +388,7 @@ class _Context:
         for j in range(n):
             if j != agent:
                 presence[j, :m] = presence[j, m:] = self.choice((*chain, j), order - 1)[:m]
-        presence[agent, m:] = 1.0
+        presence[agent, m:] = np.isfinite(self.arrivals[agent])  # it comes if it can
         both = _expected(
             self.sorted, presence[self.order_, self.cols], self.needs2, self.fail2, p.credit
         )

@@ -26,9 +26,10 @@ Examples
 >>> from epistemica.sim import simulate
 >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
 >>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1)
->>> simulate(s, PlanningCollaborativePolicy("plan-third", CollaborativeParameters()),
-...          seed=1).success
+>>> simulate(s, "plan-third", seed=1).success
 True
+>>> PlanningCollaborativePolicy("plan-second", CollaborativeParameters()).order
+2
 """
 
 from __future__ import annotations
