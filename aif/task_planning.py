@@ -231,7 +231,7 @@ class TaskPlanner:
         order: int = 3,
         temperature: float = 10.0,
         fail=100.0,
-        explore: float = 0.5,
+        explore: float = 0.25,
         commitment: float = 0.0,
         convention: float = 0.0,
         credit: float = 0.0,
