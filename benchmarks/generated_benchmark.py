@@ -14,6 +14,8 @@ at its step limit), and ``third`` against every other level, paired on the same 
     python benchmarks/generated_benchmark.py --split locked --tables-only    # tables from the file
     python benchmarks/generated_benchmark.py --split locked --missions 3 --trial-seeds 1 \\
         --out runs/quick.sqlite                              # a prefix of the split (CI)
+    python benchmarks/generated_benchmark.py --split tuning --families collaborative \\
+        --missions 20 --trial-seeds 1 --collaborative-levels plan-third,recruit,first,oracle
 """
 
 from __future__ import annotations
@@ -66,6 +68,14 @@ def use_goal_levels(levels: str | None) -> None:
     global GOAL_LEVELS
     if levels:
         GOAL_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
+
+
+def use_collaborative_levels(levels: str | None) -> None:
+    """``--collaborative-levels``: the collaborative family's levels (``third``, the
+    rules, stays the reference), e.g. ``plan-third,recruit,first,oracle``."""
+    global COLLABORATIVE_LEVELS
+    if levels:
+        COLLABORATIVE_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
 
 
 def family_options(family: str) -> Options:
@@ -154,8 +164,12 @@ def main(argv=None) -> int:
     ap.add_argument("--tables", default=None, help="also write the tables to this file")
     ap.add_argument("--tables-only", action="store_true", help="read the file, run nothing")
     ap.add_argument("--levels", default=None, help="goal families' levels, comma-separated")
+    ap.add_argument(
+        "--collaborative-levels", default=None, help="the collaborative family's levels"
+    )
     args = ap.parse_args(argv)
     use_goal_levels(args.levels)
+    use_collaborative_levels(args.collaborative_levels)
     split = SPLITS[args.split]
     missions = split.missions if args.missions is None else args.missions
     seeds = len(split.trial_seeds) if args.trial_seeds is None else args.trial_seeds

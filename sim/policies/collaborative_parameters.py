@@ -154,6 +154,33 @@ class CollaborativeParameters:
     heading_slack : float
         ``resume``: waypoints whose direction is within this cosine of the teammate's
         motion are the one it makes for (the same point on later laps of the sweep).
+
+    The planning levels (``plan-*``, :mod:`epistemica.sim.policies.collaborative_planning`;
+    times in units of the workspace's crossing time, side / mean speed):
+
+    plan_temperature : float
+        The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
+        also scales the convention and commitment terms). 0.05 / 0.1 / 0.2 on tuning
+        missions 0-39: 98 / 100 / 60 % success, mean 118.1 / 116.8 / 313.2 steps.
+    plan_repair : float
+        The cost of a task too few robots come to (``fail``). 2 / 3: mean 116.8 / 121.0
+        steps, both 100 %.
+    plan_explore : float
+        Time saved per unknown task by one more explorer, as a fraction of ``fail``
+        shared by the team. ``plan-third`` on tuning missions 0-39 (generator seeds, trial
+        seed 0): 0.5 / 0.25 / 0.1 succeed in 98 / 100 / 100 %, median 94 / 88 / 88 steps,
+        mean 135.6 / 116.8 / 121.0 (``third``: 100 %, 91, 126.4).
+    plan_commitment : float
+        Nats a robot pays to change the option it chose at its last plan.
+    plan_convention : float
+        Weight (nats) of the shared convention's choice in the robot's own. 0 / 0.5 / 1 /
+        2 on the same missions: 90 / 100 / 100 / 60 % success, mean 156.8 / 114.9 / 116.8 /
+        294.1 steps (at 2 the convention overrides fetching).
+    plan_credit : float
+        Credit (0-1) for a robot that comes to a task too few robots come to. 0.5: 68 %
+        success, mean 281.9 steps, against 100 % and 116.8 at 1; with no credit (and no
+        convention yet) 15 of the first 20 missions succeeded: a task needing three was not
+        started, one helper saving nothing until a second came.
     """
 
     lane_factor: float = 2.0
@@ -187,6 +214,12 @@ class CollaborativeParameters:
     rejoin_gap: float = 1.0
     still_fraction: float = 0.3
     heading_slack: float = 0.01
+    plan_temperature: float = 0.1
+    plan_repair: float = 2.0
+    plan_explore: float = 0.25
+    plan_commitment: float = 1.0
+    plan_convention: float = 1.0
+    plan_credit: float = 1.0
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -41,6 +41,10 @@ from epistemica.sim.policies.collaborative_levels import (
     CollaborativePolicy,
 )
 from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
+from epistemica.sim.policies.collaborative_planning import (
+    PLANNING_LEVELS,
+    PlanningCollaborativePolicy,
+)
 from epistemica.sim.policies.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import Policy
@@ -156,16 +160,30 @@ _JOINT_DESCRIPTIONS = {
     "oracle-events": "third's rules with every event and sighting shared, places not",
     "recruit": "first's choice of task, fetching any recently seen teammate to it (baseline)",
     "convention+rules": "every rule of third, no knowledge of which teammates know (baseline)",
+    "plan-first": "the planning controller at order 1 on first-order knowledge: options "
+    "(go to a task, fetch a teammate, explore) scored by expected time saved "
+    "(epistemica.aif.task_planning)",
+    "plan-second": "the planning controller at order 2 over who knows which task, nested",
+    "plan-third": "the planning controller at order 3: teammates predicted one order down "
+    "over what it knows they know",
+    "plan-third-shared": "the planning controller at order 3, every teammate taken to know "
+    "what it knows (ablation of the nested ledger)",
+    "plan-third-priormode": "the planning controller's beliefs, no planning: the nearest open "
+    "task it knows of (ablation of expected free energy)",
 }
 
 
 def _joint(name: str) -> Level:
     description = _JOINT_DESCRIPTIONS.get(name, f"the collaborative level {name}")
-    return Level(description, lambda p: CollaborativePolicy(name, p))
+    policy = PlanningCollaborativePolicy if name in PLANNING_LEVELS else CollaborativePolicy
+    return Level(description, lambda p: policy(name, p))
 
 
-#: The levels of joint (collaborative) missions: name -> :class:`Level`.
-JOINT_LEVELS: dict[str, Level] = {name: _joint(name) for name in COLLABORATIVE_LEVELS}
+#: The levels of joint (collaborative) missions: name -> :class:`Level` (the rules' levels,
+#: then the planning controller's).
+JOINT_LEVELS: dict[str, Level] = {
+    name: _joint(name) for name in (*COLLABORATIVE_LEVELS, *PLANNING_LEVELS)
+}
 #: Mission kind name -> its levels (name -> :class:`Level`): the one registry.
 KIND_LEVELS: dict[str, dict[str, Level]] = {
     name: JOINT_LEVELS if kind.joint else LEVELS for name, kind in KINDS.items()

@@ -1,0 +1,443 @@
+"""Planning by expected free energy for tasks that need several robots at once.
+
+A robot of a joint (collaborative) mission chooses among *options*: go to a task it knows
+is open, fetch a teammate it knows does not know of a task (meet it, then bring it), or
+explore for the tasks it does not know of yet. The preference over outcomes is exponential
+in the sum of the tasks' completion times (``ln C = -sum_t T_t / tau``), so the risk term
+of an option's expected free energy is the expected sum of completion times in units of
+the precision ``tau``; the robot's option changes only the term of the task it serves, so
+
+    G(go t) = ( E[T_t | it goes] - E[T_t | it does not] ) / tau
+
+a (negative) expected time saved. A task is done at the ``needs[t]``-th arrival among the
+robots that come; with each teammate ``l`` coming with its predicted probability
+``pi_l(t)`` (independently), ``E[T_t]`` is exact (:func:`completion_times`), and a task
+that too few robots come to costs ``fail`` (the time until someone else happens by).
+Fetching teammate ``j`` for ``t`` is the same with ``j`` arriving after the intercept and
+the trip back, found with the probability the robot gives it. Exploring saves
+``explore * fail`` per task still unknown, shared among the team.
+
+The predictions are where the order of reasoning enters, as in
+:mod:`epistemica.aif.planning`: at order ``k`` a robot predicts each teammate ``l`` as
+choosing by the same expected free energy at orders ``0 .. k - 1`` (a cognitive hierarchy)
+over the tasks the robot knows ``l`` knows of (the chain ``(i, l)``), and ``l``'s own
+predictions over the chains ``(i, l, j)``, down to order 0: the convention every robot
+follows without planning (:func:`convention`: coalition by coalition, the task whose
+knowers assemble soonest gets them; a robot left out explores).
+
+Examples
+--------
+Two robots, one task needing both, 5 and 10 steps away; each knows the other knows of it:
+
+>>> import numpy as np
+>>> planner = TaskPlanner([2], order=1, temperature=1.0, fail=[100.0])
+>>> plan = planner.plan(0, [[5.0], [10.0]], {(0,): [True]})
+>>> plan.kind, plan.task, float(plan.G[0])          # 10 steps instead of the 100 of failing
+('task', 0, -90.0)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from epistemica.aif._validate import as_finite, positive
+from epistemica.aif.evidence import check_order, check_robot
+from epistemica.del_.errors import InvalidArgumentError
+
+__all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
+
+
+def completion_times(arrivals, presence, needs, fail, credit: float = 0.0) -> np.ndarray:
+    """``(c,)`` the expected completion time of each column: the ``needs``-th arrival
+    among the robots that come; when only ``c < needs`` come, ``fail`` less ``credit``
+    of its ``1 / needs`` share for each that came (those still to be brought cost less).
+
+    Parameters
+    ----------
+    arrivals : array_like
+        ``(r, c)`` when each robot would arrive (``inf``: it cannot).
+    presence : array_like
+        ``(r, c)`` the probability that each robot comes (independently).
+    needs : array_like
+        ``(c,)`` robots each column needs at once (``>= 1``).
+    fail : array_like
+        ``(c,)`` the cost of too few coming.
+    credit : float
+        In ``[0, 1]``: 0, too few is as bad as none; 1, the cost falls in proportion.
+
+    Examples
+    --------
+    One of two robots certain, the other coming with probability one half:
+
+    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0]).tolist()
+    [55.0]
+    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], credit=1.0).tolist()
+    [30.0]
+    """
+    a = np.asarray(arrivals, dtype=float)
+    p = np.where(np.isfinite(a), np.asarray(presence, dtype=float), 0.0)
+    order = np.argsort(a, axis=0, kind="stable")
+    cols = np.arange(a.shape[1])
+    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail, credit)
+
+
+def _expected(
+    a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail, credit: float = 0.0
+) -> np.ndarray:
+    """:func:`completion_times` of arrivals sorted down each column (``p`` likewise)."""
+    cols = np.arange(a.shape[1])
+    count = np.zeros((a.shape[1], int(needs.max(initial=1)) + 1))
+    count[:, 0] = 1.0  # the distribution of how many came so far, below needs
+    expected = np.zeros(a.shape[1])
+    for k in np.flatnonzero(p.any(axis=1)):  # robots that never come change nothing
+        q = p[k]
+        reach = count[cols, needs - 1] * q  # this arrival is the needs-th
+        expected += reach * np.where(reach > 0, a[k], 0.0)
+        count[:, 1:] = count[:, 1:] * (1 - q[:, None]) + count[:, :-1] * q[:, None]
+        count[:, 0] *= 1 - q
+        count[cols, needs] = 0.0
+    came = (count * np.arange(count.shape[1])[None]).sum(axis=1) / needs
+    missing = count.sum(axis=1) - credit * came  # each robot that came: ``credit`` of one
+    return expected + missing * np.asarray(fail, dtype=float)
+
+
+def convention(arrivals, knowers, needs) -> np.ndarray:
+    """``(n,)`` the task each robot goes to by the shared convention (-1: none, it
+    explores): coalition by coalition, the task whose ``needs`` nearest free knowers
+    assemble soonest (the latest of their arrivals is earliest) gets them, until no task
+    has enough free knowers.
+
+    Parameters
+    ----------
+    arrivals : array_like
+        ``(n, m)`` when each robot would reach each task (``inf``: never).
+    knowers : array_like
+        ``(n, m)`` booleans: the robot knows of the task (as whoever applies the
+        convention sees it).
+    needs : array_like
+        ``(m,)`` robots each task needs.
+
+    Examples
+    --------
+    Three robots; task 0 (needs 2) is known to robots 0 and 1, task 1 (needs 2) to all:
+    robots 1 and 2 reach task 1 by step 3, robots 0 and 1 task 0 by step 5, so task 1 goes
+    first, and task 0 is left with one free knower.
+
+    >>> convention([[5, 9], [2, 3], [9, 1]], [[1, 1], [1, 1], [0, 1]], [2, 2]).tolist()
+    [-1, 1, 1]
+    """
+    a = np.asarray(arrivals, dtype=float)
+    able = np.asarray(knowers, dtype=bool) & np.isfinite(a)
+    needs = np.asarray(needs, dtype=int)
+    out = np.full(a.shape[0], -1)
+    left = np.ones(a.shape[1], dtype=bool)
+    while left.any():
+        ok = able & (out < 0)[:, None] & left[None]
+        times = np.sort(np.where(ok, a, np.inf), axis=0)
+        latest = times[np.minimum(needs, a.shape[0]) - 1, np.arange(a.shape[1])]
+        latest = np.where(left & (needs <= a.shape[0]), latest, np.inf)
+        t = int(np.argmin(latest))
+        if not np.isfinite(latest[t]):
+            break
+        chosen = np.flatnonzero(ok[:, t])
+        out[chosen[np.argsort(a[chosen, t], kind="stable")[: needs[t]]]] = t
+        left[t] = False
+    return out
+
+
+class Fetch(NamedTuple):
+    """A teammate the planning robot may fetch for a task.
+
+    Attributes
+    ----------
+    task, helper : int
+        The task, and the teammate that does not know of it.
+    arrival, helper_arrival : float
+        When the robot and the helper would reach the task (intercept, then the trip).
+    found : float
+        The probability that the helper is where the robot expects it.
+    """
+
+    task: int
+    helper: int
+    arrival: float
+    helper_arrival: float
+    found: float
+
+
+class TaskPlan(NamedTuple):
+    """One robot's plan at one step.
+
+    Attributes
+    ----------
+    kind : str
+        ``"task"``, ``"fetch"`` or ``"explore"``.
+    task, helper : int
+        The task it serves (-1 exploring) and the teammate it fetches (-1 none).
+    option : int
+        The chosen index of ``G``: tasks ``0 .. m-1``, exploring ``m``, then the fetches
+        in the order given.
+    G : numpy.ndarray
+        Expected free energy of every option (nats; ``inf`` where it is no option).
+    predictions : numpy.ndarray
+        ``(n, m + 1)`` every robot's predicted choice of a task or exploring (its own
+        row: ``softmax(-G)`` over tasks and exploring).
+    """
+
+    kind: str
+    task: int
+    helper: int
+    option: int
+    G: np.ndarray
+    predictions: np.ndarray
+
+
+class TaskPlanner:
+    """Expected-free-energy planning over tasks at an order of reasoning.
+
+    Parameters
+    ----------
+    needs : sequence of int
+        Robots each task needs at once.
+    order : {0, 1, 2, 3}
+        Order of reasoning; 0 follows the convention (:func:`convention`) without
+        predicting anyone (the prior's mode: the ablation of planning).
+    temperature : float
+        The precision ``tau``, in the units of the arrival times.
+    fail : array_like
+        ``(m,)`` the cost of a task too few robots come to.
+    explore : float
+        Time saved per unknown task by one more explorer, as a fraction of the mean
+        ``fail`` divided by the team's size.
+    commitment : float
+        Nats a robot pays to change the option it chose at its last plan.
+    convention : float
+        Weight of the convention's choice for the robot (order 0, :func:`convention`) in
+        its own choice (``- convention * ln p0(option)`` nats, ``p0`` the convention's
+        choice with 5 % spread over every option): the shared tie-break that resolves
+        standoffs the same way for every robot.
+    credit : float
+        :func:`completion_times`' credit for the robots that come to a task too few come
+        to (0: all or nothing).
+    """
+
+    def __init__(
+        self,
+        needs: Sequence[int],
+        *,
+        order: int = 3,
+        temperature: float = 10.0,
+        fail=100.0,
+        explore: float = 0.25,
+        commitment: float = 0.0,
+        convention: float = 0.0,
+        credit: float = 0.0,
+    ) -> None:
+        self.needs = np.asarray(needs, dtype=int)
+        m = self.needs.shape[0]
+        if m == 0 or np.any(self.needs < 1):
+            raise InvalidArgumentError("need at least one task, each needing >= 1 robot")
+        self.order = check_order(order)
+        self.tau = positive(temperature, "temperature")
+        self.fail = np.broadcast_to(as_finite(fail, "fail"), (m,)).astype(float)
+        self.explore = float(as_finite(explore, "explore"))
+        self.commitment = float(as_finite(commitment, "commitment"))
+        self.convention = float(as_finite(convention, "convention"))
+        self.credit = float(np.clip(as_finite(credit, "credit"), 0.0, 1.0))
+        if min(self.explore, self.commitment, self.convention) < 0 or np.any(self.fail <= 0):
+            raise InvalidArgumentError(
+                "explore and commitment must be >= 0 and fail > 0", hint="0 leaves them out"
+            )
+
+    def plan(
+        self,
+        robot: int,
+        arrivals,
+        sets: Mapping[tuple[int, ...], Sequence[bool]],
+        unknown: Mapping[tuple[int, ...], int] | None = None,
+        fetches: Sequence[Fetch] = (),
+        previous: int | None = None,
+    ) -> TaskPlan:
+        """Robot ``robot``'s plan.
+
+        Parameters
+        ----------
+        robot : int
+            The planning robot.
+        arrivals : array_like
+            ``(n, m)`` when each robot would reach each task as the robot predicts
+            (``inf``: never).
+        sets : mapping
+            Chain ``(robot, l, ...)`` -> ``(m,)`` the open tasks the robot knows the last
+            robot of the chain knows of, as the middle robots see it (a chain without an
+            entry takes its longest prefix that has one; ``(robot,)`` is required).
+        unknown : mapping, optional
+            Chain -> how many tasks its last robot knows nothing of (same fallback;
+            default 0: nothing to explore for).
+        fetches : sequence of Fetch
+            The teammates it may fetch.
+        previous : int, optional
+            The option it chose at its last plan (an index of :attr:`TaskPlan.G`).
+
+        Examples
+        --------
+        The same two robots, robot 1 not knowing of the task; robot 0 meets it in 4 steps
+        and both reach the task 12 steps from now; it finds it with probability 0.9:
+
+        >>> planner = TaskPlanner([2], order=2, temperature=1.0, fail=[100.0])
+        >>> sets = {(0,): [True], (0, 1): [False]}
+        >>> plan = planner.plan(0, [[5.0], [10.0]], sets, {(0, 1): 1},
+        ...                     [Fetch(0, 1, 12.0, 12.0, 0.9)])
+        >>> plan.kind, plan.helper, round(float(plan.G[2]), 6)   # 0.9 * 12 + 0.1 * 100 - 100
+        ('fetch', 1, -79.2)
+        """
+        a = np.asarray(arrivals, dtype=float)
+        n, m = a.shape[0], self.needs.shape[0]
+        robot = check_robot(robot, n)
+        if a.shape != (n, m) or np.isnan(a).any():
+            raise InvalidArgumentError(f"arrivals must be ({n}, {m}) numbers, got {a.shape}")
+        if (robot,) not in sets:
+            raise InvalidArgumentError("sets needs the robot's own chain", hint="(robot,)")
+        context = _Context(self, a, sets, unknown or {})
+        own = context.costs((robot,), self.order)
+        if self.order >= 1 and n > 1:
+            extra = context.fetch_costs(robot, fetches)
+        else:
+            extra = np.full(len(fetches), np.inf)
+        G = np.concatenate([own, extra])
+        if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
+            prior = np.full(G.size, 0.05 / G.size)
+            prior[: m + 1] += 0.95 * _softmax(context.costs((robot,), 0), self.tau)
+            G = G - self.convention * self.tau * np.log(prior)
+        if previous is not None and 0 <= previous < G.size and np.isfinite(G[previous]):
+            G = G + self.commitment * self.tau
+            G[previous] -= self.commitment * self.tau
+        best = int(np.argmin(G))
+        if G[m] <= G[best] + 1e-9 * self.tau:  # nothing saves more: explore (ties too)
+            best = m
+        preds = np.stack(
+            [
+                _softmax(own, self.tau) if j == robot
+                else context.choice((robot, j), max(self.order - 1, 0))
+                for j in range(n)
+            ]
+        )  # fmt: skip
+        if best < m:
+            kind, task, helper = "task", best, -1
+        elif best == m:
+            kind, task, helper = "explore", -1, -1
+        else:
+            fetch = fetches[best - m - 1]
+            kind, task, helper = "fetch", int(fetch.task), int(fetch.helper)
+        return TaskPlan(kind, task, helper, best, G / self.tau, preds)
+
+
+def _softmax(G: np.ndarray, tau: float) -> np.ndarray:
+    finite = np.isfinite(G)
+    if not finite.any():
+        return np.full(G.shape, 1.0 / G.size)
+    q = np.where(finite, np.exp(-(G - G[finite].min()) / tau), 0.0)
+    return q / q.sum()
+
+
+class _Context:
+    """The memoised predictions of one plan: chain and order -> a choice distribution."""
+
+    def __init__(self, planner: TaskPlanner, arrivals, sets, unknown) -> None:
+        self.p = planner
+        self.arrivals = arrivals
+        self.sets = {tuple(c): np.asarray(v, dtype=bool) for c, v in sets.items()}
+        self.unknown = {tuple(c): int(v) for c, v in unknown.items()}
+        self.memo: dict = {}
+        self.keys: dict = {}
+        m = arrivals.shape[1]
+        twice = np.hstack([arrivals, arrivals])
+        self.cols = np.arange(2 * m)
+        self.order_ = np.argsort(twice, axis=0, kind="stable")
+        self.sorted = twice[self.order_, self.cols]
+        self.needs2 = np.tile(planner.needs, 2)
+        self.fail2 = np.tile(planner.fail, 2)
+
+    def _lookup(self, table: dict, chain: tuple[int, ...]):
+        # A robot at order k models sets down to chains of length k, no deeper.
+        for length in range(min(len(chain), max(self.p.order, 1)), 0, -1):
+            found = table.get(chain[:length])
+            if found is not None:
+                return found
+        return None
+
+    def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
+        """``(m + 1,)`` expected free energy (time units) of each task and exploring for
+        ``chain[-1]`` at ``order``."""
+        p, agent = self.p, chain[-1]
+        n, m = self.arrivals.shape
+        open_ = self._lookup(self.sets, chain)
+        unknown = self._lookup(self.unknown, chain) or 0
+        G = np.full(m + 1, np.inf)
+        if order == 0:  # the convention over who it knows knows of what, else explore
+            knowers = np.stack(
+                [open_ if j == agent else self._lookup(self.sets, (*chain, j)) for j in range(n)]
+            )
+            task = convention(self.arrivals, knowers, p.needs)[agent]
+            G[task if task >= 0 else m] = 0.0
+            return G
+        presence = np.zeros((n, 2 * m))  # without the agent, then with it
+        for j in range(n):
+            if j != agent:
+                presence[j, :m] = presence[j, m:] = self.choice((*chain, j), order - 1)[:m]
+        presence[agent, m:] = np.isfinite(self.arrivals[agent])  # it comes if it can
+        both = _expected(
+            self.sorted, presence[self.order_, self.cols], self.needs2, self.fail2, p.credit
+        )
+        saved = both[m:] - both[:m]
+        G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
+        G[m] = -p.explore * float(p.fail.mean()) * unknown / n
+        return G
+
+    def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
+        """``(m + 1,)`` ``chain[-1]``'s choice as ``chain[:-1]`` predicts it: a mixture of
+        orders ``0 .. order``."""
+        key = (self.key(chain), order)
+        found = self.memo.get(key)
+        if found is None:
+            mix = [_softmax(self.costs(chain, level), self.p.tau) for level in range(order + 1)]
+            found = self.memo[key] = sum(mix) / len(mix)
+        return found
+
+    def key(self, chain: tuple[int, ...]) -> tuple:
+        """What ``chain``'s predictions depend on: its last robot and what it knows, or
+        the chain itself when deeper chains may have sets of their own."""
+        found = self.keys.get(chain)
+        if found is None:
+            if len(chain) < max(self.p.order, 1):
+                found = chain
+            else:
+                open_ = self._lookup(self.sets, chain)
+                found = (open_.tobytes(), self._lookup(self.unknown, chain), chain[-1])
+            self.keys[chain] = found
+        return found
+
+    def fetch_costs(self, robot: int, fetches: Sequence[Fetch]) -> np.ndarray:
+        """Expected free energy (time units) of each fetch, against not serving its task."""
+        n, m = self.arrivals.shape
+        if not fetches:
+            return np.zeros(0)
+        p = self.p
+        presence = np.zeros((n, m))
+        for j in range(n):
+            if j != robot:
+                presence[j] = self.choice((robot, j), max(p.order - 1, 0))[:m]
+        without = completion_times(self.arrivals, presence, p.needs, p.fail, p.credit)
+        tasks = np.array([f.task for f in fetches], dtype=int)
+        helpers = np.array([f.helper for f in fetches], dtype=int)
+        cols = np.arange(len(fetches))
+        a = self.arrivals[:, tasks].copy()
+        q = presence[:, tasks].copy()
+        a[robot], q[robot] = [f.arrival for f in fetches], 1.0
+        a[helpers, cols] = [f.helper_arrival for f in fetches]
+        q[helpers, cols] = [f.found for f in fetches]
+        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], p.credit)
+        return fetched - without[tasks]

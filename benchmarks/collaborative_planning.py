@@ -1,0 +1,131 @@
+"""The collaborative planning levels against the rules, closed loop, on the generated
+benchmark's **tuning** split only (docs/generator.md), by team size; and the decision cost.
+
+Each mission of the split's first ``--missions`` generator seeds runs at every level on the
+first trial seed, in this one process; results go to a JSON-lines file (a rerun skips the
+trials it holds). The table gives, per team-size band and overall, success and the median
+and mean completion step (a failure counts at its step limit). ``--timing`` instead times
+one decision per robot of the planning level on the split's 8-robot missions.
+
+    python benchmarks/collaborative_planning.py --missions 20 --levels third,plan-third
+    python benchmarks/collaborative_planning.py --timing --missions 40
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+from generated_benchmark import SPLITS, family_options
+
+from epistemica.generate import mission_text
+from epistemica.mission import parse_mission
+
+BANDS = ((3, 4), (5, 6), (7, 8))
+
+
+def missions(count: int, policy: str = "") -> list:
+    """The first ``count`` collaborative missions of the tuning split (with a ``policy``
+    line setting parameters, if given)."""
+    split = SPLITS["tuning"]
+    out = []
+    for k in range(count):
+        seed = split.first_mission + k
+        text = mission_text("collaborative", seed, family_options("collaborative"))
+        if policy:
+            text += f"\npolicy {policy}\n"
+        out.append(parse_mission(text, f"collaborative_{seed:06d}.epi"))
+    return out
+
+
+def run(count: int, levels: list[str], path: Path, policy: str = "") -> list[dict]:
+    """Every level on every mission (trial seed: the split's first), kept in ``path``
+    (a level run with a ``policy`` line is named ``level[policy]``)."""
+    rows = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
+    have = {(r["mission"], r["level"]) for r in rows}
+    seed = SPLITS["tuning"].trial_seeds[0]
+    with path.open("a") as out:
+        for mission in missions(count, policy):
+            limit = mission.scenario(seed).max_steps
+            for level in levels:
+                name = f"{level}[{policy}]" if policy else level
+                if (mission.filename, name) in have:
+                    continue
+                started = time.perf_counter()
+                trial = mission.trial(limit, seed, level)
+                row = {
+                    "mission": mission.filename,
+                    "level": name,
+                    "robots": len(mission.robots),
+                    "success": bool(trial.success),
+                    "steps": int(trial.completion_step or limit),
+                    "seconds": time.perf_counter() - started,
+                }
+                out.write(json.dumps(row) + "\n")
+                out.flush()
+                rows.append(row)
+    return rows
+
+
+def table(rows: list[dict], levels: list[str], count: int) -> list[str]:
+    """Success, median and mean steps per level and team-size band."""
+    names = {m.filename for m in missions(count)}
+    rows = [r for r in rows if r["mission"] in names]
+    lines = ["| level | robots | trials | success | median | mean |", "|---|---|---|---|---|---|"]
+    for level in levels:
+        for low, high in (*BANDS, (3, 8)):
+            got = [r for r in rows if r["level"] == level and low <= r["robots"] <= high]
+            if not got:
+                continue
+            steps = np.array([r["steps"] for r in got])
+            won = np.mean([r["success"] for r in got])
+            lines.append(
+                f"| {level} | {low}-{high} | {len(got)} | {100 * won:.0f} % | "
+                f"{np.median(steps):.0f} | {steps.mean():.1f} |"
+            )
+    return lines
+
+
+def timing(count: int, level: str, steps: int) -> list[str]:
+    """Seconds per decision per robot of ``level`` on the 8-robot missions."""
+    seed = SPLITS["tuning"].trial_seeds[0]
+    lines = []
+    for mission in missions(count):
+        if len(mission.robots) != 8:
+            continue
+        trial = mission.trial(steps, seed, level)
+        per = trial.decision_time / 8 * 1000
+        lines.append(
+            f"{mission.filename}: {len(per)} steps, per robot median {np.median(per):.1f} ms, "
+            f"95th percentile {np.percentile(per, 95):.1f} ms, max {per.max():.1f} ms"
+        )
+    return lines
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--missions", type=int, default=20, help="the first N of the split")
+    ap.add_argument("--levels", default="third,recruit,first,oracle,plan-third")
+    ap.add_argument("--out", default="runs/collaborative-planning-tuning.jsonl")
+    ap.add_argument("--policy", default="", help='parameters, e.g. "plan_repair 4"')
+    ap.add_argument("--timing", action="store_true", help="time decisions instead")
+    ap.add_argument("--level", default="plan-third", help="--timing: the level timed")
+    ap.add_argument("--steps", type=int, default=200, help="--timing: steps per trial")
+    args = ap.parse_args(argv)
+    if args.timing:
+        print("\n".join(timing(args.missions, args.level, args.steps)))
+        return 0
+    levels = [name.strip() for name in args.levels.split(",")]
+    path = Path(args.out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    rows = run(args.missions, levels, path, args.policy)
+    named = [f"{level}[{args.policy}]" if args.policy else level for level in levels]
+    print("\n".join(table(rows, named, args.missions)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,170 @@
+"""The planning levels of a collaborative mission: options chosen by expected free energy
+(:class:`epistemica.aif.task_planning.TaskPlanner`) rather than ordered by rules.
+
+Each step every robot scores its options (go to an open task it knows of, fetch a teammate
+it knows does not know of one, explore) by the expected time they save the mission, with
+teammates' choices predicted by the same planner one order down over what the robot knows
+they know (the task ledger of the DEL state: ``aware[i, j]`` and, at order 3, the chains
+``(i, j, l)``). What it then does reuses the rules' primitives of
+:class:`~epistemica.sim.policies.collaborative_levels.CollaborativePolicy`: the sweep when
+exploring, the intercept (:meth:`~CollaborativePolicy.meet`) when fetching, where a
+teammate out of sight is (:class:`~epistemica.sim.policies.collaborative_teammates.TeammateModel`),
+which tasks have long been presumed done, and going to see one of those when every task is
+known and no option saves anything.
+
+=======================  ================================================================
+``plan-first``           order 1 on first-order knowledge: teammates predicted (order 0)
+                         over its own tasks; any teammate may be fetched
+``plan-second``          order 2 over the nested sets ``(i, j)``
+``plan-third``           order 3 over ``(i, j)`` and ``(i, j, l)``
+``plan-third-shared``    order 3, every teammate taken to know what it knows (no fetching)
+``plan-third-priormode`` the same beliefs, no planning: the convention (order 0)
+=======================  ================================================================
+
+Examples
+--------
+>>> from epistemica.sim import simulate
+>>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+>>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1)
+>>> simulate(s, "plan-third", seed=1).success
+True
+>>> PlanningCollaborativePolicy("plan-second", CollaborativeParameters()).order
+2
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from epistemica.aif.task_planning import Fetch, TaskPlanner
+from epistemica.sim.engine.joint import JointView as View
+from epistemica.sim.policies.collaborative_levels import CollaborativePolicy, first_order
+from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
+
+__all__ = ["PLANNING_LEVELS", "CollaborativeParameters", "PlanningCollaborativePolicy"]
+
+#: Level name -> (order, how it models teammates' knowledge: "first" its own view only,
+#: "nested" the ledger's chains, "shared" everyone knows what it knows).
+PLANNING_LEVELS = {
+    "plan-first": (1, "first"),
+    "plan-second": (2, "nested"),
+    "plan-third": (3, "nested"),
+    "plan-third-shared": (3, "shared"),
+    "plan-third-priormode": (0, "nested"),
+}
+
+
+class PlanningCollaborativePolicy(CollaborativePolicy):
+    """One level of :data:`PLANNING_LEVELS`."""
+
+    def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
+        self.name = name
+        self.order, self.model = PLANNING_LEVELS[name]
+        self.style, self.shares = "plan", ""
+        self.parameters = parameters
+
+    def start(self, scenario, robots=None, generators=None) -> None:
+        """Called once per trial: the rules' state, and one planner for the mission."""
+        super().start(scenario, robots, generators)
+        s, p = scenario, self.parameters
+        speed = float(np.mean(s.max_speed))
+        crossing = s.workspace / (speed * s.dt)  # steps to cross the workspace
+        self.planner = TaskPlanner(
+            s.needs,
+            order=self.order,
+            temperature=p.plan_temperature * crossing,
+            fail=p.plan_repair * crossing,
+            explore=p.plan_explore,
+            commitment=p.plan_commitment,
+            convention=p.plan_convention,
+            credit=p.plan_credit,
+        )
+        self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
+        self.last_plans: list = [None] * s.n_robots
+
+    def plan(self, view: View) -> tuple[np.ndarray, np.ndarray]:
+        """``(targets (n, 2), steer_to (n,))``, as the rules' :meth:`CollaborativePolicy.plan`."""
+        n, k = self.s.n_robots, view.knowledge
+        if self.model == "first":
+            view = first_order(view)
+        self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
+        targets, steer_to = np.zeros((n, 2)), np.full(n, -1)
+        self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
+        for i in range(n):
+            done = k.knows_done((i,))
+            presumed = np.zeros_like(done)
+            if self.parameters.stale_after:
+                presumed = self.presumed_done(view, i) & ~done
+            closed = done | presumed
+            self.open_now[i] = view.aware[i, i] & ~closed
+            choice = self.choose(view, i, closed)
+            if choice == ("explore",) and self.parameters.verify:
+                choice = self._verify(view, i, presumed)
+            self.backed[i] = False
+            targets[i], steer_to[i] = self._act(view, i, choice, self._waiting(view, i))
+        return targets, steer_to
+
+    def arrivals(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` steps robot ``i`` expects each robot to take to each task."""
+        s = self.s
+        where = np.array([self.predicted(view, i, j) for j in range(s.n_robots)])
+        gaps = np.hypot(*(where[:, None, :] - s.tasks[None]).transpose(2, 0, 1))
+        return gaps / (np.asarray(s.max_speed, dtype=float).reshape(-1, 1) * s.dt)
+
+    def chains(self, view: View, i: int, closed: np.ndarray) -> tuple[dict, dict]:
+        """Robot ``i``'s open tasks and unknown-task counts per chain, as the level models
+        its teammates' knowledge."""
+        n, m, k = self.s.n_robots, self.s.n_tasks, view.knowledge
+        known = {(i,): view.aware[i, i]}
+        if self.model == "nested":
+            known.update({(i, j): view.aware[i, j] for j in range(n) if j != i})
+        if self.model == "nested" and self.order >= 3:
+            for j in range(n):
+                for h in range(n):
+                    if j != i and h != j:
+                        known[(i, j, h)] = k.knows_goals((i, j, h))
+        sets = {c: aware & ~closed for c, aware in known.items()}
+        unknown = {c: m - int(aware.sum()) for c, aware in known.items()}
+        return sets, unknown
+
+    def fetches(self, view: View, i: int) -> list[Fetch]:
+        """The teammates robot ``i`` may fetch: for each open task it knows of, each
+        teammate it does not know knows of it and meets on its sweep (the rules'
+        intercept), found with probability ``exp(-age / fetch_memory)``."""
+        s, p = self.s, self.parameters
+        if self.model == "shared":
+            return []
+        speed = np.asarray(s.max_speed, dtype=float) * s.dt
+        out = []
+        for j in range(s.n_robots):
+            unaware = self.open_now[i] & ~view.aware[i, j] & ~self.gave_up[i, :, j]
+            if j == i or not unaware.any():
+                continue
+            met = self.meet(view, i, j)
+            if met is None:
+                continue
+            age = view.step - max(int(view.last_seen[i, j]), 0)
+            found = float(np.exp(-age / max(p.fetch_memory, 1)))
+            for t in np.flatnonzero(unaware):
+                back = float(np.hypot(*(met[1] - s.tasks[t])))
+                out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
+                                 found))  # fmt: skip
+        return out
+
+    def choose(self, view: View, i: int, closed: np.ndarray) -> tuple:
+        """Robot ``i``'s option: ``("task", t)``, ``("fetch", t, j)`` or ``("explore",)``."""
+        m = self.s.n_tasks
+        arrivals = self.arrivals(view, i)
+        sets, unknown = self.chains(view, i, closed)
+        fetches = self.fetches(view, i) if self.order >= 1 else []
+        keys = [("task", t, -1) for t in range(m)] + [("explore", -1, -1)]
+        keys += [("fetch", f.task, f.helper) for f in fetches]
+        previous = keys.index(self.previous[i]) if self.previous[i] in keys else None
+        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous)
+        self.last_plans[i] = plan
+        self.previous[i] = keys[plan.option]
+        if plan.kind == "task":
+            return ("task", plan.task)
+        if plan.kind == "fetch":
+            return ("fetch", plan.task, plan.helper)
+        return ("explore",)

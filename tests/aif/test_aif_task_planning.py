@@ -1,0 +1,171 @@
+"""The collaborative planner (epistemica.aif.task_planning): expected completion times worked
+by hand and by enumeration, the convention, and laws of the plans."""
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from epistemica import InvalidArgumentError
+from epistemica.aif.task_planning import Fetch, TaskPlanner, completion_times, convention
+
+
+def _enumerated(arrivals, presence, need, fail, credit):
+    """E[T] of one task by summing over every subset of robots that come."""
+    total = 0.0
+    for came in itertools.product([False, True], repeat=len(arrivals)):
+        weight = np.prod([p if c else 1 - p for p, c in zip(presence, came, strict=True)])
+        times = sorted(a for a, c in zip(arrivals, came, strict=True) if c)
+        if len(times) >= need:
+            total += weight * times[need - 1]
+        else:
+            total += weight * fail * (1 - credit * len(times) / need)
+    return total
+
+
+def test_completion_time_of_one_task_by_hand():
+    # Robot 0 surely comes (4 steps), robots 1 (7) and 2 (9) each with probability 1/2; the
+    # task needs 2: done at 7 if robot 1 comes, else at 9 if robot 2 does, else it fails.
+    got = completion_times([[4.0], [7.0], [9.0]], [[1.0], [0.5], [0.5]], [2], [100.0])
+    assert got.tolist() == pytest.approx([0.5 * 7 + 0.25 * 9 + 0.25 * 100])
+    # With full credit, the failing quarter has one robot of two: half the cost.
+    got = completion_times([[4.0], [7.0], [9.0]], [[1.0], [0.5], [0.5]], [2], [100.0], 1.0)
+    assert got.tolist() == pytest.approx([0.5 * 7 + 0.25 * 9 + 0.25 * 50])
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(1, 5).flatmap(
+        lambda r: st.tuples(
+            st.lists(st.floats(0, 50), min_size=r, max_size=r),
+            st.lists(st.floats(0, 1), min_size=r, max_size=r),
+            st.integers(1, r),
+            st.floats(0, 1),
+        )
+    )
+)
+def test_completion_times_match_enumeration(case):
+    arrivals, presence, need, credit = case
+    got = completion_times(np.array(arrivals)[:, None], np.array(presence)[:, None], [need],
+                           [80.0], credit)  # fmt: skip
+    assert got[0] == pytest.approx(_enumerated(arrivals, presence, need, 80.0, credit), abs=1e-9)
+
+
+def test_a_robot_that_cannot_arrive_never_comes():
+    got = completion_times([[3.0], [np.inf]], [[1.0], [1.0]], [2], [60.0])
+    assert got.tolist() == [60.0]
+
+
+def test_the_convention_sends_the_soonest_coalition_first():
+    # Task 1 assembles by step 3 (robots 1 and 2), task 0 only by step 5 (robots 0 and 1):
+    # task 1 takes robots 1 and 2; task 0 is left with one free knower, robot 0.
+    got = convention([[5, 9], [2, 3], [9, 1]], [[1, 1], [1, 1], [0, 1]], [2, 2])
+    assert got.tolist() == [-1, 1, 1]
+    # Robot 2 does not know of task 1: task 0 goes first, robot 2 explores.
+    got = convention([[5, 9], [2, 3], [9, 1]], [[1, 1], [1, 1], [0, 0]], [2, 2])
+    assert got.tolist() == [0, 0, -1]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 6), st.integers(1, 4))
+def test_the_convention_fills_a_task_or_leaves_it(seed, n, m):
+    rng = np.random.default_rng(seed)
+    arrivals = rng.uniform(0, 30, (n, m))
+    knowers = rng.random((n, m)) < 0.7
+    needs = rng.integers(1, n + 1, m)
+    got = convention(arrivals, knowers, needs)
+    for t in range(m):
+        sent = np.flatnonzero(got == t)
+        assert sent.size in (0, needs[t])
+        assert knowers[sent, t].all()
+    # a task left with enough free knowers would have been filled
+    free = got < 0
+    for t in np.flatnonzero(np.bincount(got[got >= 0], minlength=m) == 0):
+        assert (knowers[:, t] & free).sum() < needs[t]
+
+
+def test_a_plan_of_three_robots_worked_by_hand():
+    # One task needing 2; robots 5, 8 and 12 steps away, everyone knows of it (order 1,
+    # teammates predicted by the convention: robots 0 and 1 go, robot 2 explores).
+    arrivals = [[5.0], [8.0], [12.0]]
+    planner = TaskPlanner([2], order=1, temperature=1.0, fail=[100.0], credit=1.0)
+    plan = planner.plan(0, arrivals, {(0,): [True]})
+    # With it: done at 8. Without it: robot 1 alone, half of the fail cost (credit 1).
+    assert plan.kind == "task" and plan.task == 0
+    assert plan.G[0] == pytest.approx(8.0 - 50.0)
+    np.testing.assert_allclose(plan.predictions[1], [1.0, 0.0])
+    np.testing.assert_allclose(plan.predictions[2], [0.0, 1.0])
+    # Robot 2 expects robots 0 and 1 there by step 8: coming saves nothing, it explores.
+    plan = planner.plan(2, arrivals, {(2,): [True]})
+    assert plan.kind == "explore" and plan.G[0] == pytest.approx(0.0)
+
+
+def test_exploring_saves_a_share_of_the_unknown_tasks():
+    planner = TaskPlanner([2, 2], order=1, temperature=2.0, fail=[40.0, 80.0], explore=0.5)
+    plan = planner.plan(0, [[5.0, np.inf], [8.0, np.inf]], {(0,): [True, False]}, {(0,): 1})
+    assert plan.G[2] == pytest.approx(-0.5 * 60.0 * 1 / 2 / 2.0)  # nats: / tau
+    assert np.isinf(plan.G[1])  # not open to it
+
+
+def test_a_teammate_that_does_not_know_is_fetched_at_order_two():
+    # Robot 0 knows robot 1 does not know of the task: robot 1 explores, going alone
+    # saves half the fail cost (credit 1), fetching it (both there at step 12, found
+    # with probability 0.9) saves 100 - (0.9 * 12 + 0.1 * 50).
+    planner = TaskPlanner([2], order=2, temperature=1.0, fail=[100.0], credit=1.0)
+    sets = {(0,): [True], (0, 1): [False]}
+    plan = planner.plan(0, [[5.0], [10.0]], sets, {(0, 1): 1}, [Fetch(0, 1, 12.0, 12.0, 0.9)])
+    np.testing.assert_allclose(plan.predictions[1], [0.0, 1.0])
+    assert plan.G[0] == pytest.approx(50.0 - 100.0)
+    assert plan.G[2] == pytest.approx(0.9 * 12 + 0.1 * 50 - 100.0)
+    assert (plan.kind, plan.task, plan.helper) == ("fetch", 0, 1)
+    # Taking robot 1 to know of it (its chain absent: it keeps robot 0's set), both go.
+    plan = planner.plan(0, [[5.0], [10.0]], {(0,): [True]})
+    assert plan.kind == "task" and plan.G[0] == pytest.approx(10.0 - 50.0)
+
+
+def test_commitment_keeps_the_previous_option():
+    planner = TaskPlanner([1, 1], order=1, temperature=1.0, fail=[50.0, 50.0], commitment=3.0)
+    # One robot, two tasks it does alone: 5 or 6 steps of the 50 of failing saved.
+    sets = {(0,): [True, True]}
+    assert planner.plan(0, [[5.0, 6.0]], sets).task == 0
+    assert planner.plan(0, [[5.0, 6.0]], sets, previous=1).task == 1  # 3 nats > 1 step
+    assert planner.plan(0, [[5.0, 9.0]], sets, previous=1).task == 0  # 3 nats < 4 steps
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 5), st.integers(1, 3), st.integers(0, 3))
+def test_predictions_are_distributions_and_scores_finite_on_open_tasks(seed, n, m, order):
+    rng = np.random.default_rng(seed)
+    arrivals = rng.uniform(0, 40, (n, m))
+    needs = rng.integers(1, n + 1, m)
+    sets = {(0,): rng.random(m) < 0.7}
+    for j in range(1, n):
+        sets[(0, j)] = rng.random(m) < 0.5
+        for h in range(n):
+            if h != j:
+                sets[(0, j, h)] = sets[(0, j)] & (rng.random(m) < 0.7)
+    unknown = {chain: int(rng.integers(0, 3)) for chain in sets}
+    planner = TaskPlanner(needs, order=order, temperature=3.0, fail=60.0, explore=0.3,
+                          convention=1.0, credit=0.5)  # fmt: skip
+    plan = planner.plan(0, arrivals, sets, unknown)
+    np.testing.assert_allclose(plan.predictions.sum(axis=1), 1.0)
+    assert (plan.predictions >= 0).all()
+    if order >= 1:
+        assert np.isfinite(plan.G[:m][sets[(0,)]]).all()
+        assert np.isinf(plan.G[:m][~sets[(0,)]]).all()
+        assert np.isfinite(plan.G[m])
+    assert np.isfinite(plan.G[plan.option])
+
+
+def test_bad_arguments_are_refused():
+    planner = TaskPlanner([2], order=1)
+    with pytest.raises(InvalidArgumentError):
+        planner.plan(0, [[1.0, 2.0]], {(0,): [True]})
+    with pytest.raises(InvalidArgumentError):
+        planner.plan(0, [[1.0], [2.0]], {(1,): [True]})
+    with pytest.raises(InvalidArgumentError):
+        TaskPlanner([0])
+    with pytest.raises(InvalidArgumentError):
+        TaskPlanner([2], explore=-1.0)

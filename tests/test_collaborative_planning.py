@@ -1,0 +1,61 @@
+"""The collaborative planning levels (sim/policies/collaborative_planning.py): registered
+beside the rules, deciding by what the robot knows its teammates know, and closed loop."""
+
+import numpy as np
+import pytest
+
+from epistemica.sim import simulate
+from epistemica.sim.engine.joint import JointView
+from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.kinds.collaborative import CollaborativeScenario
+from epistemica.sim.policies.collaborative_levels import FETCHING
+from epistemica.sim.policies.collaborative_planning import PLANNING_LEVELS
+from epistemica.sim.policies.levels import JOINT_LEVELS, level_names, make_level
+
+
+def test_the_planning_levels_sit_beside_the_rules():
+    names = level_names("collaborative")
+    assert names[: len(names) - len(PLANNING_LEVELS)][-1] == "convention+rules"
+    assert set(PLANNING_LEVELS) <= set(names)
+    assert make_level("collaborative", "plan-third").order == 3
+    assert make_level("collaborative", "plan-third-priormode").order == 0
+    assert make_level("collaborative", "third").style == "third"
+    assert all(JOINT_LEVELS[name].description for name in PLANNING_LEVELS)
+
+
+def _view(step, poses, knowledge):
+    """Everyone sees everyone at ``step``; the ledger read from ``knowledge``."""
+    n, m = len(poses), knowledge.m
+    pairs = [[(i,) if i == j else (i, j) for j in range(n)] for i in range(n)]
+    aware = np.array([[knowledge.knows_goals(chain) for chain in row] for row in pairs])
+    estimates = np.broadcast_to(poses[None, :, :2], (n, n, 2)).copy()
+    seen = np.full((n, n), step)
+    return JointView(step, poses, estimates, seen, knowledge, aware,
+                     np.where(aware, 0, -1), np.full((n, m), step))  # fmt: skip
+
+
+@pytest.mark.parametrize("together", [False, True])
+def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
+    # r1 at (20, 15) found t1 at (3, 15), which needs 2; r2 stands 6.5 m off, in sight.
+    # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at plan-third;
+    # plan-third-shared takes r2 to know and heads for the task.
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, together]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    steer = {}
+    for level in ("plan-third", "plan-third-shared"):
+        policy = make_level("collaborative", level)
+        policy.start(s)
+        steer[level] = int(policy.plan(view)[1][0])
+    assert steer["plan-third-shared"] == 0
+    assert steer["plan-third"] == (0 if together else FETCHING)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_small_mission_succeeds_at_plan_third(seed):
+    s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
+    trial = simulate(s, "plan-third", seed=seed)
+    assert trial.success
+    assert (trial.tasks_done >= 0).all() and trial.completion_step == trial.tasks_done.max()
