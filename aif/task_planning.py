@@ -275,8 +275,7 @@ class TaskPlanner:
             robot of the chain knows of, as the middle robots see it (a chain without an
             entry takes its longest prefix that has one; ``(robot,)`` is required).
         unknown : mapping, optional
-            Chain -> how many tasks its last robot knows nothing of (same fallback;
-            default 0: nothing to explore for).
+            Chain -> how many tasks its last robot knows nothing of (same fallback; 0).
         fetches : sequence of Fetch
             The teammates it may fetch.
         previous : int, optional
