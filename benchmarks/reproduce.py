@@ -136,6 +136,9 @@ def _paper_table(path: Path, quick: bool) -> str:
     return head + "\n\n" + text.getvalue()
 
 
+#: The planning controller (issue 37) beside today's `third` (results.md §1b).
+PLANNING_NESTED = ("third", "plan-third", "plan-second", "plan-third-shared")
+
 STUDIES = {
     "generated": Study("generated families, locked split", _generated_specs, _generated_table),
     "collaborative": _shipped(
@@ -150,6 +153,10 @@ STUDIES = {
         "Stress suite at 2, 3 and 5 robots",
     ),
     "paper": Study("published protocol", _paper_specs, _paper_table),
+    "planning-nested": _shipped(
+        "specs/nested/*.epi", ("private_goal_3",), PLANNING_NESTED, 20,
+        "The planning levels beside `third` on the shipped nested missions",
+    ),
 }  # fmt: skip
 
 
