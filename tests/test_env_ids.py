@@ -17,12 +17,15 @@ pytest.importorskip("pettingzoo")
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 from epistemica.del_.errors import InvalidArgumentError  # noqa: E402
-from epistemica.envs import IDS, env_id, mission_files, register  # noqa: E402
+from epistemica.envs import env_id, mission_files, register  # noqa: E402
 from epistemica.generate import mission_text  # noqa: E402
 from epistemica.mission import load_mission, parse_mission  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = ROOT / "specs"
+# The repository's files, wherever the package is installed (an installed wheel has no
+# specs/ folder of its own: its import registers the published and generated ids only).
+IDS = register(SPECS)
 
 
 def _missions() -> dict[Path, str]:
@@ -133,5 +136,5 @@ def test_register_reads_the_folder_it_is_given(tmp_path):
         assert not any("Puzzle" in i for i in ids)  # a spec, not a mission
         assert gymnasium.make("epistemica/Team-TwoOfUs-v0").unwrapped.multi.scenario.n_robots == 2
     finally:
-        register()  # the shipped ids again
+        register(SPECS)  # the shipped ids again
         del gymnasium.registry["epistemica/Team-TwoOfUs-v0"]
