@@ -226,6 +226,7 @@ def _canonical_hashes(
         # every world possible would otherwise list every class once per class).
         used, index = _first_use_order(sets[id(r)][0][first])
         starts, lengths = found[id(r)][1]
+        used, index = _same_labels_once(used, index, starts, lengths, found[id(r)][2])
         parts.append(index.tobytes())
         parts.append(lengths[used].tobytes())
         parts.append(found[id(r)][2][ranges(starts[used], lengths[used])].tobytes())
@@ -245,6 +246,22 @@ def _first_use_order(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rank = np.empty(len(order), dtype=np.int64)
     rank[order] = np.arange(len(order))
     return distinct[order], rank[inverse.reshape(-1)]
+
+
+def _same_labels_once(used, index, starts, lengths, data) -> tuple[np.ndarray, np.ndarray]:
+    """``used`` and ``index`` with successor sets that meet the same labels merged: two
+    sets of worlds may differ and still meet the same classes, and which of them a class's
+    representative has depends on the numbering of worlds, so the key may name a set only
+    by the labels it meets."""
+    seen: dict[bytes, int] = {}
+    keep, renumber = [], np.empty(len(used), dtype=np.int64)
+    for k, u in enumerate(used.tolist()):
+        content = data[starts[u] : starts[u] + lengths[u]].tobytes()
+        if content not in seen:
+            seen[content] = len(keep)
+            keep.append(k)
+        renumber[k] = seen[content]
+    return used[keep], renumber[index]
 
 
 def _set_hashes(parts: tuple, labels: np.ndarray) -> tuple | None:
