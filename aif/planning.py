@@ -335,7 +335,14 @@ class _Context:
         return (None if mask is None else mask.tobytes()), chain[-1], order, len(chain) > 1
 
     def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
-        """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` at ``order``."""
+        """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` at ``order``
+        (memoised: the robot's own row is read by its plan and by its prediction)."""
+        key = ("costs", *self.key(chain, order))
+        if key not in self.memo:
+            self.memo[key] = self._costs(chain, order)
+        return self.memo[key]
+
+    def _costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         p, agent = self.p, chain[-1]
         n, m = p.speeds.shape[0], p.goals.shape[0]
         mask = self.mask(chain)
