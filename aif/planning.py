@@ -59,7 +59,7 @@ from epistemica.aif.evidence import check_order, check_robot
 from epistemica.aif.likelihood import check_configurations
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["WAIT", "PlanResult", "Planner", "motion_evidence"]
+__all__ = ["WAIT", "PlanResult", "Planner", "motion_evidence", "places_in_square"]
 
 #: :attr:`PlanResult.goal` of the waiting option.
 WAIT = -1
@@ -208,6 +208,7 @@ class Planner:
         moving=None,
         evidence=None,
         previous: int | None = None,
+        unseen=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -235,6 +236,12 @@ class Planner:
         previous : int, optional
             The goal the robot headed for at its last plan: changing it costs
             ``commitment`` nats (teammates have read it from the robot's moves).
+        unseen : array_like, optional
+            ``(P, n, 2)`` places a teammate the robot has never seen may be (a row per
+            draw), ``nan`` for the robots it has seen. Such a teammate's ``positions`` row
+            is a placeholder: it is predicted as the mean of its predictions from the ``P``
+            places, not from the placeholder (two unseen teammates at one placeholder
+            would both be predicted at its nearest goal). Default: every robot seen.
 
         Examples
         --------
@@ -255,10 +262,11 @@ class Planner:
             raise InvalidArgumentError("prior must be non-negative", hint="weights or a pmf")
         moving = np.ones(n) if moving is None else np.clip(as_finite(moving, "moving"), 0, 1)
         context = _Context(self, pos, weights, dict(sets or {}))
+        if unseen is not None:
+            self._predict_unseen(context, robot, np.asarray(unseen, dtype=float))
         if evidence is not None:
-            context.evidence = context.evidence + as_finite(
-                evidence, "evidence", ndim=2, shape=context.times.shape
-            )
+            context.extra = as_finite(evidence, "evidence", ndim=2, shape=context.times.shape)
+            context.evidence = context.evidence + context.extra
         G = self._own_costs(context, robot, weights, previous)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
@@ -274,6 +282,36 @@ class Planner:
         mine = self.configurations[:, robot] == goal if goal != WAIT else np.ones(len(belief))
         focal = int(np.argmax(np.where(mine, belief, -1.0)))
         return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal)
+
+    def _predict_unseen(self, context, robot: int, places: np.ndarray) -> None:
+        """Put the mean prediction of each never-seen teammate over ``places`` (its draws
+        of where it may be) into ``context``: as the robot predicts it, and as it predicts
+        each teammate to predict it (chains of two and three robots)."""
+        n = self.speeds.shape[0]
+        if places.ndim != 3 or places.shape[1:] != (n, 2):
+            raise InvalidArgumentError(
+                f"unseen must have shape (P, {n}, 2), got {places.shape}",
+                hint="places per draw and robot, nan for the robots seen",
+            )
+        hidden = np.flatnonzero(~np.isnan(places).any(axis=(0, 2)))
+        hidden = hidden[hidden != robot]
+        if hidden.size == 0 or self.order == 0 or places.shape[0] == 0:
+            return
+        chains = [((robot, int(j)), self.order - 1) for j in hidden]
+        if self.order >= 2:
+            chains += [((robot, k, int(j)), self.order - 2)
+                       for k in range(n) if k != robot for j in hidden if j != k]  # fmt: skip
+        keys = {context.key(chain, order): (chain, order) for chain, order in chains}
+        total = dict.fromkeys(keys, 0.0)
+        for draw in places:
+            moved = context.pos.copy()
+            moved[hidden] = draw[hidden]
+            there = _Context(self, moved, context.prior, context.sets, context.masks)
+            there.evidence = there.evidence + context.extra
+            for key, (chain, order) in keys.items():
+                total[key] = total[key] + there.choice(chain, order)
+        for key, value in total.items():
+            context.memo[key] = value / places.shape[0]
 
     def risk(self, formed: np.ndarray, timed: np.ndarray, alone: np.ndarray) -> np.ndarray:
         """Risk (s) of options whose configuration forms with probability ``formed``,
@@ -304,8 +342,11 @@ class Planner:
 class _Context:
     """The memoised predictions of one plan: chain and order -> a goal distribution."""
 
-    def __init__(self, planner: Planner, pos: np.ndarray, prior: np.ndarray, sets) -> None:
+    def __init__(self, planner: Planner, pos: np.ndarray, prior: np.ndarray, sets,
+                 masks: dict | None = None) -> None:  # fmt: skip
         self.p = planner
+        self.masks = {} if masks is None else masks  # chain -> (set, its bytes)
+        self.pos = pos
         self.prior = prior
         self.sets = sets
         self.depth = min(max((len(c) for c in sets), default=0), max(planner.order, 1))
@@ -313,26 +354,36 @@ class _Context:
         distance = np.hypot(delta[..., 0], delta[..., 1])
         self.times = distance / planner.speeds[:, None]  # (n, m) seconds
         self.evidence = -distance / planner.eta  # (n, m) nats
+        self.extra = np.zeros_like(self.evidence)  # what the robot read from the moves
         rows = planner.configurations
         self.row_times = self.times[np.arange(rows.shape[1]), rows]  # (k, n)
         self.memo: dict = {}
 
     def mask(self, chain: tuple[int, ...]) -> np.ndarray | None:
+        return self._mask(chain)[0]
+
+    def _mask(self, chain: tuple[int, ...]) -> tuple[np.ndarray | None, bytes | None]:
+        """The chain's set and its bytes (memoised: every prediction asks again)."""
+        found = self.masks.get(chain, False)
+        if found is not False:
+            return found
+        found = None, None
         # A robot at order k models sets down to chains of length k, no deeper.
         for length in range(min(len(chain), max(self.p.order, 1)), 0, -1):
-            found = self.sets.get(chain[:length])
-            if found is not None:
-                found = np.asarray(found, dtype=bool)
+            kept = self.sets.get(chain[:length])
+            if kept is not None:
+                kept = np.asarray(kept, dtype=bool)
                 # A chain that keeps nothing (its facts contradict each other) restricts
                 # nothing, as in the one-step controller's priors.
-                return found if found.any() else None
-        return None
+                found = (kept, kept.tobytes()) if kept.any() else (None, None)
+                break
+        self.masks[chain] = found
+        return found
 
     def key(self, chain: tuple[int, ...], order: int) -> tuple:
         if len(chain) < self.depth:  # deeper chains may have sets of their own
             return chain, order
-        mask = self.mask(chain)
-        return (None if mask is None else mask.tobytes()), chain[-1], order, len(chain) > 1
+        return self._mask(chain)[1], chain[-1], order, len(chain) > 1
 
     def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` at ``order``
@@ -449,6 +500,20 @@ def _quasi_uniform(count: int, dims: int) -> np.ndarray:
     primes = np.array([2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53])
     steps = np.sqrt(primes[np.arange(dims) % primes.size] + dims // primes.size * 100)
     return np.mod((np.arange(count)[:, None] + 0.5) * steps[None], 1.0)
+
+
+def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
+    """``(count, robots, 2)`` places spread evenly over the square ``[0, side]²``: the
+    draws of where a robot never seen may be (a low-discrepancy sequence, so a plan stays
+    a deterministic function of what the robot observes).
+
+    Examples
+    --------
+    >>> places = places_in_square(8, 3, 30.0)
+    >>> places.shape, bool((places >= 0).all() and (places <= 30).all())
+    ((8, 3, 2), True)
+    """
+    return _quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)
 
 
 def motion_evidence(before, after, goals, speeds, dt: float, sigma: float) -> np.ndarray:

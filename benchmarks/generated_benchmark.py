@@ -78,6 +78,10 @@ def use_collaborative_levels(levels: str | None) -> None:
         COLLABORATIVE_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
 
 
+#: ``--policy``: ``policy NAME VALUE`` lines added to every mission (tuning runs).
+POLICY_LINES: tuple[str, ...] = ()
+
+
 def family_options(family: str) -> Options:
     return Options() if family == "collaborative" else GOAL_OPTIONS
 
@@ -101,6 +105,7 @@ def trials(family: str, split: Split, missions: int, seeds: int) -> list:
     for k in range(missions):
         seed = split.first_mission + k
         text = mission_text(family, seed, family_options(family))
+        text += "".join(f"policy {line}\n" for line in POLICY_LINES)
         mission = parse_mission(text, f"{family}_{seed:06d}.epi")
         for t in split.trial_seeds[:seeds]:
             out.extend(mission_trials(mission, family_levels(family), 1, t))
@@ -167,7 +172,13 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--collaborative-levels", default=None, help="the collaborative family's levels"
     )
+    ap.add_argument(
+        "--policy", action="append", default=[], metavar="NAME=VALUE",
+        help="a parameter for every mission (a `policy NAME VALUE` line), to tune",
+    )  # fmt: skip
     args = ap.parse_args(argv)
+    global POLICY_LINES
+    POLICY_LINES = tuple(item.replace("=", " ", 1) for item in args.policy)
     use_goal_levels(args.levels)
     use_collaborative_levels(args.collaborative_levels)
     split = SPLITS[args.split]

@@ -180,6 +180,14 @@ class ActiveParameters:
         expected completion time (0: a mismatch costs ``plan_repair`` seconds instead).
         Chosen on tuning seeds 1000-1009 of the nested missions (82 % at 0, 98 % at 1,
         99 % at 3) and the generated tuning split (no family lost success at 3).
+    plan_unseen : int
+        Places drawn over the workspace for a teammate the robot has never seen: it is
+        predicted as the mean of its predictions from them, not from the placeholder
+        (the workspace centre) its estimate holds until then. 0 plans from the
+        placeholder (the ablation). Found in a traced failure
+        (docs/results/planning_wrong_decision.md): two unseen teammates both "at the
+        centre" were predicted at one goal, every allocation looked unlikely, and a robot
+        changed its goal 15 times.
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -223,6 +231,7 @@ class ActiveParameters:
     plan_convention: float = 1.0
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
+    plan_unseen: int = 8
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -261,6 +270,11 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 1, got {value!r}", hint=f"e.g. {name}=16"
                 )
+        unseen = self.plan_unseen
+        if isinstance(unseen, bool) or not isinstance(unseen, int) or unseen < 0:
+            raise InvalidArgumentError(
+                f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
+            )
         if (
             isinstance(self.anchor_check, bool)
             or not isinstance(self.anchor_check, int)

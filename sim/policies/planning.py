@@ -21,17 +21,74 @@ True
 from __future__ import annotations
 
 import weakref
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import NamedTuple
 
 import numpy as np
 
 from epistemica.aif.decision import Decision
-from epistemica.aif.planning import WAIT, Planner, motion_evidence
+from epistemica.aif.planning import WAIT, Planner, motion_evidence, places_in_square
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import steer
 
-__all__ = ["PlanningStage", "chains_of"]
+__all__ = ["PlanRecord", "PlanningStage", "chains_of", "recording_plans"]
+
+
+class PlanRecord(NamedTuple):
+    """One plan as :func:`recording_plans` keeps it.
+
+    ``goals`` are the scenario indices of the planner's goals (its table); ``G``, ``wait``,
+    ``predictions``, ``belief`` and ``focal`` are the :class:`~epistemica.aif.planning.PlanResult`'s
+    (``predictions[j]`` the robot's predicted distribution of teammate ``j``'s goal, its own
+    row its own); ``chosen`` the scenario index of the goal it heads for (-1: waits);
+    ``positions`` where it places every robot (a placeholder for one it never saw:
+    ``seen``); ``sets`` the size of each chain's set.
+    """
+
+    step: int
+    robot: int
+    goals: np.ndarray
+    G: np.ndarray
+    wait: float
+    predictions: np.ndarray
+    belief: np.ndarray
+    focal: int
+    chosen: int
+    positions: np.ndarray
+    seen: np.ndarray
+    sets: dict
+
+
+_RECORDER: ContextVar[list | None] = ContextVar("epistemica_plan_recorder", default=None)
+
+
+@contextmanager
+def recording_plans() -> Iterator[list[PlanRecord]]:
+    """Keep every plan made inside the block, in order, as :class:`PlanRecord` s: what a
+    robot predicted of each teammate and how it scored its options, to read a decision
+    that went wrong (``benchmarks/planning_trace.py``). Trials run in this process only.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario, simulate
+    >>> from epistemica.sim.policies.active import ActiveInference
+    >>> scenario = Scenario.paper("rendezvous", 3, 3, seed=1)
+    >>> with recording_plans() as plans:
+    ...     trial = simulate(scenario, ActiveInference(3, planning=True), seed=1)
+    >>> first = plans[0]
+    >>> (first.step, first.predictions.shape[0], int(first.G.argmin()) == first.chosen)
+    (0, 3, True)
+    """
+    log: list[PlanRecord] = []
+    token = _RECORDER.set(log)
+    try:
+        yield log
+    finally:
+        _RECORDER.reset(token)
 
 
 def chains_of(robot: int, own, pairs, triples, keep=None) -> dict[tuple[int, ...], np.ndarray]:
@@ -65,6 +122,8 @@ class PlanningStage:
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak = p.plan_sigma, p.plan_leak
+        # Where a teammate never seen may be: draws over the workspace (none: ablation).
+        self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
         self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
         # robot -> (n, M) log-likelihood of each teammate heading for each goal, summed
         # over the moves it saw.
@@ -101,6 +160,16 @@ class PlanningStage:
         used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
         return np.where(seen, np.clip(used, 0.0, 1.0), 1.0)
 
+    def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
+        """The planner's draws of where the robot's never-seen teammates may be."""
+        never = observations.last_seen[robot] < 0
+        never[robot] = False
+        if not never.any() or self.places.shape[0] == 0:
+            return None
+        places = self.places.copy()
+        places[:, ~never] = np.nan
+        return places
+
     def decide(
         self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
     ) -> Decision:
@@ -113,9 +182,18 @@ class PlanningStage:
         result = self.planner(ctrl).plan(
             robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
             int(local[0]) if local.size else None,
+            self.unseen(observations, robot),
         )  # fmt: skip
         if result.goal != WAIT:
             self._heading[robot] = int(goals[result.goal])
+        log = _RECORDER.get()
+        if log is not None:
+            chosen = int(goals[result.goal]) if result.goal != WAIT else WAIT
+            sizes = {chain: int(np.count_nonzero(mask)) for chain, mask in (sets or {}).items()}
+            log.append(PlanRecord(observations.step, robot, np.asarray(goals).copy(), result.G,
+                                  result.wait, result.predictions, result.belief, result.focal,
+                                  chosen, observations.poses[robot, :, :2].copy(),
+                                  observations.last_seen[robot] >= 0, sizes))  # fmt: skip
         if result.goal == WAIT:
             control = (0.0, 0.0)
         else:

@@ -152,3 +152,56 @@ def test_bad_arguments_are_refused():
         Planner(GOALS, MEET, [1.0, 1.0]).plan(0, [[np.nan, 0.0], [0.0, 0.0]])
     with pytest.raises(InvalidArgumentError):
         Planner(GOALS, MEET, [1.0, 1.0]).plan(0, [[0.0, 0.0], [0.0, 0.0]], prior=[-1, 2])
+
+
+def _allocation_of_three():
+    goals = np.array([[0.0, 0.0], [30.0, 0.0], [15.0, 30.0]])
+    return goals, valid_configurations("allocation", 3, 3)
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_an_unseen_teammate_is_the_mean_of_its_predictions_from_the_draws(order):
+    goals, rows = _allocation_of_three()
+    planner = Planner(goals, rows, [1.0, 1.0, 1.0], order=order)
+    placeholder = np.array([[2.0, 1.0], [15.0, 15.0], [15.0, 15.0]])
+    places = np.full((3, 3, 2), np.nan)
+    places[:, 1] = [[3.0, 2.0], [25.0, 5.0], [14.0, 27.0]]
+    places[:, 2] = [[28.0, 1.0], [16.0, 25.0], [5.0, 9.0]]
+    plan = planner.plan(0, placeholder, unseen=places)
+    # Recomputed through the public API: the plan from each draw's positions, averaged.
+    draws = []
+    for draw in places:
+        moved = placeholder.copy()
+        moved[1:] = draw[1:]
+        draws.append(planner.plan(0, moved).predictions)
+    np.testing.assert_allclose(plan.predictions[1:], np.mean(draws, axis=0)[1:], atol=1e-12)
+
+
+def test_two_unseen_teammates_at_one_placeholder_are_no_longer_one_prediction():
+    goals, rows = _allocation_of_three()
+    planner = Planner(goals, rows, [1.0, 1.0, 1.0], order=2)
+    placeholder = np.array([[2.0, 1.0], [15.0, 15.0], [15.0, 15.0]])
+    blind = planner.plan(0, placeholder).predictions
+    np.testing.assert_allclose(blind[1], blind[2])  # the failure: both at one goal
+    places = np.full((4, 3, 2), np.nan)
+    places[:, 1:] = np.array([[[3, 2], [25, 5]], [[25, 5], [14, 27]], [[14, 27], [3, 2]],
+                              [[20, 20], [8, 22]]], dtype=float)  # fmt: skip
+    spread = planner.plan(0, placeholder, unseen=places).predictions
+    assert np.abs(spread[1] - spread[2]).max() > 0.1
+    np.testing.assert_allclose(spread.sum(axis=1), 1.0)
+
+
+def test_unseen_places_of_a_seen_robot_or_the_same_place_change_nothing():
+    goals, rows = _allocation_of_three()
+    planner = Planner(goals, rows, [1.0, 1.0, 1.0], order=3)
+    positions = np.array([[2.0, 1.0], [25.0, 5.0], [14.0, 27.0]])
+    base = planner.plan(0, positions)
+    nobody = np.full((5, 3, 2), np.nan)
+    same = np.repeat(positions[None], 5, axis=0)
+    same[:, 0] = np.nan
+    for places in (nobody, same):
+        again = planner.plan(0, positions, unseen=places)
+        np.testing.assert_allclose(again.G, base.G)
+        np.testing.assert_allclose(again.predictions, base.predictions)
+    with pytest.raises(InvalidArgumentError, match="shape"):
+        planner.plan(0, positions, unseen=np.zeros((2, 3)))
