@@ -71,8 +71,8 @@ def _mission_specs(paths, levels, quick: bool, trials: int) -> list:
     return [s for p in paths for s in mission_trials(load_mission(p), levels, n, SEED)]
 
 
-def _per_file(path: Path, levels) -> list[str]:
-    """Success % (median steps) per file and level, then ``third`` paired, pooled."""
+def _per_file(path: Path, levels, focus: str = "third") -> list[str]:
+    """Success % (median steps) per file and level, then ``focus`` paired, pooled."""
     rows = _rows(path)
     names = sorted({k[0][0] for k in rows})
     # a file is reported only with every trial of every level (a run stopped mid-file)
@@ -93,17 +93,17 @@ def _per_file(path: Path, levels) -> list[str]:
         out.append(f"| {name} | " + " | ".join(cells) + " |")
     rng = np.random.default_rng(20_261_128)
     note = [f"Not finished (the run stopped): {', '.join(left)}.", ""] if left else []
-    return [*out, "", *note, *versus_table(rows, "third", levels, rng)]
+    return [*out, "", *note, *versus_table(rows, focus, levels, rng)]
 
 
-def _shipped(pattern, quick_names, levels, trials, what) -> Study:
+def _shipped(pattern, quick_names, levels, trials, what, focus: str = "third") -> Study:
     def specs(quick: bool) -> list:
         return _mission_specs(_files(pattern, quick_names, quick), levels, quick, trials)
 
     def table(path: Path, quick: bool) -> str:
         n = 2 if quick else trials
         head = f"{what}: `{pattern}`, trial seeds {SEED}–{SEED + n - 1}, every level on each."
-        return "\n".join([head, "", *_per_file(path, levels), ""])
+        return "\n".join([head, "", *_per_file(path, levels, focus), ""])
 
     return Study(what, specs, table)
 
@@ -138,6 +138,8 @@ def _paper_table(path: Path, quick: bool) -> str:
 
 #: The planning controller (issue 37) beside today's `third` (results.md §1b).
 PLANNING_NESTED = ("third", "plan-third", "plan-second", "plan-third-shared")
+#: The family where third order decides by construction (results.md §1b), paired on plan-third.
+THIRD_ORDER = ("plan-third", "plan-second", "third", "convention")
 
 STUDIES = {
     "generated": Study("generated families, locked split", _generated_specs, _generated_table),
@@ -156,6 +158,11 @@ STUDIES = {
     "planning-nested": _shipped(
         "specs/nested/*.epi", ("private_goal_3",), PLANNING_NESTED, 20,
         "The planning levels beside `third` on the shipped nested missions",
+    ),
+    "third-order": _shipped(
+        "specs/third_order/*.epi", ("late_news_3",), THIRD_ORDER, 20,
+        "Where third order decides by construction (missions designed on trial seeds "
+        "1000–1019)", focus="plan-third",
     ),
 }  # fmt: skip
 
