@@ -8,7 +8,8 @@ specs/puzzles/muddy_children.epi`` ≤ 0.4 s; from issue 38, ``check
 specs/puzzles/coin_toss.epi`` (a small spec) ≤ 0.25 s on an idle machine. Also printed:
 the seconds ``python -c pass`` takes, the floor every command pays, and each command's
 median CPU seconds (user + system of the child), the steadier figure on a machine that
-other jobs share (wall time there includes waiting for a core).
+other jobs share (wall time there includes waiting for a core), and the load average before
+and after the runs.
 
 Children run without ``PYTHONDONTWRITEBYTECODE`` (the warm-up run writes the bytecode
 caches, as any installed or normally used package has them): with it set, every run
@@ -79,7 +80,7 @@ def main() -> None:
     caches = "off" if env.get("PYTHONDONTWRITEBYTECODE") else "on"
     print(
         f"command: {' '.join(base)}; {repeats} runs each after one warm-up; "
-        f"bytecode caches {caches}\n"
+        f"bytecode caches {caches}; load average before {_load()}"
     )
     print("| command | median (s) | min (s) | median CPU (s) | target (s) |")
     print("|---|---|---|---|---|")
@@ -94,6 +95,12 @@ def main() -> None:
         cpu = statistics.median(c for _, c in runs)
         verdict = "" if target is None else f"{target} ({'met' if median <= target else 'MISSED'})"
         print(f"| `{label}` | {median:.3f} | {min(times):.3f} | {cpu:.3f} | {verdict} |")
+    print(f"\nload average after: {_load()} (the machine's 1, 5 and 15 minute averages)")
+
+
+def _load() -> str:
+    """The load averages: wall times on a shared machine include waiting for a core."""
+    return ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 if __name__ == "__main__":

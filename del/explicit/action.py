@@ -33,6 +33,7 @@ import numpy as np
 from epistemica.del_.errors import InvalidArgumentError, ModelError
 from epistemica.del_.explicit import _product, checker
 from epistemica.del_.explicit._model import ExplicitModel
+from epistemica.del_.explicit.row_truth import RowTruth
 from epistemica.del_.language.formula import Formula, Top, canonical_atom
 from epistemica.del_.language.parser import as_formula
 
@@ -126,7 +127,8 @@ class ActionModel:
             points = [_event_index(index, e, "designated") for e in designated]
         if not points:
             raise ModelError("an action model needs at least one designated event")
-        self._designated = np.unique(np.array(points, dtype=np.int64))
+        # sorted(set()), not np.unique: that loads numpy.ma, which `check` need not pay for
+        self._designated = np.array(sorted(set(points)), dtype=np.int64)
         self._designated.setflags(write=False)  # shared through designated_positions
 
     @property
@@ -176,7 +178,9 @@ def _edges(index: Mapping[Event, int], edges: Iterable[tuple], agent: str) -> tu
     return tuple(out)
 
 
-def applicable_in_some(model: ExplicitModel, action: ActionModel) -> bool:
+def applicable_in_some(
+    model: ExplicitModel, action: ActionModel, rows: RowTruth | None = None
+) -> bool:
     """Whether a designated event's precondition holds at *some* designated world: the
     product update then has a designated world.
 
@@ -190,33 +194,45 @@ def applicable_in_some(model: ExplicitModel, action: ActionModel) -> bool:
     >>> applicable_in_some(m, public_announcement("p", ["a"]))
     True
     """
+    truth = checker.evaluate if rows is None else rows
     points = model.designated_positions
     for i in action.designated_positions:
-        if checker.evaluate(model, action.pre[i])[points].any():
+        if truth(model, action.pre[i])[points].any():
             return True
     return False
 
 
 def product_with_provenance(
-    model: ExplicitModel, action: ActionModel, *, beliefs_only: bool = False
+    model: ExplicitModel,
+    action: ActionModel,
+    *,
+    beliefs_only: bool = False,
+    rows: RowTruth | None = None,
 ) -> tuple[ExplicitModel, np.ndarray, np.ndarray]:
     """The full product ``model ⊗ action`` and, per product world, its world and event.
 
     Unlike :func:`product_update`, the product may have no designated world. With
     ``beliefs_only``, the separate knowledge relations are not computed (``K`` then reads
-    the belief relation): for callers whose formulas never mention knowledge.
+    the belief relation): for callers whose formulas never mention knowledge. ``rows``
+    (a :class:`~epistemica.del_.explicit.row_truth.RowTruth`) evaluates the action's
+    propositional conditions from values remembered per valuation row (a search passes
+    one for all its updates); the product is the same.
     """
-    truth = functools.partial(checker.evaluate, model)
+    truth = functools.partial(checker.evaluate if rows is None else rows, model)
     return _product.product_with_provenance(model, action, truth, beliefs_only=beliefs_only)
 
 
 def product_update(
-    model: ExplicitModel, action: ActionModel, *, beliefs_only: bool = False
+    model: ExplicitModel,
+    action: ActionModel,
+    *,
+    beliefs_only: bool = False,
+    rows: RowTruth | None = None,
 ) -> ExplicitModel:
     """The product update ``model ⊗ action``, pointed at the executable designated pairs.
 
-    ``beliefs_only`` skips the separate knowledge relations (see
-    :func:`product_with_provenance`).
+    ``beliefs_only`` skips the separate knowledge relations and ``rows`` remembers
+    propositional conditions per valuation row (see :func:`product_with_provenance`).
 
     Raises
     ------
@@ -230,13 +246,13 @@ def product_update(
     >>> m.update(public_announcement("p", ["a"])).holds("K[a] p")
     True
     """
-    if not applicable_in_some(model, action):
+    if not applicable_in_some(model, action, rows):
         raise InvalidArgumentError(
             "the action is not executable: no designated event's precondition holds at a "
             "designated world",
             hint="check model.applicable_in_some(action) before updating",
         )
-    return product_with_provenance(model, action, beliefs_only=beliefs_only)[0]
+    return product_with_provenance(model, action, beliefs_only=beliefs_only, rows=rows)[0]
 
 
 def _reflexive(agents: Iterable[str], events: Sequence[Event]) -> dict[str, list[tuple]]:

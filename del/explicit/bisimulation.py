@@ -113,9 +113,15 @@ def generated_submodel(model: ExplicitModel) -> ExplicitModel:
 _STEPS = 64
 
 
+# Up to this many worlds, reachability is a few boolean-matrix steps (planning states).
+_SMALL = 64
+
+
 def _reached(model: ExplicitModel) -> np.ndarray:
     reached = np.zeros(model.n_worlds, dtype=bool)
     reached[model.designated_positions] = True
+    if model.n_worlds <= _SMALL:
+        return _reached_small(model, reached)
     expanders = [_Expander(r) for r in _relations(model)]
     frontier = np.flatnonzero(reached)
     for _ in range(_STEPS):
@@ -130,6 +136,18 @@ def _reached(model: ExplicitModel) -> np.ndarray:
     if not len(frontier):
         return reached
     return _Graph(model).reached(model.designated_positions)
+
+
+def _reached_small(model: ExplicitModel, reached: np.ndarray) -> np.ndarray:
+    """Reachability over the union of the relations as one small boolean matrix."""
+    arrows = np.zeros((model.n_worlds, model.n_worlds), dtype=bool)
+    for relation in _relations(model):
+        arrows |= relation.to_dense()
+    while True:
+        grown = reached | arrows[reached].any(axis=0)
+        if grown.sum() == reached.sum():
+            return reached
+        reached = grown
 
 
 class _Expander:

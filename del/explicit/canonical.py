@@ -94,9 +94,8 @@ def canonical_classes(state: ExplicitModel) -> tuple[list[int], tuple]:
         if int(blocks.max()) + 1 < state.n_worlds:
             labels, key = canonical_classes(quotient(state, blocks))
             return np.asarray(labels)[blocks].tolist(), key
-    atoms = sorted(
-        a for a, column in zip(state.atoms, state.valuation.T, strict=True) if column.any()
-    )
+    present = state.valuation.any(axis=0).tolist()  # one pass, not one call per atom
+    atoms = sorted(a for a, used in zip(state.atoms, present, strict=True) if used)
     relations = [
         relation
         for agent in sorted(state.agents)
@@ -120,7 +119,7 @@ def _canonical_bitmasks(
     Whether it applies depends only on the number of bisimulation classes, so bisimilar
     states always get keys of the same kind.
     """
-    columns = [state.atoms.index(a) for a in atoms]
+    columns = [state.atom_column(a) for a in atoms]
     codes = state.valuation[:, columns].astype(np.int64) @ (np.int64(1) << np.arange(len(atoms)))
     labels = np.unique(codes, return_inverse=True)[1].reshape(-1)
 

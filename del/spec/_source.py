@@ -45,7 +45,8 @@ def read_source(path: str | Path, what: str = "spec file", limit: int = MAX_SOUR
     the spec file is binary, not text (a NUL byte at offset 0)
     """
     name = str(path)
-    hint = f"give a {what}: UTF-8 text such as specs/puzzles/*.epi"
+    # The example names no file kind: the same hint serves EPDDL, SMCDEL, traces, ...
+    hint = f"give the {what} as UTF-8 text (a text editor's ordinary save)"
     try:
         handle = open(path, "rb")  # closed by the `with` below
     except OSError as exc:

@@ -8,7 +8,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica.aif import valid_configurations
-from epistemica.aif.prior import plausible_configurations, shared_rank, team_log_prior
+from epistemica.aif.prior import (
+    lexicographic_order,
+    plausible_configurations,
+    shared_rank,
+    team_log_prior,
+)
 
 FAST = settings(max_examples=60, deadline=None)
 
@@ -87,3 +92,31 @@ def test_a_narrow_beam_still_keeps_the_least_cost_configuration(seed, n, limit):
     best[r] = c
     assert rows.shape[0] >= 1
     assert (rows == best).all(axis=1).any()
+
+
+@FAST
+@given(
+    k=st.integers(1, 40),
+    n=st.integers(1, 12),
+    top=st.sampled_from([1, 2, 5, 40, 2**40]),  # the last overflows the one-number key
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_lexicographic_order_is_lexsorts(k, n, top, seed):
+    rows = np.random.default_rng(seed).integers(0, top, (k, n))
+    assert lexicographic_order(rows).tolist() == np.lexsort(rows.T[::-1]).tolist()
+
+
+@FAST
+@given(seed=st.integers(0, 2**32 - 1), m=st.integers(1, 6), k=st.integers(1, 30))
+def test_shared_rank_orders_by_the_goals_coordinates(seed, m, k):
+    # Coordinates on a coarse grid (equal goals, -0.0 beside 0.0): the rank must be the
+    # stable lexicographic order of each row's (x, y) of robot 0's goal, robot 1's, ...
+    rng = np.random.default_rng(seed)
+    goals = rng.integers(-1, 2, (m, 2)).astype(float)
+    goals[goals == 0] *= rng.choice([-1.0, 1.0], size=int((goals == 0).sum()))
+    rows = rng.integers(0, m, (k, 3))
+    keys = goals[rows].reshape(k, -1)
+    order = np.lexsort(keys.T[::-1])
+    expected = np.empty(k)
+    expected[order] = np.arange(k) / max(k - 1, 1)
+    assert shared_rank(goals, rows).tolist() == expected.tolist()

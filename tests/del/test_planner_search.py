@@ -19,6 +19,7 @@ from epistemica.del_ import (
     plan_with_stats,
     validate,
 )
+from epistemica.del_.explicit import checker
 from epistemica.del_.explicit.canonical import canonical_key
 from epistemica.del_.planning import planner
 
@@ -191,3 +192,26 @@ def test_belief_only_search_finds_the_same_lengths(name, monkeypatch):
     full = planner.plan(spec.model, spec.actions, spec.goal)
     assert light is not None and full is not None and len(light) == len(full)
     assert validate(spec.model, spec.actions, light, spec.goal)
+
+
+def _reexecuted(s0, actions, steps, goal) -> bool:
+    """Run the plan by plain updates: each step executable at every designated world."""
+    state = s0
+    for name in steps:
+        act = actions[name]
+        pre = [checker.evaluate(state, act.pre[e]) for e in act.designated_positions]
+        for w in state.designated_positions:
+            if not any(mask[w] for mask in pre):
+                return False
+        state = state.update(act)
+    return state.holds(goal)
+
+
+@settings(max_examples=15, deadline=None)
+@given(problems())
+def test_every_plan_returned_reaches_the_goal_when_reexecuted(problem):
+    s0, actions, goal = problem
+    for search in ("bfs", "greedy", "astar"):
+        result = plan_with_stats(s0, actions, goal, search=search, max_depth=4)
+        if result.plan is not None:
+            assert _reexecuted(s0, actions, result.plan, goal), (search, result.plan)
