@@ -73,7 +73,9 @@ class Features:
         mates = self._relative(view["teammates"], (x, y), turn)
         goals = self._relative(view["goals"], (x, y), turn) * known[:, None]
         own = [x / self.width - 0.5, y / self.width - 0.5, np.cos(heading), np.sin(heading)]
-        binary = [np.ravel(v) for k, v in view.items() if isinstance(self.space[k], spaces.MultiBinary)]  # noqa: E501
+        binary = [
+            np.ravel(v) for k, v in view.items() if isinstance(self.space[k], spaces.MultiBinary)
+        ]
         parts = [own, mates.ravel(), goals.ravel(), *binary, [view["step"] / self.limit]]
         return np.concatenate(parts).astype(np.float32)
 
@@ -88,9 +90,17 @@ class SharedPolicyEnv(VecEnv):
     """``copies`` trials of a mission as one Stable-Baselines3 vector env whose entries
     are the robots (``copies × n``): one policy drives every robot, each on its own
     observation. A trial that ends restarts on the next training seed. Every finished
-    trial's team return and success is kept in ``episodes``."""
+    trial's team return (the environment's reward) and success is kept in ``episodes``.
 
-    def __init__(self, mission, copies: int, egocentric: bool, shaping: float) -> None:
+    ``gather``: the weight of a second potential-based shaping term (Ng, Harada and
+    Russell 1999: it leaves the optimal policies as they are), minus the mean distance
+    between two robots in workspaces, read from ``MissionEnv.state()``: the team is
+    rewarded for closing up, which a rendezvous asks for whatever the goal.
+    """
+
+    def __init__(
+        self, mission, copies: int, egocentric: bool, shaping: float, gather: float = 0.0
+    ) -> None:
         self.envs = [
             MissionEnv(mission, epistemic=True, normalized=True, shaping=shaping)
             for _ in range(copies)
@@ -102,43 +112,58 @@ class SharedPolicyEnv(VecEnv):
         super().__init__(copies * len(self.agents), self.features.box, action)
         self.next_seed = TRAIN_SEEDS
         self.episodes: list[tuple[float, bool]] = []
+        self.gather = gather
+        self.spread = np.zeros(copies)
 
     def _flat(self, views: dict) -> np.ndarray:
         return np.stack([self.features(views[a]) for a in self.agents])
 
-    def _restart(self, env: MissionEnv) -> np.ndarray:
+    def _restart(self, k: int) -> np.ndarray:
+        env = self.envs[k]
         views, _ = env.reset(seed=self.next_seed)
         self.next_seed += 1
+        self.spread[k] = self._spread(env)
         return self._flat(views)
+
+    def _spread(self, env: MissionEnv) -> float:
+        """Minus the mean distance between two robots (in workspaces): 0 when together."""
+        n = env.scenario.n_robots
+        if not self.gather or n < 2:
+            return 0.0
+        xy = env.state()[: 3 * n].reshape(n, 3)[:, :2]
+        gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        return -float(gaps.sum()) / (n * (n - 1) * self.features.width)
 
     def reset(self) -> np.ndarray:
         self.next_seed = TRAIN_SEEDS
-        return np.concatenate([self._restart(env) for env in self.envs])
+        return np.concatenate([self._restart(k) for k in range(len(self.envs))])
 
     def step_async(self, actions: np.ndarray) -> None:
         self.actions = np.asarray(actions).reshape(len(self.envs), len(self.agents), -1)
 
     def step_wait(self):
         obs, rewards, dones, infos = [], [], [], []
-        for env, chosen in zip(self.envs, self.actions, strict=True):
+        for k, (env, chosen) in enumerate(zip(self.envs, self.actions, strict=True)):
             actions = dict(zip(self.agents, chosen, strict=True))
             views, reward, terminated, truncated, _ = env.step(actions)
             flat = self._flat(views)
             over = not env.agents
-            for k, agent in enumerate(self.agents):
+            spread = self._spread(env)
+            bonus, self.spread[k] = self.gather * (spread - self.spread[k]), spread
+            for j, agent in enumerate(self.agents):
                 info = {}
                 if over:
                     info = {
-                        "terminal_observation": flat[k],
+                        "terminal_observation": flat[j],
                         "TimeLimit.truncated": truncated[agent],
                     }
                 infos.append(info)
-                rewards.append(reward[agent])
+                rewards.append(reward[agent] + bonus)
                 dones.append(over)
             if over:
                 first = self.agents[0]
                 self.episodes.append((env.returns[first], bool(terminated[first])))
-            obs.append(self._restart(env) if over else flat)
+            obs.append(self._restart(k) if over else flat)
         return (np.concatenate(obs), np.array(rewards, dtype=np.float32), np.array(dones),
                 infos)  # fmt: skip
 
@@ -198,29 +223,60 @@ def arguments() -> argparse.Namespace:
     parser.add_argument("--timesteps", type=int, default=1_000_000, help="robot-steps of PPO")
     parser.add_argument("--copies", type=int, default=8, help="trials stepped together")
     parser.add_argument("--eval", type=int, default=None, help="study seeds (default: all)")
-    parser.add_argument("--eval-seed", type=int, default=None,
-                        help="first evaluation seed (default: the study's; defaults were "
-                        "chosen with seeds from 90,000, unseen in training)")  # fmt: skip
+    parser.add_argument(
+        "--eval-seed",
+        type=int,
+        default=None,
+        help="first evaluation seed (default: the study's; defaults were "
+        "chosen with seeds from 90,000, unseen in training)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="PPO's seed")
     view = parser.add_mutually_exclusive_group()
-    view.add_argument("--egocentric", dest="egocentric", action="store_true", default=True,
-                      help="offsets in the robot's frame, in workspaces (default)")  # fmt: skip
-    view.add_argument("--raw", dest="egocentric", action="store_false",
-                      help="the observation flattened as it is (metres)")  # fmt: skip
-    parser.add_argument("--normalize", action=argparse.BooleanOptionalAction, default=True,
-                        help="VecNormalize observations and reward (default on)")  # fmt: skip
+    view.add_argument(
+        "--egocentric",
+        dest="egocentric",
+        action="store_true",
+        default=True,
+        help="offsets in the robot's frame, in workspaces (default)",
+    )
+    view.add_argument(
+        "--raw",
+        dest="egocentric",
+        action="store_false",
+        help="the observation flattened as it is (metres)",
+    )
+    parser.add_argument(
+        "--normalize",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="VecNormalize observations and reward (default on)",
+    )
     parser.add_argument("--shaping", type=float, default=1.0, help="MissionEnv's shaping")
+    parser.add_argument(
+        "--gather",
+        type=float,
+        default=0.0,
+        help="weight of the team-spread shaping (SharedPolicyEnv)",
+    )
     parser.add_argument("--gamma", type=float, default=0.99, help="PPO's discount")
     parser.add_argument("--n-steps", type=int, default=128, help="rollout per robot")
     parser.add_argument("--ent-coef", type=float, default=0.0, help="PPO's entropy bonus")
     parser.add_argument("--net", type=int, nargs="+", default=[64, 64], help="hidden sizes")
-    parser.add_argument("--log-std", type=float, default=0.0, help="initial log std of actions")
+    parser.add_argument(
+        "--log-std",
+        type=float,
+        default=-1.0,
+        help="initial log std of the actions (0: std 1 over [-1, 1])",
+    )
+    parser.add_argument(
+        "--save", default=None, help="save the model (PATH.zip) and VecNormalize (PATH.pkl)"
+    )
     return parser.parse_args()
 
 
 def train(args: argparse.Namespace, mission) -> tuple:
     """PPO on the training seeds: the model, the vector env, its VecNormalize (or None)."""
-    env = SharedPolicyEnv(mission, args.copies, args.egocentric, args.shaping)
+    env = SharedPolicyEnv(mission, args.copies, args.egocentric, args.shaping, args.gather)
     venv = VecNormalize(env, gamma=args.gamma) if args.normalize else env
     steps = max(8, min(args.n_steps, args.timesteps // env.num_envs))  # per robot per rollout
     batch = max(8, steps * env.num_envs // 4)  # four minibatches per epoch
@@ -241,6 +297,10 @@ def main() -> None:
     wall, cpu = time.perf_counter(), time.process_time()
     model, env, normalizer = train(args, mission)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    if args.save:
+        model.save(f"{args.save}.zip")
+        if normalizer is not None:
+            normalizer.save(f"{args.save}.pkl")
     study = mission.study
     first = study.seed if args.eval_seed is None else args.eval_seed
     seeds = range(first, first + (args.eval or study.trials))
