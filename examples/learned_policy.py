@@ -271,6 +271,7 @@ def arguments() -> argparse.Namespace:
     parser.add_argument(
         "--save", default=None, help="save the model (PATH.zip) and VecNormalize (PATH.pkl)"
     )
+    parser.add_argument("--load", default=None, help="evaluate a saved model, no training")
     return parser.parse_args()
 
 
@@ -290,12 +291,60 @@ def train(args: argparse.Namespace, mission) -> tuple:
     return model, env, venv if args.normalize else None
 
 
+def restore(args: argparse.Namespace, mission) -> tuple:
+    """A model ``--save`` wrote (``--load PATH``), as :func:`train` returns it."""
+    env = SharedPolicyEnv(mission, args.copies, args.egocentric, args.shaping, args.gather)
+    model = PPO.load(f"{args.load}.zip", device="cpu")
+    normalizer = None
+    if args.normalize:
+        normalizer = VecNormalize.load(f"{args.load}.pkl", env)
+        normalizer.training = False
+    return model, env, normalizer
+
+
+def meeting_goal(scenario, trial) -> int | None:
+    """The goal a successful gathering trial ended at (the goal nearest the team's final
+    centroid), or None for a failure."""
+    if not trial.success:
+        return None
+    centre = trial.trajectory[-1, :, :2].mean(axis=0)
+    return int(np.argmin(np.hypot(*(scenario.goals - centre).T)))
+
+
+def report(mission, rows: list, seeds) -> None:
+    """Successes, mean steps of the successes and, per row, where the team met (for a
+    gathering mission) and on how many seeds at the same goal as the last level."""
+    kinds = mission.scenario(seeds[0]).kind
+    met = {
+        name: [meeting_goal(mission.scenario(s), t) for s, t in zip(seeds, trials, strict=True)]
+        for name, trials in rows
+    }
+    reference = rows[-2][0] if len(rows) > 1 else None
+    print(f"{'level':<16} {'successes':>10} {'mean steps (successes)':>24}  met at")
+    for name, trials in rows:
+        won = [t.steps for t in trials if t.success]
+        mean = f"{np.mean(won):.1f}" if won else "-"
+        line = f"{name:<16} {len(won):>5}/{len(trials):<4} {mean:>24}"
+        if kinds.gathers:
+            names = mission.scenario(seeds[0]).goal_names
+            counts = np.bincount([g for g in met[name] if g is not None], minlength=len(names))
+            where = " ".join(f"{g}:{c}" for g, c in zip(names, counts, strict=True) if c)
+            same = sum(
+                a is not None and a == b for a, b in zip(met[name], met[reference], strict=True)
+            )
+            line += f"  {where or '-'} (as {reference}: {same})"
+        print(line)
+
+
 def main() -> None:
     args = arguments()
     torch.set_num_threads(1)  # small networks: threads only contend
     mission = load_mission(args.mission)
     wall, cpu = time.perf_counter(), time.process_time()
-    model, env, normalizer = train(args, mission)
+    if args.load:
+        model, env, normalizer = restore(args, mission)
+    else:
+        model, env, normalizer = train(args, mission)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     if args.save:
         model.save(f"{args.save}.zip")
@@ -304,12 +353,13 @@ def main() -> None:
     study = mission.study
     first = study.seed if args.eval_seed is None else args.eval_seed
     seeds = range(first, first + (args.eval or study.trials))
+    done = f"loaded from {args.load}" if args.load else f"{args.timesteps} robot-steps"
     print(f"{mission.name}: PPO, one policy shared by {len(env.agents)} robots, "
-          f"{args.timesteps} robot-steps in {wall:.0f} s wall, {cpu:.0f} s CPU; "
+          f"{done} in {wall:.0f} s wall, {cpu:.0f} s CPU; "
           f"{len(seeds)} seeds from {first}")  # fmt: skip
     print(f"{'curve: trials':<16} {'mean return':>12} {'successes':>10}")
-    for done, mean, share in learning_curve(env.episodes):
-        print(f"{'curve':<8} {done:>7} {mean:>12.3f} {share:>10.2f}")
+    for trials, mean, share in learning_curve(env.episodes):
+        print(f"{'curve':<8} {trials:>7} {mean:>12.3f} {share:>10.2f}")
     rows = []
     for level in study.levels:
         trials = [
@@ -320,11 +370,7 @@ def main() -> None:
         rows.append((level, trials))
     learned = [learned_trial(model, mission, s, env.features, normalizer) for s in seeds]
     rows.append(("learned (PPO)", learned))
-    print(f"{'level':<16} {'successes':>10} {'mean steps (successes)':>24}")
-    for name, trials in rows:
-        won = [t.steps for t in trials if t.success]
-        mean = f"{np.mean(won):.1f}" if won else "-"
-        print(f"{name:<16} {len(won):>5}/{len(trials):<4} {mean:>24}")
+    report(mission, rows, seeds)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
 """examples/learned_policy.py at a tiny budget: it trains, and reports the learned policy
-beside the reasoning levels on the study's seeds (skipped without the learn extra)."""
+beside the reasoning levels on the study's seeds (skipped without the learn extra); its
+egocentric features and its learning curve against values computed here."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import runpy
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytest.importorskip("stable_baselines3")  # the learn extra (needs torch): not in CI's test
@@ -14,19 +16,22 @@ pytest.importorskip("pettingzoo")
 
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
+from epistemica.sim.engine.env import MissionEnv
 
 ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "learned_policy.py"
+RENDEZVOUS = ROOT / "specs" / "rendezvous.epi"
 
 
 def test_the_example_trains_and_reports_beside_the_levels(capsys, monkeypatch):
-    path = ROOT / "specs" / "rendezvous.epi"
-    argv = ["learned_policy", str(path), "--timesteps", "48", "--eval", "2", "--copies", "1"]
+    argv = ["learned_policy", str(RENDEZVOUS), "--timesteps", "48", "--eval", "2", "--copies", "1"]
     monkeypatch.setattr(sys, "argv", argv)
-    runpy.run_path(str(ROOT / "examples" / "learned_policy.py"), run_name="__main__")
+    runpy.run_path(str(EXAMPLE), run_name="__main__")
     out = capsys.readouterr().out.splitlines()
-    mission = load_mission(path)
+    mission = load_mission(RENDEZVOUS)
     seeds = [mission.study.seed, mission.study.seed + 1]
-    rows = {line.split()[0]: line.split()[1] for line in out[2:]}
+    table = out.index(next(line for line in out if line.startswith("level ")))
+    rows = {line.split()[0]: line.split()[1] for line in out[table + 1 :]}
     for level in mission.study.levels:
         won = sum(
             simulate(mission.scenario(s), level, seed=s, policies=mission.policies(s),
@@ -37,3 +42,35 @@ def test_the_example_trains_and_reports_beside_the_levels(capsys, monkeypatch):
     learned = next(line for line in out if line.startswith("learned (PPO)"))
     assert learned.split()[2].endswith("/2")
     assert "48 robot-steps" in out[0]
+    assert all(line.startswith("curve") for line in out[1:table])
+
+
+def test_egocentric_features_are_offsets_in_the_robot_frame():
+    example = runpy.run_path(str(EXAMPLE))
+    env = MissionEnv(load_mission(RENDEZVOUS), epistemic=True, normalized=True)
+    views, _ = env.reset(seed=10_003)
+    features = example["Features"](env, egocentric=True)
+    s, view = env.scenario, views["r2"]
+    vector = features(view)
+    assert vector.shape == features.box.shape
+    x, y, h = (float(v) for v in view["pose"])
+    ahead, left = np.array([np.cos(h), np.sin(h)]), np.array([-np.sin(h), np.cos(h)])
+    start = 4 + 3 * s.n_robots  # own (x, y, cos, sin), then a row per robot
+    for g, goal in enumerate(s.goals):
+        d = goal - np.array([x, y])
+        expected = [d @ ahead, d @ left, np.linalg.norm(d)]
+        got = vector[start + 3 * g : start + 3 * g + 3]
+        np.testing.assert_allclose(got, np.array(expected) / s.workspace, atol=1e-5)
+    mate = view["teammates"][0] - np.array([x, y])  # where r2 places r1
+    np.testing.assert_allclose(vector[4:6], [mate @ ahead / 30, mate @ left / 30], atol=1e-5)
+    np.testing.assert_allclose(vector[7:9], [0, 0], atol=1e-6)  # its own row
+    assert vector[-1] == pytest.approx(view["step"] / s.max_steps)
+
+
+def test_the_learning_curve_averages_equal_slices_in_order():
+    curve = runpy.run_path(str(EXAMPLE))["learning_curve"]
+    episodes = [(float(k), k % 3 == 0) for k in range(10)]
+    rows = curve(episodes, points=2)
+    assert rows == [(5, 2.0, 2 / 5), (10, 7.0, 2 / 5)]  # 0..4: 0, 3 won; 5..9: 6, 9
+    assert curve([], points=4) == []
+    assert [r[0] for r in curve(episodes[:3], points=10)] == [1, 2, 3]
