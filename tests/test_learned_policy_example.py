@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.spatial.distance import pdist
 
 pytest.importorskip("stable_baselines3")  # the learn extra (needs torch): not in CI's test
 pytest.importorskip("pettingzoo")
@@ -74,3 +75,34 @@ def test_the_learning_curve_averages_equal_slices_in_order():
     assert rows == [(5, 2.0, 2 / 5), (10, 7.0, 2 / 5)]  # 0..4: 0, 3 won; 5..9: 6, 9
     assert curve([], points=4) == []
     assert [r[0] for r in curve(episodes[:3], points=10)] == [1, 2, 3]
+
+
+def test_the_gather_shaping_starts_at_minus_the_mean_gap_between_robots():
+    example = runpy.run_path(str(EXAMPLE))
+    mission = load_mission(RENDEZVOUS)
+    env = example["SharedPolicyEnv"](mission, 2, True, 1.0, gather=1.0)
+    obs = env.reset()
+    assert obs.shape == (2 * 3, env.features.box.shape[0])
+    for k in range(len(env.envs)):
+        start = mission.scenario(10_000 + k).starts[:, :2]
+        assert env.spread[k] == pytest.approx(-pdist(start).mean() / 30, rel=1e-5)
+    assert example["SharedPolicyEnv"](mission, 1, True, 1.0).reset().shape == (3, obs.shape[1])
+
+
+def test_the_meeting_goal_is_the_goal_every_robot_ended_at():
+    meeting_goal = runpy.run_path(str(EXAMPLE))["meeting_goal"]
+    mission = load_mission(RENDEZVOUS)
+    for seed in (0, 1, 2):
+        s = mission.scenario(seed)
+        trial = simulate(s, "third", seed=seed)
+        assert trial.success
+        ends = trial.trajectory[-1, :, :2]
+        near = [
+            g
+            for g, goal in enumerate(s.goals)
+            if (np.hypot(*(ends - goal).T) <= s.success_radius).all()
+        ]
+        assert meeting_goal(s, trial) == near[0]
+    zero = (simulate(mission.scenario(seed), "zero", seed=seed) for seed in range(20))
+    failed = next(t for t in zero if not t.success)
+    assert meeting_goal(mission.scenario(failed.seed), failed) is None
