@@ -106,3 +106,23 @@ def test_the_meeting_goal_is_the_goal_every_robot_ended_at():
     zero = (simulate(mission.scenario(seed), "zero", seed=seed) for seed in range(20))
     failed = next(t for t in zero if not t.success)
     assert meeting_goal(mission.scenario(failed.seed), failed) is None
+
+
+def test_a_saved_model_loads_with_its_normalisation(monkeypatch, tmp_path):
+    example = runpy.run_path(str(EXAMPLE))
+    saved, mission = str(tmp_path / "model"), load_mission(RENDEZVOUS)
+    argv = [str(RENDEZVOUS), "--timesteps", "96", "--copies", "1", "--load", saved]
+    monkeypatch.setattr(sys, "argv", ["learned_policy", *argv])
+    args = example["arguments"]()
+    model, env, normalizer = example["train"](args, mission)
+    model.save(f"{saved}.zip")
+    normalizer.save(f"{saved}.pkl")
+    loaded, _, restored = example["restore"](args, mission)
+    assert not restored.training
+    np.testing.assert_array_equal(restored.obs_rms.mean, normalizer.obs_rms.mean)
+    assert normalizer.obs_rms.count > 1  # the statistics moved in training
+    raw = env.reset()
+    np.testing.assert_array_equal(restored.normalize_obs(raw), normalizer.normalize_obs(raw))
+    mine, _ = model.predict(normalizer.normalize_obs(raw), deterministic=True)
+    theirs, _ = loaded.predict(restored.normalize_obs(raw), deterministic=True)
+    np.testing.assert_allclose(mine, theirs, atol=1e-6)
