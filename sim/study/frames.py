@@ -19,10 +19,12 @@ beside it; :meth:`draw` shows one step of a trace (:mod:`epistemica.sim.study.tr
 
 from __future__ import annotations
 
+import textwrap
 from typing import Any
 
 import numpy as np
 
+from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.del_.errors import EpistemicaError
 from epistemica.sim.kinds.base import GOAL_PANELS, JOINT_PANELS
 from epistemica.sim.kinds.registry import kind_of_trace
@@ -40,10 +42,25 @@ from epistemica.sim.study.figure_parts import (
     set_map_limits,
     trace_title,
 )
-from epistemica.sim.study.palette import fetching_robot, focus_robot, robot_colour
+from epistemica.sim.study.palette import (
+    TYPE_MEANINGS,
+    fetching_robot,
+    focus_robot,
+    robot_colour,
+)
 from epistemica.sim.study.trace import known_goals
 
-__all__ = ["FRAMES", "JointFrame", "TraceFrame", "frame_for"]
+__all__ = ["BELIEF_NOTE", "FRAMES", "SETS_GAP", "JointFrame", "TraceFrame", "frame_for"]
+
+#: Points between two lines of the configuration-set plot (own sets above, models below):
+#: a model equal to a teammate's own set shows beside it, not under it.
+SETS_GAP = 1.5
+#: Why a belief can read 1.00 at step 0, before any event (under the goal frame's panels).
+BELIEF_NOTE = (
+    "Beliefs are after each step's observations. At step 0 a robot has seen only\n"
+    "where its teammates start: a 1.00 there is its prior (the team taken to be\n"
+    "efficient; at orders 2-3, each teammate predicted from the goals it knows of)."
+)
 
 
 class TraceFrame:
@@ -112,6 +129,8 @@ class TraceFrame:
         self._sets_panel()
         self.event_lines = event_panel(self.events_axes)
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
+        fig.text(0.44, 0.012, BELIEF_NOTE, fontsize=FONT_SIZE, va="bottom", ha="left",
+                 color="0.3", gid="belief-note")  # fmt: skip
         fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
 
     def _map_legend(self) -> None:
@@ -150,22 +169,27 @@ class TraceFrame:
         ] if small else []  # fmt: skip
 
     def _sets_panel(self) -> None:
+        from matplotlib.transforms import offset_copy
+
         ax, f = self.sets_axes, self.focus
         steps = np.arange(len(self.considered))
-        for i, name in enumerate(self.robots):
-            ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
-        for j, name in enumerate(self.robots):
-            if j != f and len(self.modelled):
-                ax.plot(  # wide and pale under the solid lines: visible where they agree
-                    steps,
-                    self.modelled[:, f, j],
-                    "--",
-                    color=robot_colour(j),
-                    lw=4.0,
-                    alpha=0.45,
-                    zorder=1,
-                    label=f"{self.robots[f]}'s model of {name}'s",
-                )
+        lines = [(self.considered[:, i], i, "-", name) for i, name in enumerate(self.robots)]
+        if len(self.modelled):
+            lines += [
+                (self.modelled[:, f, j], j, "--", f"{self.robots[f]}'s model of {name}'s")
+                for j, name in enumerate(self.robots)
+                if j != f
+            ]
+        for q, (values, i, style, label) in enumerate(lines):
+            # each line SETS_GAP points from the next (own above, models below): lines of
+            # equal values lie side by side rather than on one another
+            shift = offset_copy(ax.transData, fig=self.fig, units="points",
+                                y=(len(lines) - 1 - 2 * q) * SETS_GAP / 2)  # fmt: skip
+            ax.plot(steps, values, style, color=robot_colour(i), lw=1.8, label=label,
+                    transform=shift, gid=f"sets:{label}")  # fmt: skip
+            ax.update_datalim(np.column_stack([steps, values]))  # shifted: not autoscaled
+        ax.margins(y=0.12)  # room for the shifted lines at the top
+        ax.autoscale_view()
         if len(self.considered) and np.nanmax(self.considered) > 20:
             ax.set_yscale("log")
         else:
@@ -175,7 +199,7 @@ class TraceFrame:
         ax.tick_params(labelsize=FONT_SIZE)
         ax.set_title(
             f"configuration sets: own (solid), {self.robots[f]}'s model of each teammate's "
-            "(dashed)",
+            f"(dashed)\nequal values drawn {SETS_GAP:g} pt apart, own above",
             fontsize=FONT_SIZE,
             loc="left",
         )
@@ -225,16 +249,23 @@ class TraceFrame:
     def _draw_reading(self, step: int) -> None:
         if self.reading is None:
             return
+        names, prior = self.trace["types"], TYPE_PRIOR[0] if len(TYPE_PRIOR) else 0.0
         lines = [
-            f"{self.robots[self.reader]}'s read of its",
-            "teammates' behaviour",
-            "(posterior):",
+            f"{self.robots[self.reader]} reads each",
+            "teammate as (likeliest",
+            "behaviour, posterior;",
+            f"prior: {names[0]} {prior:.2f}):",
         ]
+        shown = []
         for j, name in enumerate(self.robots):
             row = self.types[step, self.reader, j]
             if j != self.reader and np.isfinite(row).all():
                 k = int(np.argmax(row))
-                lines.append(f"{name} {self.trace['types'][k]} {row[k]:.2f}")
+                lines.append(f"{name} {names[k]} {row[k]:.2f}")
+                shown.append(names[k])
+        for name in dict.fromkeys(shown):  # what each behaviour shown means
+            lines += textwrap.wrap(f"{name}: {TYPE_MEANINGS.get(name, name)}", 23,
+                                   subsequent_indent=" ")  # fmt: skip
         self.reading.set_text("\n".join(lines))
 
     def _draw_estimates(self, step: int, pose: np.ndarray) -> None:
