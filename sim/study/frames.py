@@ -50,7 +50,15 @@ from epistemica.sim.study.palette import (
 )
 from epistemica.sim.study.trace import known_goals
 
-__all__ = ["BELIEF_NOTE", "FRAMES", "SETS_GAP", "JointFrame", "TraceFrame", "frame_for"]
+__all__ = [
+    "BELIEF_NOTE",
+    "FRAMES",
+    "SETS_GAP",
+    "JointFrame",
+    "TraceFrame",
+    "frame_for",
+    "frame_type",
+]
 
 #: Points between two lines of the configuration-set plot (own sets above, models below):
 #: a model equal to a teammate's own set shows beside it, not under it.
@@ -132,6 +140,21 @@ class TraceFrame:
         fig.text(0.44, 0.012, BELIEF_NOTE, fontsize=FONT_SIZE, va="bottom", ha="left",
                  color="0.3", gid="belief-note")  # fmt: skip
         fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
+
+    @staticmethod
+    def mark_places(ax, trace: dict[str, Any], step: int) -> None:
+        """The goals on the map ``ax`` as they are at ``step`` (closed ones hollow)."""
+        goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        closed = _closed_steps(trace)
+        shut = closed[min(step, len(closed) - 1)]
+        draw_goals(ax, goals, trace["goals"], trace["success_radius"], shut)
+
+    @staticmethod
+    def status(trace: dict[str, Any], robot: int) -> str:
+        """What ``robot`` did at the trace's last decision: the goal it headed for."""
+        focal = trace["focal"]
+        goal = int(focal[-1][robot][robot]) if len(focal) else -1
+        return f"heading for {trace['goals'][goal] if goal >= 0 else '-'}"
 
     def _map_legend(self) -> None:
         from matplotlib.lines import Line2D
@@ -329,6 +352,15 @@ def _closed_steps(trace: dict[str, Any]) -> np.ndarray:
 
 
 _ACTIONS = {-1: "explore", -2: "fetch", -3: "wait"}
+#: The same, as what a robot is doing (``simulate``'s text, the trajectory figure's legend).
+_DOING = {-1: "exploring", -2: "fetching a teammate", -3: "waiting for helpers"}
+
+
+def _task_label(trace: dict[str, Any], task: int, step: int) -> str:
+    """A task's label on the map at ``step``: the robots it needs, and once done when."""
+    done = int(trace["tasks_done"][task])
+    finished = f", done at {done}" if 0 <= done <= step else ""
+    return f"×{int(trace['needs'][task])}{finished}"
 
 
 class JointFrame:
@@ -390,6 +422,32 @@ class JointFrame:
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
         fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
 
+    @staticmethod
+    def mark_places(ax, trace: dict[str, Any], step: int) -> None:
+        """The tasks on the map ``ax`` at ``step``: the robots each needs, done ones crossed
+        with their step, and the robots that steered to each up to ``step``."""
+        places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        draw_goals(ax, places, trace["goals"], trace["success_radius"])
+        n = len(trace["robots"])
+        steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, n)[: max(step, 0)]
+        for t, (x, y) in enumerate(places):
+            came = [trace["robots"][i] for i in range(n) if (steer[:, i] == t).any()]
+            text = _task_label(trace, t, step) + (
+                f"\nsteered to by {', '.join(came)}" if came else ""
+            )
+            ax.annotate(text, (x, y), textcoords="offset points", xytext=(7, -12), va="top",
+                        fontsize=FONT_SIZE, gid=f"needs:{trace['goals'][t]}")  # fmt: skip
+            if 0 <= int(trace["tasks_done"][t]) <= step:
+                ax.plot(x, y, "x", color="0.5", ms=16, mew=3, gid=f"done:{trace['goals'][t]}")
+
+    @staticmethod
+    def status(trace: dict[str, Any], robot: int) -> str:
+        """What ``robot`` did at the trace's last decision: the task it steered to, or
+        exploring, fetching a teammate, waiting for helpers."""
+        steer = trace["steer_to"]
+        target = int(steer[-1][robot]) if len(steer) else -1
+        return _DOING.get(target) or f"steering to {trace['goals'][target]}"
+
     def knows_at(self, step: int) -> np.ndarray:
         """``(n, m)`` 1 where robot ``i`` knew of task ``t`` at ``step``."""
         return self.knows[min(step, len(self.knows) - 1)]
@@ -416,8 +474,7 @@ class JointFrame:
             self.transient.append(label)
         finished = (self.done >= 0) & (self.done <= step)
         for t, label in enumerate(self.need_labels):
-            done = f", done at {self.done[t]}" if finished[t] else ""
-            label.set_text(f"×{self.needs[t]}{done}")
+            label.set_text(_task_label(self.trace, t, step))
         for t in np.flatnonzero(finished):
             self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])
         shade = np.where(finished[None], 0.35, 0.0)  # done columns grey
@@ -450,8 +507,20 @@ def frame_for(trace: dict[str, Any], mission: str = "") -> TraceFrame | JointFra
     ('JointFrame', True)
     >>> frame.close()
     """
+    return frame_type(trace)(trace, mission)
+
+
+def frame_type(trace: dict[str, Any]) -> type[TraceFrame] | type[JointFrame]:
+    """The frame class drawing the panels of ``trace``'s kind (its ``mark_places`` and
+    ``status`` also serve the trajectory figure and ``simulate``'s text).
+
+    Examples
+    --------
+    >>> frame_type({"format": "epistemica-trace", "kind": "collaborative"}).__name__
+    'JointFrame'
+    """
     panels = kind_of_trace(trace).panels
     frame = next((f for f in FRAMES if f.panels == panels), None)
     if frame is None:  # a kind added without its drawing
         raise EpistemicaError(f"no figure draws the panels {', '.join(panels)}")
-    return frame(trace, mission)
+    return frame
