@@ -167,13 +167,13 @@ def agent_views(
     return views
 
 
-def event_flags(s, new_events: list[tuple]) -> np.ndarray | None:
+def event_flags(s, new_events: list[tuple], rules: dict | None = None) -> np.ndarray | None:
     """``(n, R)``: robot ``i`` observed an event of rule ``k`` among ``new_events`` (the
     run's records: ``(step, rule, arguments, observers)``); None for a mission without
-    events."""
+    events. ``rules``: each rule's index by name, if the caller keeps it."""
     if not s.events:
         return None
-    rule = {r.name: k for k, r in enumerate(s.events)}
+    rule = {r.name: k for k, r in enumerate(s.events)} if rules is None else rules
     events = np.zeros((s.n_robots, len(s.events)), dtype=np.int8)
     for record in new_events:
         events[list(record[-1]), rule[record[1]]] = 1
