@@ -18,8 +18,6 @@ Examples
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
@@ -28,6 +26,7 @@ from epistemica.sim.engine._env_view import (
     position_bounds,
     positions,
     robot_space,
+    shortfall,
     state_space,
     state_vector,
 )
@@ -138,12 +137,8 @@ class JointWorld:
         if left != self._undone:  # a task is done for good: the set changed
             near = [p for p, d in zip(s.tasks.tolist(), done, strict=True) if d < 0]
             self._undone, self._near = left, near
-        # a few robots and tasks: plain floats cost less than numpy calls, every step
-        beyond, radius, poses = 0.0, s.completion_radius, run.poses.tolist()
-        for x, y, _ in poses:
-            d = min(math.hypot(x - a, y - b) for a, b in self._near)
-            beyond += max(d - radius, 0.0)
-        return -beyond / (len(poses) * s.workspace)
+        beyond = shortfall(run.poses.tolist(), self._near, s.completion_radius)
+        return -beyond / (s.n_robots * s.workspace)
 
     def last(self, view: JointView, run: JointRun) -> JointView:
         """The observation after the last step: the same, with the true poses now."""

@@ -202,12 +202,6 @@ class MissionEnv(ParallelEnv):
                 hint="leave at least one robot out of `teammates`",
             )
         self._index = {name: i for i, name in enumerate(s.robot_names)}
-        if s.kind.joint and render_mode is not None:
-            raise InvalidArgumentError(
-                "render() draws goal and multitask trials; a collaborative one has no picture "
-                "of a single step yet",
-                hint="leave render_mode out; 'epistemica run FILE' animates a collaborative trial",
-            )
         world = JointWorld if s.kind.joint else GoalWorld
         self.world = world(spaces, s, self.epistemic)
         self._observation_space = self.world.observation_space
