@@ -10,8 +10,11 @@ the median CPU time (``time.process_time``, so that other processes' load counts
 ``--repeats`` runs, the two ways interleaved, after one warm-up; the overhead of a cell is
 ``sum(env medians) / sum(simulate medians) - 1`` over its seeds. The target is 20 %.
 
-Usage: ``python benchmarks/env_overhead.py [--seeds 3] [--repeats 7]``; prints a markdown
-table.
+Goal, multitask and collaborative missions (``specs/collaborative/tasks_3.epi`` and
+``tasks_5.epi`` at ``convention`` and ``third``).
+
+Usage: ``python benchmarks/env_overhead.py [--seeds 3] [--repeats 7] [--only NAME]``; prints
+a markdown table.
 """
 
 from __future__ import annotations
@@ -27,8 +30,16 @@ from epistemica.sim import simulate
 from epistemica.sim.engine.env import MissionEnv
 
 ROOT = Path(__file__).resolve().parents[1]
-MISSIONS = ("rendezvous.epi", "events/door_closes.epi", "nested/relocated_5.epi", "multi_task.epi")
-LEVELS = ("zero", "convention", "third")
+GOAL_LEVELS = ("zero", "convention", "third")
+#: Mission file -> the levels run on it (a collaborative mission has its own levels).
+MISSIONS = {
+    "rendezvous.epi": GOAL_LEVELS,
+    "events/door_closes.epi": GOAL_LEVELS,
+    "nested/relocated_5.epi": GOAL_LEVELS,
+    "multi_task.epi": GOAL_LEVELS,
+    "collaborative/tasks_3.epi": ("convention", "third"),
+    "collaborative/tasks_5.epi": ("convention", "third"),
+}
 TARGET = 0.20
 
 
@@ -58,13 +69,16 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--only", default="", help="run the missions whose file name has this")
     args = parser.parse_args()
     print("| mission | level | steps | simulate (ms) | env (ms) | ms per step added | overhead |")
     print("|---|---|---:|---:|---:|---:|---:|")
     worst = 0.0
-    for name in MISSIONS:
+    for name, levels in MISSIONS.items():
+        if args.only not in name:
+            continue
         mission = load_mission(ROOT / "specs" / name)
-        for level in LEVELS:
+        for level in levels:
             sim_total = env_total = 0.0
             steps = 0
             for seed in range(args.seeds):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -42,10 +43,36 @@ def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys):
     assert " third " in capsys.readouterr().out
 
 
-def test_a_collaborative_mission_file_is_sent_to_run(capsys):
+def test_a_collaborative_mission_file_is_simulated_and_drawn(tmp_path, capsys):
     path = ROOT / "specs" / "collaborative" / "tasks_3.epi"
-    assert main(["simulate", "--mission", str(path)]) == 2
-    assert "epistemica run" in capsys.readouterr().err
+    png, gif = tmp_path / "t.png", tmp_path / "t.gif"
+    argv = ["simulate", "--mission", str(path), "--seed", "1", "--reasoning", "third"]
+    status = main([*argv, "--png", str(png), "--gif", str(gif)])
+    out = capsys.readouterr().out.splitlines()
+    mission = load_mission(path)
+    s = mission.scenario(1)
+    trial = simulate(
+        s, "third", seed=1, policies=mission.policies(1), parameters=mission.parameters
+    )
+    assert status == (0 if trial.success else 1)
+    verdict = f"succeeded at step {trial.steps}" if trial.success else "failed within"
+    assert f"with 3 robots and {s.n_tasks} tasks, seed 1: {verdict}" in out[2]
+    doing = {-1: "exploring", -2: "fetching", -3: "waiting"}
+    for i, line in enumerate(out[3:6]):
+        target = int(trial.steer_to[-1, i])
+        words = line.split()
+        assert words[:3] == [s.robot_names[i], s.sensors[i], "third"]
+        expected = doing.get(target) or f"steering to {s.task_names[target]}"
+        assert " ".join(words[3:]).startswith(expected)
+        x, y = trial.trajectory[-1, i, :2]
+        assert line.endswith(f"at ({x:.1f}, {y:.1f})")
+    done = trial.completion_step
+    assert (f"  all tasks done at step {done}" in out) == (done is not None)
+    assert png.read_bytes()[:4] == b"\x89PNG" and gif.read_bytes()[:3] == b"GIF"
+    assert main([*argv, "--json"]) == status
+    record = json.loads(capsys.readouterr().out)
+    assert (record["mission"], record["robots"], record["goals"]) == ("collaborative", 3, s.n_tasks)
+    assert record["steps"] == trial.steps and record["sensors"] == list(s.sensors)
 
 
 @pytest.mark.parametrize("json_flag", [["--json"]])

@@ -151,3 +151,37 @@ def test_the_animated_seed_without_a_gain_and_when_chosen():
     rows[3]["steps"] = 40
     assert _collaborative_trial(None, rows, specs)[:2] == ("third", 5)
     assert _collaborative_trial(4, rows, specs) == ("third", 4, "")
+
+
+def test_the_trajectory_figure_draws_tasks_needs_and_who_steered_where(tmp_path, monkeypatch):
+    import epistemica.sim.study.figures as figures
+
+    drawn = []
+    real = figures.save_figure
+    monkeypatch.setattr(figures, "save_figure", lambda fig, *a: (drawn.append(fig), real(fig, *a)))
+    s, trial = _trial(1)
+    figures.plot_trial(s, trial, tmp_path / "t.png")
+    assert Image.open(tmp_path / "t.png").size[0] > 300
+    ax = drawn[0].axes[0]
+    labels = {a.get_gid(): a.get_text() for a in ax.texts if a.get_gid()}
+    for t, name in enumerate(s.task_names):
+        came = [s.robot_names[i] for i in range(s.n_robots) if (trial.steer_to[:, i] == t).any()]
+        done = trial.tasks_done[t]
+        text = f"×{s.needs[t]}" + (f", done at {done}" if 0 <= done <= trial.steps else "")
+        text += f"\nsteered to by {', '.join(came)}" if came else ""
+        assert labels[f"needs:{name}"] == text
+    crosses = sorted(a.get_gid() for a in ax.get_lines() if (a.get_gid() or "").startswith("done:"))
+    assert crosses == sorted(
+        f"done:{s.task_names[t]}" for t in np.flatnonzero(trial.tasks_done >= 0)
+    )
+    doing = {-1: "exploring", -2: "fetching a teammate", -3: "waiting for helpers"}
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    for i, name in enumerate(s.robot_names):
+        target = int(trial.steer_to[-1, i])
+        status = doing.get(target) or f"steering to {s.task_names[target]}"
+        assert legend[i] == f"{name} ({s.sensors[i]}, third): {status}"
+        path = next(line for line in ax.get_lines() if line.get_label() == legend[i])
+        assert np.allclose(
+            path.get_xydata(), trial.trajectory[:, i, :2], atol=0.006
+        )  # stored to 0.01 m
+    assert any(trial.steer_to[-1] >= 0) or any(trial.tasks_done >= 0)  # something to draw

@@ -15,12 +15,13 @@ import numpy as np
 import pytest
 from _browser import CHROMIUM
 
+from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.cli import main
 from epistemica.del_ import evaluate, load_spec
 from epistemica.mission import parse_mission
 from epistemica.model_json import world_names
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.study.palette import ROBOT_COLOURS, focus_robot
+from epistemica.sim.study.palette import ROBOT_COLOURS, TYPE_MEANINGS, focus_robot
 from epistemica.sim.study.trace import trial_trace
 
 pytestmark = pytest.mark.skipif(
@@ -94,13 +95,18 @@ def test_play_pause_and_scrub(browser, trial_page):
     types = trace["teammate_types"]
     kept = [i for i in range(5) if any(None not in row for st in types for row in st[i])]
     reader = focus_robot(trace) if focus_robot(trace) in kept else kept[0]
-    lines = browser.js("[...document.querySelectorAll('#reading-0 div')].map(d => d.textContent)")
-    shown = []
-    for j, row in enumerate(trace["teammate_types"][decided][reader]):
-        if j != reader and None not in row:
-            k = row.index(max(row))
-            shown.append(f"{trace['robots'][j]}: {trace['types'][k]} {row[k]:.2f}")
-    assert lines == shown and shown
+    assert _texts(browser, "#reading-0 tr:first-child th")[1:] == trace["types"]
+    rows = [j for j in range(5) if j != reader]
+    assert _texts(browser, "#reading-0 tr[data-robot] th") == [trace["robots"][j] for j in rows]
+    cells = _texts(browser, "#reading-0 td.goal-cell")
+    table = [trace["teammate_types"][decided][reader][j] for j in rows]
+    assert cells == [f"{v:.2f}" if v is not None else "n/c" for row in table for v in row]
+    likeliest = _texts(browser, "#reading-0 td.likeliest")
+    assert likeliest == [f"{max(row):.2f}" for row in table if None not in row] and likeliest
+    key = browser.js("document.querySelector('#reading-key-0').textContent")
+    for name, meaning in TYPE_MEANINGS.items():
+        assert f"{name}: {meaning}" in key
+    assert f"{trace['types'][0]} {TYPE_PRIOR[0]:.2f}" in key  # the prior, before any move
 
 
 def _random_formula(rng: random.Random, agents: list[str], atoms: list[str], depth: int) -> str:
@@ -309,3 +315,63 @@ def test_a_chosen_robots_model_of_its_teammates_is_shown(browser, compared):
     sets = _texts(browser, "#model-1 td.sets")
     modelled = trials[1].modelled[min(step, trials[1].steps - 1), 1]
     assert sets == [str(modelled[j]) if modelled[j] > 0 else "not computed" for j in (0, 2)]
+
+
+def test_nested_lines_are_drawn_beside_equal_lines_and_named_in_a_legend(browser, compared):
+    page, traces, trials = compared
+    browser.open(page, "window.epistemicaView")
+    for k, trial in enumerate(trials):
+        f = focus_robot(traces[k])
+        robots = traces[k]["robots"]
+        drawn = browser.js(
+            f"[...document.querySelectorAll('#sets-{k} polyline')].map(p => [p.dataset.line, "
+            "p.getAttribute('stroke-dasharray'), p.getAttribute('points').trim().split(' ')"
+            ".map(q => +q.split(',')[1])])"
+        )
+        names = [f"{r}'s own" for r in robots]
+        names += [f"{robots[f]}'s model of {r}'s" for j, r in enumerate(robots) if j != f]
+        assert [d[0] for d in drawn] == names
+        assert [bool(d[1]) for d in drawn] == [False] * 3 + [True] * 2  # models dashed
+        values = [trial.considered[:, i] for i in range(3)]
+        values += [trial.modelled[:, f, j] for j in range(3) if j != f]
+        coinciding = 0
+        for a in range(len(drawn)):
+            for b in range(a + 1, len(drawn)):
+                equal = values[a] == values[b]
+                gap = np.abs(np.subtract(drawn[a][2], drawn[b][2]))[equal]
+                assert (gap >= 2.0).all(), (drawn[a][0], drawn[b][0])
+                coinciding += int(equal.sum()) if b >= 3 > a else 0
+                # where the values differ the order on screen follows them (y grows down)
+                apart = np.abs(values[a] - values[b]) >= 1
+                assert (np.sign(np.subtract(drawn[a][2], drawn[b][2])[apart])
+                        == -np.sign(values[a] - values[b])[apart]).all()  # fmt: skip
+        assert coinciding > 0  # a model equal to a teammate's own set: drawn beside it
+        legend = _texts(browser, f"#sets-legend-{k} span[data-line]")
+        assert [t.strip() for t in legend] == names
+
+
+def test_the_focus_robot_and_a_certain_first_belief_are_explained(browser, compared):
+    page, traces, trials = compared
+    browser.open(page, "window.epistemicaView")
+    for k, trial in enumerate(trials):
+        known = trial.known_goals  # (T, n, n, m), from the simulation itself
+        own = np.stack([known[:, i, i] for i in range(3)], axis=1)  # (T, n, m)
+        private = own[:, :, None, :] & ~known  # i knows g, takes j not to
+        counts = private.sum(axis=(0, 2, 3))
+        f = int(np.argmax(counts))
+        assert traces[k]["robots"][f] == "r1"  # who alone knows of g4
+        goals = [traces[k]["goals"][g] for g in np.flatnonzero(private[:, f].any(axis=(0, 1)))]
+        steps = int(private[:, f].sum(axis=0).max())
+        text = browser.js(f"document.querySelector('#focus-why-{k}').textContent")
+        assert text == (
+            f"r1 is shown first: it knows of {' and '.join(goals)} and takes r2 and r3 not to "
+            f"know of it (on {steps} of {trial.steps} steps)"
+        )
+        assert browser.js(f"document.querySelector('#model-robot-{k}').value") == str(f)
+        # A belief of 1.00 at step 0, before any event: true (computed by the trial) and
+        # explained beside the table.
+        browser.js("window.epistemicaView.setStep(0)")
+        certain = trial.goal_belief[0].max() > 0.995
+        assert ("1.00" in _texts(browser, f"#belief-{k} td")) == certain
+        note = browser.js(f"document.querySelector('#belief-why-{k}').textContent")
+        assert "step 0" in note and "prior" in note and "1.00" in note

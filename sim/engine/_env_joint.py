@@ -22,16 +22,15 @@ import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.sim.engine._env_view import (
-    clipped,
     event_flags,
     position_bounds,
     positions,
     robot_space,
+    shortfall,
     state_space,
     state_vector,
 )
 from epistemica.sim.engine.joint import JointRun, JointView
-from epistemica.sim.engine.missions import distances
 
 __all__ = ["JointWorld"]
 
@@ -69,39 +68,47 @@ class JointWorld:
                 "levels that share what they see and levels that do not play the same world",
                 hint="give every scripted robot of a collaborative mission one level",
             )
+        self._bounds = lo, hi = position_bounds(s)
+        self._tasks = np.clip(s.tasks, lo, hi).astype(np.float32)[None]  # (1, m, 2)
+        self._needs, self._alone = np.asarray(s.needs), np.eye(s.n_robots, dtype=bool)
+        self._undone, self._near = -1, []  # how many tasks were not done, and where they are
+        self._rules = {rule.name: k for k, rule in enumerate(s.events)}
         return JointRun(s, streams, shares.pop())
 
     def views(self, run: JointRun, view: JointView, step: int, new_events, robots) -> dict:
-        """Each of ``robots``' observation (robot index -> dict) at ``step``."""
-        s, n = self.s, self.s.n_robots
-        lo, hi = position_bounds(s)
-        poses = clipped(view.poses, lo, hi).astype(np.float32)
-        where = np.clip(view.estimates, lo, hi).astype(np.float32)
-        index = np.arange(n)
-        where[index, index] = poses[:, :2]  # its own row: exact
-        seen = ((view.last_seen == view.step) | np.eye(n, dtype=bool)).astype(np.int8)
-        knows = np.diagonal(view.aware).T  # (n, m): robot i knows of task t
-        tasks = np.where(knows[..., None], np.clip(s.tasks, lo, hi)[None], 0.0)
-        tasks = tasks.astype(np.float32)
-        needs = np.where(knows, np.asarray(s.needs), 0)
+        """Each of ``robots``' observation (robot index -> dict) at ``step`` (the arrays of
+        every robot built at once, from the trial's constants :meth:`start` keeps)."""
+        # ufuncs and array methods only (no numpy function wrappers): this runs every step
+        s, (lo, hi), true = self.s, self._bounds, view.poses
+        poses = np.empty(true.shape, dtype=np.float32)  # as _env_view.clipped, then float32
+        poses[:, :2] = np.minimum(np.maximum(true[:, :2], lo), hi)
+        poses[:, 2] = (true[:, 2] + np.pi) % (2 * np.pi) - np.pi
+        where = np.minimum(np.maximum(view.estimates, lo), hi).astype(np.float32)
+        where[self._alone] = poses[:, :2]  # its own row: exact
+        seen = ((view.last_seen == view.step) | self._alone).astype(np.int8)
+        knows = view.aware.diagonal().T  # (n, m): robot i knows of task t
+        tasks = np.where(knows[..., None], self._tasks, np.float32(0.0))
+        needs = np.where(knows, self._needs, 0)
         known = knows.astype(np.int8)
-        events = event_flags(s, new_events)
+        done = np.array([view.knowledge.knows_done((i,)) for i in robots], dtype=np.int8)
+        events = event_flags(s, new_events, self._rules)
+        aware = view.aware.astype(np.int8) if self.epistemic else None
         out = {}
-        for i in robots:
-            out[i] = {
+        for row, i in enumerate(robots):
+            out[i] = own = {
                 "pose": poses[i],
                 "teammates": where[i],
                 "seen": seen[i],
                 "tasks": tasks[i],
                 "known_tasks": known[i],
                 "needs": needs[i],
-                "done": view.knowledge.knows_done((i,)).astype(np.int8),
+                "done": done[row],
                 "step": step,
             }
             if events is not None:
-                out[i]["events"] = events[i]
-            if self.epistemic:
-                out[i]["teammates_know"] = view.aware[i].astype(np.int8)
+                own["events"] = events[i]
+            if aware is not None:
+                own["teammates_know"] = aware[i]
         return out
 
     def declare(self, run: JointRun, targets: dict[int, int]) -> None:
@@ -118,16 +125,20 @@ class JointWorld:
 
     def progress(self, run: JointRun) -> float:
         """The share of the tasks done."""
-        return float(np.count_nonzero(run.done >= 0)) / self.s.n_tasks
+        return float(np.add.reduce(run.done >= 0)) / self.s.n_tasks
 
     def potential(self, run: JointRun) -> float:
         """Minus the mean distance (in workspaces) from each robot to its nearest task not
         done, beyond the completion radius (0 when every task is done)."""
-        s, undone = self.s, run.done < 0
-        if not undone.any():
+        s, done = self.s, run.done.tolist()
+        left = done.count(-1)
+        if not left:
             return 0.0
-        d = distances(run.poses, s.tasks[undone]).min(axis=1)
-        return -float(np.maximum(d - s.completion_radius, 0.0).sum()) / (len(d) * s.workspace)
+        if left != self._undone:  # a task is done for good: the set changed
+            near = [p for p, d in zip(s.tasks.tolist(), done, strict=True) if d < 0]
+            self._undone, self._near = left, near
+        beyond = shortfall(run.poses.tolist(), self._near, s.completion_radius)
+        return -beyond / (s.n_robots * s.workspace)
 
     def last(self, view: JointView, run: JointRun) -> JointView:
         """The observation after the last step: the same, with the true poses now."""
@@ -135,5 +146,5 @@ class JointWorld:
 
     def info(self, run: JointRun) -> dict:
         """What every agent's info adds: tasks done, success."""
-        done = int(np.count_nonzero(run.done >= 0))
+        done = int(np.add.reduce(run.done >= 0))
         return {"tasks_done": done, "success": run.completion is not None}

@@ -8,9 +8,10 @@ Helper of :mod:`epistemica.sim.engine.env` (gymnasium is imported by the caller 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from epistemica.sim.engine.missions import distances
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.engine.simulate import TrialRun
@@ -27,6 +28,7 @@ __all__ = [
     "positions",
     "potential",
     "robot_space",
+    "shortfall",
     "state_space",
     "state_vector",
 ]
@@ -125,7 +127,7 @@ def state_vector(
 def clipped(poses: np.ndarray, lo: float, hi: float) -> np.ndarray:
     """Positions clipped into the bounds, headings wrapped into ``[-pi, pi)``."""
     out = np.array(poses, dtype=float)
-    out[..., :2] = np.clip(out[..., :2], lo, hi)
+    out[..., :2] = np.minimum(np.maximum(out[..., :2], lo), hi)  # ufuncs: every step
     out[..., 2] = (out[..., 2] + np.pi) % (2 * np.pi) - np.pi
     return out
 
@@ -144,7 +146,8 @@ def agent_views(
     lo, hi = position_bounds(s)
     poses = clipped(obs.poses, lo, hi).astype(np.float32)
     known = obs.known_goals
-    goals = np.where(known[..., None], np.clip(s.goals, lo, hi)[None], 0.0).astype(np.float32)
+    places = np.minimum(np.maximum(s.goals, lo), hi)[None]
+    goals = np.where(known[..., None], places, 0.0).astype(np.float32)
     known_i8, closed_i8 = known.astype(np.int8), obs.known_done.astype(np.int8)
     seen_i8 = obs.seen.astype(np.int8)
     events = event_flags(s, new_events)
@@ -167,13 +170,13 @@ def agent_views(
     return views
 
 
-def event_flags(s, new_events: list[tuple]) -> np.ndarray | None:
+def event_flags(s, new_events: list[tuple], rules: dict | None = None) -> np.ndarray | None:
     """``(n, R)``: robot ``i`` observed an event of rule ``k`` among ``new_events`` (the
     run's records: ``(step, rule, arguments, observers)``); None for a mission without
-    events."""
+    events. ``rules``: each rule's index by name, if the caller keeps it."""
     if not s.events:
         return None
-    rule = {r.name: k for k, r in enumerate(s.events)}
+    rule = {r.name: k for k, r in enumerate(s.events)} if rules is None else rules
     events = np.zeros((s.n_robots, len(s.events)), dtype=np.int8)
     for record in new_events:
         events[list(record[-1]), rule[record[1]]] = 1
@@ -183,10 +186,27 @@ def event_flags(s, new_events: list[tuple]) -> np.ndarray | None:
 def potential(s: Scenario, poses: np.ndarray, open_goals: np.ndarray) -> float:
     """Minus the mean distance (in workspaces) from each robot to its nearest open goal
     beyond the success radius: 0 when every robot is at an open goal."""
-    if not open_goals.any():
+    near = [g for g, now in zip(s.goals.tolist(), open_goals.tolist(), strict=True) if now]
+    if not near:
         return 0.0
-    d = distances(poses, s.goals[open_goals]).min(axis=1)
-    return -float(np.maximum(d - s.success_radius, 0.0).sum()) / (len(d) * s.workspace)
+    return -shortfall(poses.tolist(), near, s.success_radius) / (len(poses) * s.workspace)
+
+
+def shortfall(poses: list, places: list, radius: float) -> float:
+    """The sum over robots (``poses``: ``[x, y, ...]`` lists) of the distance to the
+    nearest of ``places`` (``[x, y]`` lists) beyond ``radius``: plain floats, which cost
+    less than numpy calls for a few robots and places, every step.
+
+    Examples
+    --------
+    >>> shortfall([[0.0, 0.0, 0.0], [10.0, 0.0, 1.0]], [[3.0, 4.0], [10.0, 1.0]], 1.0)
+    4.0
+    """
+    total = 0.0
+    for x, y, *_ in poses:
+        d = min(math.hypot(x - a, y - b) for a, b in places)
+        total += max(d - radius, 0.0)
+    return total
 
 
 class GoalWorld:

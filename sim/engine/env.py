@@ -202,12 +202,6 @@ class MissionEnv(ParallelEnv):
                 hint="leave at least one robot out of `teammates`",
             )
         self._index = {name: i for i, name in enumerate(s.robot_names)}
-        if s.kind.joint and render_mode is not None:
-            raise InvalidArgumentError(
-                "render() draws goal and multitask trials; a collaborative one has no picture "
-                "of a single step yet",
-                hint="leave render_mode out; 'epistemica run FILE' animates a collaborative trial",
-            )
         world = JointWorld if s.kind.joint else GoalWorld
         self.world = world(spaces, s, self.epistemic)
         self._observation_space = self.world.observation_space
@@ -245,6 +239,9 @@ class MissionEnv(ParallelEnv):
         self.returns = dict.fromkeys(self.agents, 0.0)
         self._progress, self._potential = 0.0, self._current_potential()
         self.observations = self.run.perceive(0)
+        self._rows = np.array([self._index[a] for a in self.agents], dtype=int)
+        speed, turn = s.max_speed[self._rows], s.max_turn[self._rows]
+        self._limits = np.stack([0.0 * speed, -turn], axis=1), np.stack([speed, turn], axis=1)
         return self._views(), self._infos()
 
     def step(self, actions: Mapping):
@@ -270,20 +267,12 @@ class MissionEnv(ParallelEnv):
             raise InvalidArgumentError(
                 f"no action for agent(s) {missing}", hint="give every agent in env.agents one"
             )
-        robots = [self._index[a] for a in self.agents]
-        chosen = checked_actions(self.agents, actions)
-        chosen = controls_of(s, robots, chosen) if self.normalized else chosen
-        speed, turn = s.max_speed[robots], s.max_turn[robots]  # clipped as the run would
-        controls[robots] = np.stack(
-            [np.clip(chosen[:, 0], 0.0, speed), np.clip(chosen[:, 1], -turn, turn)], axis=1
-        )
+        robots, (low, high) = self._rows, self._limits  # the agents' rows, every step
+        given = checked_actions(self.agents, actions)
+        chosen = controls_of(s, robots, given) if self.normalized else given
+        controls[robots] = np.minimum(np.maximum(chosen, low), high)  # clipped as the run would
         run.decide(t, self.observations, self.groups, controls)
-        advised = {
-            self._index[a]: target
-            for a, (row, target) in self._advice.items()
-            if np.array_equal(np.asarray(actions[a], dtype=float), row)
-        }
-        self.world.declare(run, advised)
+        self.world.declare(run, self._advised(given))
         self._advice = {}
         success = run.advance(t, controls)
         self.step_count = t + 1
@@ -347,7 +336,7 @@ class MissionEnv(ParallelEnv):
             if decisions.steer_to is not None:
                 steer[robots] = decisions.steer_to
         actions = {a: controls[self._index[a]] for a in self.agents}
-        self._advice = {a: (actions[a].copy(), int(steer[self._index[a]])) for a in self.agents}
+        self._advice = {a: (actions[a].tolist(), int(steer[self._index[a]])) for a in self.agents}
         return actions
 
     def trial(self) -> Trial:
@@ -406,6 +395,16 @@ class MissionEnv(ParallelEnv):
         if self.run is None:
             raise InvalidArgumentError("the environment has no trial", hint="call reset() first")
         return self.run
+
+    def _advised(self, given: np.ndarray) -> dict[int, int]:
+        """Robot -> task of the agents whose action this step (``given``, rows of
+        ``self.agents``) is the one :meth:`level_actions` gave them."""
+        out = {}
+        for k, (agent, row) in enumerate(zip(self.agents, given.tolist(), strict=True)):
+            advice = self._advice.get(agent)
+            if advice is not None and row == advice[0]:
+                out[int(self._rows[k])] = advice[1]
+        return out
 
     def _views(self) -> dict[str, dict]:
         run = self._running()

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.trial import Trial
 from epistemica.sim.study.figure_parts import (
@@ -30,9 +32,10 @@ from epistemica.sim.study.figure_parts import (
     pyplot,
     save_figure,
     set_map_limits,
+    trace_title,
     write_gif,
 )
-from epistemica.sim.study.frames import FRAMES, JointFrame, TraceFrame, frame_for
+from epistemica.sim.study.frames import FRAMES, JointFrame, TraceFrame, frame_for, frame_type
 from epistemica.sim.study.palette import ROBOT_COLOURS, fetching_robot, focus_robot, robot_colour
 from epistemica.sim.study.trace import trial_trace
 
@@ -56,19 +59,12 @@ __all__ = [
 ]
 
 
-def _title(scenario: Scenario, trial: Trial) -> str:
-    outcome = (
-        f"succeeded at step {trial.steps}"
-        if trial.success
-        else f"failed within {trial.steps} steps"
-    )
-    levels = ", ".join(dict.fromkeys(trial.policies))
-    return f"{scenario.mission}, {scenario.n_robots} robots, {levels}, seed {trial.seed}: {outcome}"
-
-
 def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     """Write the trajectories of ``trial`` in ``scenario`` as a figure at ``path`` (the
-    extension picks the format: ``.png``, ``.pdf``, ``.svg``).
+    extension picks the format: ``.png``, ``.pdf``, ``.svg``), of any kind: the places are
+    drawn by the frame of the kind's panels (:func:`~epistemica.sim.study.frames.frame_type`:
+    goals, closed ones hollow; or tasks with the robots each needs, when each was done and
+    who steered to it), and each robot's legend entry says what it did last.
 
     Examples
     --------
@@ -79,21 +75,26 @@ def plot_trial(scenario: Scenario, trial: Trial, path) -> None:
     >>> plot_trial(s, simulate(s, "convention", seed=0), path)
     >>> os.path.getsize(path) > 10_000
     True
+    >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+    >>> c = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1).replace(max_steps=8)
+    >>> plot_trial(c, simulate(c, "third", seed=1), path)
     """
     plt = pyplot()
+    trace = trial_trace(scenario, trial)
+    frame = frame_type(trace)
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
-    draw_obstacles(ax, scenario.obstacles)
-    closed = scenario.closed if trial.closed_goals is None else trial.closed_goals[-1]
-    draw_goals(ax, scenario.goals, scenario.goal_names, scenario.success_radius, closed)
-    for i, name in enumerate(scenario.robot_names):
-        path_i = trial.trajectory[:, i]
+    draw_obstacles(ax, trace.get("obstacles", []))
+    frame.mark_places(ax, trace, int(trace["steps"]))
+    poses = np.asarray(trace["poses"], dtype=float)
+    for i, name in enumerate(trace["robots"]):
         colour = robot_colour(i)
-        label = f"{name} ({scenario.sensors[i]}, {trial.policies[i]})"
-        ax.plot(path_i[:, 0], path_i[:, 1], "-", color=colour, linewidth=1.6, label=label)
-        ax.plot(*path_i[0, :2], "o", color=colour, markeredgecolor="k")
-        ax.plot(*path_i[-1, :2], "s", color=colour, markeredgecolor="k")
-    set_map_limits(ax, trial.trajectory[:, :, :2], scenario.goals, scenario.workspace)
-    ax.set_title(_title(scenario, trial), fontsize=FONT_SIZE)
+        label = f"{name} ({trace['sensors'][i]}, {trace['policies'][i]}): {frame.status(trace, i)}"
+        ax.plot(poses[:, i, 0], poses[:, i, 1], "-", color=colour, linewidth=1.6, label=label)
+        ax.plot(*poses[0, i, :2], "o", color=colour, markeredgecolor="k")
+        ax.plot(*poses[-1, i, :2], "s", color=colour, markeredgecolor="k")
+    places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+    set_map_limits(ax, poses[:, :, :2], places, trace["workspace"])
+    ax.set_title(trace_title(trace, scenario.kind.name), fontsize=FONT_SIZE)
     ax.legend(
         fontsize=FONT_SIZE, loc="upper right", title="o start, ■ end", title_fontsize=FONT_SIZE
     )

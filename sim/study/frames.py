@@ -9,9 +9,10 @@ beside it; :meth:`draw` shows one step of a trace (:mod:`epistemica.sim.study.tr
   the focus robot's model of each teammate's dashed), the events; on the map, where each
   robot places each teammate.
 - :class:`JointFrame` (:data:`~epistemica.sim.kinds.base.JOINT_PANELS`, collaborative
-  missions): each task with the number of robots it needs (crossed out once done), what
-  each robot steers to (a task, ``explore``, ``fetch``, ``wait``), which robot knows of
-  which task, what one robot knows each teammate knows, the events.
+  missions; in :mod:`epistemica.sim.study.joint_frame`): each task with the number of
+  robots it needs (crossed out once done), what each robot steers to (a task, ``explore``,
+  ``fetch``, ``wait``), which robot knows of which task, what one robot knows each teammate
+  knows, the events.
 
 :func:`frame_for` picks the frame whose panels are the trace's kind's (:data:`FRAMES`);
 :mod:`epistemica.sim.study.figures` writes the animation.
@@ -19,12 +20,14 @@ beside it; :meth:`draw` shows one step of a trace (:mod:`epistemica.sim.study.tr
 
 from __future__ import annotations
 
+import textwrap
 from typing import Any
 
 import numpy as np
 
+from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.del_.errors import EpistemicaError
-from epistemica.sim.kinds.base import GOAL_PANELS, JOINT_PANELS
+from epistemica.sim.kinds.base import GOAL_PANELS
 from epistemica.sim.kinds.registry import kind_of_trace
 from epistemica.sim.study.figure_parts import (
     FONT_SIZE,
@@ -35,15 +38,37 @@ from epistemica.sim.study.figure_parts import (
     move_robots,
     pyplot,
     robot_artists,
-    robot_table,
     set_closed,
     set_map_limits,
     trace_title,
 )
-from epistemica.sim.study.palette import fetching_robot, focus_robot, robot_colour
+from epistemica.sim.study.joint_frame import JointFrame
+from epistemica.sim.study.palette import (
+    TYPE_MEANINGS,
+    focus_robot,
+    robot_colour,
+)
 from epistemica.sim.study.trace import known_goals
 
-__all__ = ["FRAMES", "JointFrame", "TraceFrame", "frame_for"]
+__all__ = [
+    "BELIEF_NOTE",
+    "FRAMES",
+    "SETS_GAP",
+    "JointFrame",
+    "TraceFrame",
+    "frame_for",
+    "frame_type",
+]
+
+#: Points between two lines of the configuration-set plot (own sets above, models below):
+#: a model equal to a teammate's own set shows beside it, not under it.
+SETS_GAP = 1.5
+#: Why a belief can read 1.00 at step 0, before any event (under the goal frame's panels).
+BELIEF_NOTE = (
+    "Beliefs are after each step's observations. At step 0 a robot has seen only\n"
+    "where its teammates start: a 1.00 there is its prior (the team taken to be\n"
+    "efficient; at orders 2-3, each teammate predicted from the goals it knows of)."
+)
 
 
 class TraceFrame:
@@ -112,7 +137,24 @@ class TraceFrame:
         self._sets_panel()
         self.event_lines = event_panel(self.events_axes)
         self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
+        fig.text(0.44, 0.012, BELIEF_NOTE, fontsize=FONT_SIZE, va="bottom", ha="left",
+                 color="0.3", gid="belief-note")  # fmt: skip
         fig.subplots_adjust(left=0.05, right=0.83, top=0.91, bottom=0.17, hspace=0.6)
+
+    @staticmethod
+    def mark_places(ax, trace: dict[str, Any], step: int) -> None:
+        """The goals on the map ``ax`` as they are at ``step`` (closed ones hollow)."""
+        goals = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
+        closed = _closed_steps(trace)
+        shut = closed[min(step, len(closed) - 1)]
+        draw_goals(ax, goals, trace["goals"], trace["success_radius"], shut)
+
+    @staticmethod
+    def status(trace: dict[str, Any], robot: int) -> str:
+        """What ``robot`` did at the trace's last decision: the goal it headed for."""
+        focal = trace["focal"]
+        goal = int(focal[-1][robot][robot]) if len(focal) else -1
+        return f"heading for {trace['goals'][goal] if goal >= 0 else '-'}"
 
     def _map_legend(self) -> None:
         from matplotlib.lines import Line2D
@@ -150,22 +192,27 @@ class TraceFrame:
         ] if small else []  # fmt: skip
 
     def _sets_panel(self) -> None:
+        from matplotlib.transforms import offset_copy
+
         ax, f = self.sets_axes, self.focus
         steps = np.arange(len(self.considered))
-        for i, name in enumerate(self.robots):
-            ax.plot(steps, self.considered[:, i], "-", color=robot_colour(i), lw=1.8, label=name)
-        for j, name in enumerate(self.robots):
-            if j != f and len(self.modelled):
-                ax.plot(  # wide and pale under the solid lines: visible where they agree
-                    steps,
-                    self.modelled[:, f, j],
-                    "--",
-                    color=robot_colour(j),
-                    lw=4.0,
-                    alpha=0.45,
-                    zorder=1,
-                    label=f"{self.robots[f]}'s model of {name}'s",
-                )
+        lines = [(self.considered[:, i], i, "-", name) for i, name in enumerate(self.robots)]
+        if len(self.modelled):
+            lines += [
+                (self.modelled[:, f, j], j, "--", f"{self.robots[f]}'s model of {name}'s")
+                for j, name in enumerate(self.robots)
+                if j != f
+            ]
+        for q, (values, i, style, label) in enumerate(lines):
+            # each line SETS_GAP points from the next (own above, models below): lines of
+            # equal values lie side by side rather than on one another
+            shift = offset_copy(ax.transData, fig=self.fig, units="points",
+                                y=(len(lines) - 1 - 2 * q) * SETS_GAP / 2)  # fmt: skip
+            ax.plot(steps, values, style, color=robot_colour(i), lw=1.8, label=label,
+                    transform=shift, gid=f"sets:{label}")  # fmt: skip
+            ax.update_datalim(np.column_stack([steps, values]))  # shifted: not autoscaled
+        ax.margins(y=0.12)  # room for the shifted lines at the top
+        ax.autoscale_view()
         if len(self.considered) and np.nanmax(self.considered) > 20:
             ax.set_yscale("log")
         else:
@@ -175,7 +222,7 @@ class TraceFrame:
         ax.tick_params(labelsize=FONT_SIZE)
         ax.set_title(
             f"configuration sets: own (solid), {self.robots[f]}'s model of each teammate's "
-            "(dashed)",
+            f"(dashed)\nequal values drawn {SETS_GAP:g} pt apart, own above",
             fontsize=FONT_SIZE,
             loc="left",
         )
@@ -225,16 +272,23 @@ class TraceFrame:
     def _draw_reading(self, step: int) -> None:
         if self.reading is None:
             return
+        names, prior = self.trace["types"], TYPE_PRIOR[0] if len(TYPE_PRIOR) else 0.0
         lines = [
-            f"{self.robots[self.reader]}'s read of its",
-            "teammates' behaviour",
-            "(posterior):",
+            f"{self.robots[self.reader]} reads each",
+            "teammate as (likeliest",
+            "behaviour, posterior;",
+            f"prior: {names[0]} {prior:.2f}):",
         ]
+        shown = []
         for j, name in enumerate(self.robots):
             row = self.types[step, self.reader, j]
             if j != self.reader and np.isfinite(row).all():
                 k = int(np.argmax(row))
-                lines.append(f"{name} {self.trace['types'][k]} {row[k]:.2f}")
+                lines.append(f"{name} {names[k]} {row[k]:.2f}")
+                shown.append(names[k])
+        for name in dict.fromkeys(shown):  # what each behaviour shown means
+            lines += textwrap.wrap(f"{name}: {TYPE_MEANINGS.get(name, name)}", 23,
+                                   subsequent_indent=" ")  # fmt: skip
         self.reading.set_text("\n".join(lines))
 
     def _draw_estimates(self, step: int, pose: np.ndarray) -> None:
@@ -297,110 +351,6 @@ def _closed_steps(trace: dict[str, Any]) -> np.ndarray:
     return out
 
 
-_ACTIONS = {-1: "explore", -2: "fetch", -3: "wait"}
-
-
-class JointFrame:
-    """The animation's figure over a joint (collaborative) trial's trace; :meth:`draw`
-    shows one step (see the module docstring).
-
-    Artists carry ``gid`` tags as in :class:`TraceFrame`; :meth:`knows_at` and
-    :meth:`nested_at` are the two tables drawn beside the map, read from the trace's
-    ``tasks_known`` and ``aware_since``.
-    """
-
-    panels = JOINT_PANELS
-
-    def __init__(self, trace: dict[str, Any], mission: str = "", focus: int | None = None):
-        self.plt = plt = pyplot()
-        self.trace = trace
-        self.robots, self.tasks = list(trace["robots"]), list(trace["goals"])
-        n, m = len(self.robots), len(self.tasks)
-        self.poses = np.asarray(trace["poses"], dtype=float)
-        self.knows = np.asarray(trace["tasks_known"], dtype=int).reshape(-1, n, m)
-        self.steer = np.asarray(trace["steer_to"], dtype=int).reshape(-1, n)
-        self.since = np.asarray(trace["aware_since"], dtype=int).reshape(n, n, m)
-        self.done = np.asarray(trace["tasks_done"], dtype=int)
-        self.places = np.asarray(trace["goal_positions"], dtype=float).reshape(-1, 2)
-        self.focus = fetching_robot(trace) if focus is None else focus
-        self.title = trace_title(trace, mission)
-        self.fig = fig = plt.figure(figsize=(13.0, 7.0))
-        grid = fig.add_gridspec(3, 2, width_ratios=(1.0, 1.05), height_ratios=(1.0, 1.0, 0.8))
-        self.map_axes = ax = fig.add_subplot(grid[:, 0])
-        draw_obstacles(ax, trace.get("obstacles", []))
-        draw_goals(ax, self.places, self.tasks, trace["success_radius"])
-        self.needs = [int(k) for k in trace["needs"]]
-        self.need_labels = [  # robots it needs, and once done when
-            ax.annotate(f"×{k}", (x, y), textcoords="offset points", xytext=(7, -12),
-                        fontsize=FONT_SIZE, gid=f"needs:{name}")
-            for (x, y), k, name in zip(self.places, self.needs, self.tasks, strict=True)
-        ]  # fmt: skip
-        set_map_limits(ax, self.poses[:, :, :2], self.places, trace["workspace"])
-        self.trails, self.discs, self.sensing = robot_artists(
-            ax, self.robots, self.poses[0], trace["sensing_range"]
-        )
-        ax.legend(handles=self.discs, fontsize=FONT_SIZE, loc="upper left",
-                  bbox_to_anchor=(-0.02, -0.06), ncol=min(n, 8), frameon=False)  # fmt: skip
-        self.others = others = [j for j in range(n) if j != self.focus]
-        note = " (dark: knows; columns of tasks done: grey)"
-        self.knows_image = robot_table(
-            fig.add_subplot(grid[0, 1]),
-            self.robots,
-            range(n),
-            self.tasks,
-            "which robot knows of which task" + note,
-        )
-        self.nested_image = robot_table(
-            fig.add_subplot(grid[1, 1]), [self.robots[j] for j in others], others, self.tasks,
-            f"what {self.robots[self.focus]} knows each teammate knows of" + note,
-        )  # fmt: skip
-        self.event_lines = event_panel(fig.add_subplot(grid[2, 1]))
-        self.transient: list = []
-        self.heading = fig.suptitle("", fontsize=FONT_SIZE + 1)
-        fig.subplots_adjust(left=0.05, right=0.97, top=0.91, bottom=0.14, hspace=0.6)
-
-    def knows_at(self, step: int) -> np.ndarray:
-        """``(n, m)`` 1 where robot ``i`` knew of task ``t`` at ``step``."""
-        return self.knows[min(step, len(self.knows) - 1)]
-
-    def nested_at(self, step: int) -> np.ndarray:
-        """``(n - 1, m)`` 1 where the focus robot knew at ``step`` that each teammate (in
-        robot order, the focus robot left out) knows of task ``t``."""
-        since = self.since[self.focus, self.others]
-        return ((since >= 0) & (since <= step)).astype(int)
-
-    def draw(self, step: int, since: int | None = None) -> list:
-        """Show ``step`` (events of steps after ``since`` ringed on the map); the artists."""
-        for artist in self.transient:
-            artist.remove()
-        self.transient.clear()
-        ax, pose = self.map_axes, self.poses[step]
-        decided = min(step, len(self.steer) - 1)
-        move_robots(self, step)
-        for i in range(len(self.robots)):
-            target = int(self.steer[decided, i]) if decided >= 0 else -1
-            action = _ACTIONS.get(target) or f"→{self.tasks[target]}"
-            label = ax.text(pose[i, 0] + 1.0, pose[i, 1] + 1.0, action,
-                            fontsize=FONT_SIZE - 1, color=robot_colour(i))  # fmt: skip
-            self.transient.append(label)
-        finished = (self.done >= 0) & (self.done <= step)
-        for t, label in enumerate(self.need_labels):
-            done = f", done at {self.done[t]}" if finished[t] else ""
-            label.set_text(f"×{self.needs[t]}{done}")
-        for t in np.flatnonzero(finished):
-            self.transient.append(ax.plot(*self.places[t], "x", color="0.5", ms=16, mew=3)[0])
-        shade = np.where(finished[None], 0.35, 0.0)  # done columns grey
-        self.knows_image.set_data(np.maximum(self.knows_at(step), shade))
-        self.nested_image.set_data(np.maximum(self.nested_at(step), shade))
-        self.transient += draw_events(self, step, step - 1 if since is None else since)
-        self.heading.set_text(f"{self.title}   step {step}")
-        return [*self.trails, *self.discs, *self.transient, self.heading]
-
-    def close(self) -> None:
-        """Release the figure."""
-        self.plt.close(self.fig)
-
-
 #: The frames, each drawing the map and the panels it names (``panels``).
 FRAMES = (TraceFrame, JointFrame)
 
@@ -419,8 +369,20 @@ def frame_for(trace: dict[str, Any], mission: str = "") -> TraceFrame | JointFra
     ('JointFrame', True)
     >>> frame.close()
     """
+    return frame_type(trace)(trace, mission)
+
+
+def frame_type(trace: dict[str, Any]) -> type[TraceFrame] | type[JointFrame]:
+    """The frame class drawing the panels of ``trace``'s kind (its ``mark_places`` and
+    ``status`` also serve the trajectory figure and ``simulate``'s text).
+
+    Examples
+    --------
+    >>> frame_type({"format": "epistemica-trace", "kind": "collaborative"}).__name__
+    'JointFrame'
+    """
     panels = kind_of_trace(trace).panels
     frame = next((f for f in FRAMES if f.panels == panels), None)
     if frame is None:  # a kind added without its drawing
         raise EpistemicaError(f"no figure draws the panels {', '.join(panels)}")
-    return frame(trace, mission)
+    return frame

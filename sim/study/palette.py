@@ -21,7 +21,9 @@ from epistemica.sim.study.trace import known_goals
 __all__ = [
     "LEVEL_COLOURS",
     "ROBOT_COLOURS",
+    "TYPE_MEANINGS",
     "fetching_robot",
+    "focus_reason",
     "focus_robot",
     "level_style",
     "robot_colour",
@@ -51,6 +53,16 @@ _LINES = ("-", "--", "-.", ":")
 # One marker per level of REASONING (greyscale readers tell the levels apart by it).
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "p", "h", "<", ">", "d", "8", "H",
             "1", "2", "3", "4", "+")  # fmt: skip
+
+
+#: What each behaviour of the teammate-model library (:data:`epistemica.aif.teammates.TYPES`)
+#: means, in the words the figures and pages print beside a robot's posterior over them.
+TYPE_MEANINGS = {
+    "team": "reasons as the team does (the team prior)",
+    "greedy": "heads for the goal nearest to it",
+    "convention": "least total travel, ties broken the other way",
+    "stationary": "stays where it is",
+}
 
 
 def level_style(level: str) -> tuple[str, str, str]:
@@ -89,6 +101,16 @@ def fetching_robot(trace: dict[str, Any]) -> int:
     return int(np.argmax((steer == -2).sum(axis=0)))
 
 
+def _private(trace: dict[str, Any]) -> np.ndarray | None:
+    """``(n, n, m)`` steps on which robot ``i`` knew of goal ``g`` and took robot ``j`` not
+    to know of it (``None`` without the trace's ``knows``)."""
+    known = known_goals(trace)
+    if known is None:
+        return None
+    own = np.diagonal(known, axis1=1, axis2=2).transpose(0, 2, 1)  # (T, n, m)
+    return (own[:, :, None, :] & ~known).sum(axis=0)
+
+
 def focus_robot(trace: dict[str, Any]) -> int:
     """The robot whose knowledge decides the trial, whose nested reasoning the figures show:
     the one that most often knows of a goal it takes a teammate not to know of (private
@@ -106,15 +128,49 @@ def focus_robot(trace: dict[str, Any]) -> int:
     ...              "goals": ["x"], "knows": [[0, 1, 1, 0, 1, "start"]]})
     1
     """
-    known = known_goals(trace)
-    if known is not None:
-        own = np.diagonal(known, axis1=1, axis2=2).transpose(0, 2, 1)  # (T, n, m)
-        private = (own[:, :, None, :] & ~known).sum(axis=(0, 2, 3))
-        if private.max() > 0:
-            return int(np.argmax(private))
+    private = _private(trace)
+    if private is not None and private.max() > 0:
+        return int(np.argmax(private.sum(axis=(1, 2))))
     modelled = np.asarray(trace["modelled"], dtype=float)
     if modelled.size == 0:
         return 0
     own = np.asarray(trace["considered"], dtype=float)
     gap = np.abs(modelled - own[:, None, :]).sum(axis=(0, 2))
     return int(np.argmax(gap)) if gap.max() > 0 else 0
+
+
+def focus_reason(trace: dict[str, Any]) -> str:
+    """Why :func:`focus_robot` chose its robot, in words computed from the trace: what it
+    knew of that it took which teammates not to know of, and on how many steps.
+
+    Examples
+    --------
+    >>> focus_reason({"modelled": [], "considered": [], "steps": 2, "robots": ["a", "b"],
+    ...               "goals": ["x", "y"], "knows": [[0, 1, 1, 0, 1, "start"],
+    ...               [0, 1, 1, 1, 1, "start"], [0, 1, 0, 1, 1, "start"]]})
+    'b is shown first: it knows of x and takes a not to know of it (on 2 of 2 steps)'
+    >>> focus_reason({"modelled": [], "considered": [], "robots": ["a", "b"]})
+    'a is shown first: no robot models a teammate differently from its own set'
+    """
+    f, robots = focus_robot(trace), list(trace["robots"])
+    private = _private(trace)
+    if private is not None and private[f].max() > 0:
+        goals = [g for g, c in zip(trace["goals"], private[f].max(axis=0), strict=True) if c]
+        who = [robots[j] for j in range(len(robots)) if private[f, j].max() > 0]
+        steps = int(private[f].max())
+        return (
+            f"{robots[f]} is shown first: it knows of {_words(goals)} and takes "
+            f"{_words(who)} not to know of {'it' if len(goals) == 1 else 'them'} "
+            f"(on {steps} of {max(int(trace['steps']), 1)} steps)"
+        )
+    modelled = np.asarray(trace["modelled"], dtype=float)
+    if modelled.size and np.abs(modelled - np.asarray(trace["considered"])[:, None]).max() > 0:
+        return (
+            f"{robots[f]} is shown first: its model of its teammates' configuration sets "
+            "differs most from their own sets"
+        )
+    return f"{robots[f]} is shown first: no robot models a teammate differently from its own set"
+
+
+def _words(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]

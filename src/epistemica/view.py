@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.spec import MAX_SOURCE_BYTES, read_source
 from epistemica.html_view import page, write_page
@@ -37,7 +38,13 @@ from epistemica.mission import parse_mission
 from epistemica.output_files import check_output
 from epistemica.sim.engine.simulate import simulate
 from epistemica.sim.kinds.registry import kind_of_trace
-from epistemica.sim.study.palette import ROBOT_COLOURS, fetching_robot, focus_robot
+from epistemica.sim.study.palette import (
+    ROBOT_COLOURS,
+    TYPE_MEANINGS,
+    fetching_robot,
+    focus_reason,
+    focus_robot,
+)
 from epistemica.sim.study.trace import (
     FORMAT,
     READABLE,
@@ -203,6 +210,10 @@ def _trial(trace: dict[str, Any]) -> dict[str, Any]:
         column["focus"] = fetching_robot(trace) if kind.joint else focus_robot(trace)
         if kind.joint:
             column["learned"] = task_learning(trace)
+        else:
+            column["focus_why"] = focus_reason(trace)
+            column["type_meanings"] = TYPE_MEANINGS
+            column["type_prior"] = [round(float(v), 2) for v in TYPE_PRIOR]
     except (KeyError, TypeError, ValueError, IndexError) as exc:  # a hand-made trace
         raise InvalidArgumentError(
             f"the trace is incomplete ({type(exc).__name__}: {exc})",

@@ -26,6 +26,7 @@ from epistemica.sim.engine.env import MissionEnv, RobotEnv
 from epistemica.sim.engine.missions import distances
 from epistemica.sim.engine.vector_env import VectorMissionEnv
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
+from epistemica.sim.study.palette import ROBOT_COLOURS
 
 FOLDER = Path(__file__).resolve().parents[2] / "specs" / "collaborative"
 SHIPPED = sorted(FOLDER.glob("*.epi"))
@@ -136,11 +137,18 @@ def test_teammates_that_share_and_that_do_not_are_refused_together():
         env.reset(seed=0)
 
 
-def test_render_is_refused_with_a_pointer_to_run():
+def test_render_draws_the_collaborative_trial_so_far():
     mission = load_mission(FOLDER / "tasks_3.epi")
-    with pytest.raises(InvalidArgumentError, match="collaborative") as info:
-        MissionEnv(mission, render_mode="rgb_array")
-    assert "epistemica run" in info.value.hint
+    env = MissionEnv(mission, render_mode="rgb_array")
+    env.reset(seed=1)
+    for _ in range(5):
+        env.step(env.level_actions("third"))
+    image = env.render()
+    assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
+    # the robots' colours are on it (their trails and ends), as plot_trial draws them
+    for colour in ROBOT_COLOURS[:3]:
+        rgb = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)])
+        assert (np.abs(image.astype(int) - rgb).sum(axis=2) < 40).sum() > 20, colour
 
 
 def test_the_vectorised_env_refuses_a_collaborative_mission_with_a_pointer():

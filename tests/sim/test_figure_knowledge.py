@@ -3,13 +3,19 @@ not computed; the trajectory figure shows obstacles and closed goals."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 pytest.importorskip("matplotlib")
 
+from matplotlib.text import Text
+
+from epistemica.mission import load_mission
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.study.figures import TraceFrame, plot_trial
+from epistemica.sim.study.frames import BELIEF_NOTE, SETS_GAP
 from epistemica.sim.study.trace import trial_trace
 
 SQUARE = [[10.0, 4.0], [13.0, 4.0], [13.0, 7.0], [10.0, 7.0]]
@@ -57,3 +63,65 @@ def test_trajectory_figure_draws_obstacles_and_closed_goals(tmp_path):
     s = _scenario()
     plot_trial(s, simulate(s, "first", seed=0), tmp_path / "t.png")
     assert (tmp_path / "t.png").stat().st_size > 10_000
+
+
+PRIVATE = Path(__file__).resolve().parents[2] / "specs" / "nested" / "private_goal_3.epi"
+
+
+@pytest.fixture(scope="module")
+def private_frame():
+    """private_goal_3 at seed 4, third: the story of issue 39 (r1 alone knows of g4)."""
+    mission = load_mission(str(PRIVATE))
+    s = mission.scenario(4)
+    trial = simulate(s, "third", seed=4, policies=mission.policies(4))
+    frame = TraceFrame(trial_trace(s, trial), "private_goal_3")
+    yield trial, frame
+    frame.close()
+
+
+def test_lines_of_equal_values_are_drawn_apart(private_frame):
+    trial, frame = private_frame
+    frame.draw(0)
+    frame.fig.canvas.draw()
+    lines = [
+        line for line in frame.sets_axes.get_lines() if (line.get_gid() or "").startswith("sets:")
+    ]
+    assert len(lines) == 3 + 2  # three own sets, r1's model of r2's and r3's
+    gap = SETS_GAP * frame.fig.dpi / 72
+    shown = [
+        line.get_transform().transform(np.column_stack([line.get_xdata(), line.get_ydata()]))[:, 1]
+        for line in lines
+    ]
+    coinciding = 0
+    for a in range(len(lines)):
+        for b in range(a + 1, len(lines)):
+            equal = lines[a].get_ydata() == lines[b].get_ydata()
+            coinciding += int(equal.sum()) * (lines[a].get_linestyle() != lines[b].get_linestyle())
+            assert (np.abs(shown[a] - shown[b])[equal] >= gap * 0.99).all()
+    # a model equal to a teammate's own set: it happens here (r1 models r2 and r3 exactly)
+    f = frame.focus
+    assert (trial.modelled[:, f, 1] == trial.considered[:, 1]).any() and coinciding > 0
+
+
+def test_no_text_leaves_the_frame(private_frame):
+    trial, frame = private_frame
+    for step in (0, trial.steps // 2, trial.steps):
+        frame.draw(step)
+        renderer = frame.fig.canvas.get_renderer()
+        page = frame.fig.bbox
+        for text in frame.fig.findobj(Text):
+            if not (text.get_visible() and text.get_text().strip()):
+                continue
+            box = text.get_window_extent(renderer)
+            inside = (
+                page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 <= box.y1 <= page.y1
+            )
+            assert inside, (step, text.get_text()[:40], box.bounds)
+
+
+def test_belief_at_step_0_is_explained_where_it_is_certain(private_frame):
+    trial, frame = private_frame
+    # Certain before any event (the prior from the starting positions): and the frame says why.
+    assert trial.goal_belief[0].max() > 0.99
+    notes = [t.get_text() for t in frame.fig.findobj(Text) if t.get_gid() == "belief-note"]
+    assert notes == [BELIEF_NOTE] and "step 0" in BELIEF_NOTE and "prior" in BELIEF_NOTE

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.cli import main
 from epistemica.del_.errors import EpistemicaError
 from epistemica.sim import Scenario, simulate
@@ -203,12 +204,20 @@ def test_the_teammate_types_a_robot_reads_are_recorded_and_drawn():
         reader = frame.focus if frame.focus in kept else kept[0]
         text = frame.reading.get_text().splitlines()
         name = trace["robots"][reader]
-        assert text[:3] == [f"{name}'s read of its", "teammates' behaviour", "(posterior):"]
-        for line, j in zip(text[3:], [j for j in range(3) if j != reader], strict=True):
+        assert text[:2] == [f"{name} reads each", "teammate as (likeliest"]
+        assert text[3] == f"prior: team {TYPE_PRIOR[0]:.2f}):"  # the library's first type
+        others = [j for j in range(3) if j != reader]
+        shown = []
+        for line, j in zip(text[4:], others, strict=False):
             k = int(np.argmax(types[step, reader, j]))
             assert (
                 line == f"{trace['robots'][j]} {trace['types'][k]} {types[step, reader, j, k]:.2f}"
             )
+            shown.append(trace["types"][k])
+        # then what each behaviour shown means, once each
+        key = " ".join(text[4 + len(others) :])
+        for name in dict.fromkeys(shown):
+            assert f"{name}:" in key
     finally:
         frame.close()
 

@@ -13,11 +13,12 @@ from functools import partial
 
 from epistemica.cli.json_output import print_json
 from epistemica.cli.options import scenario_options
-from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission
 from epistemica.output_files import check_output, write_output
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.study.figures import animate_trial, plot_trial
+from epistemica.sim.study.frames import frame_type
+from epistemica.sim.study.trace import trial_trace
 
 __all__ = ["run_simulate"]
 
@@ -36,19 +37,20 @@ def run_simulate(args: argparse.Namespace) -> int:
         frames = []
         write_output(args.gif, lambda out: frames.append(animate_trial(scenario, trial, out)))
         say(f"animation: {args.gif} ({frames[0]} frames; drawing them takes longer than the trial)")
+    trace = trial_trace(scenario, trial)
     if args.json:
         record = {
-            "mission": scenario.mission,
-            "robots": scenario.n_robots,
-            "goals": scenario.n_goals,
-            "sensors": list(scenario.sensors),
-            "observation": scenario.observation,
-            "sensing_range": scenario.sensing_range,
+            "mission": scenario.kind.name,
+            "robots": len(trace["robots"]),
+            "goals": len(trace["goals"]),
+            "sensors": list(trace["sensors"]),
+            "observation": getattr(scenario, "observation", None),
+            "sensing_range": trace["sensing_range"],
             **trial.summary(),
         }
         print_json("simulate", record)
     else:
-        print(_describe(scenario, trial))
+        print(_describe(scenario, trial, trace))
     return 0 if trial.success else 1
 
 
@@ -58,11 +60,6 @@ def _trial(args: argparse.Namespace):
     default)."""
     if args.mission.endswith(".epi") or os.path.isfile(args.mission):
         mission = load_mission(args.mission)
-        if mission.kind.joint:  # its pictures are its study's (run)
-            raise InvalidArgumentError(
-                f"{args.mission}: simulate draws goal and multitask missions",
-                hint=f"run its study with 'epistemica run {args.mission}'",
-            )
         level = args.reasoning or mission.study.levels[-1]
         scenario = mission.scenario(args.seed)
         trial = simulate(
@@ -78,24 +75,27 @@ def _trial(args: argparse.Namespace):
     return scenario, simulate(scenario, args.reasoning or "third", seed=args.seed)
 
 
-def _describe(scenario, trial) -> str:
+def _describe(scenario, trial, trace: dict) -> str:
+    """The outcome and, per robot, its sensor, level, what it did last (the kind's frame
+    says: the goal it headed for, the task it steered to) and where it ended."""
     verdict = (
         f"succeeded at step {trial.steps}"
         if trial.success
-        else (f"failed within {trial.steps} steps")
+        else f"failed within {trial.steps} steps"
     )
+    places = "tasks" if scenario.kind.tasks else "goals"
+    robots = trace["robots"]
     lines = [
-        f"{scenario.mission} with {scenario.n_robots} robots and {scenario.n_goals} "
-        f"goals, seed {trial.seed}: {verdict}"
+        f"{scenario.kind.name} with {len(robots)} robots and {len(trace['goals'])} {places}, "
+        f"seed {trial.seed}: {verdict}"
     ]
-    last = trial.focal[-1] if trial.steps else None
-    width = max(len(name) for name in scenario.robot_names)
-    for i, robot in enumerate(scenario.robot_names):
-        goal = "-" if last is None or last[i, i] < 0 else scenario.goal_names[last[i, i]]
+    frame = frame_type(trace)
+    width = max(len(name) for name in robots)
+    for i, robot in enumerate(robots):
         x, y = trial.trajectory[-1, i, :2]
         lines.append(
-            f"  {robot:<{width}}  {scenario.sensors[i]:<7}  {trial.policies[i]:<18}  "
-            f"heading for {goal:<4}  at ({x:.1f}, {y:.1f})"
+            f"  {robot:<{width}}  {trace['sensors'][i]:<7}  {trial.policies[i]:<18}  "
+            f"{frame.status(trace, i):<16}  at ({x:.1f}, {y:.1f})"
         )
     if trial.completion_step is not None:
         lines.append(f"  all tasks done at step {trial.completion_step}")

@@ -54,6 +54,9 @@ function epistemicaPanels(parts) {
     const model = teammateTable(ctx, { class: "model", id: `model-${k}` },
       [["sets", "set it models"]], "'s model of what each teammate knows (✓ it takes the "
       + "teammate to know of the goal; ✗ not; red: wrong)", (step) => draw(step));
+    if (ctx.p.focus_why) {  // the robot chosen first, and why (palette.focus_reason)
+      el("div", { class: "note focus-why", id: `focus-why-${k}` }, ctx.col, ctx.p.focus_why);
+    }
 
     function goalCell(cell, yes, h, closed, wrong) {
       cell.replaceChildren();
@@ -116,7 +119,13 @@ function epistemicaPanels(parts) {
   // Belief table: rows robots, columns goals, grey level = probability.
   function beliefPanel(ctx) {
     const t = ctx.t;
-    el("h3", {}, ctx.col, "Each robot's belief that a goal is its own (n/c: not computed)");
+    el("h3", {}, ctx.col, "Each robot's belief that a goal is its own, after the step's "
+      + "observations (n/c: not computed)");
+    el("div", { class: "note", id: `belief-why-${ctx.k}` }, ctx.col, "At step 0 a robot has "
+      + "seen only where its teammates start: a 1.00 there is its prior, which takes the team "
+      + "to be efficient (about 1 nat per metre of total travel, so a goal a few metres cheaper "
+      + "is near-certain) and, at orders 2 and 3, predicts each teammate from the goals the "
+      + "robot takes it to know of.");
     const table = el("table", { class: "belief", id: `belief-${ctx.k}` }, ctx.col);
     const head = el("tr", {}, table);
     el("th", {}, head, "");
@@ -148,7 +157,7 @@ function epistemicaPanels(parts) {
   function setsPanel(ctx) {
     const t = ctx.t, k = ctx.k, focus = ctx.focus, col = ctx.col;
     el("h3", {}, col, `Configuration sets: own (solid), ${t.robots[focus]}'s model of each `
-      + "teammate's (dashed, wide)");
+      + "teammate's (dashed)");
     const W = 430, H = 170, padL = 44, padB = 30;
     const chart = el("svg:svg", { class: "sets-chart", id: `sets-${k}`, width: W, height: H },
       col);
@@ -176,34 +185,64 @@ function epistemicaPanels(parts) {
     el("svg:text", { x: W - 10, y: H - 3, "text-anchor": "end", "font-size": 10 }, chart, "step");
     el("svg:text", { x: 2, y: 10, "font-size": 10 }, chart,
       logScale ? "configurations (log)" : "configurations");
-    const line = (series, i, dashed) => el("svg:polyline", {
-      points: series.map((v, s) => `${cx(s)},${cy(v)}`).join(" "), fill: "none",
-      stroke: colour(i), "stroke-width": dashed ? 4 : 1.6, "stroke-opacity": dashed ? 0.45 : 1,
-      "stroke-dasharray": dashed ? "6 4" : "", class: dashed ? "nested" : "own" }, chart);
-    t.robots.forEach((r, j) => { if (j !== focus) line(nested.map((s) => s[focus][j]), j, true); });
-    t.robots.forEach((r, i) => line(own.map((s) => s[i]), i, false));
+    // Every line [values, robot, dashed, label], each drawn GAP px from the next (own lines
+    // above, models below), so that lines with equal values lie side by side, not on top.
+    const lines = [
+      ...t.robots.map((r, i) => [own.map((s) => s[i]), i, false, `${r}'s own`]),
+      ...t.robots.map((r, j) => [nested.map((s) => s[focus][j]), j, true,
+        `${t.robots[focus]}'s model of ${r}'s`]).filter((l) => l[1] !== focus),
+    ];
+    const GAP = 2.5;
+    lines.forEach(([series, i, dashed, name], q) => {
+      const dy = (q - (lines.length - 1) / 2) * GAP;
+      el("svg:polyline", { points: series.map((v, s) => `${cx(s)},${cy(v) + dy}`).join(" "),
+        fill: "none", stroke: colour(i), "stroke-width": dashed ? 2.2 : 1.8,
+        "stroke-dasharray": dashed ? "5 3" : "", class: dashed ? "nested" : "own",
+        "data-offset": dy, "data-line": name }, chart);
+    });
     const cursor = el("svg:line", { y1: 18, y2: H - padB, stroke: "#555" }, chart);
+    const legend = el("div", { class: "legend sets-legend", id: `sets-legend-${k}` }, col);
+    lines.forEach(([, i, dashed, name]) => {
+      const entry = el("span", { "data-line": name }, legend);
+      const sample = el("svg:svg", { width: 26, height: 8 }, entry);
+      el("svg:line", { x1: 1, y1: 4, x2: 25, y2: 4, stroke: colour(i), "stroke-width": 2.2,
+        "stroke-dasharray": dashed ? "5 3" : "" }, sample);
+      entry.append(` ${name}`);
+    });
+    el("div", { class: "note" }, col, `Lines with equal values are drawn ${GAP} px apart `
+      + "(own sets above, models below), so that a model equal to a teammate's own set shows "
+      + "beside it rather than hidden under it.");
 
     const types = t.teammate_types || null;
     const kept = types ? t.robots.map((r, i) => i)
       .filter((i) => types.some((s) => s[i].some((row) => row.every((v) => v !== null)))) : [];
     const reader = kept.includes(focus) ? focus : kept[0];
     let reading = null;
-    if (kept.length) {
-      el("h3", {}, col, `What ${t.robots[reader]} reads of its teammates' behaviour (the most `
-        + "likely of the behaviour library, its posterior)");
-      reading = el("div", { class: "events reading", id: `reading-${k}` }, col);
+    if (kept.length) {  // a table: teammates by behaviours of the library
+      el("h3", {}, col, `How ${t.robots[reader]} reads its teammates' behaviour: its `
+        + "posterior over a library of behaviours, from their moves (bold: the most likely)");
+      reading = robotTable(col, { class: "reading", id: `reading-${k}` },
+        { robots: t.robots, goals: t.types }, t.robots.map((r, j) => j).filter((j) => j !== reader));
+      const meanings = ctx.p.type_meanings || {};
+      const prior = ctx.p.type_prior ? " Before any move (the prior): " + t.types.map((name, q) =>
+        `${name} ${ctx.p.type_prior[q].toFixed(2)}`).join(", ") + "." : "";
+      el("div", { class: "note", id: `reading-key-${k}` }, col, t.types.map((name) =>
+        `${name}: ${meanings[name] || name}`).join("; ") + "." + prior);
     }
     return (step) => {
       const decided = Math.min(step, t.steps - 1);
       cursor.setAttribute("x1", cx(Math.max(decided, 0)));
       cursor.setAttribute("x2", cx(Math.max(decided, 0)));
       if (reading) {
-        reading.replaceChildren();
-        types[Math.max(decided, 0)][reader].forEach((row, j) => {
-          if (j === reader || row.some((v) => v === null)) return;
-          const g = row.indexOf(Math.max(...row));
-          el("div", {}, reading, `${t.robots[j]}: ${t.types[g]} ${row[g].toFixed(2)}`);
+        const rows = t.robots.map((r, j) => j).filter((j) => j !== reader);
+        reading.cells.forEach((cells, r) => {
+          const row = types[Math.max(decided, 0)][reader][rows[r]];
+          const top = row.some((v) => v === null) ? -1 : row.indexOf(Math.max(...row));
+          cells.goals.forEach((cell, q) => {
+            cell.textContent = row[q] === null ? "n/c" : row[q].toFixed(2);
+            cell.className = "goal-cell" + (q === top ? " likeliest" : "")
+              + (row[q] === null ? " not-computed" : "");
+          });
         });
       }
     };
