@@ -132,7 +132,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
     parameters : CollaborativeParameters
         The mission's constants (the ``plan_*`` fields are the planner's).
     trace : bool
-        Keep every decision in :attr:`trace` (a list of :class:`Decision`, else None).
+        Keep every decision of the last trial in :attr:`trace` (a list of
+        :class:`Decision`; None without).
 
     Examples
     --------
@@ -171,6 +172,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
+        if self.trace is not None:
+            self.trace = []  # this trial's decisions
 
     def plan(self, view: View) -> tuple[np.ndarray, np.ndarray]:
         """``(targets (n, 2), steer_to (n,))``, as the rules' :meth:`CollaborativePolicy.plan`."""
