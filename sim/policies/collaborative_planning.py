@@ -80,8 +80,9 @@ class Decision(NamedTuple):
     predictions : numpy.ndarray
         ``(n, m + 1)`` each robot's predicted choice of a task or exploring.
     particles : numpy.ndarray
-        ``(n,)`` the starts of each never-seen teammate still possible (its place's
-        particles, :class:`TeammateModel`; the grid's size for one seen).
+        ``(n,)`` the starts of each teammate still possible (its place's particles,
+        :class:`TeammateModel`; one seen keeps the count it had when first seen, and the
+        robot's own row is the whole grid).
     sets : dict
         Chain -> the open tasks the robot knows the chain's last robot knows of.
     """
