@@ -222,6 +222,10 @@ class TaskPlanner:
     credit : float
         :func:`completion_times`' credit for the robots that come to a task too few come
         to (0: all or nothing).
+    recruit : bool
+        The convention's prior gives every fetch the weight it gives exploring (the
+        convention never fetches: it leaves a robot that no task has room for free to
+        explore, or to spend that time telling a teammate), rather than its 5 % spread.
     """
 
     def __init__(
@@ -235,6 +239,7 @@ class TaskPlanner:
         commitment: float = 0.0,
         convention: float = 0.0,
         credit: float = 0.0,
+        recruit: bool = False,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -247,6 +252,7 @@ class TaskPlanner:
         self.commitment = float(as_finite(commitment, "commitment"))
         self.convention = float(as_finite(convention, "convention"))
         self.credit = float(np.clip(as_finite(credit, "credit"), 0.0, 1.0))
+        self.recruit = bool(recruit)
         if min(self.explore, self.commitment, self.convention) < 0 or np.any(self.fail <= 0):
             raise InvalidArgumentError(
                 "explore and commitment must be >= 0 and fail > 0", hint="0 leaves them out"
@@ -310,6 +316,8 @@ class TaskPlanner:
         if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
             prior = np.full(G.size, 0.05 / G.size)
             prior[: m + 1] += 0.95 * _softmax(context.costs((robot,), 0), self.tau)
+            if self.recruit:  # a fetch is as likely as exploring (the convention's free time)
+                prior[m + 1 :] = prior[m]
             G = G - self.convention * self.tau * np.log(prior)
         if previous is not None and 0 <= previous < G.size and np.isfinite(G[previous]):
             G = G + self.commitment * self.tau

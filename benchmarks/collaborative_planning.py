@@ -9,6 +9,11 @@ one decision per robot of the planning level on the split's 8-robot missions.
 
     python benchmarks/collaborative_planning.py --missions 20 --levels third,plan-third
     python benchmarks/collaborative_planning.py --timing --missions 40
+    python benchmarks/collaborative_planning.py --trace 39:0:17   # mission 39, robot 0, step 17
+
+``--trace`` prints one decision of a traced ``plan-third`` trial (the split's trial seed):
+the robot's particles of each teammate, the arrivals and predictions it scored with, and
+every option's expected free energy (docs/results/collaborative_wrong_decision.md).
 """
 
 from __future__ import annotations
@@ -23,6 +28,8 @@ from generated_benchmark import SPLITS, family_options
 
 from epistemica.generate import mission_text
 from epistemica.mission import parse_mission
+from epistemica.sim import simulate
+from epistemica.sim.policies.collaborative_planning import PlanningCollaborativePolicy, explain
 
 BANDS = ((3, 4), (5, 6), (7, 8))
 
@@ -105,6 +112,36 @@ def timing(count: int, level: str, steps: int) -> list[str]:
     return lines
 
 
+def trace(mission_seed: int, robot: int, step: int, policy: str = "") -> list[str]:
+    """One decision of a traced ``plan-third`` trial of tuning mission ``mission_seed``."""
+    text = mission_text("collaborative", mission_seed, family_options("collaborative"))
+    mission = parse_mission(text + (f"\npolicy {policy}\n" if policy else ""), "m.epi")
+    seed = SPLITS["tuning"].trial_seeds[0]
+    level = PlanningCollaborativePolicy("plan-third", mission.parameters, trace=True)
+    trial = simulate(mission.scenario(seed), level, seed=seed, parameters=mission.parameters)
+    found = [d for d in level.trace if d.robot == robot and d.step == step]
+    if not found:
+        return [f"no decision of robot {robot} at step {step} ({trial.steps} steps)"]
+    d = found[0]
+    np.set_printoptions(precision=2, suppress=True, linewidth=100)
+    policy_note = f", policy {policy}" if policy else ""
+    knows = [f"teammate {c[1]} knows {np.flatnonzero(v).tolist()}"
+             for c, v in d.sets.items() if len(c) == 2]  # fmt: skip
+    return [
+        f"collaborative_{mission_seed:06d}, trial seed {seed}{policy_note}: robot {robot} at "
+        f"step {step} (the trial took {trial.completion_step or trial.steps} steps)",
+        f"needs {list(map(int, mission.scenario(seed).needs))}",
+        f"particles (never-seen starts still possible, per teammate): {d.particles.tolist()}",
+        f"open tasks it knows of: {np.flatnonzero(d.sets[(robot,)]).tolist()}; " + "; ".join(knows),
+        "arrivals (steps, robot x task):",
+        str(d.arrivals),
+        "predicted choices (robot x [tasks, explore]):",
+        str(d.predictions),
+        "",
+        explain(d),
+    ]
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--missions", type=int, default=20, help="the first N of the split")
@@ -114,7 +151,12 @@ def main(argv=None) -> int:
     ap.add_argument("--timing", action="store_true", help="time decisions instead")
     ap.add_argument("--level", default="plan-third", help="--timing: the level timed")
     ap.add_argument("--steps", type=int, default=200, help="--timing: steps per trial")
+    ap.add_argument("--trace", default="", help="MISSION:ROBOT:STEP, one traced decision")
     args = ap.parse_args(argv)
+    if args.trace:
+        mission_seed, robot, step = map(int, args.trace.split(":"))
+        print("\n".join(trace(mission_seed, robot, step, args.policy)))
+        return 0
     if args.timing:
         print("\n".join(timing(args.missions, args.level, args.steps)))
         return 0

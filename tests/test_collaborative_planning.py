@@ -9,7 +9,12 @@ from epistemica.sim.engine.joint import JointView
 from epistemica.sim.engine.knowledge import TeamKnowledge
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.collaborative_levels import FETCHING
-from epistemica.sim.policies.collaborative_planning import PLANNING_LEVELS
+from epistemica.sim.policies.collaborative_planning import (
+    PLANNING_LEVELS,
+    CollaborativeParameters,
+    PlanningCollaborativePolicy,
+    explain,
+)
 from epistemica.sim.policies.levels import JOINT_LEVELS, level_names, make_level
 
 
@@ -59,3 +64,24 @@ def test_a_small_mission_succeeds_at_plan_third(seed):
     trial = simulate(s, "plan-third", seed=seed)
     assert trial.success
     assert (trial.tasks_done >= 0).all() and trial.completion_step == trial.tasks_done.max()
+
+
+def test_a_traced_trial_is_the_same_trial_with_every_decision_kept():
+    s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=2)
+    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(), trace=True)
+    traced = simulate(s, policy, seed=2)
+    plain = simulate(s, "plan-third", seed=2)
+    assert (traced.success, traced.steps) == (plain.success, plain.steps)
+    np.testing.assert_array_equal(traced.trajectory, plain.trajectory)
+    assert [(d.step, d.robot) for d in policy.trace] == [
+        (step, robot) for step in range(traced.steps) for robot in range(3)
+    ]
+    for d in policy.trace:
+        assert np.isfinite(d.G[d.choice]) and d.G[d.choice] <= d.G.min() + 1e-9
+        kind = d.options[d.choice][0]
+        steer = traced.steer_to[d.step, d.robot]
+        if kind == "explore":
+            assert steer in (-1, *range(len(s.needs)))  # exploring, or verifying a task
+        elif kind == "task":
+            assert steer == d.options[d.choice][1]
+    assert "| yes |" in explain(policy.trace[-1])

@@ -181,6 +181,16 @@ class CollaborativeParameters:
         success, mean 281.9 steps, against 100 % and 116.8 at 1; with no credit (and no
         convention yet) 15 of the first 20 missions succeeded: a task needing three was not
         started, one helper saving nothing until a second came.
+    plan_recruit : bool
+        The convention's prior gives fetching a teammate the weight it gives exploring
+        (the convention sends a robot to a task only when enough robots know of it, and
+        otherwise has it explore: its free time, which a fetch spends informing one),
+        rather than the 5 % spread of an option it never takes: without it the convention
+        term (``plan_convention``) cost a fetch ~5 nats, more than most fetches save, and
+        a knower of a task too few know of explored past the teammates it could tell
+        (docs/results/collaborative_wrong_decision.md). ``plan-third`` on tuning missions
+        40-69 (trial seed 1000): 90 -> 97 % success, median 107 -> 94, mean 164.0 -> 144.4
+        steps (paired -19.6; ``third``: 93 %, 102, 157.0).
     """
 
     lane_factor: float = 2.0
@@ -220,6 +230,7 @@ class CollaborativeParameters:
     plan_commitment: float = 1.0
     plan_convention: float = 1.0
     plan_credit: float = 1.0
+    plan_recruit: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):

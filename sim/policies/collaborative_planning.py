@@ -34,6 +34,8 @@ True
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from epistemica.aif.task_planning import Fetch, TaskPlanner
@@ -41,7 +43,13 @@ from epistemica.sim.engine.joint import JointView as View
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy, first_order
 from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
 
-__all__ = ["PLANNING_LEVELS", "CollaborativeParameters", "PlanningCollaborativePolicy"]
+__all__ = [
+    "PLANNING_LEVELS",
+    "CollaborativeParameters",
+    "Decision",
+    "PlanningCollaborativePolicy",
+    "explain",
+]
 
 #: Level name -> (order, how it models teammates' knowledge: "first" its own view only,
 #: "nested" the ledger's chains, "shared" everyone knows what it knows).
@@ -54,14 +62,97 @@ PLANNING_LEVELS = {
 }
 
 
-class PlanningCollaborativePolicy(CollaborativePolicy):
-    """One level of :data:`PLANNING_LEVELS`."""
+class Decision(NamedTuple):
+    """One robot's plan at one step, as :attr:`PlanningCollaborativePolicy.trace` keeps it.
 
-    def __init__(self, name: str, parameters: CollaborativeParameters) -> None:
+    Attributes
+    ----------
+    step, robot : int
+        When, and who decided.
+    options : tuple
+        ``(kind, task, helper)`` of every option, in the order of ``G``.
+    G : numpy.ndarray
+        Expected free energy of each option (nats; ``inf``: not an option).
+    choice : int
+        The index of the option chosen.
+    arrivals : numpy.ndarray
+        ``(n, m)`` steps the robot expects each robot to take to each task.
+    predictions : numpy.ndarray
+        ``(n, m + 1)`` each robot's predicted choice of a task or exploring.
+    particles : numpy.ndarray
+        ``(n,)`` the starts of each teammate still possible (its place's particles,
+        :class:`TeammateModel`; one seen keeps the count it had when first seen, and the
+        robot's own row is the whole grid).
+    sets : dict
+        Chain -> the open tasks the robot knows the chain's last robot knows of.
+    """
+
+    step: int
+    robot: int
+    options: tuple
+    G: np.ndarray
+    choice: int
+    arrivals: np.ndarray
+    predictions: np.ndarray
+    particles: np.ndarray
+    sets: dict
+
+
+def explain(decision: Decision) -> str:
+    """A decision as a Markdown table, best option first (options that are none left out).
+
+    Examples
+    --------
+    >>> d = Decision(7, 0, (("task", 0, -1), ("explore", -1, -1)), np.array([-0.5, 0.0]),
+    ...              0, np.zeros((1, 1)), np.zeros((1, 2)), np.zeros(1), {})
+    >>> print(explain(d))
+    | option | G (nats) | chosen |
+    |---|---:|---|
+    | task 0 | -0.500 | yes |
+    | explore | 0.000 |  |
+    """
+    lines = ["| option | G (nats) | chosen |", "|---|---:|---|"]
+    for k in np.argsort(decision.G, kind="stable"):
+        if np.isfinite(decision.G[k]):
+            kind, task, helper = decision.options[k]
+            name = {"task": f"task {task}", "explore": "explore"}.get(
+                kind, f"fetch {helper} for task {task}"
+            )
+            mark = "yes" if k == decision.choice else ""
+            lines.append(f"| {name} | {decision.G[k]:.3f} | {mark} |")
+    return "\n".join(lines)
+
+
+class PlanningCollaborativePolicy(CollaborativePolicy):
+    """One level of :data:`PLANNING_LEVELS`.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`PLANNING_LEVELS`.
+    parameters : CollaborativeParameters
+        The mission's constants (the ``plan_*`` fields are the planner's).
+    trace : bool
+        Keep every decision of the last trial in :attr:`trace` (a list of
+        :class:`Decision`; None without).
+
+    Examples
+    --------
+    >>> from epistemica.sim import simulate
+    >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
+    >>> policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(), trace=True)
+    >>> trial = simulate(CollaborativeScenario.drawn(robots=3, needs=(2,), seed=1), policy, seed=1)
+    >>> first = policy.trace[0]
+    >>> first.step, first.robot, first.options[first.choice]
+    (0, 0, ('fetch', 0, 2))
+    """
+
+    def __init__(self, name: str, parameters: CollaborativeParameters, trace: bool = False) -> None:
         self.name = name
         self.order, self.model = PLANNING_LEVELS[name]
         self.style, self.shares = "plan", ""
         self.parameters = parameters
+        self.trace: list[Decision] | None = [] if trace else None
 
     def start(self, scenario, robots=None, generators=None) -> None:
         """Called once per trial: the rules' state, and one planner for the mission."""
@@ -78,9 +169,12 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             commitment=p.plan_commitment,
             convention=p.plan_convention,
             credit=p.plan_credit,
+            recruit=p.plan_recruit,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
+        if self.trace is not None:
+            self.trace = []  # this trial's decisions
 
     def plan(self, view: View) -> tuple[np.ndarray, np.ndarray]:
         """``(targets (n, 2), steer_to (n,))``, as the rules' :meth:`CollaborativePolicy.plan`."""
@@ -163,6 +257,10 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous)
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]
+        if self.trace is not None:
+            alive = self.teammates.alive[i].sum(axis=1)
+            self.trace.append(Decision(view.step, i, tuple(keys), plan.G, plan.option,
+                                       arrivals, plan.predictions, alive, sets))  # fmt: skip
         if plan.kind == "task":
             return ("task", plan.task)
         if plan.kind == "fetch":

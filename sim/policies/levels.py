@@ -207,7 +207,8 @@ def parameters_for(kind: str | MissionKind) -> type:
 
 def make_level(kind: str | MissionKind, name, parameters=None):
     """A fresh policy for the level ``name`` of missions of ``kind`` (a
-    :class:`~epistemica.sim.policies.policy.Policy` is returned as it is, for goal kinds).
+    :class:`~epistemica.sim.policies.policy.Policy` is returned as it is: a traced
+    planning level, :class:`PlanningCollaborativePolicy` with ``trace=True``).
 
     Examples
     --------
@@ -215,7 +216,7 @@ def make_level(kind: str | MissionKind, name, parameters=None):
     3
     """
     kind = kind_named(kind)
-    if not kind.joint:
+    if not kind.joint or isinstance(name, Policy):
         return make_policy(name, parameters)
     table = KIND_LEVELS[kind.name]
     level = table.get(name) if isinstance(name, str) else None

@@ -125,6 +125,24 @@ def test_a_teammate_that_does_not_know_is_fetched_at_order_two():
     assert plan.kind == "task" and plan.G[0] == pytest.approx(10.0 - 50.0)
 
 
+@pytest.mark.parametrize("recruit", [False, True])
+def test_the_convention_weighs_a_fetch_as_exploring_when_recruiting(recruit):
+    # The fetch of the test above, with the convention weighing 1: the convention has
+    # robot 0 explore (robot 1 is not a knower), so its prior is 0.95 + 0.05 / 3 on
+    # exploring and 0.05 / 3 on the task and on the fetch, unless recruiting gives the
+    # fetch exploring's prior.
+    sets, unknown = {(0,): [True], (0, 1): [False]}, {(0, 1): 1}
+    fetch = [Fetch(0, 1, 12.0, 12.0, 0.9)]
+    raw = TaskPlanner([2], order=2, temperature=1.0, fail=[100.0], credit=1.0)
+    weighed = TaskPlanner([2], order=2, temperature=1.0, fail=[100.0], credit=1.0,
+                          convention=1.0, recruit=recruit)  # fmt: skip
+    base = raw.plan(0, [[5.0], [10.0]], sets, unknown, fetch).G
+    G = weighed.plan(0, [[5.0], [10.0]], sets, unknown, fetch).G
+    rest, explore = 0.05 / 3, 0.95 + 0.05 / 3
+    expected = base - np.log([rest, explore, explore if recruit else rest])
+    np.testing.assert_allclose(G, expected)
+
+
 def test_commitment_keeps_the_previous_option():
     planner = TaskPlanner([1, 1], order=1, temperature=1.0, fail=[50.0, 50.0], commitment=3.0)
     # One robot, two tasks it does alone: 5 or 6 steps of the 50 of failing saved.
