@@ -16,7 +16,7 @@ import pytest
 
 from epistemica.cli import main
 from epistemica.del_ import SourceError, load_spec
-from epistemica.del_.spec._source import read_source
+from epistemica.del_.spec._source import MAX_CLAIMS, read_source
 from epistemica.input_files import file_kind
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -152,3 +152,16 @@ def test_more_than_twenty_atoms_without_actual_and_an_unobserved_atom(capsys, tm
     )
     code, out, _ = run(capsys, "check", path)
     assert code == 0 and "2,097,152 worlds" in out and "1 passed, 0 failed" in out
+
+
+def test_too_many_claims_are_refused_before_parsing(capsys, tmp_path):
+    path = tmp_path / "many.epi"
+    claims = "".join(f'check "c{i}": p | ~p\n' for i in range(MAX_CLAIMS + 1))
+    path.write_text("agents a\natoms p\n" + claims)
+    code, _, err = run(capsys, "check", str(path))
+    assert code == 2
+    # The first claim too many is on line 2 + MAX_CLAIMS + 1, column 1.
+    assert f"many.epi:{MAX_CLAIMS + 3}:1: error: more than {MAX_CLAIMS} claims" in err
+    assert "Traceback" not in err
+    path.write_text("agents a\natoms p\n" + claims.split("\n", 1)[1])  # exactly the limit
+    assert len(load_spec(path).checks) == MAX_CLAIMS

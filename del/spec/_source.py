@@ -9,15 +9,21 @@ byte.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from epistemica.del_.errors import SpecError
 
-__all__ = ["MAX_SOURCE_BYTES", "decode_source", "read_source"]
+__all__ = ["MAX_CLAIMS", "MAX_SOURCE_BYTES", "check_claim_count", "decode_source", "read_source"]
 
 #: Larger files are refused (the largest shipped spec is a few kB; a 3 MB generated Sum
 #: and Product spec loads in seconds).
 MAX_SOURCE_BYTES = 64 << 20
+#: More claims in one file are refused before parsing: each costs about 10 kB while the
+#: file is compiled (50,000 claims of one line each peaked at 519 MB), so the limit keeps
+#: a file's memory bounded (the shipped specs hold at most 12).
+MAX_CLAIMS = 10_000
+_CLAIM = re.compile(r"^[ \t]*check\b", re.MULTILINE)
 _BLOCK = 1 << 16
 _BOM = b"\xef\xbb\xbf"
 
@@ -117,3 +123,30 @@ def _refuse_binary(block: bytes, name: str, what: str, hint: str) -> None:
     except UnicodeDecodeError as exc:
         if exc.start < len(block) - 3:  # not merely a character cut at the block's end
             decode_source(block, name, what)
+
+
+def check_claim_count(text: str, filename: str = "<string>", limit: int = MAX_CLAIMS) -> None:
+    """Refuse a text with more than ``limit`` ``check`` claims, at the first one too many.
+
+    Examples
+    --------
+    >>> text = "agents a\\natoms p\\n" + 'check "p": p\\n' * 3
+    >>> check_claim_count(text, limit=3)
+    >>> try:
+    ...     check_claim_count(text, "many.epi", limit=2)
+    ... except SpecError as err:
+    ...     print(err.line, err.message)
+    5 more than 2 claims in one file
+    """
+    for count, found in enumerate(_CLAIM.finditer(text), 1):
+        if count > limit:
+            line = text.count("\n", 0, found.start()) + 1
+            column = found.group().index("c") + 1
+            raise SpecError(
+                f"more than {limit} claims in one file",
+                line=line,
+                column=column,
+                source=text,
+                filename=filename,
+                hint=f"split the claims over several files of at most {limit} each",
+            )
