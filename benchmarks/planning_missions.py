@@ -36,11 +36,12 @@ def main(argv=None) -> int:
     ap.add_argument("--first-seed", type=int, default=20_000)
     ap.add_argument("--levels", default="third,plan-third,plan-second,plan-third-shared")
     ap.add_argument("--skip", type=int, default=0, help="leave out the first N files")
+    ap.add_argument("--stop", type=int, default=None, help="stop before file N (from 0)")
     args = ap.parse_args(argv)
     levels = args.levels.split(",")
     print("| mission | " + " | ".join(f"`{level}`" for level in levels) + " |")
     print("|---|" + "---|" * len(levels))
-    for path in sorted((ROOT / "specs" / args.suite).glob("*.epi"))[args.skip :]:
+    for path in sorted((ROOT / "specs" / args.suite).glob("*.epi"))[args.skip : args.stop]:
         mission, steps = load_mission(str(path)), step_limit(path)
         cells = []
         for level in levels:
