@@ -225,7 +225,10 @@ class ActiveInference(Policy):
         own = restricted(sets.own)
         if self._plans is not None and self.parameters.free_energy:
             chains = chains_of(robot, sets.own, sets.pairs, sets.triples, keep)
-            d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains)
+            adhoc = None
+            if self._teammates is not None:  # ad hoc teammates are not planners
+                adhoc = self._teammates.adhoc(robot, observations.step, choice.goals)
+            d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains, adhoc)
             self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
             return
         unaware = self._unaware(sets)

@@ -63,6 +63,20 @@ class TeammateModels:
         """``(n, T)`` the observer's posterior over each robot's type (its own row unused)."""
         return np.exp(self._log_types[observer])
 
+    def adhoc(self, observer: int, step: int, goals: np.ndarray) -> np.ndarray | None:
+        """``(n, m)``: the probability, as ``observer`` reads each teammate it saw this
+        step, that the teammate heads for each of ``goals`` as an ad hoc type (every type
+        but the team's), for the planner (:class:`~epistemica.aif.planning.Planner`'s
+        ``adhoc``); ``None`` before this step's moves were scored on these goals."""
+        last = self._last.get(observer)
+        if last is None or last[0] != step or not np.array_equal(last[3], goals):
+            return None
+        seen, predictions = last[2], last[4]  # (n,), (n, T, m)
+        types = self.posterior(observer)[:, 1:, None]  # every type but the team's
+        out = (types * predictions[:, 1:]).sum(axis=1)
+        out[~seen] = 0.0
+        return out
+
     def mix(self, observers, observations, goals: np.ndarray, configurations, priors,
             apply) -> list:  # fmt: skip
         """Each observer's prior over ``configurations`` (of goal indices ``goals``) made the
