@@ -150,7 +150,11 @@ class ActiveInference(Policy):
                 priors = self._teammates.mix(
                     team, observations, goals, ctrl.configurations, priors, private
                 )
-            decisions = self._stage.act(ctrl, goals, team, observations, priors)
+            adhoc = None
+            if self._teammates is not None and self._plans is not None:
+                step = observations.step
+                adhoc = [self._teammates.adhoc(robot, step, goals) for robot in team]
+            decisions = self._stage.act(ctrl, goals, team, observations, priors, adhoc)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         if self._teammates is not None:  # what each robot reads of its teammates, for the record
