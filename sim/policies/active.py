@@ -153,7 +153,8 @@ class ActiveInference(Policy):
             adhoc = None
             if self._teammates is not None and self._plans is not None:
                 step = observations.step
-                adhoc = [self._teammates.adhoc(robot, step, goals) for robot in team]
+                prior = self.parameters.plan_adhoc_prior
+                adhoc = [self._teammates.adhoc(robot, step, goals, prior) for robot in team]
             decisions = self._stage.act(ctrl, goals, team, observations, priors, adhoc)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
@@ -231,7 +232,9 @@ class ActiveInference(Policy):
             chains = chains_of(robot, sets.own, sets.pairs, sets.triples, keep)
             adhoc = None
             if self._teammates is not None:  # ad hoc teammates are not planners
-                adhoc = self._teammates.adhoc(robot, observations.step, choice.goals)
+                adhoc = self._teammates.adhoc(
+                    robot, observations.step, choice.goals, self.parameters.plan_adhoc_prior
+                )
             d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains, adhoc)
             self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
             return

@@ -117,3 +117,12 @@ def test_the_planner_reads_ad_hoc_types_from_the_models():
     np.testing.assert_allclose(rows[1:].sum(axis=1), 1.0 - team[1:])
     assert not rows[0].any()
     assert models.adhoc(0, 3, goals) is None  # not scored at step 3 yet
+    # The planner's own prior re-weights the posterior by the ratio of the priors.
+    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=0.5), rows)
+    assert not models.adhoc(0, 2, goals, prior=0.0).any()
+    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=1.0)[1:].sum(axis=1), 1.0)
+    post = models.posterior(0)[1]
+    odds = (1 - team[1]) / team[1] * (0.05 / 0.95) / (0.5 / 0.5)  # ad hoc : team, by hand
+    expected = odds / (1 + odds)
+    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=0.05)[1].sum(), expected)
+    assert post.sum() == pytest.approx(1.0)
