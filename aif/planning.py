@@ -209,7 +209,6 @@ class Planner:
         evidence=None,
         previous: int | None = None,
         unseen=None,
-        adhoc=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -243,13 +242,6 @@ class Planner:
             is a placeholder: it is predicted as the mean of its predictions from the ``P``
             places, not from the placeholder (two unseen teammates at one placeholder
             would both be predicted at its nearest goal). Default: every robot seen.
-        adhoc : array_like, optional
-            ``(n, m)``: the probability that each teammate heads for each goal as a
-            behaviour other than the team's own (an ad hoc teammate: greedy, the other
-            convention, stationary), each row summing to one minus the probability that the
-            teammate plans as the team does. The robot predicts the teammate as that
-            mixture: the row plus the planner's prediction times what is left. Default:
-            every teammate plans as the team does.
 
         Examples
         --------
@@ -272,9 +264,6 @@ class Planner:
         context = _Context(self, pos, weights, dict(sets or {}))
         if unseen is not None:
             self._predict_unseen(context, robot, np.asarray(unseen, dtype=float))
-        if adhoc is not None:
-            self._predict_adhoc(context, robot, as_finite(adhoc, "adhoc", ndim=2,
-                                                          shape=context.times.shape))  # fmt: skip
         if evidence is not None:
             context.extra = as_finite(evidence, "evidence", ndim=2, shape=context.times.shape)
             context.evidence = context.evidence + context.extra
@@ -323,23 +312,6 @@ class Planner:
                 total[key] = total[key] + there.choice(chain, order)
         for key, value in total.items():
             context.memo[key] = value / places.shape[0]
-
-    def _predict_adhoc(self, context, robot: int, adhoc: np.ndarray) -> None:
-        """Make the robot's prediction of each teammate the mixture of the planner's and
-        the ad hoc behaviours' (``adhoc``), in ``context`` where its plan reads it."""
-        mass = adhoc.sum(axis=1)
-        if np.any(adhoc < 0) or np.any(mass > 1 + 1e-9):
-            raise InvalidArgumentError(
-                "adhoc rows must be non-negative and sum to at most 1",
-                hint="P(teammate of an ad hoc type) times that type's goal distribution",
-            )
-        below = max(self.order - 1, 0)
-        for j in np.flatnonzero(mass > 0):
-            if j == robot:
-                continue
-            chain = (robot, int(j))
-            planned = context.choice(chain, below)
-            context.memo[context.key(chain, below)] = (1.0 - mass[j]) * planned + adhoc[j]
 
     def risk(self, formed: np.ndarray, timed: np.ndarray, alone: np.ndarray) -> np.ndarray:
         """Risk (s) of options whose configuration forms with probability ``formed``,

@@ -150,12 +150,7 @@ class ActiveInference(Policy):
                 priors = self._teammates.mix(
                     team, observations, goals, ctrl.configurations, priors, private
                 )
-            adhoc = None
-            if self._teammates is not None and self._plans is not None:
-                step = observations.step
-                prior = self.parameters.plan_adhoc_prior
-                adhoc = [self._teammates.adhoc(robot, step, goals, prior) for robot in team]
-            decisions = self._stage.act(ctrl, goals, team, observations, priors, adhoc)
+            decisions = self._stage.act(ctrl, goals, team, observations, priors)
             for row, robot, d in zip(rows, team, decisions, strict=True):
                 self._record(out, row, robot, ctrl, goals, d)
         if self._teammates is not None:  # what each robot reads of its teammates, for the record
@@ -230,12 +225,7 @@ class ActiveInference(Policy):
         own = restricted(sets.own)
         if self._plans is not None and self.parameters.free_energy:
             chains = chains_of(robot, sets.own, sets.pairs, sets.triples, keep)
-            adhoc = None
-            if self._teammates is not None:  # ad hoc teammates are not planners
-                adhoc = self._teammates.adhoc(
-                    robot, observations.step, choice.goals, self.parameters.plan_adhoc_prior
-                )
-            d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains, adhoc)
+            d = self._plans.decide(ctrl, choice.goals, robot, observations, base, chains)
             self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
             return
         unaware = self._unaware(sets)

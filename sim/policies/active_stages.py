@@ -98,22 +98,18 @@ class ControllerStage:
         # Each row normalised alone: a 1-D sum rounds as the single robot's call did.
         return [q / q.sum() if lp.any() else None for q, lp in zip(prior, log_prior, strict=True)]
 
-    def act(
-        self, ctrl: Controller, goals, team, observations: Observations, priors, adhoc=None
-    ) -> list:
+    def act(self, ctrl: Controller, goals, team, observations: Observations, priors) -> list:
         """The decisions of ``team`` (robots sharing ``ctrl``) from their priors: the
-        one-step controller's team call, the planner's plans (``adhoc``: each robot's
-        reading of its teammates' ad hoc types, or ``None``), or the prior's mode."""
+        one-step controller's team call, the planner's plans, or the prior's mode."""
         if not self.parameters.free_energy:
             return [
                 self.prior_mode(ctrl, robot, observations.poses[robot, robot], prior)
                 for robot, prior in zip(team, priors, strict=True)
             ]
         if self.plans is not None:
-            adhoc = [None] * len(team) if adhoc is None else adhoc
             return [
-                self.plans.decide(ctrl, goals, robot, observations, prior, adhoc=rows)
-                for robot, prior, rows in zip(team, priors, adhoc, strict=True)
+                self.plans.decide(ctrl, goals, robot, observations, prior)
+                for robot, prior in zip(team, priors, strict=True)
             ]
         return ctrl.decide_team(observations.poses, team, priors)
 

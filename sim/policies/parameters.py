@@ -188,10 +188,6 @@ class ActiveParameters:
         (docs/results/planning_wrong_decision.md): two unseen teammates both "at the
         centre" were predicted at one goal, every allocation looked unlikely, and a robot
         changed its goal 15 times.
-    plan_adhoc_prior : float
-        In ``[0, 1]``: the planner's probability, before any move is seen, that a teammate
-        is of an ad hoc type (greedy, the other convention, stationary); the teammate
-        models' posterior is re-weighted to it. The models' own prior is 0.5.
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -236,15 +232,13 @@ class ActiveParameters:
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
     plan_unseen: int = 8
-    plan_adhoc_prior: float = 0.5
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
                    "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
                    "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
-                   "plan_convention", "plan_hierarchy", "plan_success",
-                   "plan_adhoc_prior")  # fmt: skip
+                   "plan_convention", "plan_hierarchy", "plan_success")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -304,11 +298,6 @@ class ActiveParameters:
         if not (math.isfinite(float(self.plan_success)) and float(self.plan_success) >= 0):
             raise InvalidArgumentError(
                 f"plan_success must be >= 0 and finite, got {self.plan_success!r}", hint="e.g. 3"
-            )
-        if not 0.0 <= float(self.plan_adhoc_prior) <= 1.0:
-            raise InvalidArgumentError(
-                f"plan_adhoc_prior must lie in [0, 1], got {self.plan_adhoc_prior!r}",
-                hint="e.g. 0.05: teammates are planners unless their moves say otherwise",
             )
         if not 0.0 <= float(self.plan_hierarchy) <= 1.0:
             raise InvalidArgumentError(

@@ -171,7 +171,7 @@ class PlanningStage:
         return places
 
     def decide(
-        self, ctrl, goals, robot: int, observations: Observations, prior, sets=None, adhoc=None
+        self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
     ) -> Decision:
         """Robot ``robot``'s decision over ``ctrl``'s table of ``goals`` (scenario
         indices): the plan's goal, or standing still to wait."""
@@ -183,7 +183,6 @@ class PlanningStage:
             robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
             int(local[0]) if local.size else None,
             self.unseen(observations, robot),
-            adhoc,
         )  # fmt: skip
         if result.goal != WAIT:
             self._heading[robot] = int(goals[result.goal])

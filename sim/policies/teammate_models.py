@@ -63,34 +63,6 @@ class TeammateModels:
         """``(n, T)`` the observer's posterior over each robot's type (its own row unused)."""
         return np.exp(self._log_types[observer])
 
-    def adhoc(
-        self, observer: int, step: int, goals: np.ndarray, prior: float | None = None
-    ) -> np.ndarray | None:
-        """``(n, m)``: the probability, as ``observer`` reads each teammate it saw this
-        step, that the teammate heads for each of ``goals`` as an ad hoc type (every type
-        but the team's), for the planner (:class:`~epistemica.aif.planning.Planner`'s
-        ``adhoc``); ``None`` before this step's moves were scored on these goals.
-
-        ``prior``: the probability of an ad hoc type before any move is seen, in place of
-        the models' own (``1 - TYPE_PRIOR[0]``): the posterior is re-weighted by the ratio
-        of the two priors (the moves' likelihoods are kept), split over the ad hoc types
-        as the models split it."""
-        last = self._last.get(observer)
-        if last is None or last[0] != step or not np.array_equal(last[3], goals):
-            return None
-        seen, predictions = last[2], last[4]  # (n,), (n, T, m)
-        posterior = self.posterior(observer)
-        if prior is not None:
-            other = 1.0 - TYPE_PRIOR[0]
-            ratio = np.append((1.0 - prior) / TYPE_PRIOR[0], np.full(len(TYPE_PRIOR) - 1,
-                                                                     prior / other))  # fmt: skip
-            posterior = posterior * ratio
-            posterior /= posterior.sum(axis=1, keepdims=True)
-        types = posterior[:, 1:, None]  # every type but the team's
-        out = (types * predictions[:, 1:]).sum(axis=1)
-        out[~seen] = 0.0
-        return out
-
     def mix(self, observers, observations, goals: np.ndarray, configurations, priors,
             apply) -> list:  # fmt: skip
         """Each observer's prior over ``configurations`` (of goal indices ``goals``) made the

@@ -205,28 +205,3 @@ def test_unseen_places_of_a_seen_robot_or_the_same_place_change_nothing():
         np.testing.assert_allclose(again.predictions, base.predictions)
     with pytest.raises(InvalidArgumentError, match="shape"):
         planner.plan(0, positions, unseen=np.zeros((2, 3)))
-
-
-@pytest.mark.parametrize("order", [1, 2, 3])
-def test_an_ad_hoc_teammate_is_the_mixture_of_its_behaviours_and_the_planner(order):
-    goals, rows = _allocation_of_three()
-    planner = Planner(goals, rows, [1.0, 1.0, 1.0], order=order)
-    positions = np.array([[2.0, 1.0], [25.0, 5.0], [14.0, 27.0]])
-    adhoc = np.zeros((3, 3))
-    adhoc[2] = [0.6, 0.0, 0.0]  # r2: 60 % an ad hoc type heading for goal 0
-    plain = planner.plan(0, positions).predictions
-    mixed = planner.plan(0, positions, adhoc=adhoc).predictions
-    np.testing.assert_allclose(mixed[2], 0.4 * plain[2] + adhoc[2])
-    np.testing.assert_allclose(mixed[1][mixed[1] > 0].sum(), 1.0)
-
-
-def test_a_stationary_teammate_on_the_far_goal_decides_the_meeting():
-    # Robots 0 and 2 stand on goal 1; robot 1 stands on goal 0. As a planner robot 1
-    # would join the other two, so robot 0 stays; read as stationary (90 %), it will not.
-    planner = Planner(GOALS, [[0, 0, 0], [1, 1, 1]], [1.0, 1.0, 1.0], order=2)
-    positions = [[10.0, 0.0], [0.0, 0.0], [10.0, 0.0]]
-    assert planner.plan(0, positions).goal == 1
-    stationary = np.array([[0.0, 0.0], [0.9, 0.0], [0.0, 0.0]])
-    assert planner.plan(0, positions, adhoc=stationary).goal == 0
-    with pytest.raises(InvalidArgumentError, match="adhoc"):
-        planner.plan(0, positions, adhoc=np.array([[0.0, 0.0], [0.9, 0.2], [0.0, 0.0]]))

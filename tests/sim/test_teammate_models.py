@@ -11,10 +11,8 @@ import pytest
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.mission import load_mission
 from epistemica.sim import Scenario, simulate
-from epistemica.sim.engine.sensing import Sensing
 from epistemica.sim.policies.levels import make_policy
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.policies.teammate_models import TeammateModels
 
 STRESS = Path(__file__).resolve().parents[2] / "specs" / "stress"
 
@@ -96,33 +94,3 @@ def test_a_team_scored_together_reads_its_teammates_as_each_robot_alone_would():
         poses[:, :2] += rng.normal(0, 0.05, (3, 2))
     # and it did read something: robot 0's view of robot 1 left the prior
     assert together.posterior(0)[1, 1] > 0.5
-
-
-def test_the_planner_reads_ad_hoc_types_from_the_models():
-    # The planner's ad hoc rows are the posterior of every type but the team's times
-    # its goal predictions: each row sums to 1 - P(team) for a teammate seen this step.
-    s = Scenario("rendezvous", [[0, 0, 0], [20, 0, 0], [10, 10, 0]], [[2, 0], [18, 0]],
-                 ["range"] * 3)  # fmt: skip
-    sensing = Sensing(s, [np.random.default_rng(k) for k in range(3)])
-    models = TeammateModels(s, sigma=1.0, leak=0.02)
-    goals = np.arange(2)
-    configurations = np.array([[0, 0, 0], [1, 1, 1]])
-    poses = np.array(s.starts, dtype=float)
-    for step in range(3):
-        observations = sensing.observe(poses, step)
-        models.mix([0], observations, goals, configurations, [None], [True])
-        poses[1, 0] += 1.0  # robot 1 walks towards goal 1; robot 2 stands
-    rows = models.adhoc(0, 2, goals)
-    team = models.posterior(0)[:, 0]
-    np.testing.assert_allclose(rows[1:].sum(axis=1), 1.0 - team[1:])
-    assert not rows[0].any()
-    assert models.adhoc(0, 3, goals) is None  # not scored at step 3 yet
-    # The planner's own prior re-weights the posterior by the ratio of the priors.
-    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=0.5), rows)
-    assert not models.adhoc(0, 2, goals, prior=0.0).any()
-    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=1.0)[1:].sum(axis=1), 1.0)
-    post = models.posterior(0)[1]
-    odds = (1 - team[1]) / team[1] * (0.05 / 0.95) / (0.5 / 0.5)  # ad hoc : team, by hand
-    expected = odds / (1 + odds)
-    np.testing.assert_allclose(models.adhoc(0, 2, goals, prior=0.05)[1].sum(), expected)
-    assert post.sum() == pytest.approx(1.0)
