@@ -274,8 +274,7 @@ class TaskPlanner:
         robot : int
             The planning robot.
         arrivals : array_like
-            ``(n, m)`` when each robot would reach each task as the robot predicts
-            (``inf``: never).
+            ``(n, m)`` when each robot would reach each task as it predicts (``inf``: never).
         sets : mapping
             Chain ``(robot, l, ...)`` -> ``(m,)`` the open tasks the robot knows the last
             robot of the chain knows of, as the middle robots see it (a chain without an
@@ -285,7 +284,7 @@ class TaskPlanner:
         fetches : sequence of Fetch
             The teammates it may fetch.
         previous : int, optional
-            The option it chose at its last plan (an index of :attr:`TaskPlan.G`).
+            Its last plan's option (an index of :attr:`TaskPlan.G`).
 
         Examples
         --------
@@ -308,10 +307,8 @@ class TaskPlanner:
             raise InvalidArgumentError("sets needs the robot's own chain", hint="(robot,)")
         context = _Context(self, a, sets, unknown or {})
         own = context.costs((robot,), self.order)
-        if self.order >= 1 and n > 1:
-            extra = context.fetch_costs(robot, fetches)
-        else:
-            extra = np.full(len(fetches), np.inf)
+        fetching = self.order >= 1 and n > 1
+        extra = context.fetch_costs(robot, fetches) if fetching else np.full(len(fetches), np.inf)
         G = np.concatenate([own, extra])
         if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
             prior = np.full(G.size, 0.05 / G.size)

@@ -270,11 +270,6 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 1, got {value!r}", hint=f"e.g. {name}=16"
                 )
-        unseen = self.plan_unseen
-        if isinstance(unseen, bool) or not isinstance(unseen, int) or unseen < 0:
-            raise InvalidArgumentError(
-                f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
-            )
         if (
             isinstance(self.anchor_check, bool)
             or not isinstance(self.anchor_check, int)
@@ -295,6 +290,22 @@ class ActiveParameters:
         for name in ("tie_weight", "look", "plausible_margin", "log_prior_floor"):
             if not math.isfinite(float(getattr(self, name))):
                 raise InvalidArgumentError(f"{name} must be finite", hint="a number")
+        if self.prior_scale is not None and not float(self.prior_scale) > 0:
+            raise InvalidArgumentError(
+                f"prior_scale must be > 0 or None, got {self.prior_scale!r}", hint="e.g. 1.0"
+            )
+        for name, _ in self.controller:
+            if name not in CONTROLLER_OPTIONS:
+                raise _unknown(name)
+        self._check_planner()
+
+    def _check_planner(self) -> None:
+        """The planner's parameters (``plan_*``) beyond their types."""
+        unseen = self.plan_unseen
+        if isinstance(unseen, bool) or not isinstance(unseen, int) or unseen < 0:
+            raise InvalidArgumentError(
+                f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
+            )
         if not (math.isfinite(float(self.plan_success)) and float(self.plan_success) >= 0):
             raise InvalidArgumentError(
                 f"plan_success must be >= 0 and finite, got {self.plan_success!r}", hint="e.g. 3"
@@ -311,13 +322,6 @@ class ActiveParameters:
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value > 0):
                 raise InvalidArgumentError(f"{name} must be > 0 and finite", hint="e.g. 0.5")
-        if self.prior_scale is not None and not float(self.prior_scale) > 0:
-            raise InvalidArgumentError(
-                f"prior_scale must be > 0 or None, got {self.prior_scale!r}", hint="e.g. 1.0"
-            )
-        for name, _ in self.controller:
-            if name not in CONTROLLER_OPTIONS:
-                raise _unknown(name)
 
     def replace(self, **changes) -> ActiveParameters:
         """A copy with some parameters (or controller arguments) changed, validated."""

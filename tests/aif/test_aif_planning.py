@@ -195,12 +195,14 @@ def test_unseen_places_of_a_seen_robot_or_the_same_place_change_nothing():
     goals, rows = _allocation_of_three()
     planner = Planner(goals, rows, [1.0, 1.0, 1.0], order=3)
     positions = np.array([[2.0, 1.0], [25.0, 5.0], [14.0, 27.0]])
-    base = planner.plan(0, positions)
+    moves = np.zeros((3, 3))
+    moves[1] = [-6.0, 0.0, -6.0]  # r1 was seen heading for goal 1: read before the draws
+    base = planner.plan(0, positions, evidence=moves)
     nobody = np.full((5, 3, 2), np.nan)
     same = np.repeat(positions[None], 5, axis=0)
     same[:, 0] = np.nan
     for places in (nobody, same):
-        again = planner.plan(0, positions, unseen=places)
+        again = planner.plan(0, positions, evidence=moves, unseen=places)
         np.testing.assert_allclose(again.G, base.G)
         np.testing.assert_allclose(again.predictions, base.predictions)
     with pytest.raises(InvalidArgumentError, match="shape"):

@@ -1,0 +1,213 @@
+"""The memoised predictions of one plan of :class:`epistemica.aif.planning.Planner`.
+
+A :class:`PlanContext` holds what one call of ``Planner.plan`` computes: every chain of
+robots' predicted goal distribution at each order, the expected completion times behind
+them, and the predictions of teammates never seen (from places they may be). Internal to
+the planner.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from epistemica.del_.errors import InvalidArgumentError
+
+if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
+    from epistemica.aif.planning import Planner
+
+__all__ = ["PlanContext", "quasi_uniform"]
+
+
+class PlanContext:
+    """The memoised predictions of one plan: chain and order -> a goal distribution."""
+
+    def __init__(self, planner: Planner, pos: np.ndarray, prior: np.ndarray, sets,
+                 masks: dict | None = None) -> None:  # fmt: skip
+        self.p = planner
+        self.masks = {} if masks is None else masks  # chain -> (set, its bytes)
+        self.pos = pos
+        self.prior = prior
+        self.sets = sets
+        self.depth = min(max((len(c) for c in sets), default=0), max(planner.order, 1))
+        delta = pos[:, None, :] - planner.goals[None, :, :]
+        distance = np.hypot(delta[..., 0], delta[..., 1])
+        self.times = distance / planner.speeds[:, None]  # (n, m) seconds
+        self.evidence = -distance / planner.eta  # (n, m) nats
+        self.extra = np.zeros_like(self.evidence)  # what the robot read from the moves
+        rows = planner.configurations
+        self.row_times = self.times[np.arange(rows.shape[1]), rows]  # (k, n)
+        self.memo: dict = {}
+
+    def predict_unseen(self, robot: int, places: np.ndarray) -> None:
+        """Put the mean prediction of each never-seen teammate over ``places`` (its draws
+        of where it may be) into the plan: as the robot predicts it, and as it predicts
+        each teammate to predict it (chains of two and three robots)."""
+        n = self.p.speeds.shape[0]
+        if places.ndim != 3 or places.shape[1:] != (n, 2):
+            raise InvalidArgumentError(
+                f"unseen must have shape (P, {n}, 2), got {places.shape}",
+                hint="places per draw and robot, nan for the robots seen",
+            )
+        hidden = np.flatnonzero(~np.isnan(places).any(axis=(0, 2)))
+        hidden = hidden[hidden != robot]
+        if hidden.size == 0 or self.p.order == 0 or places.shape[0] == 0:
+            return
+        chains = [((robot, int(j)), self.p.order - 1) for j in hidden]
+        if self.p.order >= 2:
+            chains += [((robot, k, int(j)), self.p.order - 2)
+                       for k in range(n) if k != robot for j in hidden if j != k]  # fmt: skip
+        keys = {self.key(chain, order): (chain, order) for chain, order in chains}
+        total = dict.fromkeys(keys, 0.0)
+        for draw in places:
+            moved = self.pos.copy()
+            moved[hidden] = draw[hidden]
+            there = PlanContext(self.p, moved, self.prior, self.sets, self.masks)
+            there.evidence = there.evidence + self.extra
+            for key, (chain, order) in keys.items():
+                total[key] = total[key] + there.choice(chain, order)
+        for key, value in total.items():
+            self.memo[key] = value / places.shape[0]
+
+    def mask(self, chain: tuple[int, ...]) -> np.ndarray | None:
+        return self._mask(chain)[0]
+
+    def _mask(self, chain: tuple[int, ...]) -> tuple[np.ndarray | None, bytes | None]:
+        """The chain's set and its bytes (memoised: every prediction asks again)."""
+        found = self.masks.get(chain, False)
+        if found is not False:
+            return found
+        found = None, None
+        # A robot at order k models sets down to chains of length k, no deeper.
+        for length in range(min(len(chain), max(self.p.order, 1)), 0, -1):
+            kept = self.sets.get(chain[:length])
+            if kept is not None:
+                kept = np.asarray(kept, dtype=bool)
+                # A chain that keeps nothing (its facts contradict each other) restricts
+                # nothing, as in the one-step controller's priors.
+                found = (kept, kept.tobytes()) if kept.any() else (None, None)
+                break
+        self.masks[chain] = found
+        return found
+
+    def key(self, chain: tuple[int, ...], order: int) -> tuple:
+        if len(chain) < self.depth:  # deeper chains may have sets of their own
+            return chain, order
+        return self._mask(chain)[1], chain[-1], order, len(chain) > 1
+
+    def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
+        """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` at ``order``
+        (memoised: the robot's own row is read by its plan and by its prediction)."""
+        key = ("costs", *self.key(chain, order))
+        if key not in self.memo:
+            self.memo[key] = self._costs(chain, order)
+        return self.memo[key]
+
+    def _costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
+        p, agent = self.p, chain[-1]
+        n, m = p.speeds.shape[0], p.goals.shape[0]
+        mask = self.mask(chain)
+        rows = p.configurations if mask is None else p.configurations[mask]
+        own = rows[:, agent]
+        if own.size == 0:  # the chain keeps no configuration: no option
+            return np.full(m, np.inf)
+        if order == 0:
+            weights = self.prior if mask is None else self.prior[mask]
+            mass = np.bincount(own, weights=weights, minlength=m)
+            if not mass.sum() > 0:  # a prior with no mass on the set: every row alike
+                mass = np.bincount(own, minlength=m).astype(float)
+            with np.errstate(divide="ignore"):
+                return np.where(mass > 0, -np.log(mass / mass.sum()) * p.tau, np.inf)
+        preds = np.stack(
+            [np.ones(m) if j == agent else self.choice((*chain, j), order - 1) for j in range(n)]
+        )
+        w = np.prod(preds[np.arange(n), rows], axis=1)
+        finish = (self.row_times if mask is None else self.row_times[mask]).max(axis=1)
+        valid = np.bincount(own, weights=w, minlength=m)
+        timed = np.bincount(own, weights=w * finish, minlength=m)
+        expected = p.risk(valid, timed, self.times[agent])
+        options = np.bincount(own, minlength=m) > 0
+        return np.where(options, expected, np.inf)
+
+    def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
+        """``(m,)`` the goal distribution of ``chain[-1]`` as ``chain[:-1]`` predicts it:
+        for a teammate, the mixture of orders up to ``order`` (``hierarchy``), weighed
+        by where it is seen."""
+        key = self.key(chain, order)
+        if key in self.memo:
+            return self.memo[key]
+        orders = range(max(order, 0) + 1) if len(chain) > 1 else (max(order, 0),)
+        q = np.zeros(self.p.goals.shape[0])
+        for level in orders:
+            G = self.costs(chain, level)
+            finite = np.isfinite(G)
+            if not finite.any():  # a chain with an empty set predicts nothing at this order
+                continue
+            weights = np.where(finite, np.exp(-(G - G[finite].min()) / self.p.tau), 0.0)
+            q += self.p.hierarchy ** (max(order, 0) - level) * weights / weights.sum()
+        if len(chain) > 1:  # a teammate: weigh by where it is seen and how it moves
+            q = q * np.exp(self.evidence[chain[-1]] - self.evidence[chain[-1]].max())
+        total = q.sum()
+        q = q / total if total > 0 else np.full(len(q), 1.0 / len(q))
+        self.memo[key] = q
+        return q
+
+    def belief(self, chain: tuple[int, ...], preds: np.ndarray) -> np.ndarray:
+        """``(k,)`` the probability of each configuration under ``preds``, zero off the set."""
+        rows = self.p.configurations
+        w = np.prod(preds[np.arange(rows.shape[1]), rows], axis=1)
+        mask = np.ones(len(w), dtype=bool) if (m := self.mask(chain)) is None else m
+        w = np.where(mask, w, 0.0)
+        total = w.sum()
+        return w / total if total > 0 else mask / mask.sum()
+
+    def waiting(self, robot: int, preds: np.ndarray, moving) -> float:
+        """Expected completion time (s) of waiting ``horizon`` steps, then choosing."""
+        p = self.p
+        n, m = preds.shape
+        mask = self.mask((robot,))
+        rows = p.configurations if mask is None else p.configurations[mask]
+        times = self.row_times if mask is None else self.row_times[mask]
+        delay = (p.horizon - 1) * p.dt
+        others = np.array([j for j in range(n) if j != robot])
+        # Particles of the teammates' true goals, and what waiting reveals of them.
+        cumulative = np.cumsum(preds[others], axis=1)
+        draws = quasi_uniform(p.particles, others.size)[..., None]
+        truth = np.minimum((draws > cumulative[None]).sum(axis=2), m - 1)  # (P, n - 1)
+        gain = delay * p.speeds[others] * moving[others] / p.eta  # nats per teammate
+        revised = np.log(np.maximum(preds[others], 1e-300))[None].repeat(p.particles, 0)
+        np.put_along_axis(
+            revised, truth[..., None],
+            np.take_along_axis(revised, truth[..., None], 2) + gain[None, :, None], axis=2,
+        )  # fmt: skip
+        revised = np.exp(revised - revised.max(axis=2, keepdims=True))
+        revised /= revised.sum(axis=2, keepdims=True)
+        # Each particle's choice: least expected time under its revised predictions.
+        w = np.prod(revised[:, np.arange(others.size), rows[:, others]], axis=2)  # (P, k')
+        own_time = self.times[robot] + delay
+        finish = np.maximum(times[:, others].max(axis=1)[None], own_time[rows[:, robot]][None])
+        slot = rows[:, robot][None] + m * np.arange(p.particles)[:, None]
+        valid = np.bincount(slot.ravel(), weights=w.ravel(), minlength=m * p.particles)
+        timed = np.bincount(slot.ravel(), (w * finish).ravel(), minlength=m * p.particles)
+        expected = p.risk(valid, timed, np.tile(own_time, p.particles)).reshape(p.particles, m)
+        options = np.bincount(rows[:, robot], minlength=m) > 0
+        chosen = np.argmin(np.where(options[None], expected, np.inf), axis=1)  # (P,)
+        # Realised: does the chosen goal complete the particle's configuration?
+        match = (rows[None, :, others] == truth[:, None, :]).all(axis=2)
+        match &= rows[None, :, robot] == chosen[:, None]
+        done = np.where(match, finish, np.inf).min(axis=1)
+        formed = np.isfinite(done)
+        share = formed.mean()
+        if p.success_weight > 0:  # the same risk, estimated from the particles
+            timed = done[formed].sum() if formed.any() else 0.0
+            return float(p.risk(np.array([share]), np.array([timed / p.particles]),
+                                np.array([own_time[chosen].mean()]))[0])  # fmt: skip
+        return float(np.where(formed, done, own_time[chosen] + p.repair).mean())
+
+
+def quasi_uniform(count: int, dims: int) -> np.ndarray:
+    """``(count, dims)`` points of the Weyl sequence ``frac((p + 1/2) sqrt(prime_d))``."""
+    primes = np.array([2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53])
+    steps = np.sqrt(primes[np.arange(dims) % primes.size] + dims // primes.size * 100)
+    return np.mod((np.arange(count)[:, None] + 0.5) * steps[None], 1.0)
