@@ -125,11 +125,6 @@ def _table() -> dict[str, Level]:
         "(wait, read the teammates' moves, then choose)",
         _named("plan-third-wait", _active(3, planning=True, plan_horizon=3)),
     )
-    levels["plan-third-placeholder"] = Level(
-        "the planning controller at order 3 predicting a never-seen teammate from the "
-        "placeholder position its estimate holds (ablation of plan_unseen)",
-        _named("plan-third-placeholder", _active(3, planning=True, plan_unseen=0)),
-    )
     levels["convention+rules"] = Level(
         "the convention on the common view with every rule of the active levels (search, "
         "exploration, pruning), no inference",

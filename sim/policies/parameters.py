@@ -183,11 +183,9 @@ class ActiveParameters:
     plan_unseen : int
         Places drawn over the workspace for a teammate the robot has never seen: it is
         predicted as the mean of its predictions from them, not from the placeholder
-        (the workspace centre) its estimate holds until then. 0 plans from the
-        placeholder (the ablation). Found in a traced failure
-        (docs/results/planning_wrong_decision.md): two unseen teammates both "at the
-        centre" were predicted at one goal, every allocation looked unlikely, and a robot
-        changed its goal 15 times.
+        (the workspace centre) its estimate holds until then. 0 (the default) plans from
+        the placeholder: the draws were not measured to help
+        (docs/results/planning_wrong_decision.md) and cost a plan per draw.
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -231,7 +229,7 @@ class ActiveParameters:
     plan_convention: float = 1.0
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
-    plan_unseen: int = 8
+    plan_unseen: int = 0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
