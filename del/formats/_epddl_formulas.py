@@ -39,24 +39,24 @@ def negate(f: Formula) -> Formula:
 
 def conj(parts: Iterable[Formula]) -> Formula:
     """The conjunction of ``parts``, folding constants (empty: ``true``)."""
-    kept: list[Formula] = []
+    kept: dict[Formula, None] = {}  # hashed: a theory's law may have thousands of parts
     for f in parts:
         if isinstance(f, Bottom):
             return Bottom()
-        if not isinstance(f, Top) and f not in kept:
-            kept.append(f)
-    return _fold(kept, And, Top())
+        if not isinstance(f, Top):
+            kept[f] = None
+    return _fold(list(kept), And, Top())
 
 
 def disj(parts: Iterable[Formula]) -> Formula:
     """The disjunction of ``parts``, folding constants (empty: ``false``)."""
-    kept: list[Formula] = []
+    kept: dict[Formula, None] = {}
     for f in parts:
         if isinstance(f, Top):
             return Top()
-        if not isinstance(f, Bottom) and f not in kept:
-            kept.append(f)
-    return _fold(kept, Or, Bottom())
+        if not isinstance(f, Bottom):
+            kept[f] = None
+    return _fold(list(kept), Or, Bottom())
 
 
 def _fold(parts: list[Formula], op: type, empty: Formula) -> Formula:

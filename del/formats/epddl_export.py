@@ -5,7 +5,11 @@ model, actions, goal) in EPDDL as plank reads it, so that another planner or pla
 validator can run it:
 
 - the initial model as explicit worlds (``:worlds``, ``:relations``, ``:labels``,
-  ``:designated``), each agent's relation edge by edge;
+  ``:designated``), each agent's relation edge by edge; a knowledge structure with more
+  states than :data:`MAX_WORLDS` (or any, with ``theory=True``) as a finitary S5 theory,
+  without listing a state: ``[C. All]`` of its law, ``[C. All] ([Kw. a] p)`` for each
+  atom ``p`` agent ``a`` observes, and its designated states as a propositional formula
+  (the law and the designated states as disjunctions of disjoint cubes of their BDDs);
 - each action as an action type of its own in the library (its events, one observability
   type per distinct relation, its designated events), the domain's events (precondition;
   ``p := f`` as ``(iff f (p))``) and an action without parameters whose agents have
@@ -58,11 +62,15 @@ from epistemica.del_.language.modalities import (
 from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KnowledgeStructure
 from epistemica.del_.spec import Spec
+from epistemica.del_.symbolic.describe import cube_literals
+from epistemica.del_.symbolic.relations import Observes
 
-__all__ = ["MAX_PAIRS", "MAX_WORLDS", "atom_renaming", "to_epddl"]
+__all__ = ["MAX_CUBES", "MAX_PAIRS", "MAX_WORLDS", "atom_renaming", "to_epddl"]
 
 #: Bound on the edges written for the initial model.
 MAX_PAIRS = 2_000_000
+#: Bound on the disjoint cubes written for a theory's law or designated states.
+MAX_CUBES = 200_000
 
 _KEYWORDS = {"and", "or", "not", "imply", "exists", "forall", "true", "false", "when", "iff",
              "if", "else", "else-if", "default", "All", "either", "define", "domain",
@@ -79,8 +87,13 @@ _REQUIREMENTS = (
 )
 
 
-def to_epddl(spec: Spec, name: str = "task") -> dict[str, str]:
+def to_epddl(spec: Spec, name: str = "task", theory: bool | None = None) -> dict[str, str]:
     """The EPDDL texts of ``spec``: ``{"domain": ..., "problem": ..., "library": ...}``.
+
+    ``theory`` chooses how a knowledge structure's initial state is written: ``None``
+    lists its states up to :data:`MAX_WORLDS` and writes a finitary S5 theory above;
+    ``True`` always writes the theory; ``False`` always lists (refused above the bound).
+    A Kripke model is always listed.
 
     Raises
     ------
@@ -94,7 +107,7 @@ def to_epddl(spec: Spec, name: str = "task") -> dict[str, str]:
             "'plausibility' lines and change what its claims mean",
             hint="remove the plausibility and upgrade lines to export the hard part",
         )
-    writer = _Writer(spec, _identifier(name, set()))
+    writer = _Writer(spec, _identifier(name, set()), theory)
     return {"domain": writer.domain(), "problem": writer.problem(), "library": writer.library()}
 
 
@@ -127,30 +140,57 @@ def _identifier(text: str, taken: set[str]) -> str:
     return candidate
 
 
-#: EPDDL lists the initial state's worlds: a knowledge structure is listed (and then
-#: minimized) up to this many states.
+#: A knowledge structure is listed (and then minimized) up to this many states, and
+#: written as a finitary S5 theory above.
 MAX_WORLDS = 1 << 20
 
 
-def _explicit(model):
-    """The model as a Kripke model: a knowledge structure (a spec on the symbolic backend,
-    above 20 atoms) is listed, if it has at most :data:`MAX_WORLDS` states."""
+def _initial(model, theory: bool | None):
+    """The initial model as it is written: a Kripke model (listed), or a knowledge
+    structure (written as a theory)."""
     if not isinstance(model, KnowledgeStructure):
+        return model
+    if theory is None:
+        theory = model.n_worlds > MAX_WORLDS
+    if theory:
+        _check_theory(model)
         return model
     if model.n_worlds > MAX_WORLDS:
         raise InvalidArgumentError(
-            f"EPDDL lists the worlds of the initial state, and this one has {model.n_worlds:,} "
-            f"states (more than {MAX_WORLDS:,})",
-            hint="export --smcdel writes the model symbolically, without listing its states",
+            f"listing the initial state's {model.n_worlds:,} states (more than "
+            f"{MAX_WORLDS:,}) is too costly",
+            hint="leave theory unset to write it as a finitary S5 theory",
         )
     return model.to_kripke(max_worlds=MAX_WORLDS)
 
 
+def _check_theory(s: KnowledgeStructure) -> None:
+    """A finitary S5 theory states a structure whose agents observe atoms, one
+    relation each, and whose variables are all atoms."""
+    if s.has_separate_knowledge():
+        raise InvalidArgumentError(
+            "a finitary S5 theory gives each agent one relation, and this structure has "
+            "separate knowledge relations",
+            hint="export --smcdel, or list the states (a smaller instance)",
+        )
+    for agent in s.agents:
+        if not isinstance(s.relation(agent, "knowledge"), Observes):
+            raise InvalidArgumentError(
+                f"'{agent}' does not observe atoms, so no finitary S5 theory states its "
+                "relation", hint="list the states (a smaller instance)",
+            )  # fmt: skip
+    if len(s.slots) != len(s.atom_slots):
+        raise InvalidArgumentError(
+            "the structure has variables that are not atoms, which a theory cannot name",
+            hint="list the states (a smaller instance)",
+        )
+
+
 class _Writer:
-    def __init__(self, spec: Spec, name: str) -> None:
+    def __init__(self, spec: Spec, name: str, theory: bool | None = None) -> None:
         self.spec = spec
         self.name = name
-        self.model = _explicit(spec.model)
+        self.model = _initial(spec.model, theory)
         separate = self.model.has_separate_knowledge() or any(
             a.knowledge_edges != a.edges for a in spec.actions.values()
         )
@@ -314,10 +354,56 @@ class _Writer:
         return "\n".join(lines) + "\n"
 
     def problem(self) -> str:
-        m = self.model.minimize()  # bisimilar, and the part the designated worlds reach
         lines = [f"(define (problem {self.name}-problem) (:domain {self.name})"]
         lines.append(f"  (:requirements {_REQUIREMENTS})")
         lines.append(f"  (:agents {' '.join(self.agents.values())})")
+        if isinstance(self.model, KnowledgeStructure):
+            lines.append(self.theory())
+        else:
+            lines.append(self.worlds())
+        goal = self.formula(self.spec.goal) if self.spec.goal is not None else "(true)"
+        lines.append(f"  (:goal {goal})")
+        lines.append(")")
+        return "\n".join(lines) + "\n"
+
+    def theory(self) -> str:
+        """The ``:init`` of a knowledge structure as a finitary S5 theory."""
+        s = self.model
+        items = []
+        everywhere = not (s.law & ~s.designated_states).satisfiable()
+        if not everywhere:  # the designated states, a propositional formula
+            items.append(self.cubes(s.designated_states & s.law))
+        law = self.cubes(s.law)
+        if law != "(true)":
+            items.append(f"([C. All] {law})")
+        for agent in s.agents:
+            for slot in sorted(s.relation(agent, "knowledge").slots):
+                atom = self.atom(self.slot_atoms[slot])
+                items.append(f"([C. All] ([Kw. {self.agents[agent]}] {atom}))")
+        body = " ".join(items) if items else "([C. All] (true))"
+        return f"  (:init (:and {body}))"
+
+    def cubes(self, f) -> str:
+        """A BDD of the structure as a disjunction of disjoint cubes (EPDDL text)."""
+        names = self.slot_atoms
+        slots = [s for a in self.spec.atoms if (s := self.model.atom_slots.get(a)) is not None]
+        terms = []
+        for cube in cube_literals(f, slots, MAX_CUBES):
+            literals = [self.atom(names[slot]) if value else f"(not {self.atom(names[slot])})"
+                        for slot, value in cube]  # fmt: skip
+            terms.append(literals[0] if len(literals) == 1 else
+                         f"(and {' '.join(literals)})" if literals else "(true)")  # fmt: skip
+        if len(terms) == 1:
+            return terms[0]
+        return f"(or {' '.join(terms)})" if terms else "(false)"
+
+    @property
+    def slot_atoms(self) -> dict[int, str]:
+        return {slot: atom for atom, slot in self.model.atom_slots.items()}
+
+    def worlds(self) -> str:
+        """The ``:init`` of a Kripke model, its worlds listed."""
+        m = self.model.minimize()  # bisimilar, and the part the designated worlds reach
         worlds = [f"w{i}" for i in range(m.n_worlds)]
         relations = []
         n_pairs = 0
@@ -340,14 +426,10 @@ class _Writer:
             if true:  # a world left out makes no atom true
                 labels.append(f"{w} (:and {body})")
         points = " ".join(worlds[i] for i in m.designated_positions)
-        lines.append(
+        return (
             f"  (:init\n    :worlds ({' '.join(worlds)})\n    :relations ({' '.join(relations)})\n"
             f"    :labels ({' '.join(labels)})\n    :designated ({points}))"
         )
-        goal = self.formula(self.spec.goal) if self.spec.goal is not None else "(true)"
-        lines.append(f"  (:goal {goal})")
-        lines.append(")")
-        return "\n".join(lines) + "\n"
 
 
 def _parse_atom(key: str) -> Atom:

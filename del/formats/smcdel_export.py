@@ -42,7 +42,7 @@ from epistemica.del_.language.modalities import (
 )
 from epistemica.del_.models import KnowledgeStructure
 from epistemica.del_.spec import Spec
-from epistemica.del_.symbolic.describe import disjoint_cubes
+from epistemica.del_.symbolic.describe import cube_literals
 from epistemica.del_.symbolic.relations import Observes
 
 __all__ = ["KEYWORDS", "MAX_LAW_CUBES", "to_smcdel"]
@@ -290,17 +290,10 @@ def _structure_text(spec: Spec, s: KnowledgeStructure) -> str:
 
 def _cubes_text(f, numbered: dict[int, int]) -> str:
     """``f`` (a BDD over the structure's variables) as a disjunction of disjoint cubes."""
-    terms = []
-    for picked in disjoint_cubes(f):
-        if len(terms) == MAX_LAW_CUBES:
-            raise InvalidArgumentError(
-                f"the law needs more than {MAX_LAW_CUBES:,} disjoint cubes to write",
-                hint="SMCDEL's format has no shared subformulas; export a smaller instance",
-            )
-        literals = [
-            str(n) if picked[2 * slot] else f"~{n}"
-            for slot, n in sorted(numbered.items(), key=lambda item: item[1])
-            if 2 * slot < len(picked) and picked[2 * slot] is not None
-        ]
-        terms.append("AND (" + ", ".join(literals) + ")" if literals else "Top")
+    slots = sorted(numbered, key=numbered.get)
+    terms = [
+        "AND (" + ", ".join(str(numbered[slot]) if value else f"~{numbered[slot]}"
+                            for slot, value in cube) + ")" if cube else "Top"
+        for cube in cube_literals(f, slots, MAX_LAW_CUBES)
+    ]  # fmt: skip
     return "OR (" + ", ".join(terms) + ")" if terms else "Bot"

@@ -60,7 +60,14 @@ from epistemica.del_.planning.planner import (
     inapplicable_worlds,
     relevant_part,
 )
-from epistemica.del_.planning.state_space import PlanResult, check_problem, search_states
+from epistemica.del_.planning.relevance import uses_distributed
+from epistemica.del_.planning.state_space import (
+    KeyedStates,
+    PlanResult,
+    check_problem,
+    exact_state,
+    search_states,
+)
 
 __all__ = [
     "CoordinationReport",
@@ -283,7 +290,8 @@ def plan_implicitly_coordinated_with_stats(
     def is_goal(state: KripkeModel) -> bool:
         return state.holds(tree, actions=table)
 
-    return search_states(initial, successors, is_goal, "bfs", max_depth)
+    store = KeyedStates(exact_state) if uses_distributed(tree, table.values()) else None
+    return search_states(initial, successors, is_goal, "bfs", max_depth, store=store)
 
 
 def _trace(world, k, before, shifted, steps, owners) -> tuple:

@@ -12,7 +12,9 @@ Semantics (Bolander and Andersen's sequential plans):
   designated event's precondition holds (so a plan from a multi-pointed state works
   whichever designated world is actual);
 - the successor state is the product update, contracted to its bisimulation minimum
-  (:meth:`~epistemica.del_.KripkeModel.minimize`), which preserves every formula.
+  (:meth:`~epistemica.del_.KripkeModel.minimize`), which preserves every formula without
+  distributed knowledge; a task with ``D[G]`` (whose truth a contraction can change) keeps
+  its states uncontracted and finds duplicates only when identical.
 
 Search: ``"bfs"`` (breadth-first, shortest plans), ``"greedy"`` (greedy best-first) and
 ``"astar"`` (A*), the last two guided by a heuristic (default: the number of top-level
@@ -63,13 +65,16 @@ from epistemica.del_.planning.relevance import (
     relevant_agents,
     relevant_atoms,
     relevant_part,
+    uses_distributed,
     uses_knowledge,
 )
 from epistemica.del_.planning.state_space import (
     SEARCHES,
     Heuristic,
+    KeyedStates,
     PlanResult,
     check_problem,
+    exact_state,
     search_states,
 )
 
@@ -209,7 +214,18 @@ def plan_with_stats(
         return state.holds(tree, actions=table)
 
     h = choose_heuristic(heuristic, search, tree, table)
-    return search_states(initial, successors, is_goal, search, max_depth, h, max_states)
+    # D[G] reads intersections of relations, which a contraction can change: such a
+    # task is searched on uncontracted states, duplicates found only when identical.
+    store = KeyedStates(exact_state) if uses_distributed(tree, table.values()) else None
+    return search_states(initial, successors, is_goal, search, max_depth, h, max_states, store)
+
+
+def _contraction(goal: Formula, table: Mapping[str, ActionModel]):
+    """How :func:`validate` normalises its states: contracted, or (``D[G]`` in the task)
+    the generated submodel."""
+    if uses_distributed(goal, table.values()):
+        return lambda state: exact_state(state)[0]
+    return lambda state: state.minimize()
 
 
 def _named(state: KripkeModel, worlds) -> str:
@@ -262,7 +278,8 @@ def validate(
                 hint=f"actions: {', '.join(table)}",
             )
     initial, table = relevant_part(initial, table, tree)
-    state = initial.minimize()
+    contract = _contraction(tree, table)
+    state = contract(initial)
     states = [state]
     for i, name in enumerate(steps):
         failing = inapplicable_worlds(state, table[name])
@@ -274,7 +291,7 @@ def validate(
                 i,
                 tuple(states),
             )
-        state = state.update(table[name]).minimize()
+        state = contract(state.update(table[name]))
         states.append(state)
     if not state.holds(tree, actions=table):
         bad = [

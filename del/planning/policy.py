@@ -69,7 +69,8 @@ from epistemica.del_.language.parser import as_formula
 from epistemica.del_.models import KripkeModel
 from epistemica.del_.planning.coordination import check_owners, perspective, pointed_at
 from epistemica.del_.planning.planner import applicable_in_all, relevant_part
-from epistemica.del_.planning.state_space import check_problem
+from epistemica.del_.planning.relevance import uses_distributed
+from epistemica.del_.planning.state_space import check_problem, exact_state
 
 __all__ = ["Decision", "Policy", "PolicyReport", "PolicyResult", "check_policy", "plan_policy"]
 
@@ -255,6 +256,15 @@ class _Problem:
             state = perspective(state, perspective_of)
         self.root = generated_submodel(state)
         self.acting = [a for a in state.agents if a in set(self.owners.values())]
+        # D[G] is not invariant under contraction: such views are kept whole, keyed exactly
+        self.exact = uses_distributed(self.goal, self.actions.values())
+
+    def normal(self, view: KripkeModel) -> tuple[KripkeModel, tuple]:
+        """A view as it is stored: contracted with its canonical key, or whole (D[G])."""
+        if self.exact:
+            return exact_state(view)
+        view = view.minimize()
+        return view, canonical_key(view)
 
     def goal_everywhere(self, state: KripkeModel) -> bool:
         return state.holds(self.goal, actions=self.actions)
@@ -264,8 +274,9 @@ class _Problem:
         (each contracted, with its canonical key), in a fixed order."""
         found: dict[tuple, KripkeModel] = {}
         for point in state.designated_positions.tolist():
-            view = perspective(pointed_at(state, [point]), agent).minimize()
-            found.setdefault(canonical_key(view), view)
+            view = perspective(pointed_at(state, [point]), agent)
+            view, key = self.normal(view)
+            found.setdefault(key, view)
         return sorted(found.items(), key=lambda item: repr(item[0]))
 
     def outcome(self, view: KripkeModel, action: str) -> KripkeModel:

@@ -13,6 +13,7 @@ import numpy as np
 
 from epistemica.del_.explicit._cube import Cube, pack_bits
 from epistemica.del_.explicit.action import ActionModel
+from epistemica.del_.explicit.bisimulation import generated_submodel
 from epistemica.del_.language.formula import Formula
 from epistemica.del_.language.modalities import Common, Distributed, Everybody, Know, KnowWhether
 from epistemica.del_.language.parser import as_formula
@@ -25,6 +26,7 @@ __all__ = [
     "relevant_agents",
     "relevant_atoms",
     "relevant_part",
+    "uses_distributed",
     "uses_knowledge",
 ]
 
@@ -44,6 +46,25 @@ def uses_knowledge(goal: Formula, actions: Iterable[ActionModel]) -> bool:
     """
     return any(
         isinstance(g, _KNOWLEDGE_NODES) for f in _formulas(goal, actions) for g in f.subformulas()
+    )
+
+
+def uses_distributed(goal: Formula, actions: Iterable[ActionModel]) -> bool:
+    """Whether distributed knowledge ``D[G]`` occurs in the goal or in any action's
+    formulas. Its truth is not invariant under bisimulation (it reads the intersection of
+    relations, which a contraction can enlarge), so such a task is planned on states that
+    are not contracted.
+
+    Examples
+    --------
+    >>> from epistemica.del_ import parse_formula, public_announcement
+    >>> uses_distributed(parse_formula("D[a, b] p"), [])
+    True
+    >>> uses_distributed(parse_formula("K[a] p"), [public_announcement("p", ["a"])])
+    False
+    """
+    return any(
+        isinstance(g, Distributed) for f in _formulas(goal, actions) for g in f.subformulas()
     )
 
 
@@ -97,7 +118,8 @@ def relevant_part(
     splits states (and each action carries it); an unread atom doubles the worlds. The
     search, :func:`validate` and implicit coordination (which also keeps ``agents``, the
     owners whose perspectives it takes) all plan on this part, so they see the same
-    states. Every formula over the kept atoms and agents keeps its truth.
+    states. Every formula over the kept atoms and agents keeps its truth (the state is
+    contracted unless ``D[G]`` occurs: see :func:`uses_distributed`).
 
     Examples
     --------
@@ -115,7 +137,8 @@ def relevant_part(
         agents = tuple(a for a in state.agents if a in keep)
         state = _with_agents(state, agents)
         actions = {name: action_with_agents(a, agents) for name, a in actions.items()}
-    return project(state, relevant_atoms(goal, actions.values())), actions
+    contract = not uses_distributed(goal, actions.values())
+    return project(state, relevant_atoms(goal, actions.values()), contract), actions
 
 
 def _with_agents(state: KripkeModel, agents: tuple[str, ...]) -> KripkeModel:
@@ -151,8 +174,10 @@ def action_with_agents(action: ActionModel, agents: tuple[str, ...]) -> ActionMo
     )
 
 
-def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
-    """The state on ``atoms`` only, contracted: formulas over them keep their truth.
+def project(state: KripkeModel, atoms: Iterable[str], contract: bool = True) -> KripkeModel:
+    """The state on ``atoms`` only, contracted: formulas over them keep their truth
+    (with ``contract=False``, the generated submodel on ``atoms``: formulas with ``D[G]``
+    keep theirs too).
 
     Planning never reads an atom that no action or goal mentions, but such an atom may
     multiply the worlds (each unknown one doubles them); projecting it away first keeps
@@ -170,11 +195,11 @@ def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
     columns = [j for j, a in enumerate(state.atoms) if a in keep]
     if len(columns) == len(state.atoms):
         return state
-    if state.cube is not None:
+    if state.cube is not None and contract:
         found = _project_cube(state, columns)
         if found is not None:
             return found
-    return KripkeModel.from_arrays(
+    projected = KripkeModel.from_arrays(
         state.lazy_names,
         tuple(state.atoms[j] for j in columns),
         state.valuation[:, columns],
@@ -182,7 +207,8 @@ def project(state: KripkeModel, atoms: Iterable[str]) -> KripkeModel:
         state.belief_relations,
         state.knowledge_relations,
         state.designated_positions,
-    ).minimize()
+    )
+    return projected.minimize() if contract else generated_submodel(projected)
 
 
 def _project_cube(state: KripkeModel, columns: list[int]) -> KripkeModel | None:

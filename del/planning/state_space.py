@@ -51,6 +51,7 @@ __all__ = [
     "PlanResult",
     "StateStore",
     "check_problem",
+    "exact_state",
     "search_states",
     "state_bytes",
 ]
@@ -297,7 +298,8 @@ class StateStore(Protocol):
 class KeyedStates:
     """A :class:`StateStore`: each state prepared (contracted, normalised) and keyed, one
     per key. ``prepare(state)`` gives ``(state to store, key)``; the default contracts a
-    Kripke model and keys it by :func:`canonical_key`."""
+    Kripke model and keys it by :func:`canonical_key`; :func:`exact_state` keeps it
+    uncontracted (a task with ``D[G]``)."""
 
     def __init__(self, prepare: Callable[[Any], tuple[Any, Hashable]] | None = None) -> None:
         self.states: list[Any] = []
@@ -336,6 +338,31 @@ def state_bytes(state: Any) -> int:
     relations = {id(r): r for r in state.belief_relations.values()}
     relations.update({id(r): r for r in state.knowledge_relations.values()})
     return state.valuation.nbytes + 16 * sum(edge_count(r) for r in relations.values())
+
+
+def exact_state(state: KripkeModel) -> tuple[KripkeModel, tuple]:
+    """The generated submodel, keyed by its arrays (equal keys: the same model, world for
+    world). For tasks with distributed knowledge, which a bisimulation contraction can
+    change (:func:`~epistemica.del_.planning.relevance.uses_distributed`): duplicates are
+    then found only when identical, never merged when merely bisimilar.
+
+    >>> from epistemica.del_ import KripkeModel
+    >>> def m(actual):
+    ...     return KripkeModel.from_observables(["p"], {"a": []}, designated=actual)
+    >>> key = exact_state(m(["p"]))[1]
+    >>> key == exact_state(m(["p"]))[1], key == exact_state(m([]))[1]
+    (True, False)
+    """
+    state = generated_submodel(state)
+    relations = []
+    for agent in state.agents:
+        belief, knowledge = state.belief_relations[agent], state.knowledge_relations[agent]
+        relations.append(np.packbits(belief.to_dense()).tobytes())
+        if knowledge is not belief:
+            relations.append(np.packbits(knowledge.to_dense()).tobytes())
+    valuation = np.packbits(state.valuation, axis=1)
+    return state, (state.valuation.shape, valuation.tobytes(),
+                   np.asarray(state.designated_positions).tobytes(), *relations)  # fmt: skip
 
 
 def _contracted(state: KripkeModel) -> tuple[KripkeModel, tuple]:

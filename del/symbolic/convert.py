@@ -151,7 +151,13 @@ def to_kripke(
         valuation,
         {a: pairs(structure.belief_relations[a]) for a in agents},
         points,
-        knowledge={a: pairs(structure.knowledge_relations[a]) for a in agents},
+        # one relation object per agent unless they differ: "separate knowledge" is
+        # read off the objects, and a listed S5 structure has none
+        knowledge=(
+            {a: pairs(structure.knowledge_relations[a]) for a in agents}
+            if structure.has_separate_knowledge()
+            else None
+        ),
         atoms=list(structure.atom_slots),
     )
 

@@ -28,6 +28,7 @@ import itertools
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
+from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.symbolic import _bdd
 from epistemica.del_.symbolic.relations import Observes
 
@@ -35,6 +36,7 @@ if TYPE_CHECKING:
     from epistemica.del_.symbolic._bdd import BDDFunction
 
 __all__ = [
+    "cube_literals",
     "describe_structure",
     "disjoint_cubes",
     "iter_valuations",
@@ -56,6 +58,37 @@ def disjoint_cubes(f: BDDFunction) -> Iterator[list]:
     while f.satisfiable():
         yield f.pick_cube()
         f = f & ~f.pick_cube_dd()
+
+
+def cube_literals(f: BDDFunction, slots, limit: int) -> Iterator[list[tuple[int, bool]]]:
+    """The disjoint cubes of ``f``, each as its ``(slot, value)`` literals over ``slots``
+    in their order (an empty list: the cube is every state); at most ``limit`` cubes.
+
+    Raises
+    ------
+    InvalidArgumentError
+        ``f`` needs more than ``limit`` cubes (a written format without shared
+        subformulas would be too long).
+
+    Examples
+    --------
+    >>> from epistemica.del_ import KnowledgeStructure
+    >>> s = KnowledgeStructure.from_observables(["p", "q"], {}, law="p | q")
+    >>> p, q = s.atom_slots["p"], s.atom_slots["q"]
+    >>> sorted(len(cube) for cube in cube_literals(s.law, [p, q], 10))
+    [1, 2]
+    """
+    for count, picked in enumerate(disjoint_cubes(f)):
+        if count == limit:
+            raise InvalidArgumentError(
+                f"the formula needs more than {limit:,} disjoint cubes to write",
+                hint="the format has no shared subformulas; export a smaller instance",
+            )
+        yield [
+            (slot, bool(picked[2 * slot]))
+            for slot in slots
+            if 2 * slot < len(picked) and picked[2 * slot] is not None
+        ]
 
 
 def law_text(s: Any, limit: int = 16) -> str:

@@ -246,13 +246,6 @@ def test_a_symbolic_spec_is_listed_for_epddl_when_its_states_fit():
     assert bisimilar(project(mine, atoms), project(back, atoms))
 
 
-def test_a_structure_too_large_to_list_names_the_symbolic_export():
-    spec = load_spec(SPECS / "puzzles" / "dining_cryptographers_100.epi")
-    with pytest.raises(InvalidArgumentError, match="more than") as info:
-        to_epddl(spec)
-    assert "--smcdel" in info.value.hint
-
-
 def test_an_exported_plan_keeps_its_length():
     spec = load_spec(SPECS / "planning" / "coin_in_the_box_b.epi")
     back = _round_trip(spec)[0].spec
@@ -285,3 +278,63 @@ def test_random_models_and_actions_survive_export_and_import(model, action):
                 atoms=("p", "q", "r"), filename="<random>", source="")  # fmt: skip
     back, renaming, atoms = _round_trip(spec)
     _agree(spec, back, renaming, atoms)
+
+
+# -- knowledge structures as finitary S5 theories --------------------------------------------
+
+
+def _structure_agrees(spec, files):
+    back = parse_epddl(files["domain"], files["problem"], [files["library"]])
+    renaming = atom_renaming(spec)
+    atoms = [renaming[a] for a in spec.atoms]
+    mine = _renamed(spec.model.to_kripke(max_worlds=4096), renaming)
+    assert bisimilar(project(mine, atoms), project(back.spec.model, atoms))
+    return back
+
+
+def test_a_symbolic_spec_written_as_a_theory_reads_back_bisimilar_and_plans_alike():
+    text = (SPECS / "puzzles" / "muddy_children_4.epi").read_text()
+    spec = parse_spec(text, "muddy.epi", backend="symbolic")
+    assert not isinstance(spec.model, KripkeModel)
+    files = to_epddl(spec, "t", theory=True)
+    assert ":worlds" not in files["problem"] and "[Kw. c1] (m2)" in files["problem"]
+    back = _structure_agrees(spec, files)
+    # father, then "nobody knows" three times (four muddy children): 4 steps, as listed
+    assert len(plan(back.spec.model, back.spec.actions, back.spec.goal)) == 4
+
+
+_VALUATIONS = [frozenset(s) for s in ([], ["p"], ["q"], ["r"], ["p", "q"], ["p", "r"],
+                                       ["q", "r"], ["p", "q", "r"])]  # fmt: skip
+
+
+@st.composite
+def _structures(draw):
+    from epistemica.del_ import KnowledgeStructure
+
+    law = draw(st.lists(st.sampled_from(_VALUATIONS), min_size=1, max_size=8, unique=True))
+    actual = draw(st.lists(st.sampled_from(law), min_size=1, max_size=len(law), unique=True))
+    observed = {a: draw(st.lists(st.sampled_from("pqr"), unique=True)) for a in ("a", "b")}
+
+    def cube(v):
+        return "(" + " & ".join(x if x in v else f"~{x}" for x in "pqr") + ")"
+
+    s = KnowledgeStructure.from_observables(["p", "q", "r"], observed, " | ".join(map(cube, law)))
+    return s.restricted(s.law, s.truth(" | ".join(map(cube, actual))))  # several designated
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(structure=_structures())
+def test_random_structures_survive_the_theory_and_import(structure):
+    spec = Spec(model=structure, actions={}, goal=None, checks=(), agents=("a", "b"),
+                atoms=("p", "q", "r"), filename="<random>", source="")  # fmt: skip
+    _structure_agrees(spec, to_epddl(spec, theory=True))
+
+
+def test_a_structure_too_large_to_list_is_written_as_a_theory():
+    spec = load_spec(SPECS / "puzzles" / "dining_cryptographers_100.epi")
+    assert spec.model.n_worlds > 1 << 100
+    problem = to_epddl(spec)["problem"]
+    assert ":worlds" not in problem and "[C. All]" in problem
+    with pytest.raises(InvalidArgumentError, match="too costly") as info:
+        to_epddl(spec, theory=False)
+    assert "theory" in info.value.hint

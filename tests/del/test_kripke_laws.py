@@ -124,6 +124,9 @@ def test_truth_is_invariant_under_minimize(model, f):
     small_model = model.minimize()
     assert small_model.n_worlds <= model.n_worlds
     assert bisimilar(model, small_model)
+    # D[G] reads the intersection of relations, which a contraction may enlarge: it is
+    # not invariant (tests/del/test_planner_search.py has a counterexample worked by hand)
+    assume(not any(isinstance(g, Distributed) for g in f.subformulas()))
     assert model.holds(f) == small_model.holds(f)
 
 

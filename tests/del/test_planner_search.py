@@ -215,3 +215,65 @@ def test_every_plan_returned_reaches_the_goal_when_reexecuted(problem):
         result = plan_with_stats(s0, actions, goal, search=search, max_depth=4)
         if result.plan is not None:
             assert _reexecuted(s0, actions, result.plan, goal), (search, result.plan)
+
+
+# ---- distributed knowledge: not invariant under contraction ----------------------------
+
+
+def _crossed(q_worlds=()):
+    """Four worlds, p at w1 and w3; a's cells {w1, w2}, {w3, w4}, b's {w1, w4}, {w2, w3}.
+    w1 and w3 are bisimilar (so are w2 and w4), but only w1 and w3 are each alone in the
+    intersection of their cells: D[a, b] p holds at w1, and fails at the contraction's
+    p-world, whose a- and b-cells are both the whole model."""
+    worlds = ["w1", "w2", "w3", "w4"]
+    valuation = {w: ({"p"} if w in ("w1", "w3") else set()) | ({"q"} if w in q_worlds else set())
+                 for w in worlds}  # fmt: skip
+
+    def cells(*classes):
+        return [(x, y) for c in classes for x in c for y in c]
+
+    relations = {"a": cells(["w1", "w2"], ["w3", "w4"]), "b": cells(["w1", "w4"], ["w2", "w3"])}
+    return KripkeModel(worlds, valuation, relations, "w1", atoms=["p", "q"])
+
+
+def test_contraction_changes_distributed_knowledge_and_the_planner_does_not():
+    m = _crossed()
+    assert m.holds("D[a, b] p") and not m.minimize().holds("D[a, b] p")  # worked by hand
+    assert plan(m, {}, "D[a, b] p") == []
+    assert validate(m, {}, [], "D[a, b] p")
+    result = plan_with_stats(m, {}, "~D[a, b] p")
+    assert result.plan is None and result.complete
+
+
+D_GOALS = ["D[a, b] p", "D[a, b] q & ~K[a] q", "D[a, b] ~p | K[b] q", "~D[a, b] q & q",
+           "K[a] D[a, b] p"]  # fmt: skip
+
+
+def _works_uncontracted(s0, actions, sequence, goal):
+    """The plan run by plain product updates, no contraction anywhere (independent of the
+    planner's normalisation)."""
+    state = s0
+    for name in sequence:
+        if not planner.applicable_in_all(state, actions[name]):
+            return False
+        state = state.update(actions[name])
+    return state.holds(goal)
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    st.lists(st.sampled_from(sorted(POOL)), min_size=1, max_size=3, unique=True),
+    st.sets(st.sampled_from(["w1", "w2", "w3", "w4"])),
+    st.sampled_from(D_GOALS),
+)
+def test_plans_with_distributed_knowledge_are_shortest_and_valid(names, q_worlds, goal):
+    s0 = _crossed(sorted(q_worlds))
+    actions = {n: observability_action(AGENTS, name=n, **POOL[n]) for n in names}
+    found = plan(s0, actions, goal, max_depth=2)
+    bound = 2 if found is None else len(found) - 1
+    if found is not None:
+        assert _works_uncontracted(s0, actions, found, goal)
+        assert validate(s0, actions, found, goal)
+    for k in range(bound + 1):
+        for seq in itertools.product(actions, repeat=k):
+            assert not _works_uncontracted(s0, actions, seq, goal), seq
