@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import re
 from pathlib import Path
 
 import numpy as np
@@ -73,9 +74,31 @@ def test_the_stored_states_count_against_the_memory_budget():
         plan_with_stats(s0, actions, "K[b] p")
     assert "distinct states of the search" in str(refused.value)
     assert "over the memory budget of" in str(refused.value)
+    # The budget it names covers what was refused, so it is above the one in force (a
+    # value rounded to nearest could name that one again).
+    assert _named_budget(refused.value) * 2**30 > 3 * one
     with budget_scope(100 * one):
         bounded = plan_with_stats(s0, actions, "K[b] p")
     assert bounded.distinct == plan_with_stats(s0, actions, "K[b] p").distinct
+
+
+def _named_budget(error: Exception) -> float:
+    """The ``--memory-budget`` (GiB) a refusal's hint names."""
+    return float(re.search(r"at least (\S+) here\)", error.hint).group(1))
+
+
+def test_a_refusal_names_a_budget_that_covers_it():
+    # 0.0009314 GiB rounds to 0.000931 at three digits, below what is needed: the named
+    # budget must be rounded up, so that giving it is not refused again.
+    from epistemica.del_.budget import MemoryBudgetError, budget_scope, require
+
+    budget = int(0.0009314 * 2**30)
+    with budget_scope(budget), pytest.raises(MemoryBudgetError) as refused:
+        require(budget + 1, "a table")
+    named = _named_budget(refused.value)
+    assert named * 2**30 >= budget + 1
+    with budget_scope(int(named * 2**30)):
+        require(budget + 1, "a table")
 
 
 @pytest.mark.parametrize("search", ["greedy", "astar"])
