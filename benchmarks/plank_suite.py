@@ -56,18 +56,11 @@ def run(
         argv += ["--max-depth", str(args.max_depth)]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    try:
-        done = subprocess.run(
-            argv,
-            capture_output=True,
-            text=True,
-            timeout=args.seconds,
-            preexec_fn=capped(args.memory_gib),
-            check=False,
-        )
-        status, text = done.returncode, (done.stdout or done.stderr).strip()
-    except subprocess.TimeoutExpired:
+    done = limited(argv, args)
+    if done is None:
         status, text = 124, f"no answer within {args.seconds:g} s"
+    else:
+        status, text = done.returncode, (done.stdout or done.stderr).strip()
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
@@ -78,15 +71,20 @@ def run(
     return status, wall, cpu, first[:110], None
 
 
-def capped(gib: float):
-    """A ``preexec_fn`` limiting a child's address space to ``gib`` GiB and 512 MiB (room
-    for the interpreter beside the memory budget)."""
-    limit = int(gib * 2**30) + 2**29
+def limited(argv: list[str], args: argparse.Namespace) -> subprocess.CompletedProcess | None:
+    """Run ``argv`` within ``--seconds`` and an address space of ``--memory-gib`` GiB and
+    512 MiB (room for the interpreter beside the memory budget); None on the time limit."""
+    limit = int(args.memory_gib * 2**30) + 2**29
 
     def cap() -> None:
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
-    return cap
+    try:
+        return subprocess.run(
+            argv, capture_output=True, text=True, timeout=args.seconds, preexec_fn=cap, check=False
+        )
+    except subprocess.TimeoutExpired:
+        return None
 
 
 def answer(found: dict, counts: bool) -> str:
@@ -103,22 +101,13 @@ def answer(found: dict, counts: bool) -> str:
 def plank_bfs(bfs: Path, domain: Path, problem: Path, libs: list[Path], args) -> str:
     """plank's ``bfs_planner`` on one instance, within the time and memory limits: its
     plan's length and the run time it reports (wall), or why there is none."""
-    seconds = args.seconds
     argv = [str(bfs), "-d", str(domain), "-p", str(problem)]
     if libs:
         argv += ["-l", *map(str, libs)]
     start = time.perf_counter()
-    try:
-        done = subprocess.run(
-            argv,
-            capture_output=True,
-            text=True,
-            timeout=seconds,
-            preexec_fn=capped(args.memory_gib),
-            check=False,
-        )
-    except subprocess.TimeoutExpired:
-        return f"none within {seconds:g} s"
+    done = limited(argv, args)
+    if done is None:
+        return f"none within {args.seconds:g} s"
     wall = time.perf_counter() - start
     reported = _PLANK_TIME.search(done.stdout)
     took = f"{float(reported.group(1)):.3f} s" if reported else f"{wall:.3f} s wall"
