@@ -150,6 +150,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--plank", type=Path, help="plank's executable: validate each plan")
     parser.add_argument("--plank-bfs", type=Path, help="plank's bfs_planner: run it too")
     args = parser.parse_args(argv)
+    for given in (args.plank, args.plank_bfs):
+        if given is not None and not given.is_file():
+            parser.error(f"{given} is not a file (build plank first: see its README)")
     root = args.plank_root / "benchmarks"
     head = ["instance", "exit", "answer", "wall s", "CPU s"]
     head += ["plank validate"] if args.plank else []
