@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import math
 from collections.abc import Callable, Iterator
 
 from epistemica.del_.errors import EpistemicaError
@@ -73,6 +74,21 @@ def budget_scope(n_bytes: int | None) -> Iterator[None]:
         _SCOPED.reset(token)
 
 
+def _gib_at_least(n_bytes: float) -> str:
+    """``n_bytes`` in GiB, rounded up at three significant digits: a ``--memory-budget``
+    that covers it (rounding to nearest could name the budget just refused).
+
+    >>> _gib_at_least(2**30 * 0.0010004), _gib_at_least(2**30 * 5.3), _gib_at_least(2**40)
+    ('0.00101', '5.30', '1030')
+    """
+    gib = n_bytes / 2**30
+    if gib <= 0:
+        return "0"
+    digits = 2 - math.floor(math.log10(gib))
+    rounded = math.ceil(gib * 10**digits - 1e-9) / 10**digits
+    return f"{rounded:.{max(digits, 0)}f}"
+
+
 def _size(n_bytes: float) -> str:
     for unit, scale in (("GiB", 2**30), ("MiB", 2**20), ("KiB", 2**10)):
         if n_bytes >= scale:
@@ -98,7 +114,7 @@ def require(n_bytes: float, what: str | Callable[[], str]) -> None:
             f"{what} needs about {_size(n_bytes)}, over the memory budget of {_size(budget)}",
             hint="use the symbolic backend (`--backend symbolic`, or "
             "KripkeModel.to_symbolic()), or raise the memory budget (`--memory-budget GIB`, "
-            f"at least {n_bytes / 2**30:.3g} here)",
+            f"at least {_gib_at_least(n_bytes)} here)",
         )
 
 

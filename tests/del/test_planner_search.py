@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import itertools
+import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -22,6 +24,7 @@ from epistemica.del_ import (
 from epistemica.del_.explicit import checker
 from epistemica.del_.explicit.canonical import canonical_key
 from epistemica.del_.planning import planner
+from epistemica.del_.planning.state_space import KeyedStates
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "planning"
 AGENTS = ["a", "b"]
@@ -71,9 +74,31 @@ def test_the_stored_states_count_against_the_memory_budget():
         plan_with_stats(s0, actions, "K[b] p")
     assert "distinct states of the search" in str(refused.value)
     assert "over the memory budget of" in str(refused.value)
+    # The budget it names covers what was refused, so it is above the one in force (a
+    # value rounded to nearest could name that one again).
+    assert _named_budget(refused.value) * 2**30 > 3 * one
     with budget_scope(100 * one):
         bounded = plan_with_stats(s0, actions, "K[b] p")
     assert bounded.distinct == plan_with_stats(s0, actions, "K[b] p").distinct
+
+
+def _named_budget(error: Exception) -> float:
+    """The ``--memory-budget`` (GiB) a refusal's hint names."""
+    return float(re.search(r"at least (\S+) here\)", error.hint).group(1))
+
+
+def test_a_refusal_names_a_budget_that_covers_it():
+    # 0.0009314 GiB rounds to 0.000931 at three digits, below what is needed: the named
+    # budget must be rounded up, so that giving it is not refused again.
+    from epistemica.del_.budget import MemoryBudgetError, budget_scope, require
+
+    budget = int(0.0009314 * 2**30)
+    with budget_scope(budget), pytest.raises(MemoryBudgetError) as refused:
+        require(budget + 1, "a table")
+    named = _named_budget(refused.value)
+    assert named * 2**30 >= budget + 1
+    with budget_scope(int(named * 2**30)):
+        require(budget + 1, "a table")
 
 
 @pytest.mark.parametrize("search", ["greedy", "astar"])
@@ -277,3 +302,62 @@ def test_plans_with_distributed_knowledge_are_shortest_and_valid(names, q_worlds
     for k in range(bound + 1):
         for seq in itertools.product(actions, repeat=k):
             assert not _works_uncontracted(s0, actions, seq, goal), seq
+
+
+def _eccentric_pair() -> tuple[KripkeModel, KripkeModel]:
+    """Two states of plank's Selective Communication as BFS meets them (reduced to the
+    atom ``info``): ``left(D), sense(C)``, where D sees C sense, and ``sense(C),
+    left(D)``, where D does not. B relates nothing (the problem lists A twice)."""
+    info = {"info"}
+    first = KripkeModel(
+        ["w0", "w1", "w2", "w3"],
+        {"w0": info, "w1": set(), "w2": info, "w3": set()},
+        {
+            "A": [(w, v) for w in ("w0", "w1", "w2", "w3") for v in ("w2", "w3")],
+            "B": [],
+            "C": [("w0", "w0"), ("w1", "w1")]
+            + [(w, v) for w in ("w2", "w3") for v in ("w2", "w3")],
+            "D": [(w, v) for pair in (("w0", "w1"), ("w2", "w3")) for w in pair for v in pair],
+            "E": [(w, v) for w in ("w0", "w1", "w2", "w3") for v in ("w2", "w3")],
+        },
+        "w0",
+    )
+    seen = [(w, v) for w in ("v0", "v1", "v2") for v in ("v1", "v2")]
+    second = KripkeModel(
+        ["v0", "v1", "v2"],
+        {"v0": info, "v1": info, "v2": set()},
+        {
+            "A": seen,
+            "B": [],
+            "C": [("v0", "v0")] + [(w, v) for w in ("v1", "v2") for v in ("v1", "v2")],
+            "D": seen,
+            "E": seen,
+        },
+        "v0",
+    )
+    return first, second
+
+
+def _depth_one_view(m: KripkeModel) -> tuple:
+    """The designated world's label and, per agent, the set of its successors' labels: all
+    that a signature of depth 1 sees (plank's, at the states' eccentricity of 1)."""
+    (w,) = m.designated_positions
+    labels = [frozenset(np.flatnonzero(row).tolist()) for row in m.valuation]
+    return labels[w], tuple(
+        frozenset(labels[v] for v in np.flatnonzero(m.belief_relations[a].to_dense()[w]))
+        for a in sorted(m.agents)
+    )
+
+
+def test_states_alike_to_depth_one_but_not_bisimilar_stay_apart():
+    # plank's BFS keys a state by its designated worlds' signatures to the depth of the
+    # farthest world (here 1), so it meets this pair once; they differ at depth 2: D
+    # believes that C believes whether info in the first only. The search keeps both.
+    first, second = _eccentric_pair()
+    assert _depth_one_view(first) == _depth_one_view(second)
+    goal = "B[D] (B[C] info | B[C] ~info)"
+    assert first.holds(goal) and not second.holds(goal)
+    assert not bisimilar(first, second)
+    store = KeyedStates()
+    assert store.add(first)[1] and store.add(second)[1]
+    assert len(store) == 2
