@@ -79,7 +79,7 @@ from epistemica.del_.language.modalities import (
     KnowWhether,
 )
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
-from epistemica.del_.spec import Check, Spec, check_token_count, read_source
+from epistemica.del_.spec import Check, Spec, check_claim_count, check_token_count, read_source
 
 __all__ = [
     "SMCDEL_GRAMMAR",
@@ -95,6 +95,7 @@ SMCDEL_GRAMMAR = Path(__file__).with_name("smcdel.lark")
 # Above this many atoms the model is a knowledge structure (as the spec backend's "auto").
 _SYMBOLIC_ATOMS = 20
 _NAME = re.compile(r"-- epistemica (atom|agent) (\S+): (.+)$", re.MULTILINE)
+_JOB = re.compile(r"((?:TRUE|VALID|WHERE)\?)")
 _PROPOSITIONAL = (Top, Bottom, Atom, Not, And, Or, Implies, Iff)
 
 
@@ -122,6 +123,7 @@ def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -
         Located in ``text``.
     """
     check_token_count(text, filename, "SMCDEL file")  # before parsing: bounded memory
+    check_claim_count(text, filename, claim=_JOB)  # each job is a claim of a spec
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:

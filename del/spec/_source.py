@@ -39,7 +39,7 @@ MAX_CLAIMS = 10_000
 #: shipped spec, the drinking logicians, holds 332,000).
 MAX_TOKENS = 1_000_000
 _TOKEN = re.compile(r"\w+|\S|\n")
-_CLAIM = re.compile(r"^[ \t]*check\b", re.MULTILINE)
+_CLAIM = re.compile(r"^[ \t]*(check)\b", re.MULTILINE)
 _BLOCK = 1 << 16
 _BOM = b"\xef\xbb\xbf"
 
@@ -141,8 +141,12 @@ def _refuse_binary(block: bytes, name: str, what: str, hint: str) -> None:
             decode_source(block, name, what)
 
 
-def check_claim_count(text: str, filename: str = "<string>", limit: int = MAX_CLAIMS) -> None:
-    """Refuse a text with more than ``limit`` ``check`` claims, at the first one too many.
+def check_claim_count(
+    text: str, filename: str = "<string>", limit: int = MAX_CLAIMS, claim: re.Pattern = _CLAIM
+) -> None:
+    """Refuse a text with more than ``limit`` claims, at the first one too many; a claim
+    is a match of ``claim`` (its group 1 is where it starts): a spec's ``check`` at the
+    start of a line by default, SMCDEL's ``TRUE?``, ``VALID?`` and ``WHERE?`` jobs too.
 
     Examples
     --------
@@ -151,21 +155,21 @@ def check_claim_count(text: str, filename: str = "<string>", limit: int = MAX_CL
     >>> try:
     ...     check_claim_count(text, "many.epi", limit=2)
     ... except SpecError as err:
-    ...     print(err.line, err.message)
-    5 more than 2 claims in one file
+    ...     print(err.line, err.column, err.message)
+    5 1 more than 2 claims in one file
     """
-    for count, found in enumerate(_CLAIM.finditer(text), 1):
-        if count > limit:
-            line = text.count("\n", 0, found.start()) + 1
-            column = found.group().index("c") + 1
-            raise SpecError(
-                f"more than {limit} claims in one file",
-                line=line,
-                column=column,
-                source=text,
-                filename=filename,
-                hint=f"split the claims over several files of at most {limit} each",
-            )
+    found = next(itertools.islice(claim.finditer(text), limit, None), None)
+    if found is None:
+        return
+    start = found.start(1)
+    raise SpecError(
+        f"more than {limit} claims in one file",
+        line=text.count("\n", 0, start) + 1,
+        column=start - text.rfind("\n", 0, start),
+        source=text,
+        filename=filename,
+        hint=f"split the claims over several files of at most {limit} each",
+    )
 
 
 def check_token_count(

@@ -16,7 +16,7 @@ from epistemica.del_.formats.smcdel_export import to_smcdel
 from epistemica.del_.language.formula import And, Atom, Not
 from epistemica.del_.language.modalities import Know
 from epistemica.del_.planning.planner import project
-from epistemica.del_.spec import Check, Spec, load_spec
+from epistemica.del_.spec import MAX_CLAIMS, Check, Spec, load_spec
 from epistemica.del_.spec import _source as source
 from tests.epistemic_strategies import formulas
 
@@ -191,3 +191,14 @@ def test_a_file_over_the_token_limit_is_refused_before_parsing(monkeypatch):
         parse_smcdel(text + "VALID? 1\n", "x.smcdel")  # token 44: 'VALID' at 9:1
     assert (info.value.filename, info.value.line, info.value.column) == ("x.smcdel", 9, 1)
     assert "more than 43 tokens" in info.value.message
+
+
+def test_more_jobs_than_claims_allowed_are_refused_before_parsing():
+    head = "VARS 1\nLAW Top\nOBS a: 1\n"
+    jobs = "VALID? 1 | ~1\nTRUE? {1} 1\nWHERE? 1\n"
+    found = parse_smcdel(head + jobs * (MAX_CLAIMS // 3) + "VALID? 1 | ~1\n")
+    assert len(found.spec.checks) + len(found.where) == MAX_CLAIMS == 10_000
+    with pytest.raises(SpecError) as info:
+        parse_smcdel(head + jobs * (MAX_CLAIMS // 3) + "VALID? 1\n  WHERE? 1\n", "x.smcdel")
+    assert (info.value.line, info.value.column) == (3 + MAX_CLAIMS + 1, 3)
+    assert f"more than {MAX_CLAIMS} claims" in info.value.message

@@ -109,18 +109,13 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
         source = read_source(path, "policy file", MAX_POLICY_BYTES)
         check_token_count(source, str(path), "policy file")
         try:
-            data = json.loads(source)
+            return policy_class.from_dict(json.loads(source))
+        except InvalidArgumentError:  # from_dict's own, with its hint
+            raise
         except (ValueError, RecursionError) as error:  # RecursionError: nested too deeply
             raise InvalidArgumentError(
                 f"cannot read the policy {text!r}: {error}",
                 hint="give the JSON written by `epistemica plan SPEC --implicit --policy --json`",
-            ) from None
-        try:
-            return policy_class.from_dict(data)
-        except RecursionError:
-            raise InvalidArgumentError(
-                f"the policy {text!r} is nested too deeply to read",
-                hint="a policy of this depth is not one `epistemica plan` writes",
             ) from None
     steps = split_plan(text)
     for name in steps:
