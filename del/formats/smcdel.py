@@ -82,6 +82,8 @@ from epistemica.del_.models import KnowledgeStructure, KripkeModel
 from epistemica.del_.spec import Check, Spec, check_claim_count, check_token_count, read_source
 
 __all__ = [
+    "MAX_ONEOF",
+    "MAX_SMCDEL_TOKENS",
     "SMCDEL_GRAMMAR",
     "SmcdelFile",
     "is_smcdel",
@@ -122,7 +124,7 @@ def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -
     ParseError, SpecError
         Located in ``text``.
     """
-    check_token_count(text, filename, "SMCDEL file")  # before parsing: bounded memory
+    check_token_count(text, filename, "SMCDEL file", MAX_SMCDEL_TOKENS)  # bounded memory
     check_claim_count(text, filename, claim=_JOB)  # each job is a claim of a spec
     try:
         tree = _lark().parse(text)
@@ -385,6 +387,10 @@ def _list_formula(kind: str, parts: list[Formula]) -> Formula:
 #: Longer AND/OR lists are read as balanced trees: a left fold of thousands of parts is
 #: a formula as deep as it is long (printing it, hashing it, recursing on it overflows).
 _LONG_LIST = 64
+#: More tokens in an SMCDEL file are refused before parsing: lark's tree of it, with
+#: positions, costs up to about 1.6 kB a token (a chain of a million tokens 1|2|2|...
+#: peaked at 1.57 GB), twice a spec's; SMCDEL's muddy children of 100 hold 35,000.
+MAX_SMCDEL_TOKENS = 500_000
 #: A longer ONEOF is refused: it expands to as many conjunctions of as many literals.
 MAX_ONEOF = 1_000
 #: A Forall/Exists whose expansion (the body's nodes times 2^variables) is larger is refused.
