@@ -83,7 +83,6 @@ from epistemica.del_.spec import Check, Spec, check_claim_count, check_token_cou
 
 __all__ = [
     "MAX_ONEOF",
-    "MAX_SMCDEL_TOKENS",
     "SMCDEL_GRAMMAR",
     "SmcdelFile",
     "is_smcdel",
@@ -124,7 +123,7 @@ def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -
     ParseError, SpecError
         Located in ``text``.
     """
-    check_token_count(text, filename, "SMCDEL file", MAX_SMCDEL_TOKENS)  # bounded memory
+    check_token_count(text, filename, "SMCDEL file")  # before parsing: bounded memory
     check_claim_count(text, filename, claim=_JOB)  # each job is a claim of a spec
     try:
         tree = _lark().parse(text)
@@ -235,7 +234,9 @@ class _Reader:
 
     def formula(self, tree: Tree) -> Formula:
         """The formula of a parse tree, built children first on an explicit stack (a
-        chain ``1|2|...`` or ``~~...1`` is as deep as it is long: no recursion limit)."""
+        chain ``1|2|...`` or ``~~...1`` is as deep as it is long: no recursion limit).
+        The tree is consumed: its children are dropped once read (its position stays, for
+        errors), so that a large law's parse tree is freed before the model is built."""
         done: list[Formula] = []
         stack: list[tuple[Tree, bool]] = [(tree, False)]
         while stack:
@@ -250,6 +251,7 @@ class _Reader:
             values = done[cut:]
             del done[cut:]
             done.append(self.build(node, kids, values))
+        tree.children = []
         return done[0]
 
     def build(self, tree: Tree, kids: list, v: list[Formula]) -> Formula:
@@ -387,10 +389,6 @@ def _list_formula(kind: str, parts: list[Formula]) -> Formula:
 #: Longer AND/OR lists are read as balanced trees: a left fold of thousands of parts is
 #: a formula as deep as it is long (printing it, hashing it, recursing on it overflows).
 _LONG_LIST = 64
-#: More tokens in an SMCDEL file are refused before parsing: lark's tree of it, with
-#: positions, costs up to about 1.6 kB a token (a chain of a million tokens 1|2|2|...
-#: peaked at 1.57 GB), twice a spec's; SMCDEL's muddy children of 100 hold 35,000.
-MAX_SMCDEL_TOKENS = 500_000
 #: A longer ONEOF is refused: it expands to as many conjunctions of as many literals.
 MAX_ONEOF = 1_000
 #: A Forall/Exists whose expansion (the body's nodes times 2^variables) is larger is refused.

@@ -17,6 +17,7 @@ from epistemica.del_.language.formula import And, Atom, Not
 from epistemica.del_.language.modalities import Know
 from epistemica.del_.planning.planner import project
 from epistemica.del_.spec import MAX_CLAIMS, Check, Spec, load_spec
+from epistemica.del_.spec import _source as source
 from tests.epistemic_strategies import formulas
 
 # Three children, each seeing the others' foreheads (written for this test).
@@ -183,7 +184,7 @@ def test_quantifier_and_oneof_expansions_are_bounded_and_located(monkeypatch):
 
 def test_a_file_over_the_token_limit_is_refused_before_parsing(monkeypatch):
     # tokens: VARS 1 , 2 NL (5), LAW Top NL (3), OBS a : 1 NL (5); VALID ? 1 | 2 NL (6 each)
-    monkeypatch.setattr(smcdel, "MAX_SMCDEL_TOKENS", 13 + 6 * 5)
+    monkeypatch.setattr(source, "MAX_TOKENS", 13 + 6 * 5)
     text = "VARS 1,2\nLAW Top\nOBS a: 1\n" + "VALID? 1|2\n" * 5
     assert len(parse_smcdel(text).spec.checks) == 5
     with pytest.raises(SpecError) as info:
