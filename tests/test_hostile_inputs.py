@@ -246,3 +246,14 @@ def test_a_mission_over_the_token_limit_is_refused_before_parsing(tmp_path, caps
     path.write_text(text + "# one word too many\n")  # token 25: '#' at 5:1
     err = _exit_2(["check", path], capsys)
     assert f"{path}:5:1: error: more than 24 tokens (words, symbols and line ends)" in err
+
+
+def test_a_results_file_meta_table_is_read_only_where_needed(tmp_path, capsys):
+    db = tmp_path / "r.sqlite"
+    _results_file(db, 1)
+    with sqlite3.connect(db) as connection:  # a long format tag, and many other entries
+        connection.execute("UPDATE meta SET value = ? WHERE key = 'format'", ("x" * 10**6,))
+        others = ((f"k{i}", "v") for i in range(1000))
+        connection.executemany("INSERT INTO meta VALUES (?, ?)", others)
+    err = _exit_2(["report", db, "--no-png"], capsys)
+    assert f"format '{'x' * 64}')" in err  # the tag as read: its first 64 characters

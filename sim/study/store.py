@@ -314,7 +314,7 @@ def _check_schema(db: sqlite3.Connection, path: str, empty_ok: bool = False) -> 
     if missing:
         raise _not_results(path, f"its 'trials' table lacks {', '.join(missing)}")
     if "meta" in tables:
-        meta = dict(db.execute("SELECT key, value FROM meta").fetchall())
+        meta = _meta(db)
         if meta.get("format") != FORMAT:
             raise _not_results(path, f"format {meta.get('format')!r}")
         if not str(meta.get("version", "")).isdigit() or int(meta["version"]) > SCHEMA_VERSION:
@@ -323,6 +323,13 @@ def _check_schema(db: sqlite3.Connection, path: str, empty_ok: bool = False) -> 
                 f"schemas 1 to {SCHEMA_VERSION}",
                 hint="read it with the epistemica version that wrote it (its 'version' column)",
             )
+
+
+def _meta(db: sqlite3.Connection) -> dict:
+    """The ``format`` and ``version`` entries of the ``meta`` table, each cut to 64
+    characters (a hostile table of many or long entries is not read whole)."""
+    query = "SELECT key, substr(value, 1, 64) FROM meta WHERE key IN ('format', 'version') LIMIT 2"
+    return dict(db.execute(query).fetchall())
 
 
 def _rows(db: sqlite3.Connection, path: str | None = None) -> list[dict]:
@@ -381,7 +388,7 @@ def read_format(path) -> tuple[str, int]:
         tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
         if "meta" not in tables:
             return FORMAT, 1
-        return FORMAT, int(dict(db.execute("SELECT key, value FROM meta"))["version"])
+        return FORMAT, int(_meta(db)["version"])
     finally:
         db.close()
 
