@@ -1,10 +1,14 @@
 """Benchmark: every reader refuses hostile input within 2 s, with exit status 2 (issue 38).
 
 Each case runs the installed ``epistemica`` command as a fresh process (start-up included)
-``--repeats`` times; the median and the largest wall time and the exit statuses are
-reported. The cases: ``/dev/zero`` and ``/dev/urandom`` given to each reader (spec,
-mission, SMCDEL, EPDDL, policy, results file, view), a 1 GiB zlib bomb as a trace file and
-as a trace stored in a results file, and a mission file of a million ``check`` lines.
+``--repeats`` times; the median and the largest wall time, the largest peak RSS and the
+exit statuses are reported. The cases: ``/dev/zero`` and ``/dev/urandom`` given to each
+reader (spec, mission, SMCDEL, EPDDL, policy, results file, view), a 1 GiB zlib bomb as a
+trace file and as a trace stored in a results file, a mission file of a million ``check``
+lines, and a file one item over each item limit: a spec, an SMCDEL and an EPDDL file of
+more than ``MAX_TOKENS`` tokens, a mission of more than ``MAX_MISSION_TOKENS``, an SMCDEL
+quantifier expanding beyond ``MAX_EXPANSION``, a results file of a 17 MB stored trace and
+one of a 1 MB value, a policy nested 100,000 deep.
 
 Usage: ``python benchmarks/hostile_inputs.py [--repeats 5]``; prints a markdown table.
 """
@@ -12,6 +16,7 @@ Usage: ``python benchmarks/hostile_inputs.py [--repeats 5]``; prints a markdown 
 from __future__ import annotations
 
 import argparse
+import os
 import sqlite3
 import statistics
 import subprocess
@@ -65,7 +70,52 @@ def _cases(folder: Path) -> dict[str, list[str]]:
     cases["view 1 GiB zlib bomb"] = ["view", str(bomb), "-o", page]
     cases["view bomb in a results file"] = ["view", str(db), "-o", page]
     cases["check 24 MB mission"] = ["check", str(mission)]
+    cases.update(_over_the_item_limits(folder, implicit, page))
     return cases
+
+
+def _over_the_item_limits(folder: Path, implicit: str, page: str) -> dict[str, list[str]]:
+    """One file just over each item limit (MAX_TOKENS and the others of docs/formats.md)."""
+    over = 1_000_001 // 2 + 1  # '|q' is two tokens: a million and more
+    files = {
+        "spec.epi": "agents a\natoms p, q\nlaw p" + "|q" * over + "\n",
+        "chain.smcdel": "VARS 1,2\nLAW 1" + "|2" * over + "\nOBS a: 1\n",
+        "forall.smcdel": "VARS " + ",".join(map(str, range(1, 22))) + "\nLAW Top\nOBS a: 1\n"
+        "VALID? Forall " + ",".join(map(str, range(1, 22))) + " 1\n",
+        "mission.epi": (ROOT / "specs" / "rendezvous.epi").read_text()
+        + 'check "x": '
+        + "~" * 250_001
+        + "true\n",
+        "policy.json": "[" * 100_000 + "]" * 100_000,
+    }
+    for name, text in files.items():
+        (folder / name).write_text(text)
+    domain = str(ROOT / "tests" / "data" / "epddl" / "rooms.epddl")
+    problem = (ROOT / "tests" / "data" / "epddl" / "rooms-1.epddl").read_text()
+    (folder / "big.epddl").write_text(problem.replace("(at r1 room3)", "(at r1 room3)" * 200_001))
+    results = folder / "big_trace.sqlite"
+    with sqlite3.connect(results) as connection:
+        connection.execute("CREATE TABLE trials (id, seed, reasoning, mission, trace BLOB)")
+        blob = os.urandom(17 << 20)
+        connection.execute("INSERT INTO trials VALUES ('a', 0, 'zero', 'm', ?)", (blob,))
+    cell = folder / "big_cell.sqlite"
+    with sqlite3.connect(cell) as connection:
+        columns = "id, mission, robots, goals, reasoning, seed, options, success, steps, "
+        columns += "completion_step, wall_time, decision_ms, considered, version"
+        connection.execute(f"CREATE TABLE trials ({columns})")
+        row = ("a", "m" * (1 << 20), 2, 2, "zero", 0, "{}", 1, 9, 9, 0.1, 0.1, 1.0, "0")
+        connection.execute(f"INSERT INTO trials VALUES ({', '.join('?' * 14)})", row)
+    policy = ["plan", implicit, "--implicit", "--policy", "--verify", str(folder / "policy.json")]
+    return {
+        "check spec of 1,000,002 tokens": ["check", str(folder / "spec.epi")],
+        "check SMCDEL of 1,000,008 tokens": ["check", str(folder / "chain.smcdel")],
+        "check SMCDEL Forall over 21 variables": ["check", str(folder / "forall.smcdel")],
+        "plan EPDDL problem of 1.2 million tokens": ["plan", domain, str(folder / "big.epddl")],
+        "check mission of 250,001 nested ~": ["check", str(folder / "mission.epi")],
+        "plan --verify policy nested 100,000 deep": policy,
+        "view 17 MB trace in a results file": ["view", str(results), "-o", page],
+        "report results file of a 1 MB value": ["report", str(cell), "--no-png"],
+    }
 
 
 def main() -> None:
@@ -73,20 +123,25 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     command = command_line()
-    print("| case | exit | median (s) | max (s) | within 2 s |")
-    print("|---|---|---|---|---|")
+    print("| case | exit | median (s) | max (s) | peak RSS (MB) | within 2 s |")
+    print("|---|---|---|---|---:|---|")
     with tempfile.TemporaryDirectory() as folder:
         for name, argv in _cases(Path(folder)).items():
-            times, codes = [], set()
+            times, codes, peak = [], set(), 0
             for _ in range(args.repeats):
                 start = time.perf_counter()
-                done = subprocess.run([*command, *argv], capture_output=True, check=False)
+                child = subprocess.Popen(
+                    [*command, *argv], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+                )
+                _, status, usage = os.wait4(child.pid, 0)  # this child's own peak RSS
                 times.append(time.perf_counter() - start)
-                codes.add(done.returncode)
+                codes.add(os.waitstatus_to_exitcode(status))
+                peak = max(peak, usage.ru_maxrss // 1024)
             ok = max(times) <= TARGET and codes == {2}
             print(
                 f"| `{name}` | {','.join(map(str, sorted(codes)))} | "
-                f"{statistics.median(times):.2f} | {max(times):.2f} | {'yes' if ok else 'NO'} |"
+                f"{statistics.median(times):.2f} | {max(times):.2f} | {peak} | "
+                f"{'yes' if ok else 'NO'} |"
             )
 
 

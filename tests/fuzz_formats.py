@@ -1,7 +1,9 @@
 """A fuzz corpus for the foreign formats and the viewer's inputs (issue 38).
 
 Each case is one of: a mutated SMCDEL file (from ``export --smcdel`` of shipped specs and
-a hand-written one), a mutated EPDDL task (the test tasks in tests/data/epddl), or a
+a hand-written one; some grown by a job at an item limit: a chain of thousands of ``|``,
+thousands of nested ``~``, a quantifier over every variable, a long ``ONEOF``), a mutated
+EPDDL task (the test tasks in tests/data/epddl), or a
 hostile trace for ``view`` (JSON with non-finite numbers, markup in strings, deep nesting;
 truncated or inflating zlib blobs). Run through ``epistemica.cli.main`` in this process,
 with a time limit per case, in a worker whose address space is bounded, like
@@ -53,6 +55,19 @@ def _smcdel_texts() -> list[str]:
     return texts
 
 
+def _grown(text: str, rng: np.random.Generator) -> str:
+    """``text`` with one job appended that is deep, long or expands at an item limit."""
+    n = int(rng.integers(1_000, 6_000))
+    variables = text.split("VARS", 1)[1].split("LAW", 1)[0].split()
+    jobs = [
+        "VALID? " + "1|" * n + "1",
+        "VALID? " + "~" * n + "(1 | ~1)",
+        "VALID? Forall " + "".join(variables) + " (1 | ~1)",
+        "VALID? ~ONEOF(" + ",".join(["1"] * (n // 4)) + ")",
+    ]
+    return text + jobs[int(rng.integers(len(jobs)))] + "\n"
+
+
 def _trace(rng: np.random.Generator) -> bytes:
     """A trace-like JSON document or blob that no sweep wrote."""
     kind = int(rng.integers(0, 6))
@@ -93,6 +108,8 @@ def run_corpus(cases: int, seed: int, limit: float) -> dict:
             if kind == "smcdel":
                 target = Path(out) / "case.smcdel"
                 text = smcdel[(k // 3) % len(smcdel)]
+                if rng.random() < 0.2:
+                    text = _grown(text, rng)
                 target.write_bytes(mutate(text, rng) if rng.random() < 0.85 else text.encode())
                 argv = ["check", str(target)]
                 if rng.random() < 0.3:

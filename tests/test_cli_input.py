@@ -16,6 +16,7 @@ import pytest
 
 from epistemica.cli import main
 from epistemica.del_ import SourceError, load_spec
+from epistemica.del_.spec import _source as source
 from epistemica.del_.spec._source import MAX_CLAIMS, read_source
 from epistemica.input_files import file_kind
 
@@ -165,3 +166,19 @@ def test_too_many_claims_are_refused_before_parsing(capsys, tmp_path):
     assert "Traceback" not in err
     path.write_text("agents a\natoms p\n" + claims.split("\n", 1)[1])  # exactly the limit
     assert len(load_spec(path).checks) == MAX_CLAIMS
+
+
+def test_too_many_tokens_are_refused_before_parsing(capsys, tmp_path, monkeypatch):
+    # tokens: agents a NL (3), atoms p NL (3), then law p NL (3 each)
+    monkeypatch.setattr(source, "MAX_TOKENS", 6 + 3 * 4)
+    path = tmp_path / "tokens.epi"
+    path.write_text("agents a\natoms p\n" + "law p\n" * 4)
+    code, out, _ = run(capsys, "check", path)
+    assert code == 0 and "0 passed, 0 failed" in out
+    path.write_text("agents a\natoms p\n" + "law p\n" * 4 + "law ~p\n")  # token 19: 'law'
+    code, _, err = run(capsys, "check", path)
+    assert code == 2 and "Traceback" not in err
+    assert f"{path}:7:1: error: more than 18 tokens (words, symbols and line ends)" in err
+    for argv in (["show", path], ["plan", path]):  # every command reads through parse_spec
+        code, _, err = run(capsys, *argv)
+        assert code == 2 and ":7:1: error: more than 18 tokens" in err

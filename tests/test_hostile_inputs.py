@@ -151,3 +151,109 @@ def test_the_page_keeps_nan_inside_strings_and_hostile_markup_inert():
             "x": [float("inf"), float("-inf"), float("nan"), 1.5]}  # fmt: skip
     got = _embedded(page("t", "trial_view.js", data))
     assert got == {"robots": data["robots"], "x": [None, None, None, 1.5]}
+
+
+def _results_file(path: Path, rows: int, options: str = "{}", trace: bytes | None = None) -> None:
+    from epistemica.sim.study.store import ResultStore
+
+    with ResultStore(path) as store:
+        for i in range(rows):
+            store.add({"id": f"t{i}", "mission": "rendezvous", "robots": 2, "goals": 2,
+                       "reasoning": "zero", "seed": i, "options": options, "success": 1,
+                       "steps": 9, "completion_step": 9, "wall_time": 0.1, "decision_ms": 0.1,
+                       "considered": 1.0, "version": "0", "trace": trace})  # fmt: skip
+
+
+def test_a_results_file_over_the_row_limit_is_refused_before_reading(tmp_path, capsys, monkeypatch):
+    from epistemica.sim.study import store
+
+    monkeypatch.setattr(store, "MAX_ROWS", 3)
+    db = tmp_path / "r.sqlite"
+    _results_file(db, 3)
+    assert [r["seed"] for r in store.read_rows(db)] == [0, 1, 2]
+    assert main(["report", str(db), "--no-png"]) == 0
+    capsys.readouterr()
+    more = tmp_path / "more.sqlite"
+    _results_file(more, 4)
+    assert "4 trials, more than the limit of 3" in _exit_2(["report", more, "--no-png"], capsys)
+
+
+def test_a_results_file_with_an_oversized_value_is_refused(tmp_path, capsys):
+    from epistemica.sim.study.store import MAX_CELL_BYTES, read_rows
+
+    db, big = tmp_path / "r.sqlite", tmp_path / "big.sqlite"
+    options = '{"x": "' + "a" * (MAX_CELL_BYTES - 9) + '"}'  # exactly MAX_CELL_BYTES
+    _results_file(db, 1, options)
+    assert len(read_rows(db)[0]["options"]) == MAX_CELL_BYTES
+    _results_file(big, 1, options[:-2] + 'a"}')
+    err = _exit_2(["report", big, "--no-png"], capsys)
+    assert f"a value of {MAX_CELL_BYTES + 1:,} bytes, over the limit" in err
+
+
+def _small_trace() -> dict:
+    from epistemica.sim import Scenario, simulate
+    from epistemica.sim.study.trace import trial_trace
+
+    scenario = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=5)
+    return trial_trace(scenario, simulate(scenario, "zero", seed=0))
+
+
+def test_a_stored_trace_over_the_limit_is_not_fetched(tmp_path, capsys, monkeypatch):
+    from epistemica.sim.study import trace as traces
+    from epistemica.sim.study.store import read_trace
+
+    blob = traces.encode(_small_trace())
+    db = tmp_path / "r.sqlite"
+    _results_file(db, 1, trace=blob)
+    monkeypatch.setattr(traces, "MAX_TRACE_BYTES", len(blob) * 100)  # inflated it is larger
+    assert read_trace(db, "t0")["seed"] == 0
+    assert main(["view", str(db), "-o", str(tmp_path / "ok.html")]) == 0
+    monkeypatch.setattr(traces, "MAX_TRACE_BYTES", len(blob) - 1)
+    with pytest.raises(InvalidArgumentError, match=f"is {len(blob):,} bytes, over the limit"):
+        read_trace(db, "t0")
+    err = _exit_2(["view", db, "-o", tmp_path / "no.html"], capsys)
+    assert f"the stored trace is {len(blob):,} bytes, over the limit of {len(blob) - 1:,}" in err
+
+
+def test_a_trace_or_policy_file_over_16_mib_is_refused(tmp_path, capsys):
+    path = tmp_path / "big.json"
+    path.write_text('{"format": "' + " " * MAX_TRACE_BYTES + '"}')
+    err = _exit_2(["view", path, "-o", tmp_path / "b.html"], capsys)
+    assert f"larger than the limit of {MAX_TRACE_BYTES:,} bytes" in err
+    implicit = ROOT / "specs" / "planning" / "two_robots_implicit.epi"
+    argv = ["plan", implicit, "--implicit", "--policy", "--verify", path]
+    assert f"larger than the limit of {MAX_TRACE_BYTES:,} bytes" in _exit_2(argv, capsys)
+
+
+def test_a_deeply_nested_policy_is_bad_input(tmp_path, capsys):
+    implicit = ROOT / "specs" / "planning" / "two_robots_implicit.epi"
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100_000 + "]" * 100_000)  # json raises RecursionError, not ValueError
+    argv = ["plan", implicit, "--implicit", "--policy", "--verify", path]
+    assert "cannot read the policy" in _exit_2(argv, capsys)
+
+
+def test_a_mission_over_the_token_limit_is_refused_before_parsing(tmp_path, capsys, monkeypatch):
+    import epistemica.mission as missions
+
+    # tokens by hand: mission rendezvous NL (3), workspace 30 NL (3),
+    # robot r1 . . r2 : range at random NL (10), goal g1 . . g2 at random NL (8)
+    text = "mission rendezvous\nworkspace 30\nrobot r1..r2: range at random\n"
+    text += "goal g1..g2 at random\n"
+    monkeypatch.setattr(missions, "MAX_MISSION_TOKENS", 24)
+    assert missions.parse_mission(text).robots == ("r1", "r2")
+    path = tmp_path / "m.epi"
+    path.write_text(text + "# one word too many\n")  # token 25: '#' at 5:1
+    err = _exit_2(["check", path], capsys)
+    assert f"{path}:5:1: error: more than 24 tokens (words, symbols and line ends)" in err
+
+
+def test_a_results_file_meta_table_is_read_only_where_needed(tmp_path, capsys):
+    db = tmp_path / "r.sqlite"
+    _results_file(db, 1)
+    with sqlite3.connect(db) as connection:  # a long format tag, and many other entries
+        connection.execute("UPDATE meta SET value = ? WHERE key = 'format'", ("x" * 10**6,))
+        others = ((f"k{i}", "v") for i in range(1000))
+        connection.executemany("INSERT INTO meta VALUES (?, ?)", others)
+    err = _exit_2(["report", db, "--no-png"], capsys)
+    assert f"format '{'x' * 64}')" in err  # the tag as read: its first 64 characters

@@ -56,7 +56,7 @@ from epistemica.del_.formats._epddl_state import initial_state
 from epistemica.del_.formats._epddl_syntax import Source, parse
 from epistemica.del_.formats.kinds import is_epddl
 from epistemica.del_.language.formula import Formula
-from epistemica.del_.spec import Spec, read_source
+from epistemica.del_.spec import Spec, check_token_count, read_source
 
 __all__ = ["EpddlTask", "is_epddl", "load_epddl", "parse_epddl", "read_epddl_files"]
 
@@ -106,10 +106,10 @@ def parse_epddl(
         missing library, an inconsistent initial state, ...
     """
     names = list(library_names or [f"<library {i + 1}>" for i in range(len(libraries))])
-    parsed = [
-        (parse(text, name), Source(text, name))
-        for text, name in zip([domain, problem, *libraries], [*filenames, *names], strict=True)
-    ]
+    texts = list(zip([domain, problem, *libraries], [*filenames, *names], strict=True))
+    for text, name in texts:  # before parsing any: every token costs memory
+        check_token_count(text, name, "EPDDL file")
+    parsed = [(parse(text, name), Source(text, name)) for text, name in texts]
     return _compile(parsed[:2], parsed[2:])
 
 

@@ -68,6 +68,7 @@ from epistemica.del_.language.formula import (
     Top,
     conjunction,
     disjunction,
+    map_atoms,
 )
 from epistemica.del_.language.modalities import (
     After,
@@ -78,9 +79,10 @@ from epistemica.del_.language.modalities import (
     KnowWhether,
 )
 from epistemica.del_.models import KnowledgeStructure, KripkeModel
-from epistemica.del_.spec import Check, Spec, read_source
+from epistemica.del_.spec import Check, Spec, check_claim_count, check_token_count, read_source
 
 __all__ = [
+    "MAX_ONEOF",
     "SMCDEL_GRAMMAR",
     "SmcdelFile",
     "is_smcdel",
@@ -94,6 +96,7 @@ SMCDEL_GRAMMAR = Path(__file__).with_name("smcdel.lark")
 # Above this many atoms the model is a knowledge structure (as the spec backend's "auto").
 _SYMBOLIC_ATOMS = 20
 _NAME = re.compile(r"-- epistemica (atom|agent) (\S+): (.+)$", re.MULTILINE)
+_JOB = re.compile(r"((?:TRUE|VALID|WHERE)\?)")
 _PROPOSITIONAL = (Top, Bottom, Atom, Not, And, Or, Implies, Iff)
 
 
@@ -120,6 +123,8 @@ def parse_smcdel(text: str, filename: str = "<smcdel>", backend: str = "auto") -
     ParseError, SpecError
         Located in ``text``.
     """
+    check_token_count(text, filename, "SMCDEL file")  # before parsing: bounded memory
+    check_claim_count(text, filename, claim=_JOB)  # each job is a claim of a spec
     try:
         tree = _lark().parse(text)
     except UnexpectedInput as exc:
@@ -227,63 +232,86 @@ class _Reader:
 
     # -- formulas -----------------------------------------------------------------------
 
-    def formula(self, tree: Tree | Token) -> Formula:
-        if isinstance(tree, Token):  # pragma: no cover - every formula is a tree
-            raise AssertionError(tree)
-        kind, kids = tree.data, [k for k in tree.children if not _punctuation(k)]
-        f = self.formula
-        if kind == "top":
-            return Top()
-        if kind == "bot":
-            return Bottom()
-        if kind == "prop":
-            return Atom(self.atoms[self.var(kids[0])])
+    def formula(self, tree: Tree) -> Formula:
+        """The formula of a parse tree, built children first on an explicit stack (a
+        chain ``1|2|...`` or ``~~...1`` is as deep as it is long: no recursion limit).
+        The tree is consumed: its children are dropped once read (its position stays, for
+        errors), so that a large law's parse tree is freed before the model is built."""
+        done: list[Formula] = []
+        stack: list[tuple[Tree, bool]] = [(tree, False)]
+        while stack:
+            node, ready = stack.pop()
+            kids = [k for k in node.children if not _punctuation(k)]
+            subtrees = _subtrees(node.data, kids)
+            if not ready:
+                stack.append((node, True))
+                stack.extend((t, False) for t in reversed(subtrees))
+                continue
+            cut = len(done) - len(subtrees)
+            values = done[cut:]
+            del done[cut:]
+            done.append(self.build(node, kids, values))
+        tree.children = []
+        return done[0]
+
+    def build(self, tree: Tree, kids: list, v: list[Formula]) -> Formula:
+        """The formula of node ``tree`` given its subformulas ``v`` (:func:`_subtrees`)."""
+        kind = tree.data
+        if kind in ("top", "bot", "prop"):
+            if kind == "prop":
+                return Atom(self.atoms[self.var(kids[0])])
+            return Top() if kind == "top" else Bottom()
         if kind == "neg":
-            return Not(f(kids[0]))
-        if kind in ("conj2", "disj2"):
-            return (And if kind == "conj2" else Or)(f(kids[0]), f(kids[1]))
+            return Not(v[0])
+        if kind in _BINARY:
+            return _BINARY[kind](v[0], v[1])
         if kind in ("conj", "disj", "xor", "oneof"):
-            parts = [f(k) for k in kids[0].children]
-            return _list_formula(kind, parts)
-        if kind == "impl":
-            return Implies(f(kids[0]), f(kids[1]))
-        if kind == "equi":
-            return Iff(f(kids[0]), f(kids[1]))
-        if kind == "k":
-            return Know(self.agent(kids[0]), f(kids[-1]))
-        if kind == "kw":
-            return KnowWhether(self.agent(kids[0]), f(kids[-1]))
+            if kind == "oneof" and len(v) > MAX_ONEOF:
+                raise self.src.error(
+                    f"ONEOF of {len(v):,} formulas: more than {MAX_ONEOF:,} (its expansion "
+                    "grows with the square of their number)", tree,
+                    "split the ONEOF, or state it as a LAW over fewer variables",
+                )  # fmt: skip
+            return _list_formula(kind, v)
+        if kind in ("k", "kw"):
+            return (Know if kind == "k" else KnowWhether)(self.agent(kids[0]), v[0])
         if kind == "kw_all":
-            return conjunction(KnowWhether(self.agent(kids[0]), f(k)) for k in kids[-1].children)
+            return conjunction(KnowWhether(self.agent(kids[0]), g) for g in v)
         if kind in ("ck", "ckw", "dk", "dkw"):
             group = tuple(self.agent(t) for t in kids[0].children)
             op = Common if kind in ("ck", "ckw") else Distributed
-            g = f(kids[-1])
+            g = v[0]
             return op(group, g) if kind in ("ck", "dk") else Or(op(group, g), op(group, Not(g)))
         if kind in ("pub", "dpub"):
-            g = Announce(f(kids[0]), f(kids[1]) if kind == "pub" else Not(f(kids[1])))
+            g = Announce(v[0], v[1] if kind == "pub" else Not(v[1]))
             return g if kind == "pub" else Not(g)
         if kind in ("pubw", "dpubw"):
-            a, g = f(kids[0]), f(kids[1])
-            if kind == "dpubw":
-                g = Not(g)
+            a, g = v[0], v[1] if kind == "pubw" else Not(v[1])
             both = And(Implies(a, Announce(a, g)), Implies(Not(a), Announce(Not(a), g)))
             return both if kind == "pubw" else Not(both)
         if kind in ("ann", "annw", "dann", "dannw"):
             group = tuple(self.agent(t) for t in kids[0].children)
-            name = self.announcement(group, f(kids[1]), kind in ("annw", "dannw"))
-            g = f(kids[2])
-            return After(name, g) if kind in ("ann", "annw") else Not(After(name, Not(g)))
+            name = self.announcement(group, v[0], kind in ("annw", "dannw"))
+            return After(name, v[1]) if kind in ("ann", "annw") else Not(After(name, Not(v[1])))
         if kind in ("forall", "exists"):
-            props = [self.var(t) for t in kids[0].children]
-            body = f(kids[1])
-            if not all(isinstance(g, _PROPOSITIONAL) for g in body.subformulas()):
-                raise self.src.error(
-                    "Forall/Exists over a modal formula", tree,
-                    "epistemica reads boolean quantifiers over propositional formulas only",
-                )  # fmt: skip
-            return _quantify(body, [self.atoms[n] for n in props], kind == "forall")
+            return self.quantified(tree, [self.var(t) for t in kids[0].children], v[0])
         raise AssertionError(kind)  # pragma: no cover
+
+    def quantified(self, tree: Tree, props: list[int], body: Formula) -> Formula:
+        """``Forall``/``Exists`` over ``props``: the body once per assignment, bounded."""
+        if not all(isinstance(g, _PROPOSITIONAL) for g in body.subformulas()):
+            raise self.src.error(
+                "Forall/Exists over a modal formula", tree,
+                "epistemica reads boolean quantifiers over propositional formulas only",
+            )  # fmt: skip
+        size = sum(1 for _ in body.subformulas())
+        if len(props) > 30 or size << len(props) > MAX_EXPANSION:
+            raise self.src.error(
+                f"this quantifier over {len(props)} variables expands its body of {size:,} "
+                f"nodes 2^{len(props)} times: more than {MAX_EXPANSION:,} nodes", tree,
+                "quantify over fewer variables (epistemica expands a quantifier in full)",
+            )  # fmt: skip
+        return _quantify(body, [self.atoms[n] for n in props], tree.data == "forall")
 
     def announcement(self, group: tuple[str, ...], f: Formula, whether: bool) -> str:
         """The action ``[G ! f]`` (or ``[G ?! f]``): G learns whether f, the others that
@@ -306,6 +334,30 @@ def _satisfied_somewhere(model, f: Formula) -> bool:
     if hasattr(model, "truth_mask"):
         return bool(model.truth_mask(f).any())
     return model.count(f) > 0
+
+
+#: The node kinds of two subformulas joined by one connective.
+_BINARY = {"conj2": And, "disj2": Or, "impl": Implies, "equi": Iff}
+_NO_FORMULA = frozenset(("top", "bot", "prop"))
+_LAST = frozenset(("k", "kw", "ck", "ckw", "dk", "dkw", "forall", "exists"))
+_LISTS = frozenset(("conj", "disj", "xor", "oneof"))
+
+
+def _subtrees(kind: str, kids: list) -> list[Tree]:
+    """The subtrees of a node of kind ``kind`` that are formulas, in order."""
+    if kind in _NO_FORMULA:
+        return []
+    if kind == "neg":
+        return [kids[0]]
+    if kind in _LAST:
+        return [kids[-1]]
+    if kind in _LISTS:
+        return list(kids[0].children)
+    if kind == "kw_all":
+        return list(kids[-1].children)
+    if kind in ("ann", "annw", "dann", "dannw"):
+        return [kids[1], kids[2]]
+    return [kids[0], kids[1]]  # binary connectives and public announcements
 
 
 def _punctuation(item) -> bool:
@@ -337,6 +389,10 @@ def _list_formula(kind: str, parts: list[Formula]) -> Formula:
 #: Longer AND/OR lists are read as balanced trees: a left fold of thousands of parts is
 #: a formula as deep as it is long (printing it, hashing it, recursing on it overflows).
 _LONG_LIST = 64
+#: A longer ONEOF is refused: it expands to as many conjunctions of as many literals.
+MAX_ONEOF = 1_000
+#: A Forall/Exists whose expansion (the body's nodes times 2^variables) is larger is refused.
+MAX_EXPANSION = 1 << 20
 
 
 def _balanced(op: type, parts: list[Formula]) -> Formula:
@@ -356,15 +412,12 @@ def _quantify(body: Formula, atoms: list[str], universal: bool) -> Formula:
 
 
 def _substitute(f: Formula, values: dict[str, bool]) -> Formula:
-    if isinstance(f, Atom):
-        if f.key in values:
-            return Top() if values[f.key] else Bottom()
-        return f
-    if isinstance(f, (Top, Bottom)):
-        return f
-    if isinstance(f, Not):
-        return Not(_substitute(f.operand, values))
-    return type(f)(_substitute(f.left, values), _substitute(f.right, values))
+    def value(atom: Atom) -> Formula:
+        if atom.key not in values:
+            return atom
+        return Top() if values[atom.key] else Bottom()
+
+    return map_atoms(f, value)  # without recursion: a body may be a long chain
 
 
 # -- writing ------------------------------------------------------------------------------

@@ -42,7 +42,7 @@ from epistemica.del_.models import KripkeModel
 from epistemica.del_.spec._compiler import Check, Compiler, Names, compile_formula
 from epistemica.del_.spec._fast_syntax import FastPathMiss
 from epistemica.del_.spec._plausibility import resolve_upgrades
-from epistemica.del_.spec._source import check_claim_count, read_source
+from epistemica.del_.spec._source import check_claim_count, check_token_count, read_source
 from epistemica.del_.spec._syntax import parse
 from epistemica.del_.spec.backend import check_backend, model_builder, on_backend
 
@@ -200,7 +200,8 @@ def parse_spec(text: str, filename: str = "<string>", backend: str = "auto") -> 
                ^
     hint: declared agents: a
     """
-    check_claim_count(text, filename)  # before parsing: every claim costs memory
+    check_token_count(text, filename)  # before parsing: every token costs memory
+    check_claim_count(text, filename)
     build = model_builder(backend)
     try:
         parts = Compiler(text, filename, observables=build).compile(parse(text, filename, "start"))

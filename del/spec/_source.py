@@ -9,21 +9,37 @@ byte.
 
 from __future__ import annotations
 
+import itertools
 import re
 from pathlib import Path
 
 from epistemica.del_.errors import SpecError
 
-__all__ = ["MAX_CLAIMS", "MAX_SOURCE_BYTES", "check_claim_count", "decode_source", "read_source"]
+__all__ = [
+    "MAX_CLAIMS",
+    "MAX_SOURCE_BYTES",
+    "MAX_TOKENS",
+    "check_claim_count",
+    "check_token_count",
+    "decode_source",
+    "read_source",
+]
 
-#: Larger files are refused (the largest shipped spec is a few kB; a 3 MB generated Sum
-#: and Product spec loads in seconds).
+#: Larger files are refused (the largest shipped spec is 1.1 MB); within it,
+#: :data:`MAX_TOKENS` bounds what a file costs.
 MAX_SOURCE_BYTES = 64 << 20
 #: More claims in one file are refused before parsing: each costs about 10 kB while the
 #: file is compiled (50,000 claims of one line each peaked at 519 MB), so the limit keeps
 #: a file's memory bounded (the shipped specs hold at most 12).
 MAX_CLAIMS = 10_000
-_CLAIM = re.compile(r"^[ \t]*check\b", re.MULTILINE)
+#: More tokens (names, numbers, symbols and line ends) in one text are refused before
+#: parsing: reading and compiling cost up to about 0.9 kB a token (a spec of 200,000
+#: ``observes`` lines, a million tokens, peaked at 867 MB), so this bounds the memory of
+#: any spec, SMCDEL, EPDDL or policy file under the byte limit near 1 GB (the largest
+#: shipped spec, the drinking logicians, holds 332,000).
+MAX_TOKENS = 1_000_000
+_TOKEN = re.compile(r"\w+|\S|\n")
+_CLAIM = re.compile(r"^[ \t]*(check)\b", re.MULTILINE)
 _BLOCK = 1 << 16
 _BOM = b"\xef\xbb\xbf"
 
@@ -125,8 +141,12 @@ def _refuse_binary(block: bytes, name: str, what: str, hint: str) -> None:
             decode_source(block, name, what)
 
 
-def check_claim_count(text: str, filename: str = "<string>", limit: int = MAX_CLAIMS) -> None:
-    """Refuse a text with more than ``limit`` ``check`` claims, at the first one too many.
+def check_claim_count(
+    text: str, filename: str = "<string>", limit: int = MAX_CLAIMS, claim: re.Pattern = _CLAIM
+) -> None:
+    """Refuse a text with more than ``limit`` claims, at the first one too many; a claim
+    is a match of ``claim`` (its group 1 is where it starts): a spec's ``check`` at the
+    start of a line by default, SMCDEL's ``TRUE?``, ``VALID?`` and ``WHERE?`` jobs too.
 
     Examples
     --------
@@ -135,18 +155,54 @@ def check_claim_count(text: str, filename: str = "<string>", limit: int = MAX_CL
     >>> try:
     ...     check_claim_count(text, "many.epi", limit=2)
     ... except SpecError as err:
-    ...     print(err.line, err.message)
-    5 more than 2 claims in one file
+    ...     print(err.line, err.column, err.message)
+    5 1 more than 2 claims in one file
     """
-    for count, found in enumerate(_CLAIM.finditer(text), 1):
-        if count > limit:
-            line = text.count("\n", 0, found.start()) + 1
-            column = found.group().index("c") + 1
-            raise SpecError(
-                f"more than {limit} claims in one file",
-                line=line,
-                column=column,
-                source=text,
-                filename=filename,
-                hint=f"split the claims over several files of at most {limit} each",
-            )
+    found = next(itertools.islice(claim.finditer(text), limit, None), None)
+    if found is None:
+        return
+    start = found.start(1)
+    raise SpecError(
+        f"more than {limit} claims in one file",
+        line=text.count("\n", 0, start) + 1,
+        column=start - text.rfind("\n", 0, start),
+        source=text,
+        filename=filename,
+        hint=f"split the claims over several files of at most {limit} each",
+    )
+
+
+def check_token_count(
+    text: str, filename: str = "<string>", what: str = "spec file", limit: int | None = None
+) -> None:
+    """Refuse a text of more than ``limit`` tokens (default :data:`MAX_TOKENS`), at the
+    first one too many.
+
+    A token is a word (``\\w+``), any other visible character, or a line end: at least
+    what the parsers make a node or a position of. Counting stops at the limit, so a
+    hostile file costs no more than a legitimate one of the limit's size.
+
+    Examples
+    --------
+    >>> check_token_count("agents a\\natoms p\\n", limit=6)  # 6 tokens
+    >>> try:
+    ...     check_token_count("agents a\\natoms p\\n", "x.epi", limit=5)
+    ... except SpecError as err:
+    ...     print(err.line, err.column, err.message)
+    2 8 more than 5 tokens (words, symbols and line ends) in one spec file
+    """
+    limit = MAX_TOKENS if limit is None else limit
+    found = next(itertools.islice(_TOKEN.finditer(text), limit, None), None)
+    if found is None:
+        return
+    start = found.start()
+    line = text.count("\n", 0, start) + 1
+    raise SpecError(
+        f"more than {limit:,} tokens (words, symbols and line ends) in one {what}",
+        line=line,
+        column=start - text.rfind("\n", 0, start),
+        source=text,
+        filename=filename,
+        hint="the limit bounds the memory of reading a file (up to about 0.7 kB a token); "
+        "split it, or build a larger model through the Python API",
+    )

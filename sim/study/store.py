@@ -40,7 +40,7 @@ import uuid
 from pathlib import Path
 
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.sim.study.trace import decode
+from epistemica.sim.study.trace import check_blob_size, decode
 
 __all__ = [
     "COLUMNS",
@@ -83,6 +83,13 @@ ROW_COLUMNS = tuple(c for c in COLUMNS if c != "trace")
 #: The columns that depend only on the trial, not on the machine that ran it.
 OUTCOME_COLUMNS = tuple(c for c in ROW_COLUMNS if c not in ("wall_time", "decision_ms"))
 _REQUIRED = tuple(c for c in ROW_COLUMNS if "NOT NULL" in COLUMNS[c] or c == "id")
+#: A results file of more trials is refused before its rows are read: a row read costs
+#: about 1.1 kB of memory (500,000 rows peaked at 568 MB in `report`: performance.md,
+#: "Input limits"); a sweep stores one row a trial.
+MAX_ROWS = 500_000
+#: A longer value in one cell of a row (an id, options, a mission name...) is refused: the
+#: values epistemica writes are a few hundred bytes.
+MAX_CELL_BYTES = 1 << 16
 # Seconds a sweep waits for another to let go of the file when opening it.
 _OPEN_TIMEOUT = 30.0
 # A claim whose owner cannot be checked (another host) lapses after this many seconds.
@@ -307,7 +314,7 @@ def _check_schema(db: sqlite3.Connection, path: str, empty_ok: bool = False) -> 
     if missing:
         raise _not_results(path, f"its 'trials' table lacks {', '.join(missing)}")
     if "meta" in tables:
-        meta = dict(db.execute("SELECT key, value FROM meta").fetchall())
+        meta = _meta(db)
         if meta.get("format") != FORMAT:
             raise _not_results(path, f"format {meta.get('format')!r}")
         if not str(meta.get("version", "")).isdigit() or int(meta["version"]) > SCHEMA_VERSION:
@@ -318,9 +325,20 @@ def _check_schema(db: sqlite3.Connection, path: str, empty_ok: bool = False) -> 
             )
 
 
-def _rows(db: sqlite3.Connection) -> list[dict]:
+def _meta(db: sqlite3.Connection) -> dict:
+    """The ``format`` and ``version`` entries of the ``meta`` table, each cut to 64
+    characters (a hostile table of many or long entries is not read whole)."""
+    query = "SELECT key, substr(value, 1, 64) FROM meta WHERE key IN ('format', 'version') LIMIT 2"
+    return dict(db.execute(query).fetchall())
+
+
+def _rows(db: sqlite3.Connection, path: str | None = None) -> list[dict]:
+    """The rows; ``path``: a file given to read, whose size is checked first (a sweep's
+    own store is not: its rows are the trials it ran)."""
     present = {row[1] for row in db.execute("PRAGMA table_info(trials)")}
     names = [c for c in ROW_COLUMNS if c in present]
+    if path is not None:
+        _check_size(db, path, names)
     cursor = db.execute(f"SELECT {', '.join(names)} FROM trials ORDER BY id")
     rows = []
     for values in cursor:
@@ -328,6 +346,17 @@ def _rows(db: sqlite3.Connection) -> list[dict]:
         row.update(zip(names, values, strict=True))
         rows.append(row)
     return rows
+
+
+def _check_size(db: sqlite3.Connection, path: str, names: list[str]) -> None:
+    """Refuse a file of more than :data:`MAX_ROWS` trials or a cell longer than
+    :data:`MAX_CELL_BYTES`, by counting in SQLite before any row is read."""
+    longest = ", ".join(f"ifnull(length({name}), 0)" for name in names)
+    count, cell = db.execute(f"SELECT count(*), max(max(0, {longest})) FROM trials").fetchone()
+    if count > MAX_ROWS:
+        raise _not_results(path, f"{count:,} trials, more than the limit of {MAX_ROWS:,}")
+    if (cell or 0) > MAX_CELL_BYTES:
+        raise _not_results(path, f"a value of {cell:,} bytes, over the limit of {MAX_CELL_BYTES:,}")
 
 
 def _validate(rows: list[dict], path: str) -> None:
@@ -359,7 +388,7 @@ def read_format(path) -> tuple[str, int]:
         tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
         if "meta" not in tables:
             return FORMAT, 1
-        return FORMAT, int(dict(db.execute("SELECT key, value FROM meta"))["version"])
+        return FORMAT, int(_meta(db)["version"])
     finally:
         db.close()
 
@@ -370,7 +399,7 @@ def read_rows(path) -> list[dict]:
     db = _open_read_only(path)
     try:
         _check_schema(db, path)
-        rows = _rows(db)
+        rows = _rows(db, path)
     except sqlite3.DatabaseError as exc:
         raise _not_results(path, str(exc)) from None
     finally:
@@ -388,7 +417,11 @@ def read_trace(path, trial_id: str) -> dict | None:
         present = {row[1] for row in db.execute("PRAGMA table_info(trials)")}
         if "trace" not in present:
             return None
-        found = db.execute("SELECT trace FROM trials WHERE id = ?", (trial_id,)).fetchone()
+        query = "SELECT length(trace) FROM trials WHERE id = ?"
+        found = db.execute(query, (trial_id,)).fetchone()
+        if found is not None:  # the blob is fetched only within the size limit
+            check_blob_size(found[0], f"{path}: the trace of trial {trial_id!r}")
+            found = db.execute("SELECT trace FROM trials WHERE id = ?", (trial_id,)).fetchone()
     except sqlite3.DatabaseError as exc:
         raise _not_results(path, str(exc)) from None
     finally:

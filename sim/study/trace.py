@@ -85,6 +85,7 @@ __all__ = [
     "MAX_TRACE_BYTES",
     "READABLE",
     "VERSION",
+    "check_blob_size",
     "decode",
     "encode",
     "known_goals",
@@ -321,6 +322,26 @@ def encode(trace: dict[str, Any]) -> bytes:
     """The trace as zlib-compressed JSON (NaN written as ``null``)."""
     text = json.dumps(trace, separators=(",", ":"), allow_nan=True).replace("NaN", "null")
     return zlib.compress(text.encode("utf-8"), 9)
+
+
+def check_blob_size(size: int | None, what: str = "the trace") -> None:
+    """Refuse a stored trace of ``size`` bytes above :data:`MAX_TRACE_BYTES` before it is
+    fetched (compressed, it is smaller than its document, which is bounded by the limit).
+
+    Examples
+    --------
+    >>> check_blob_size(2_000)
+    >>> try:
+    ...     check_blob_size(MAX_TRACE_BYTES + 1, "r.sqlite: trial 'a'")
+    ... except InvalidArgumentError as err:
+    ...     print(err.message)
+    r.sqlite: trial 'a' is 16,777,217 bytes, over the limit of 16,777,216
+    """
+    if size is not None and size > MAX_TRACE_BYTES:
+        raise InvalidArgumentError(
+            f"{what} is {size:,} bytes, over the limit of {MAX_TRACE_BYTES:,}",
+            hint="a stored trace is a few kB; this one is damaged or hostile",
+        )
 
 
 def decode(blob: bytes) -> dict[str, Any]:

@@ -17,12 +17,17 @@ from pathlib import Path
 from epistemica.del_.errors import SourceError
 from epistemica.del_.spec import read_source
 
-__all__ = ["MAX_MISSION_BYTES", "MISSION_ONLY", "file_kind", "read_input"]
+__all__ = ["MAX_MISSION_BYTES", "MAX_MISSION_TOKENS", "MISSION_ONLY", "file_kind", "read_input"]
 
 #: Larger mission files are refused: the shipped ones are about 1 kB, and compiling costs
 #: about 30 bytes of memory a byte of source (a 45 MB file of `check` lines reached
 #: 1.35 GB), so this bounds a mission's compilation to some tens of MB.
 MAX_MISSION_BYTES = 1 << 20
+#: More tokens in a mission file are refused before it is parsed (``check_token_count``):
+#: compiling a mission costs up to about 1.3 kB a token (a 1 MiB claim of a million
+#: nested ``~`` peaked at 1.34 GB), so this bounds any mission near 330 MB; the shipped
+#: missions hold at most a few hundred tokens.
+MAX_MISSION_TOKENS = 250_000
 
 #: Keywords that start a statement of the mission language and of no spec statement.
 MISSION_ONLY = frozenset(

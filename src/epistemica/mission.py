@@ -56,7 +56,8 @@ from epistemica.del_ import (
     parse_formula,
 )
 from epistemica.del_.errors import InvalidArgumentError, SpecError
-from epistemica.input_files import read_input
+from epistemica.del_.spec import check_token_count
+from epistemica.input_files import MAX_MISSION_TOKENS, read_input
 from epistemica.sim.engine.draws import draw_adhoc_teammate, draw_goal_knowledge, draw_layout
 from epistemica.sim.engine.events import EventRule, expand
 from epistemica.sim.engine.knowledge import TeamKnowledge, initial_knowledge
@@ -426,6 +427,7 @@ def parse_mission(text: str, filename: str = "<string>", team: int | None = None
     ParseError, SpecError
         Located at the offending token, with a hint.
     """
+    check_token_count(text, filename, "mission file", MAX_MISSION_TOKENS)  # bounded memory
     parts = compile_text(text, filename, library_rules(), team)
     defaults = Study()
     mission = Mission(

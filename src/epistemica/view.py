@@ -31,7 +31,7 @@ import numpy as np
 
 from epistemica.aif.teammates import TYPE_PRIOR
 from epistemica.del_.errors import InvalidArgumentError
-from epistemica.del_.spec import MAX_SOURCE_BYTES, read_source
+from epistemica.del_.spec import read_source
 from epistemica.html_view import page, write_page
 from epistemica.input_files import read_input
 from epistemica.mission import parse_mission
@@ -47,7 +47,9 @@ from epistemica.sim.study.palette import (
 )
 from epistemica.sim.study.trace import (
     FORMAT,
+    MAX_TRACE_BYTES,
     READABLE,
+    check_blob_size,
     decode,
     task_learning,
     trial_trace,
@@ -65,15 +67,16 @@ _ZLIB = b"\x78"  # the first byte of every zlib stream epistemica writes
 def read_trace(path: str, seed: int | None = None, level: str | None = None) -> tuple[dict, str]:
     """The trace named by ``path`` (and, for results and mission files, ``seed`` and
     ``level``) and a mission name for the title."""
-    # Every branch reads boundedly: the kind is told from the first block, a JSON trace
-    # and a mission file are read as text (size limit, binary check), a compressed trace
-    # up to the size limit and inflated up to its own (sim.trace.decode).
+    # Every branch reads boundedly: the kind is told from the first block; a JSON trace
+    # and a mission file are read as text (binary check) and a compressed trace as bytes,
+    # each at most MAX_TRACE_BYTES (the inflated limit: parsing 16 MiB of JSON costs at
+    # most about 25 times that), and a compressed trace is inflated up to that limit.
     head = _read_bytes(path, len(_SQLITE))
     if head.startswith(_SQLITE):
         return _stored_trace(path, seed, level)
     if head[:1] == _ZLIB:
-        return decode(_read_bytes(path, MAX_SOURCE_BYTES, whole=True)), ""
-    text = read_source(path, "trace or mission file")
+        return decode(_read_bytes(path, MAX_TRACE_BYTES, whole=True)), ""
+    text = read_source(path, "trace or mission file", MAX_TRACE_BYTES)
     if text.lstrip().startswith("{"):
         try:
             trace = json.loads(text)
@@ -132,13 +135,20 @@ def _stored_row(path: str, seed: int | None, level: str | None):
                 hint="view the mission file instead (the trial is simulated again), "
                 "or a trace file",
             )
-        query = "SELECT trace, mission FROM trials WHERE trace IS NOT NULL"
+        # The blob is fetched only once its length is known to be within the limit.
+        query = "SELECT rowid, length(trace), mission FROM trials WHERE trace IS NOT NULL"
         args: list[Any] = []
         if seed is not None:
             query, args = query + " AND seed = ?", [*args, seed]
         if level is not None:
             query, args = query + " AND reasoning = ?", [*args, level]
-        return db.execute(query + " ORDER BY seed, reasoning LIMIT 1", args).fetchone()
+        found = db.execute(query + " ORDER BY seed, reasoning LIMIT 1", args).fetchone()
+        if found is None:
+            return None
+        rowid, size, mission = found
+        check_blob_size(size, f"{path}: the stored trace")
+        blob = db.execute("SELECT trace FROM trials WHERE rowid = ?", (rowid,)).fetchone()[0]
+        return blob, mission
 
 
 def run_view(args: argparse.Namespace) -> int:
@@ -162,7 +172,7 @@ def run_view(args: argparse.Namespace) -> int:
 
 def _holds_trials(path: str) -> bool:
     """Whether ``path`` is a results file (a mission file names its mission)."""
-    return Path(path).read_bytes()[: len(_SQLITE)] == _SQLITE
+    return _read_bytes(path, len(_SQLITE)) == _SQLITE
 
 
 def trial_page(trace: dict[str, Any], mission: str = "", others: Sequence[dict] = ()) -> str:

@@ -20,6 +20,7 @@ from epistemica.del_.formats.epddl import load_epddl, parse_epddl
 from epistemica.del_.formats.epddl_export import atom_renaming, to_epddl
 from epistemica.del_.planning.planner import project
 from epistemica.del_.spec import Spec, load_spec, parse_spec
+from epistemica.del_.spec import _source as source
 from tests.epistemic_strategies import models
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "epddl"
@@ -338,3 +339,19 @@ def test_a_structure_too_large_to_list_is_written_as_a_theory():
     with pytest.raises(InvalidArgumentError, match="too costly") as info:
         to_epddl(spec, theory=False)
     assert "theory" in info.value.hint
+
+
+def test_each_file_over_the_token_limit_is_refused_before_parsing(monkeypatch):
+    monkeypatch.setattr(source, "MAX_TOKENS", 10)
+    domain, problem = (DATA / "peek.epddl"), (DATA / "peek-1.epddl")
+    # the 11th token of peek.epddl: '; A coin under a cup : an agent who looks'
+    with pytest.raises(SpecError) as info:
+        load_epddl(domain, problem)
+    assert (info.value.filename, info.value.line, info.value.column) == (str(domain), 1, 36)
+    assert "more than 10 tokens (words, symbols and line ends) in one EPDDL file" in str(info.value)
+    # a domain within the limit passes; the problem's 11th token is 'and' at 1:39
+    with pytest.raises(SpecError) as info:
+        parse_epddl("(define)", problem.read_text(), filenames=["d", str(problem)])
+    assert (info.value.filename, info.value.line, info.value.column) == (str(problem), 1, 39)
+    monkeypatch.setattr(source, "MAX_TOKENS", 1_000_000)
+    assert "peek(a)" in task("peek", "peek-1").spec.actions

@@ -7,15 +7,17 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import epistemica.del_.formats.smcdel as smcdel
 from epistemica.del_ import KripkeModel
 from epistemica.del_.errors import ParseError, SpecError
 from epistemica.del_.explicit.bisimulation import bisimilar
-from epistemica.del_.formats.smcdel import parse_smcdel
+from epistemica.del_.formats.smcdel import MAX_ONEOF, parse_smcdel
 from epistemica.del_.formats.smcdel_export import to_smcdel
-from epistemica.del_.language.formula import And, Atom
+from epistemica.del_.language.formula import And, Atom, Not
 from epistemica.del_.language.modalities import Know
 from epistemica.del_.planning.planner import project
-from epistemica.del_.spec import Check, Spec, load_spec
+from epistemica.del_.spec import MAX_CLAIMS, Check, Spec, load_spec
+from epistemica.del_.spec import _source as source
 from tests.epistemic_strategies import formulas
 
 # Three children, each seeing the others' foreheads (written for this test).
@@ -147,3 +149,56 @@ def test_random_structures_and_claims_survive_a_round_trip(observes, law, actual
     mine = model.repoint(model.worlds)
     assert bisimilar(project(mine, ["p", "q", "r"]), project(everywhere, ["p", "q", "r"]))
     assert back.holds(back.checks[0].formula) == spec.holds(claim)
+
+
+def test_chains_deeper_than_the_recursion_limit_are_read():
+    # 5,001 negations are one negation; a chain 1|1|...|2 of 5,000 terms is 1|2.
+    n = 5_000
+    text = (f"VARS 1,2\nLAW Top\nOBS a: 1\nVALID? {'~' * (n + 1)}(1 & ~1)\n"
+            f"TRUE? {{2}} {'1|' * n}2\nVALID? {'1|' * n}2 iff (1 | 2)\n")  # fmt: skip
+    spec = parse_smcdel(text).spec
+    first = spec.checks[0].formula
+    for _ in range(n + 1):
+        assert isinstance(first, Not)
+        first = first.operand
+    assert [spec.holds(c.formula) for c in spec.checks] == [True, True, True]
+
+
+def test_quantifier_and_oneof_expansions_are_bounded_and_located(monkeypatch):
+    monkeypatch.setattr(smcdel, "MAX_EXPANSION", 16)
+    head = "VARS 1,2,3,4,5\nLAW Top\nOBS a: 1\n"
+    # 2^4 copies of a one-node body: at the limit, read; Exists 1..4 (5) is 5
+    spec = parse_smcdel(head + "VALID? (Exists 1,2,3,4 5) iff 5\n").spec
+    assert spec.checks[0].formula.atoms() == {Atom("p5")} and spec.holds(spec.checks[0].formula)
+    with pytest.raises(SpecError) as info:  # 2^5 copies
+        parse_smcdel(head + "VALID? 1 & Forall 1,2,3,4,5 5\n")
+    assert (info.value.line, info.value.column) == (4, 12)
+    assert "over 5 variables" in info.value.message and "more than 16 nodes" in info.value.message
+    many = ",".join("1" for _ in range(MAX_ONEOF + 1))
+    with pytest.raises(SpecError) as info:
+        parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ONEOF({many})\n")
+    assert info.value.line == 4 and f"more than {MAX_ONEOF:,}" in info.value.message
+    spec = parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ~ONEOF({many[2:]})\n").spec
+    assert spec.holds(spec.checks[0].formula)  # 1,000 copies of 1: never exactly one true
+
+
+def test_a_file_over_the_token_limit_is_refused_before_parsing(monkeypatch):
+    # tokens: VARS 1 , 2 NL (5), LAW Top NL (3), OBS a : 1 NL (5); VALID ? 1 | 2 NL (6 each)
+    monkeypatch.setattr(source, "MAX_TOKENS", 13 + 6 * 5)
+    text = "VARS 1,2\nLAW Top\nOBS a: 1\n" + "VALID? 1|2\n" * 5
+    assert len(parse_smcdel(text).spec.checks) == 5
+    with pytest.raises(SpecError) as info:
+        parse_smcdel(text + "VALID? 1\n", "x.smcdel")  # token 44: 'VALID' at 9:1
+    assert (info.value.filename, info.value.line, info.value.column) == ("x.smcdel", 9, 1)
+    assert "more than 43 tokens" in info.value.message
+
+
+def test_more_jobs_than_claims_allowed_are_refused_before_parsing():
+    head = "VARS 1\nLAW Top\nOBS a: 1\n"
+    jobs = "VALID? 1 | ~1\nTRUE? {1} 1\nWHERE? 1\n"
+    found = parse_smcdel(head + jobs * (MAX_CLAIMS // 3) + "VALID? 1 | ~1\n")
+    assert len(found.spec.checks) + len(found.where) == MAX_CLAIMS == 10_000
+    with pytest.raises(SpecError) as info:
+        parse_smcdel(head + jobs * (MAX_CLAIMS // 3) + "VALID? 1\n  WHERE? 1\n", "x.smcdel")
+    assert (info.value.line, info.value.column) == (3 + MAX_CLAIMS + 1, 3)
+    assert f"more than {MAX_CLAIMS} claims" in info.value.message

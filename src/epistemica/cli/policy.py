@@ -28,9 +28,12 @@ from epistemica.cli.plan_steps import split_plan
 from epistemica.del_ import Top
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.planning.policy import Decision, Policy, check_policy, plan_policy
-from epistemica.del_.spec import names_hint, read_source
+from epistemica.del_.spec import check_token_count, names_hint, read_source
 
-__all__ = ["plan_policy_command", "verify_policy_command"]
+__all__ = ["MAX_POLICY_BYTES", "plan_policy_command", "verify_policy_command"]
+
+#: Larger policy files are refused (a policy `plan --json` writes is a few kB).
+MAX_POLICY_BYTES = 16 << 20
 
 
 def plan_policy_command(args: argparse.Namespace, spec: Any) -> int:
@@ -102,15 +105,18 @@ def _read_policy(text: str, spec: Any, owners: dict[str, str], decision, policy_
     """A policy from a JSON file, or from a plan read as a policy without branches."""
     path = Path(text)
     if text.endswith(".json") or path.is_file():
-        source = read_source(path, "policy file")  # bounded, binary-checked
+        # bounded in bytes and tokens (its 'when' formulas are parsed), binary-checked
+        source = read_source(path, "policy file", MAX_POLICY_BYTES)
+        check_token_count(source, str(path), "policy file")
         try:
-            data = json.loads(source)
-        except ValueError as error:
+            return policy_class.from_dict(json.loads(source))
+        except InvalidArgumentError:  # from_dict's own, with its hint
+            raise
+        except (ValueError, RecursionError) as error:  # RecursionError: nested too deeply
             raise InvalidArgumentError(
                 f"cannot read the policy {text!r}: {error}",
                 hint="give the JSON written by `epistemica plan SPEC --implicit --policy --json`",
             ) from None
-        return policy_class.from_dict(data)
     steps = split_plan(text)
     for name in steps:
         if name not in spec.actions:
