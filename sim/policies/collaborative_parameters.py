@@ -191,6 +191,18 @@ class CollaborativeParameters:
         (docs/results/collaborative_wrong_decision.md). ``plan-third`` on tuning missions
         40-69 (trial seed 1000): 90 -> 97 % success, median 107 -> 94, mean 164.0 -> 144.4
         steps (paired -19.6; ``third``: 93 %, 102, 157.0).
+    plan_timed : bool
+        The credit of a robot that comes to a short-handed task falls with its arrival
+        (``1 - a / fail`` of its share), so a fetch is worth the time by which its
+        teammate comes sooner and fetches rank by meeting time (untimed, every fetch for
+        a task needing four or more tied and the lowest index won).
+    plan_quorum : int
+        The fewest robots at a short-handed task that earn credit (1: any).
+    plan_later : float
+        Crossings by which a robot that chooses another option still comes to a task
+        (the baseline its option saves time against; 0: it never comes, as before). A
+        robot waiting at a task nobody else comes to then earns only the share of that
+        delay, not of the task's fail cost, which kept robots waiting apart forever.
     """
 
     lane_factor: float = 2.0
@@ -231,6 +243,9 @@ class CollaborativeParameters:
     plan_convention: float = 1.0
     plan_credit: float = 1.0
     plan_recruit: bool = True
+    plan_timed: bool = False
+    plan_quorum: int = 1
+    plan_later: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -244,6 +259,8 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
+        if self.plan_quorum < 1:
+            raise InvalidArgumentError("plan_quorum must be >= 1", hint="2")
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}

@@ -170,6 +170,9 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             convention=p.plan_convention,
             credit=p.plan_credit,
             recruit=p.plan_recruit,
+            timed=p.plan_timed,
+            quorum=int(p.plan_quorum),
+            later=p.plan_later * crossing if p.plan_later > 0 else np.inf,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
