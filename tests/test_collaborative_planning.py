@@ -58,6 +58,23 @@ def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
     assert steer["plan-third"] == (0 if together else FETCHING)
 
 
+@pytest.mark.parametrize("retry", [False, True])
+def test_a_teammate_given_up_on_is_fetched_again_once_seen_with_plan_retry(retry):
+    # The scene above, r2 not knowing of t1; r1 had given up fetching it (it was not
+    # where its sweep put it). r2 is in sight now: with plan_retry r1 fetches it again.
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, False]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(plan_retry=retry))
+    policy.start(s)
+    policy.gave_up[0, 0, 1] = True
+    steer = int(policy.plan(view)[1][0])
+    assert (steer == FETCHING) == retry
+    assert policy.gave_up[0, 0, 1] == (not retry)
+
+
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_a_small_mission_succeeds_at_plan_third(seed):
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
