@@ -55,10 +55,7 @@ def completion_times(
 ) -> np.ndarray:
     """``(c,)`` the expected completion time of each column: the ``needs``-th arrival
     among the robots that come; when only ``c < needs`` come, ``fail`` less ``credit``
-    of its ``1 / needs`` share for each that came (those still to be brought cost less),
-    earned only when at least ``quorum`` came (one robot waiting alone brings nobody),
-    and, ``timed``, in proportion to how long before ``fail`` it came (a robot arriving
-    ``a`` steps from now earns ``fail - a`` of its share: sooner is worth more).
+    of its ``1 / needs`` share for each that came (those still to be brought cost less).
 
     Parameters
     ----------
@@ -73,9 +70,9 @@ def completion_times(
     credit : float
         In ``[0, 1]``: 0, too few is as bad as none; 1, the cost falls in proportion.
     timed : bool
-        The credit of a robot falls with its arrival (none at ``fail`` or later).
+        A robot arriving at ``a`` earns ``1 - a / fail`` of its share (sooner is worth more).
     quorum : int
-        The fewest robots that earn credit (``>= 1``).
+        The fewest robots that earn credit (``>= 1``; one waiting alone brings nobody).
 
     Examples
     --------
@@ -251,14 +248,10 @@ class TaskPlanner:
         convention never fetches: it leaves a robot that no task has room for free to
         explore, or to spend that time telling a teammate), rather than its 5 % spread.
     timed, quorum :
-        :func:`completion_times`' credit falls with the arrival time (a fetch saves the
-        time by which its teammate comes sooner), and is earned only when at least
-        ``quorum`` robots come (waiting alone where nobody is predicted to come is worth
-        nothing).
+        :func:`completion_times`' credit rules (timed: fetches rank by meeting time).
     later : float
-        When the robot chooses otherwise it still comes to a task, this much later (its
-        option is then worth the time by which it comes sooner; a task it already
-        waits at, that too few others come to, is worth little). ``inf``: it never comes.
+        Choosing otherwise, the robot still comes to a task this much later: an option is
+        worth the time by which it comes sooner. ``inf``: it never comes.
     """
 
     def __init__(

@@ -37,25 +37,7 @@ def test_completion_time_of_one_task_by_hand():
     assert got.tolist() == pytest.approx([0.5 * 7 + 0.25 * 9 + 0.25 * 50])
 
 
-@settings(max_examples=60, deadline=None)
-@given(
-    st.integers(1, 5).flatmap(
-        lambda r: st.tuples(
-            st.lists(st.floats(0, 50), min_size=r, max_size=r),
-            st.lists(st.floats(0, 1), min_size=r, max_size=r),
-            st.integers(1, r),
-            st.floats(0, 1),
-        )
-    )
-)
-def test_completion_times_match_enumeration(case):
-    arrivals, presence, need, credit = case
-    got = completion_times(np.array(arrivals)[:, None], np.array(presence)[:, None], [need],
-                           [80.0], credit)  # fmt: skip
-    assert got[0] == pytest.approx(_enumerated(arrivals, presence, need, 80.0, credit), abs=1e-9)
-
-
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(
     st.integers(1, 5).flatmap(
         lambda r: st.tuples(
@@ -63,16 +45,17 @@ def test_completion_times_match_enumeration(case):
             st.lists(st.floats(0, 1), min_size=r, max_size=r),
             st.integers(1, r),
             st.floats(0, 1),
+            st.booleans(),
             st.integers(1, 4),
         )
     )
 )
-def test_timed_credit_with_a_quorum_matches_enumeration(case):
-    # Arrivals past the fail cost (80) earn nothing; fewer than the quorum earn nothing.
-    arrivals, presence, need, credit, quorum = case
+def test_completion_times_match_enumeration(case):
+    # Timed, arrivals past the fail cost (80) earn nothing; fewer than the quorum nothing.
+    arrivals, presence, need, credit, timed, quorum = case
     got = completion_times(np.array(arrivals)[:, None], np.array(presence)[:, None], [need],
-                           [80.0], credit, timed=True, quorum=quorum)  # fmt: skip
-    want = _enumerated(arrivals, presence, need, 80.0, credit, timed=True, quorum=quorum)
+                           [80.0], credit, timed=timed, quorum=quorum)  # fmt: skip
+    want = _enumerated(arrivals, presence, need, 80.0, credit, timed=timed, quorum=quorum)
     assert got[0] == pytest.approx(want, abs=1e-9)
 
 
