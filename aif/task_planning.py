@@ -50,7 +50,9 @@ from epistemica.del_.errors import InvalidArgumentError
 __all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
 
 
-def completion_times(arrivals, presence, needs, fail, credit: float = 0.0) -> np.ndarray:
+def completion_times(
+    arrivals, presence, needs, fail, credit: float = 0.0, timed: bool = False, quorum: int = 1
+) -> np.ndarray:
     """``(c,)`` the expected completion time of each column: the ``needs``-th arrival
     among the robots that come; when only ``c < needs`` come, ``fail`` less ``credit``
     of its ``1 / needs`` share for each that came (those still to be brought cost less).
@@ -67,6 +69,10 @@ def completion_times(arrivals, presence, needs, fail, credit: float = 0.0) -> np
         ``(c,)`` the cost of too few coming.
     credit : float
         In ``[0, 1]``: 0, too few is as bad as none; 1, the cost falls in proportion.
+    timed : bool
+        A robot arriving at ``a`` earns ``1 - a / fail`` of its share (sooner is worth more).
+    quorum : int
+        The fewest robots that earn credit (``>= 1``; one waiting alone brings nobody).
 
     Examples
     --------
@@ -76,32 +82,47 @@ def completion_times(arrivals, presence, needs, fail, credit: float = 0.0) -> np
     [55.0]
     >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], credit=1.0).tolist()
     [30.0]
+    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], 1.0, timed=True).tolist()
+    [31.25]
+    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], 1.0, quorum=2).tolist()
+    [55.0]
     """
     a = np.asarray(arrivals, dtype=float)
     p = np.where(np.isfinite(a), np.asarray(presence, dtype=float), 0.0)
     order = np.argsort(a, axis=0, kind="stable")
     cols = np.arange(a.shape[1])
-    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail, credit)
+    rule = _Credit(credit, timed, quorum)
+    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail, rule)
 
 
-def _expected(
-    a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail, credit: float = 0.0
-) -> np.ndarray:
+class _Credit(NamedTuple):
+    """How a robot that came to a task too few came to counts (:func:`completion_times`)."""
+
+    share: float = 0.0
+    timed: bool = False
+    quorum: int = 1
+
+
+def _expected(a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail, rule: _Credit) -> np.ndarray:
     """:func:`completion_times` of arrivals sorted down each column (``p`` likewise)."""
     cols = np.arange(a.shape[1])
+    fail = np.broadcast_to(np.asarray(fail, dtype=float), cols.shape)
     count = np.zeros((a.shape[1], int(needs.max(initial=1)) + 1))
     count[:, 0] = 1.0  # the distribution of how many came so far, below needs
+    earned = np.zeros_like(count)  # E[credit of those that came; that many came]
     expected = np.zeros(a.shape[1])
     for k in np.flatnonzero(p.any(axis=1)):  # robots that never come change nothing
-        q = p[k]
-        reach = count[cols, needs - 1] * q  # this arrival is the needs-th
+        q = p[k][:, None]
+        reach = count[cols, needs - 1] * q[:, 0]  # this arrival is the needs-th
         expected += reach * np.where(reach > 0, a[k], 0.0)
-        count[:, 1:] = count[:, 1:] * (1 - q[:, None]) + count[:, :-1] * q[:, None]
-        count[:, 0] *= 1 - q
-        count[cols, needs] = 0.0
-    came = (count * np.arange(count.shape[1])[None]).sum(axis=1) / needs
-    missing = count.sum(axis=1) - credit * came  # each robot that came: ``credit`` of one
-    return expected + missing * np.asarray(fail, dtype=float)
+        w = np.clip(1.0 - a[k] / fail, 0.0, 1.0)[:, None] if rule.timed else 1.0
+        earned[:, 1:] = earned[:, 1:] * (1 - q) + (earned[:, :-1] + count[:, :-1] * w) * q
+        count[:, 1:] = count[:, 1:] * (1 - q) + count[:, :-1] * q
+        count[:, 0] *= 1 - q[:, 0]
+        count[cols, needs] = earned[cols, needs] = 0.0
+    came = earned[:, max(int(rule.quorum), 1) :].sum(axis=1) / needs
+    missing = count.sum(axis=1) - rule.share * came  # each robot that came: its credit
+    return expected + missing * fail
 
 
 def convention(arrivals, knowers, needs) -> np.ndarray:
@@ -226,6 +247,11 @@ class TaskPlanner:
         The convention's prior gives every fetch the weight it gives exploring (the
         convention never fetches: it leaves a robot that no task has room for free to
         explore, or to spend that time telling a teammate), rather than its 5 % spread.
+    timed, quorum :
+        :func:`completion_times`' credit rules (timed: fetches rank by meeting time).
+    later : float
+        Choosing otherwise, the robot still comes to a task this much later: an option is
+        worth the time by which it comes sooner. ``inf``: it never comes.
     """
 
     def __init__(
@@ -240,6 +266,9 @@ class TaskPlanner:
         convention: float = 0.0,
         credit: float = 0.0,
         recruit: bool = False,
+        timed: bool = False,
+        quorum: int = 1,
+        later: float = np.inf,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -253,6 +282,12 @@ class TaskPlanner:
         self.convention = float(as_finite(convention, "convention"))
         self.credit = float(np.clip(as_finite(credit, "credit"), 0.0, 1.0))
         self.recruit = bool(recruit)
+        if int(quorum) < 1:
+            raise InvalidArgumentError(f"quorum must be >= 1, got {quorum}")
+        self.rule = _Credit(self.credit, bool(timed), int(quorum))
+        self.later = float(later)
+        if not self.later > 0:
+            raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")
         if min(self.explore, self.commitment, self.convention) < 0 or np.any(self.fail <= 0):
             raise InvalidArgumentError(
                 "explore and commitment must be >= 0 and fail > 0", hint="0 leaves them out"
@@ -358,12 +393,24 @@ class _Context:
         self.memo: dict = {}
         self.keys: dict = {}
         m = arrivals.shape[1]
-        twice = np.hstack([arrivals, arrivals])
+        self.twice = np.hstack([arrivals, arrivals])
         self.cols = np.arange(2 * m)
-        self.order_ = np.argsort(twice, axis=0, kind="stable")
-        self.sorted = twice[self.order_, self.cols]
+        self.ranked: dict = {}  # agent -> the arrivals sorted down each column, and how
         self.needs2 = np.tile(planner.needs, 2)
         self.fail2 = np.tile(planner.fail, 2)
+
+    def rank(self, agent: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(order, sorted)`` of the arrivals, without ``agent`` (it comes ``later``
+        than its arrival) then with it, sorted down each column."""
+        found = self.ranked.get(agent if np.isfinite(self.p.later) else -1)
+        if found is None:
+            twice = self.twice
+            if np.isfinite(self.p.later):
+                twice = twice.copy()
+                twice[agent, : twice.shape[1] // 2] += self.p.later
+            order = np.argsort(twice, axis=0, kind="stable")
+            found = self.ranked[agent] = (order, twice[order, self.cols])
+        return found
 
     def _lookup(self, table: dict, chain: tuple[int, ...]):
         # A robot at order k models sets down to chains of length k, no deeper.
@@ -393,9 +440,10 @@ class _Context:
             if j != agent:
                 presence[j, :m] = presence[j, m:] = self.choice((*chain, j), order - 1)[:m]
         presence[agent, m:] = np.isfinite(self.arrivals[agent])  # it comes if it can
-        both = _expected(
-            self.sorted, presence[self.order_, self.cols], self.needs2, self.fail2, p.credit
-        )
+        if np.isfinite(p.later):  # and, choosing otherwise, it comes later
+            presence[agent, :m] = presence[agent, m:]
+        order_, ranked = self.rank(agent)
+        both = _expected(ranked, presence[order_, self.cols], self.needs2, self.fail2, p.rule)
         saved = both[m:] - both[:m]
         G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
         G[m] = -p.explore * float(p.fail.mean()) * unknown / n
@@ -434,7 +482,11 @@ class _Context:
         for j in range(n):
             if j != robot:
                 presence[j] = self.choice((robot, j), max(p.order - 1, 0))[:m]
-        without = completion_times(self.arrivals, presence, p.needs, p.fail, p.credit)
+        late = self.arrivals.copy()
+        if np.isfinite(p.later):  # not fetching, it comes later
+            late[robot] += p.later
+            presence[robot] = 1.0
+        without = completion_times(late, presence, p.needs, p.fail, *p.rule)
         tasks = np.array([f.task for f in fetches], dtype=int)
         helpers = np.array([f.helper for f in fetches], dtype=int)
         cols = np.arange(len(fetches))
@@ -443,5 +495,5 @@ class _Context:
         a[robot], q[robot] = [f.arrival for f in fetches], 1.0
         a[helpers, cols] = [f.helper_arrival for f in fetches]
         q[helpers, cols] = [f.found for f in fetches]
-        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], p.credit)
+        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], *p.rule)
         return fetched - without[tasks]

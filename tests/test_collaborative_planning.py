@@ -39,16 +39,22 @@ def _view(step, poses, knowledge):
                      np.where(aware, 0, -1), np.full((n, m), step))  # fmt: skip
 
 
+def _scene(together: bool):
+    """r1 at (20, 15) found t1 at (3, 15), which needs 2; r2 stands 6.5 m off, in sight,
+    and saw it found if ``together``. The scenario, and the view at step 50."""
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, together]))
+    return s, _view(50, np.asarray(s.starts, dtype=float), knowledge)
+
+
 @pytest.mark.parametrize("together", [False, True])
 def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
     # r1 at (20, 15) found t1 at (3, 15), which needs 2; r2 stands 6.5 m off, in sight.
     # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at plan-third;
     # plan-third-shared takes r2 to know and heads for the task.
-    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
-                              sensing_range=7.0)  # fmt: skip
-    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
-    knowledge.discover(0, np.array([True, together]))
-    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    s, view = _scene(together)
     steer = {}
     for level in ("plan-third", "plan-third-shared"):
         policy = make_level("collaborative", level)
@@ -56,6 +62,19 @@ def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
         steer[level] = int(policy.plan(view)[1][0])
     assert steer["plan-third-shared"] == 0
     assert steer["plan-third"] == (0 if together else FETCHING)
+
+
+@pytest.mark.parametrize("retry", [False, True])
+def test_a_teammate_given_up_on_is_fetched_again_once_seen_with_plan_retry(retry):
+    # The scene above, r2 not knowing of t1; r1 had given up fetching it (it was not
+    # where its sweep put it). r2 is in sight now: with plan_retry r1 fetches it again.
+    s, view = _scene(together=False)
+    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(plan_retry=retry))
+    policy.start(s)
+    policy.gave_up[0, 0, 1] = True
+    steer = int(policy.plan(view)[1][0])
+    assert (steer == FETCHING) == retry
+    assert policy.gave_up[0, 0, 1] == (not retry)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])

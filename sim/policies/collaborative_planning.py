@@ -170,6 +170,9 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             convention=p.plan_convention,
             credit=p.plan_credit,
             recruit=p.plan_recruit,
+            timed=p.plan_timed,
+            quorum=int(p.plan_quorum),
+            later=p.plan_later * crossing if p.plan_later > 0 else np.inf,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
@@ -182,6 +185,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         if self.model == "first":
             view = first_order(view)
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
+        if self.parameters.plan_retry:  # a teammate seen again is where it is seen
+            self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
         targets, steer_to = np.zeros((n, 2)), np.full(n, -1)
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
         for i in range(n):

@@ -12,7 +12,7 @@ from epistemica import InvalidArgumentError
 from epistemica.aif.task_planning import Fetch, TaskPlanner, completion_times, convention
 
 
-def _enumerated(arrivals, presence, need, fail, credit):
+def _enumerated(arrivals, presence, need, fail, credit, timed=False, quorum=1):
     """E[T] of one task by summing over every subset of robots that come."""
     total = 0.0
     for came in itertools.product([False, True], repeat=len(arrivals)):
@@ -21,7 +21,9 @@ def _enumerated(arrivals, presence, need, fail, credit):
         if len(times) >= need:
             total += weight * times[need - 1]
         else:
-            total += weight * fail * (1 - credit * len(times) / need)
+            shares = [max(1 - a / fail, 0.0) if timed else 1.0 for a in times]
+            earned = sum(shares) if len(times) >= quorum else 0.0
+            total += weight * fail * (1 - credit * earned / need)
     return total
 
 
@@ -35,22 +37,60 @@ def test_completion_time_of_one_task_by_hand():
     assert got.tolist() == pytest.approx([0.5 * 7 + 0.25 * 9 + 0.25 * 50])
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(
     st.integers(1, 5).flatmap(
         lambda r: st.tuples(
-            st.lists(st.floats(0, 50), min_size=r, max_size=r),
+            st.lists(st.floats(0, 120), min_size=r, max_size=r),
             st.lists(st.floats(0, 1), min_size=r, max_size=r),
             st.integers(1, r),
             st.floats(0, 1),
+            st.booleans(),
+            st.integers(1, 4),
         )
     )
 )
 def test_completion_times_match_enumeration(case):
-    arrivals, presence, need, credit = case
+    # Timed, arrivals past the fail cost (80) earn nothing; fewer than the quorum nothing.
+    arrivals, presence, need, credit, timed, quorum = case
     got = completion_times(np.array(arrivals)[:, None], np.array(presence)[:, None], [need],
-                           [80.0], credit)  # fmt: skip
-    assert got[0] == pytest.approx(_enumerated(arrivals, presence, need, 80.0, credit), abs=1e-9)
+                           [80.0], credit, timed=timed, quorum=quorum)  # fmt: skip
+    want = _enumerated(arrivals, presence, need, 80.0, credit, timed=timed, quorum=quorum)
+    assert got[0] == pytest.approx(want, abs=1e-9)
+
+
+def test_timed_credit_ranks_fetches_by_when_the_helper_comes():
+    # A task needing 4 that only robot 0 knows of; fetching robot 1 brings both by step
+    # 12, robot 2 by step 30. Two of four come either way: untimed, each fetch earns two
+    # shares of credit (50 of 100) and they tie; timed, a share is worth 1 - a / 100.
+    sets, unknown = {(0,): [True], (0, 1): [False], (0, 2): [False]}, {(0, 1): 1, (0, 2): 1}
+    fetches = [Fetch(0, 1, 12.0, 12.0, 1.0), Fetch(0, 2, 30.0, 30.0, 1.0)]
+    arrivals = [[3.0], [20.0], [25.0]]
+    untimed = TaskPlanner([4], order=2, temperature=1.0, fail=[100.0], credit=1.0)
+    G = untimed.plan(0, arrivals, sets, unknown, fetches).G
+    assert G[2] == pytest.approx(G[3]) == pytest.approx(-50.0)
+    timed = TaskPlanner([4], order=2, temperature=1.0, fail=[100.0], credit=1.0, timed=True)
+    plan = timed.plan(0, arrivals, sets, unknown, fetches)
+    assert plan.G[2:].tolist() == pytest.approx([-(100 - 12) / 2, -(100 - 30) / 2])
+    assert (plan.kind, plan.helper) == ("fetch", 1)
+
+
+def test_coming_later_anyway_is_the_baseline_of_an_option():
+    # Robots 0 and 1 (4 and 10 steps away) both go to a task needing both (the convention).
+    # Never coming otherwise, robot 0 going saves the whole fail cost less 10 steps; coming
+    # 30 steps later otherwise (at step 34), it saves 24 steps.
+    arrivals, sets = [[4.0], [10.0]], {(0,): [True]}
+    never = TaskPlanner([2], order=1, temperature=1.0, fail=[100.0])
+    assert never.plan(0, arrivals, sets).G[0] == pytest.approx(10.0 - 100.0)
+    later = TaskPlanner([2], order=1, temperature=1.0, fail=[100.0], later=30.0)
+    assert later.plan(0, arrivals, sets).G[0] == pytest.approx(10.0 - 34.0)
+    # Waiting alone at a task needing 3 that nobody else comes to (timed credit): worth
+    # one share of the 30 steps by which it is there sooner, not a share of the fail cost.
+    alone = TaskPlanner([3], order=1, temperature=1.0, fail=[100.0], credit=1.0, timed=True,
+                        later=30.0)  # fmt: skip
+    sets = {(0,): [True], (0, 1): [False]}
+    G = alone.plan(0, [[0.0], [10.0]], sets, {(0, 1): 1}).G
+    assert G[0] == pytest.approx(-30.0 / 3)
 
 
 def test_a_robot_that_cannot_arrive_never_comes():
@@ -187,3 +227,7 @@ def test_bad_arguments_are_refused():
         TaskPlanner([0])
     with pytest.raises(InvalidArgumentError):
         TaskPlanner([2], explore=-1.0)
+    with pytest.raises(InvalidArgumentError):
+        TaskPlanner([2], quorum=0)
+    with pytest.raises(InvalidArgumentError):
+        TaskPlanner([2], later=0.0)
