@@ -297,14 +297,16 @@ def planner_type_goals(planned: np.ndarray, distance: np.ndarray, convention: np
 
 
 def typed_predictions(log_types: np.ndarray, goal_probabilities: np.ndarray,
-                      threshold: float) -> np.ndarray:  # fmt: skip
-    """``(n, m)``: the goal distribution of each teammate whose moves fit the ad hoc types,
-    ``nan`` rows for the others (predicted as planners).
+                      threshold: float, types: tuple[str, ...] = ("greedy", "stationary")
+                      ) -> np.ndarray:  # fmt: skip
+    """``(n, m)``: the goal distribution of each teammate whose moves fit ad hoc
+    ``types``, ``nan`` rows for the others (predicted as planners).
 
-    A teammate is typed when its posterior puts at least ``threshold`` on the ad hoc
-    types (every type but ``"team"``); it is then predicted by their mixture,
-    ``Σ_{t ≠ team} P(t) P_t(g) / Σ_{t ≠ team} P(t)``, with no weight left on the team's
-    own behaviour. A ``threshold`` of 0 types no one.
+    A teammate is typed when its posterior puts at least ``threshold`` on ``types``
+    (by default those that hold to the nearest goal: a planner may head for another
+    goal than predicted, but does not stay where it is predicted to leave); it is then
+    predicted by their mixture, ``Σ_t P(t) P_t(g) / Σ_t P(t)`` over ``types``, with no
+    weight left on the team's own behaviour. A ``threshold`` of 0 types no one.
 
     Examples
     --------
@@ -317,8 +319,9 @@ def typed_predictions(log_types: np.ndarray, goal_probabilities: np.ndarray,
     """
     weights = np.exp(log_types)
     weights = weights / weights.sum(axis=-1, keepdims=True)
-    adhoc = weights.copy()
-    adhoc[:, TYPES.index("team")] = 0.0
+    adhoc = np.zeros_like(weights)
+    counted = [TYPES.index(t) for t in types]
+    adhoc[:, counted] = weights[:, counted]
     mass = adhoc.sum(axis=1)
     out = np.full(goal_probabilities.shape[::2], np.nan)
     typed = (mass >= threshold) & (threshold > 0) & (mass > 0)

@@ -31,6 +31,7 @@ import numpy as np
 from epistemica.aif.decision import Decision
 from epistemica.aif.planning import WAIT, Planner, motion_evidence, places_in_square
 from epistemica.aif.teammates import (
+    ON_GOAL,
     TYPE_PRIOR,
     goal_distances,
     least_cost_from_distances,
@@ -195,7 +196,11 @@ class PlanningStage:
     def typed(self, ctrl, goals, robot: int, observations: Observations) -> np.ndarray | None:
         """Score the teammates' moves since the robot's last plan under each type, and
         return the rows of the teammates to predict by their type (``nan``: a planner),
-        or ``None`` where types are off (``plan_types = 0``)."""
+        or ``None`` where types are off (``plan_types = 0``).
+
+        A teammate is typed where the posterior on greedy and stationary together
+        reaches ``plan_types`` and it is seen on a goal (within :data:`ON_GOAL` plus two
+        standard deviations of the sightings' noise): it holds to that goal."""
         if self.threshold <= 0:
             return None
         s, step = self.scenario, observations.step
@@ -216,7 +221,10 @@ class PlanningStage:
         uniform = np.full(distance.shape, 1.0 / distance.shape[1])
         probs = planner_type_goals(uniform, distance, convention)
         self._typing[robot] = (step, np.asarray(goals).copy(), now.copy(), seen, probs)
-        return typed_predictions(log_types, probs, self.threshold)
+        rows = typed_predictions(log_types, probs, self.threshold)
+        # It holds to the goal it stands on: typed only where seen on one (noise allowed).
+        rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
+        return rows
 
     def decide(
         self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
