@@ -61,10 +61,10 @@ class PlanContext:
         self.typed = {int(j): typed[j] / typed[j].sum() for j in np.flatnonzero(rows)}
         # A typed teammate holds to its most probable goal: every chain keeps only the
         # configurations with it there (it will not come to another goal).
-        rows_ = self.p.configurations
-        held = np.ones(rows_.shape[0], dtype=bool)
+        configurations = self.p.configurations
+        held = np.ones(configurations.shape[0], dtype=bool)
         for j, row in self.typed.items():
-            held &= rows_[:, j] == int(np.argmax(row))
+            held &= configurations[:, j] == int(np.argmax(row))
         self.held = held if held.any() and not held.all() else None
 
     def predict_unseen(self, robot: int, places: np.ndarray) -> None:

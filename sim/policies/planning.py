@@ -33,6 +33,7 @@ from epistemica.aif.planning import WAIT, Planner, motion_evidence, places_in_sq
 from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
+    TYPES,
     goal_distances,
     least_cost_from_distances,
     motion_log_likelihood,
@@ -187,12 +188,6 @@ class PlanningStage:
         places[:, ~never] = np.nan
         return places
 
-    def types(self, robot: int) -> np.ndarray:
-        """``(n, T)`` the robot's posterior over its teammates' types
-        (:data:`epistemica.aif.teammates.TYPES`; its own row unused)."""
-        n = self.scenario.n_robots
-        return np.exp(self._types.get(robot, np.tile(np.log(TYPE_PRIOR), (n, 1))))
-
     def typed(self, ctrl, goals, robot: int, observations: Observations) -> np.ndarray | None:
         """Score the teammates' moves since the robot's last plan under each type, and
         return the rows of the teammates to predict by their type (``nan``: a planner),
@@ -242,7 +237,7 @@ class PlanningStage:
             self.unseen(observations, robot), typed,
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
-            self._typing[robot][4][:, 0] = result.planned
+            self._typing[robot][4][:, TYPES.index("team")] = result.planned
         if result.goal != WAIT:
             self._heading[robot] = int(goals[result.goal])
         log = _RECORDER.get()
