@@ -247,12 +247,9 @@ class Planner:
             robots seen): it is predicted as the mean of its predictions from them, not
             from its placeholder ``positions`` row. Default: every robot seen.
         typed : array_like, optional
-            ``(n, m)``: a goal distribution for each teammate whose moves fit an ad hoc
-            type (it stands still, or heads for its nearest goal:
-            :func:`epistemica.aif.teammates.typed_predictions`), ``nan`` rows for the
-            others. A typed teammate is predicted by its row in every chain that predicts
-            it (what the robot thinks it does, what the robot thinks a teammate thinks it
-            does, ...), not by the planner one order down. Default: no one typed.
+            ``(n, m)`` goal distributions of the teammates read as ad hoc
+            (:func:`epistemica.aif.teammates.typed_predictions`; ``nan`` rows: planners),
+            each the prediction in every chain that ends with it. Default: no one typed.
 
         Examples
         --------
@@ -268,13 +265,7 @@ class Planner:
         robot = check_robot(robot, self.speeds.shape[0])
         n, k = self.speeds.shape[0], self.configurations.shape[0]
         pos = as_finite(positions, "positions", ndim=2, shape=(n, None))[:, :2]
-        weights = np.ones(k) if prior is None else as_finite(prior, "prior", ndim=1, shape=(k,))
-        if np.any(weights < 0):
-            raise InvalidArgumentError("prior must be non-negative", hint="weights or a pmf")
-        moving = np.ones(n) if moving is None else np.clip(as_finite(moving, "moving"), 0, 1)
-        if evidence is not None:
-            evidence = as_finite(evidence, "evidence", ndim=2, shape=(n, self.goals.shape[0]))
-        unseen = None if unseen is None else np.asarray(unseen, dtype=float)
+        weights, moving, evidence, unseen = self._inputs(k, prior, moving, evidence, unseen)
         context = self._context(robot, pos, weights, sets, evidence, unseen, typed)
         G = self._own_costs(context, robot, weights, previous)
         own = context.choice((robot,), self.order)
@@ -290,12 +281,29 @@ class Planner:
         belief = context.belief((robot,), preds)
         mine = self.configurations[:, robot] == goal if goal != WAIT else np.ones(len(belief))
         focal = int(np.argmax(np.where(mine, belief, -1.0)))
-        planned = preds.copy()
-        if context.typed:  # the same plan with every teammate a planner
-            plain = self._context(robot, pos, weights, sets, evidence, unseen, None)
-            for j in context.typed:
-                planned[j] = plain.choice((robot, j), below)
+        planned = self._as_planners(context, robot, preds, (pos, weights, sets, evidence, unseen))
         return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal, planned)
+
+    def _inputs(self, k: int, prior, moving, evidence, unseen) -> tuple:
+        """The plan's optional inputs checked, with their defaults."""
+        n = self.speeds.shape[0]
+        weights = np.ones(k) if prior is None else as_finite(prior, "prior", ndim=1, shape=(k,))
+        if np.any(weights < 0):
+            raise InvalidArgumentError("prior must be non-negative", hint="weights or a pmf")
+        moving = np.ones(n) if moving is None else np.clip(as_finite(moving, "moving"), 0, 1)
+        if evidence is not None:
+            evidence = as_finite(evidence, "evidence", ndim=2, shape=(n, self.goals.shape[0]))
+        return weights, moving, evidence, None if unseen is None else np.asarray(unseen, float)
+
+    def _as_planners(self, context, robot: int, preds: np.ndarray, inputs) -> np.ndarray:
+        """``preds`` with each typed teammate's row its prediction as a planner: the same
+        plan's ``inputs`` (positions, prior, sets, evidence, draws) without the types."""
+        planned = preds.copy()
+        if context.typed:
+            plain = self._context(robot, *inputs, None)
+            for j in context.typed:
+                planned[j] = plain.choice((robot, j), max(self.order - 1, 0))
+        return planned
 
     def _context(self, robot: int, pos, weights, sets, evidence, unseen, typed) -> PlanContext:
         """One plan's predictions: the moves' evidence first (every prediction below

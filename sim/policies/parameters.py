@@ -187,12 +187,9 @@ class ActiveParameters:
         the placeholder: the draws were not measured to help
         (docs/results/planning_wrong_decision.md) and cost a plan per draw.
     plan_types : float
-        In ``[0, 1)``: the posterior on the types greedy and stationary (read from a
-        teammate's moves with ``teammate_sigma`` and ``teammate_leak``, the team type
-        scored by the plan's own prediction of it) at which the planner predicts a
-        teammate seen on a goal as holding to it in every chain, instead of as a planner
-        one order down (docs/aif.md §6g). 0 predicts everyone as a planner. Chosen on
-        design seeds 1000-1009 (0.9 and 0.95 changed trials of specs/third_order/).
+        In ``[0, 1)``: posterior on greedy + stationary (``teammate_sigma``, ``_leak``)
+        at which a teammate seen on a goal is planned as holding to it (aif.md §6g); 0:
+        off. Chosen on design seeds (0.9 and 0.95 changed specs/third_order/ trials).
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
