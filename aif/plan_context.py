@@ -39,6 +39,33 @@ class PlanContext:
         rows = planner.configurations
         self.row_times = self.times[np.arange(rows.shape[1]), rows]  # (k, n)
         self.memo: dict = {}
+        self.typed: dict[int, np.ndarray] = {}  # teammate -> its ad hoc type's goals
+        self.held: np.ndarray | None = None  # the configurations the typed teammates allow
+
+    def type_rows(self, robot: int, typed: np.ndarray) -> None:
+        """Predict each teammate with a row in ``typed`` (``(n, m)``, ``nan`` rows for
+        the planners) by that row in every chain that ends with it."""
+        if typed.shape != self.times.shape:
+            raise InvalidArgumentError(
+                f"typed must have shape {self.times.shape}, got {typed.shape}",
+                hint="one goal distribution per robot, nan rows for the planners",
+            )
+        rows = ~np.isnan(typed).any(axis=1)
+        rows[robot] = False
+        bad = typed[rows]
+        if np.any(~np.isfinite(bad)) or np.any(bad < 0) or np.any(bad.sum(axis=1) <= 0):
+            raise InvalidArgumentError(
+                "typed rows must be non-negative goal weights (or all nan)",
+                hint="teammates.typed_predictions gives them",
+            )
+        self.typed = {int(j): typed[j] / typed[j].sum() for j in np.flatnonzero(rows)}
+        # A typed teammate holds to its most probable goal: every chain keeps only the
+        # configurations with it there (it will not come to another goal).
+        configurations = self.p.configurations
+        held = np.ones(configurations.shape[0], dtype=bool)
+        for j, row in self.typed.items():
+            held &= configurations[:, j] == int(np.argmax(row))
+        self.held = held if held.any() and not held.all() else None
 
     def predict_unseen(self, robot: int, places: np.ndarray) -> None:
         """Put the mean prediction of each never-seen teammate over ``places`` (its draws
@@ -65,6 +92,7 @@ class PlanContext:
             moved[hidden] = draw[hidden]
             there = PlanContext(self.p, moved, self.prior, self.sets, self.masks)
             there.evidence = there.evidence + self.extra
+            there.typed, there.held = self.typed, self.held
             for key, (chain, order) in keys.items():
                 total[key] = total[key] + there.choice(chain, order)
         for key, value in total.items():
@@ -88,6 +116,9 @@ class PlanContext:
                 # nothing, as in the one-step controller's priors.
                 found = (kept, kept.tobytes()) if kept.any() else (None, None)
                 break
+        if self.held is not None:  # the typed teammates' goals, where the set allows them
+            both = self.held if found[0] is None else found[0] & self.held
+            found = (both, both.tobytes()) if both.any() else found
         self.masks[chain] = found
         return found
 
@@ -132,8 +163,10 @@ class PlanContext:
 
     def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` the goal distribution of ``chain[-1]`` as ``chain[:-1]`` predicts it:
-        for a teammate, the mixture of orders up to ``order`` (``hierarchy``), weighed
-        by where it is seen."""
+        for a typed teammate, its type's row; for another, the mixture of orders up to
+        ``order`` (``hierarchy``), weighed by where it is seen."""
+        if len(chain) > 1 and chain[-1] in self.typed:
+            return self.typed[chain[-1]]
         key = self.key(chain, order)
         if key in self.memo:
             return self.memo[key]

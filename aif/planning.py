@@ -86,6 +86,10 @@ class PlanResult(NamedTuple):
         the predictions, zero outside its set.
     focal : int
         The most probable configuration with the robot at its chosen goal.
+    planned : numpy.ndarray or None
+        ``(n, m)`` every robot as the robot predicts it *as a planner*: ``predictions``
+        with the rows of the teammates it predicts by their type (``typed``) replaced by
+        the planner's prediction (what their moves are scored against).
     """
 
     goal: int
@@ -94,6 +98,7 @@ class PlanResult(NamedTuple):
     predictions: np.ndarray
     belief: np.ndarray
     focal: int
+    planned: np.ndarray | None = None
 
 
 class Planner:
@@ -210,6 +215,7 @@ class Planner:
         evidence=None,
         previous: int | None = None,
         unseen=None,
+        typed=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -240,6 +246,10 @@ class Planner:
             ``(P, n, 2)`` draws of where each teammate never seen may be (``nan`` for the
             robots seen): it is predicted as the mean of its predictions from them, not
             from its placeholder ``positions`` row. Default: every robot seen.
+        typed : array_like, optional
+            ``(n, m)`` goal distributions of the teammates read as ad hoc
+            (:func:`epistemica.aif.teammates.typed_predictions`; ``nan`` rows: planners),
+            each the prediction in every chain that ends with it. Default: no one typed.
 
         Examples
         --------
@@ -255,16 +265,8 @@ class Planner:
         robot = check_robot(robot, self.speeds.shape[0])
         n, k = self.speeds.shape[0], self.configurations.shape[0]
         pos = as_finite(positions, "positions", ndim=2, shape=(n, None))[:, :2]
-        weights = np.ones(k) if prior is None else as_finite(prior, "prior", ndim=1, shape=(k,))
-        if np.any(weights < 0):
-            raise InvalidArgumentError("prior must be non-negative", hint="weights or a pmf")
-        moving = np.ones(n) if moving is None else np.clip(as_finite(moving, "moving"), 0, 1)
-        context = PlanContext(self, pos, weights, dict(sets or {}))
-        if evidence is not None:  # first: every prediction below reads it
-            context.extra = as_finite(evidence, "evidence", ndim=2, shape=context.times.shape)
-            context.evidence = context.evidence + context.extra
-        if unseen is not None:
-            context.predict_unseen(robot, np.asarray(unseen, dtype=float))
+        weights, moving, evidence, unseen = self._inputs(k, prior, moving, evidence, unseen)
+        context = self._context(robot, pos, weights, sets, evidence, unseen, typed)
         G = self._own_costs(context, robot, weights, previous)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
@@ -279,7 +281,42 @@ class Planner:
         belief = context.belief((robot,), preds)
         mine = self.configurations[:, robot] == goal if goal != WAIT else np.ones(len(belief))
         focal = int(np.argmax(np.where(mine, belief, -1.0)))
-        return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal)
+        planned = self._as_planners(context, robot, preds, (pos, weights, sets, evidence, unseen))
+        return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal, planned)
+
+    def _inputs(self, k: int, prior, moving, evidence, unseen) -> tuple:
+        """The plan's optional inputs checked, with their defaults."""
+        n = self.speeds.shape[0]
+        weights = np.ones(k) if prior is None else as_finite(prior, "prior", ndim=1, shape=(k,))
+        if np.any(weights < 0):
+            raise InvalidArgumentError("prior must be non-negative", hint="weights or a pmf")
+        moving = np.ones(n) if moving is None else np.clip(as_finite(moving, "moving"), 0, 1)
+        if evidence is not None:
+            evidence = as_finite(evidence, "evidence", ndim=2, shape=(n, self.goals.shape[0]))
+        return weights, moving, evidence, None if unseen is None else np.asarray(unseen, float)
+
+    def _as_planners(self, context, robot: int, preds: np.ndarray, inputs) -> np.ndarray:
+        """``preds`` with each typed teammate's row its prediction as a planner: the same
+        plan's ``inputs`` (positions, prior, sets, evidence, draws) without the types."""
+        planned = preds.copy()
+        if context.typed:
+            plain = self._context(robot, *inputs, None)
+            for j in context.typed:
+                planned[j] = plain.choice((robot, j), max(self.order - 1, 0))
+        return planned
+
+    def _context(self, robot: int, pos, weights, sets, evidence, unseen, typed) -> PlanContext:
+        """One plan's predictions: the moves' evidence first (every prediction below
+        reads it), then the typed teammates and the unseen teammates' draws."""
+        context = PlanContext(self, pos, weights, dict(sets or {}))
+        if evidence is not None:
+            context.extra = evidence
+            context.evidence = context.evidence + evidence
+        if typed is not None:
+            context.type_rows(robot, np.asarray(typed, dtype=float))
+        if unseen is not None:
+            context.predict_unseen(robot, unseen)
+        return context
 
     def risk(self, formed: np.ndarray, timed: np.ndarray, alone: np.ndarray) -> np.ndarray:
         """Risk (s) of options whose configuration forms with probability ``formed``,

@@ -54,7 +54,9 @@ __all__ = [
     "least_cost_rows",
     "mix_configurations",
     "motion_log_likelihood",
+    "planner_type_goals",
     "type_goal_probabilities",
+    "typed_predictions",
     "update_types",
 ]
 
@@ -270,3 +272,59 @@ def mix_configurations(
     others = before[:, :-1] * after[:, 1:]
     p = pi * (before[:, -1:] + (terms * others[:, None, :]).sum(axis=2))
     return p / p.sum(axis=1, keepdims=True)
+
+
+def planner_type_goals(planned: np.ndarray, distance: np.ndarray, convention: np.ndarray
+                       ) -> np.ndarray:  # fmt: skip
+    """``(n, T, m)``: each teammate's goal distribution under each type, as the planner
+    reads its teammates (:class:`epistemica.aif.planning.Planner`, ``typed``).
+
+    As :func:`goal_probabilities_from_distances`, with two differences: the ``"team"`` row
+    is ``planned``, the planner's own prediction of the teammate as a planner, and a
+    ``"stationary"`` teammate holds to its nearest goal wherever it is seen (noisy
+    sightings of a robot standing on a goal fall outside :data:`ON_GOAL`).
+
+    Examples
+    --------
+    >>> planned = np.array([[0.0, 1.0, 0.0]])
+    >>> out = planner_type_goals(planned, np.array([[0.8, 5.0, 9.0]]), np.array([2]))
+    >>> out.argmax(axis=2).tolist()    # team, greedy, convention, stationary
+    [[1, 0, 2, 0]]
+    """
+    out = goal_probabilities_from_distances(planned, distance, convention)
+    out[:, TYPES.index("stationary")] = out[:, TYPES.index("greedy")]
+    return out
+
+
+def typed_predictions(log_types: np.ndarray, goal_probabilities: np.ndarray,
+                      threshold: float, types: tuple[str, ...] = ("greedy", "stationary")
+                      ) -> np.ndarray:  # fmt: skip
+    """``(n, m)``: the goal distribution of each teammate whose moves fit ad hoc
+    ``types``, ``nan`` rows for the others (predicted as planners).
+
+    A teammate is typed when its posterior puts at least ``threshold`` on ``types``
+    (by default those that hold to the nearest goal: a planner may head for another
+    goal than predicted, but does not stay where it is predicted to leave); it is then
+    predicted by their mixture, ``Σ_t P(t) P_t(g) / Σ_t P(t)`` over ``types``, with no
+    weight left on the team's own behaviour. A ``threshold`` of 0 types no one.
+
+    Examples
+    --------
+    Teammate 0 was seen standing still (stationary 0.95), teammate 1 moving as predicted:
+
+    >>> probs = np.array([[[0.0, 1.0], [1.0, 0.0], [1.0, 0.0], [1.0, 0.0]]] * 2)
+    >>> lt = np.log(np.array([[0.03, 0.01, 0.01, 0.95], [0.9, 0.05, 0.03, 0.02]]))
+    >>> typed_predictions(lt, probs, 0.9).round(3).tolist()
+    [[1.0, 0.0], [nan, nan]]
+    """
+    weights = np.exp(log_types)
+    weights = weights / weights.sum(axis=-1, keepdims=True)
+    adhoc = np.zeros_like(weights)
+    counted = [TYPES.index(t) for t in types]
+    adhoc[:, counted] = weights[:, counted]
+    mass = adhoc.sum(axis=1)
+    out = np.full(goal_probabilities.shape[::2], np.nan)
+    typed = (mass >= threshold) & (threshold > 0) & (mass > 0)
+    mixed = np.einsum("nt,ntm->nm", adhoc[typed], goal_probabilities[typed])
+    out[typed] = mixed / mass[typed, None]
+    return out

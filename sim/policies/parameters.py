@@ -186,6 +186,10 @@ class ActiveParameters:
         (the workspace centre) its estimate holds until then. 0 (the default) plans from
         the placeholder: the draws were not measured to help
         (docs/results/planning_wrong_decision.md) and cost a plan per draw.
+    plan_types : float
+        In ``[0, 1)``: posterior on greedy + stationary (``teammate_sigma``, ``_leak``)
+        at which a teammate seen on a goal is planned as holding to it (aif.md §6g); 0:
+        off. Chosen on design seeds (0.9 and 0.95 changed specs/third_order/ trials).
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -230,13 +234,14 @@ class ActiveParameters:
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
     plan_unseen: int = 0
+    plan_types: float = 0.97
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
                    "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
                    "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
-                   "plan_convention", "plan_hierarchy", "plan_success")  # fmt: skip
+                   "plan_convention", "plan_hierarchy", "plan_success", "plan_types")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -311,6 +316,10 @@ class ActiveParameters:
         if not 0.0 <= float(self.plan_hierarchy) <= 1.0:
             raise InvalidArgumentError(
                 f"plan_hierarchy must lie in [0, 1], got {self.plan_hierarchy!r}", hint="e.g. 0"
+            )
+        if not 0.0 <= float(self.plan_types) < 1.0:
+            raise InvalidArgumentError(
+                f"plan_types must lie in [0, 1), got {self.plan_types!r}", hint="e.g. 0.9; 0: off"
             )
         if not 0.0 <= float(self.plan_leak) < 1.0:
             raise InvalidArgumentError(

@@ -30,6 +30,17 @@ import numpy as np
 
 from epistemica.aif.decision import Decision
 from epistemica.aif.planning import WAIT, Planner, motion_evidence, places_in_square
+from epistemica.aif.teammates import (
+    ON_GOAL,
+    TYPE_PRIOR,
+    TYPES,
+    goal_distances,
+    least_cost_from_distances,
+    motion_log_likelihood,
+    planner_type_goals,
+    typed_predictions,
+    update_types,
+)
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -129,6 +140,13 @@ class PlanningStage:
         # over the moves it saw.
         self._read: dict[int, np.ndarray] = {}
         self._heading: dict[int, int] = {}  # robot -> the goal (scenario index) it chose last
+        # Teammate types read from their moves (docs/aif.md §6g): robot -> (n, T) log
+        # posterior, and what its last plan predicted each type would do.
+        self.threshold = float(p.plan_types)
+        self.type_sigma = float(np.sqrt(p.teammate_sigma**2 + 2 * scenario.position_noise))
+        self.type_leak = float(p.teammate_leak)
+        self._types: dict[int, np.ndarray] = {}
+        self._typing: dict[int, tuple] = {}  # robot -> (step, goals, positions, seen, (n, T, m))
 
     def planner(self, ctrl) -> Planner:
         """The planner over a controller's goals and configurations (one per table)."""
@@ -170,6 +188,39 @@ class PlanningStage:
         places[:, ~never] = np.nan
         return places
 
+    def typed(self, ctrl, goals, robot: int, observations: Observations) -> np.ndarray | None:
+        """Score the teammates' moves since the robot's last plan under each type, and
+        return the rows of the teammates to predict by their type (``nan``: a planner),
+        or ``None`` where types are off (``plan_types = 0``).
+
+        A teammate is typed where the posterior on greedy and stationary together
+        reaches ``plan_types`` and it is seen on a goal (within :data:`ON_GOAL` plus two
+        standard deviations of the sightings' noise): it holds to that goal."""
+        if self.threshold <= 0:
+            return None
+        s, step = self.scenario, observations.step
+        now = observations.poses[robot, :, :2]
+        seen = observations.last_seen[robot] == step
+        seen[robot] = False
+        log_types = self._types.setdefault(robot, np.tile(np.log(TYPE_PRIOR), (s.n_robots, 1)))
+        last = self._typing.get(robot)
+        if last is not None and last[0] == step - 1 and np.array_equal(last[1], goals):
+            both = seen & last[3]
+            if both.any():  # one step's moves under each type (the team row: the plan's)
+                reach = s.max_speed[both] * s.dt
+                ll = motion_log_likelihood(last[2][both], now[both], last[4][both], ctrl.goals,
+                                           reach, self.type_sigma)  # fmt: skip
+                log_types[both] = update_types(log_types[both], ll, self.type_leak)
+        distance = goal_distances(now, ctrl.goals)
+        convention = least_cost_from_distances(distance[None], ctrl.configurations)[0]
+        uniform = np.full(distance.shape, 1.0 / distance.shape[1])
+        probs = planner_type_goals(uniform, distance, convention)
+        self._typing[robot] = (step, np.asarray(goals).copy(), now.copy(), seen, probs)
+        rows = typed_predictions(log_types, probs, self.threshold)
+        # It holds to the goal it stands on: typed only where seen on one (noise allowed).
+        rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
+        return rows
+
     def decide(
         self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
     ) -> Decision:
@@ -179,11 +230,14 @@ class PlanningStage:
         pose = observations.poses[robot, robot]
         moving = self.observe(observations, robot)
         local = np.flatnonzero(goals == self._heading.get(robot, -1))
+        typed = self.typed(ctrl, goals, robot, observations)
         result = self.planner(ctrl).plan(
             robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
             int(local[0]) if local.size else None,
-            self.unseen(observations, robot),
+            self.unseen(observations, robot), typed,
         )  # fmt: skip
+        if typed is not None:  # the team type is the planner: its moves are scored by the plan
+            self._typing[robot][4][:, TYPES.index("team")] = result.planned
         if result.goal != WAIT:
             self._heading[robot] = int(goals[result.goal])
         log = _RECORDER.get()

@@ -1,9 +1,16 @@
-"""The planning stage: the draws that stand for a teammate never seen."""
+"""The planning stage: the draws that stand for a teammate never seen, and the teammate
+types read from their moves."""
 
 from __future__ import annotations
 
-import numpy as np
+from pathlib import Path
+from types import SimpleNamespace
 
+import numpy as np
+import pytest
+
+from epistemica.del_.errors import EpistemicaError
+from epistemica.mission import parse_mission
 from epistemica.sim import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -30,3 +37,37 @@ def test_only_never_seen_teammates_get_draws():
     assert stage.unseen(_observations(4, [15.0, 15.0], 2), 0) is None
     off = PlanningStage(scenario, ActiveParameters(planning=True, plan_unseen=0), order=2)
     assert off.unseen(_observations(4, [15.0, 15.0], -1), 0) is None
+
+
+def test_plan_types_is_checked_and_zero_turns_the_types_off():
+    with pytest.raises(EpistemicaError):
+        ActiveParameters(plan_types=1.0)
+    scenario = Scenario.paper("rendezvous", 2, 2, seed=3)
+    off = PlanningStage(scenario, ActiveParameters(planning=True, plan_types=0.0), order=2)
+    ctrl = SimpleNamespace(goals=scenario.goals, configurations=np.array([[0, 0], [1, 1]]))
+    assert off.typed(ctrl, np.arange(2), 0, _observations(4, [15.0, 15.0], 4)) is None
+
+
+def _stationary_trial(plan_types: float):
+    """Design seed 1004 of the 3-robot stress cell where one silent teammate stops on a
+    random goal (the planner without types waited for it elsewhere)."""
+    path = (
+        Path(__file__).resolve().parents[2]
+        / "specs/stress/rendezvous_adhoc_stationary_silent_3.epi"
+    )
+    text = path.read_text() + f"\npolicy plan_types {plan_types}\n"
+    mission = parse_mission(text, str(path))
+    return mission, mission.trial(100, 1004, "plan-third")
+
+
+def test_the_team_meets_a_stationary_teammate_on_its_goal_once_its_type_is_read():
+    mission, trial = _stationary_trial(0.97)
+    (stationary,) = mission.policies(1004)
+    assert trial.success
+    final = trial.trajectory[-1, :, :2]
+    goals = mission.scenario(1004).goals
+    # Everyone ends at the goal the stationary teammate stands on.
+    nearest = np.argmin(np.hypot(*(final[:, None, :] - goals[None]).transpose(2, 0, 1)), axis=1)
+    assert (nearest == nearest[stationary]).all()
+    _, without = _stationary_trial(0.0)
+    assert not without.success  # predicted as a planner, it was waited for elsewhere
