@@ -22,9 +22,9 @@ def test_the_planning_levels_sit_beside_the_rules():
     names = level_names("collaborative")
     assert names[: len(names) - len(PLANNING_LEVELS)][-1] == "convention+rules"
     assert set(PLANNING_LEVELS) <= set(names)
-    assert make_level("collaborative", "plan-third").order == 3
-    assert make_level("collaborative", "plan-third-priormode").order == 0
-    assert make_level("collaborative", "third").style == "third"
+    assert make_level("collaborative", "third").order == 3
+    assert make_level("collaborative", "third-priormode").order == 0
+    assert make_level("collaborative", "rules").style == "third"
     assert all(JOINT_LEVELS[name].description for name in PLANNING_LEVELS)
 
 
@@ -50,27 +50,27 @@ def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
     knowledge.discover(0, np.array([True, together]))
     view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
     steer = {}
-    for level in ("plan-third", "plan-third-shared"):
+    for level in ("third", "third-shared"):
         policy = make_level("collaborative", level)
         policy.start(s)
         steer[level] = int(policy.plan(view)[1][0])
-    assert steer["plan-third-shared"] == 0
-    assert steer["plan-third"] == (0 if together else FETCHING)
+    assert steer["third-shared"] == 0
+    assert steer["third"] == (0 if together else FETCHING)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_a_small_mission_succeeds_at_plan_third(seed):
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
-    trial = simulate(s, "plan-third", seed=seed)
+    trial = simulate(s, "third", seed=seed)
     assert trial.success
     assert (trial.tasks_done >= 0).all() and trial.completion_step == trial.tasks_done.max()
 
 
 def test_a_traced_trial_is_the_same_trial_with_every_decision_kept():
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=2)
-    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(), trace=True)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(), trace=True)
     traced = simulate(s, policy, seed=2)
-    plain = simulate(s, "plan-third", seed=2)
+    plain = simulate(s, "third", seed=2)
     assert (traced.success, traced.steps) == (plain.success, plain.steps)
     np.testing.assert_array_equal(traced.trajectory, plain.trajectory)
     assert [(d.step, d.robot) for d in policy.trace] == [
