@@ -79,7 +79,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="+")
     parser.add_argument("--seeds", default="0-99", help="first-last (inclusive)")
-    parser.add_argument("--level", default="third")
+    parser.add_argument("--level", default="rules-third")
     parser.add_argument("--mechanisms", help="comma-separated names (default: all)")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--cache", type=Path, help="JSON-lines file of finished trials")

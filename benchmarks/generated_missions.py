@@ -45,7 +45,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--count", type=int, default=1000)
     ap.add_argument("--steps", type=int, default=20)
-    ap.add_argument("--level", default="third")
+    ap.add_argument("--level", default="rules-third")
     ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args(argv)
     failed = 0
