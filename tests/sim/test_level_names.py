@@ -97,3 +97,18 @@ def test_an_environments_teammates_default_to_the_rules_level():
     assert set(env.multi.scripted.values()) == {"rules-third"}
     tasks = load_mission(ROOT / "specs" / "collaborative" / "tasks_3.epi")
     assert set(RobotEnv(tasks).multi.scripted.values()) == {"rules"}
+
+
+def test_the_help_says_which_level_is_which_and_names_only_real_levels(capsys):
+    from epistemica.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = capsys.readouterr().out
+    goal, joint = text.split("collaborative missions")
+    assert "the planning controller" in goal and "the rules' one-step controller" in goal
+    assert "the planning controller" in joint and "the rules (third," in joint
+    for name in ("rules-first", "rules-second", "rules-third", "third-wait", "convention+rules"):
+        assert name in goal and name in LEVELS
+    for name in ("rules", "rules-first", "rules-shared", "third-priormode", "oracle-events"):
+        assert name in joint and name in JOINT_LEVELS
