@@ -42,8 +42,8 @@ def _view(step, poses, knowledge):
 @pytest.mark.parametrize("together", [False, True])
 def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
     # r1 at (20, 15) found t1 at (3, 15), which needs 2; r2 stands 6.5 m off, in sight.
-    # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at plan-third;
-    # plan-third-shared takes r2 to know and heads for the task.
+    # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at third;
+    # third-shared takes r2 to know and heads for the task.
     s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
                               sensing_range=7.0)  # fmt: skip
     knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
@@ -59,7 +59,7 @@ def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_a_small_mission_succeeds_at_plan_third(seed):
+def test_a_small_mission_succeeds_at_third(seed):
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
     trial = simulate(s, "third", seed=seed)
     assert trial.success
