@@ -1,6 +1,6 @@
 """One row per mechanism of the active levels: what removing it costs (issue 19 §5).
 
-For each mission file, runs the full level (default ``third``) and, for each mechanism,
+For each mission file, runs the full level (default ``rules-third``) and, for each mechanism,
 the same level with that mechanism removed, on the same seeds. Prints success of the full
 level, then per mechanism and mission the change in success (points) and the mean paired
 change in completion steps over the trials both solve, when the mechanism is removed.

@@ -11,7 +11,7 @@ the median CPU time (``time.process_time``, so that other processes' load counts
 ``sum(env medians) / sum(simulate medians) - 1`` over its seeds. The target is 20 %.
 
 Goal, multitask and collaborative missions (``specs/collaborative/tasks_3.epi`` and
-``tasks_5.epi`` at ``convention`` and ``third``).
+``tasks_5.epi`` at ``convention`` and ``rules``).
 
 Usage: ``python benchmarks/env_overhead.py [--seeds 3] [--repeats 7] [--only NAME]``; prints
 a markdown table.
