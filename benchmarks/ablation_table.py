@@ -1,6 +1,6 @@
 """One row per mechanism of the active levels: what removing it costs (issue 19 §5).
 
-For each mission file, runs the full level (default ``third``) and, for each mechanism,
+For each mission file, runs the full level (default ``rules-third``) and, for each mechanism,
 the same level with that mechanism removed, on the same seeds. Prints success of the full
 level, then per mechanism and mission the change in success (points) and the mean paired
 change in completion steps over the trials both solve, when the mechanism is removed.
@@ -79,7 +79,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="+")
     parser.add_argument("--seeds", default="0-99", help="first-last (inclusive)")
-    parser.add_argument("--level", default="third")
+    parser.add_argument("--level", default="rules-third")
     parser.add_argument("--mechanisms", help="comma-separated names (default: all)")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--cache", type=Path, help="JSON-lines file of finished trials")

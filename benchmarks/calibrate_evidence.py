@@ -77,7 +77,7 @@ def calibrate(data, bounds) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1000-1019", help="first-last (inclusive)")
-    parser.add_argument("--level", default="third")
+    parser.add_argument("--level", default="rules-third")
     args = parser.parse_args()
     first, last = map(int, args.seeds.split("-"))
     ranged, bearing = samples(args.level, range(first, last + 1))

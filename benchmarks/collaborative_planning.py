@@ -7,11 +7,11 @@ trials it holds). The table gives, per team-size band and overall, success and t
 and mean completion step (a failure counts at its step limit). ``--timing`` instead times
 one decision per robot of the planning level on the split's 8-robot missions.
 
-    python benchmarks/collaborative_planning.py --missions 20 --levels third,plan-third
+    python benchmarks/collaborative_planning.py --missions 20 --levels rules,third
     python benchmarks/collaborative_planning.py --timing --missions 40
     python benchmarks/collaborative_planning.py --trace 39:0:17   # mission 39, robot 0, step 17
 
-``--trace`` prints one decision of a traced ``plan-third`` trial (the split's trial seed):
+``--trace`` prints one decision of a traced ``third`` trial (the split's trial seed):
 the robot's particles of each teammate, the arrivals and predictions it scored with, and
 every option's expected free energy (docs/results/collaborative_wrong_decision.md).
 """
@@ -113,11 +113,11 @@ def timing(count: int, level: str, steps: int) -> list[str]:
 
 
 def trace(mission_seed: int, robot: int, step: int, policy: str = "") -> list[str]:
-    """One decision of a traced ``plan-third`` trial of tuning mission ``mission_seed``."""
+    """One decision of a traced ``third`` trial of tuning mission ``mission_seed``."""
     text = mission_text("collaborative", mission_seed, family_options("collaborative"))
     mission = parse_mission(text + (f"\npolicy {policy}\n" if policy else ""), "m.epi")
     seed = SPLITS["tuning"].trial_seeds[0]
-    level = PlanningCollaborativePolicy("plan-third", mission.parameters, trace=True)
+    level = PlanningCollaborativePolicy("third", mission.parameters, trace=True)
     trial = simulate(mission.scenario(seed), level, seed=seed, parameters=mission.parameters)
     found = [d for d in level.trace if d.robot == robot and d.step == step]
     if not found:
@@ -145,11 +145,11 @@ def trace(mission_seed: int, robot: int, step: int, policy: str = "") -> list[st
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--missions", type=int, default=20, help="the first N of the split")
-    ap.add_argument("--levels", default="third,recruit,first,oracle,plan-third")
+    ap.add_argument("--levels", default="rules,recruit,rules-first,oracle,third")
     ap.add_argument("--out", default="runs/collaborative-planning-tuning.jsonl")
     ap.add_argument("--policy", default="", help='parameters, e.g. "plan_repair 4"')
     ap.add_argument("--timing", action="store_true", help="time decisions instead")
-    ap.add_argument("--level", default="plan-third", help="--timing: the level timed")
+    ap.add_argument("--level", default="third", help="--timing: the level timed")
     ap.add_argument("--steps", type=int, default=200, help="--timing: steps per trial")
     ap.add_argument("--trace", default="", help="MISSION:ROBOT:STEP, one traced decision")
     args = ap.parse_args(argv)

@@ -52,7 +52,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--other", help="the Python interpreter of the other checkout")
     parser.add_argument("--mission", default=ROOT / "specs" / "collaborative" / "tasks_5.epi")
-    parser.add_argument("--level", default="third")
+    parser.add_argument("--level", default="rules")
     parser.add_argument("--steps", type=int, default=400, help="step limit (default 400)")
     parser.add_argument("--seeds", type=_seeds, default=(0, 9), help="e.g. 0-9")
     parser.add_argument("--rounds", type=int, default=5)

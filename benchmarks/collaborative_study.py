@@ -2,25 +2,25 @@
 
 For each mission file (specs/collaborative/tasks_3.epi, tasks_5.epi, tasks_8.epi) and
 level, runs the trials of the given seeds and prints success (with a 95 % Wilson
-interval), the mean completion step of the successes, and the paired change of ``third``'s
-completion step against first, third-shared and the oracle on the trials both solve
+interval), the mean completion step of the successes, and the paired change of ``rules``'s
+completion step against rules-first, rules-shared and the oracle on the trials both solve
 (the two mean completion steps over those trials, and their relative change). A level may carry
 parameter changes after a colon, as in benchmarks/level_study.py:
-``third:fetch_memory=40;seek=false`` (fields of
+``rules:fetch_memory=40;seek=false`` (fields of
 :class:`epistemica.sim.policies.collaborative_levels.CollaborativeParameters`).
 
     python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi --seeds 0-99
     python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \\
-        --seeds 1000-1029 --levels first,third,third:seek=false
+        --seeds 1000-1029 --levels rules-first,rules,rules:seek=false
     python benchmarks/collaborative_study.py --speed      # one 5-robot 200-step trial
     python benchmarks/collaborative_study.py specs/collaborative/tasks_*.epi \\
-        --prediction-error --seeds 0-99   # how far third predicts unseen teammates
+        --prediction-error --seeds 0-99   # how far rules predicts unseen teammates
     python benchmarks/collaborative_study.py specs/collaborative/tasks_5.epi \
-        --time-use --seeds 1000-1049 --levels first,third,oracle-events  # robot-steps by use
+        --time-use --seeds 1000-1049 --levels rules-first,rules,oracle-events  # robot-steps by use
     python benchmarks/collaborative_study.py specs/collaborative/tasks_8.epi \
-        --trace third --seeds 17                          # one trial, step by step
+        --trace rules --seeds 17                          # one trial, step by step
     python benchmarks/collaborative_study.py specs/collaborative/tasks_3.epi \
-        --trace "third:stale_after=0" --seeds 1010        # ... with parameter changes
+        --trace "rules:stale_after=0" --seeds 1010        # ... with parameter changes
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from epistemica.mission import load_mission
 from epistemica.sim import simulate
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy
 
-LEVELS = "convention,first,third-shared,third,oracle"
-PAIRS = ("first", "third-shared", "oracle")
+LEVELS = "convention,rules-first,rules-shared,rules,oracle"
+PAIRS = ("rules-first", "rules-shared", "oracle")
 
 
 def run_one(job: tuple[str, str, int]) -> tuple[str, str, int, bool, int]:
@@ -154,7 +154,7 @@ def _uses(trial, scenario) -> np.ndarray:
 
 
 def prediction_error(paths: list[str], seeds: list[int]) -> None:
-    """Median distance from where ``third``'s robots predict each teammate they do not see
+    """Median distance from where ``rules``' robots predict each teammate they do not see
     to where it is, every step, against the mean distance of two random points in the
     workspace (a wrapper around :meth:`CollaborativePolicy.decide` records it)."""
     decide, gaps = CollaborativePolicy.decide, []
@@ -172,7 +172,7 @@ def prediction_error(paths: list[str], seeds: list[int]) -> None:
         for path in paths:
             mission, gaps[:] = load_mission(path), []
             for seed in seeds:
-                simulate(mission.scenario(seed), "third", seed, parameters=mission.parameters)
+                simulate(mission.scenario(seed), "rules", seed, parameters=mission.parameters)
             since, gap = np.array(gaps).T
             random = 0.5214 * mission.scenario(seeds[0]).workspace  # two uniform points
             print(
@@ -195,7 +195,7 @@ def main() -> None:
         "--trace", metavar="LEVEL", help="print one trial (the first seed); LEVEL may carry changes"
     )
     parser.add_argument(
-        "--prediction-error", action="store_true", help="how far third predicts unseen teammates"
+        "--prediction-error", action="store_true", help="how far rules predicts unseen teammates"
     )
     parser.add_argument(
         "--time-use", action="store_true", help="robot-steps per trial by what robots do"
@@ -218,7 +218,7 @@ def main() -> None:
     table = run_table(run_one, args.missions, levels, seeds, args.workers)
     print(f"seeds {args.seeds}\n")
     print_table(table, args.missions, levels, "")
-    focus = next((lv for lv in levels if lv.startswith("third") and lv != "third-shared"), None)
+    focus = next((lv for lv in levels if lv == "rules" or lv.startswith("rules:")), None)
     if focus is None:
         return
     print(f"\npaired change of {focus}'s completion step (trials both solve):")

@@ -11,7 +11,7 @@ the median CPU time (``time.process_time``, so that other processes' load counts
 ``sum(env medians) / sum(simulate medians) - 1`` over its seeds. The target is 20 %.
 
 Goal, multitask and collaborative missions (``specs/collaborative/tasks_3.epi`` and
-``tasks_5.epi`` at ``convention`` and ``third``).
+``tasks_5.epi`` at ``convention`` and ``rules``).
 
 Usage: ``python benchmarks/env_overhead.py [--seeds 3] [--repeats 7] [--only NAME]``; prints
 a markdown table.
@@ -30,15 +30,15 @@ from epistemica.sim import simulate
 from epistemica.sim.engine.env import MissionEnv
 
 ROOT = Path(__file__).resolve().parents[1]
-GOAL_LEVELS = ("zero", "convention", "third")
+GOAL_LEVELS = ("zero", "convention", "rules-third")
 #: Mission file -> the levels run on it (a collaborative mission has its own levels).
 MISSIONS = {
     "rendezvous.epi": GOAL_LEVELS,
     "events/door_closes.epi": GOAL_LEVELS,
     "nested/relocated_5.epi": GOAL_LEVELS,
     "multi_task.epi": GOAL_LEVELS,
-    "collaborative/tasks_3.epi": ("convention", "third"),
-    "collaborative/tasks_5.epi": ("convention", "third"),
+    "collaborative/tasks_3.epi": ("convention", "rules"),
+    "collaborative/tasks_5.epi": ("convention", "rules"),
 }
 TARGET = 0.20
 

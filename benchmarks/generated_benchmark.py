@@ -6,7 +6,8 @@ anything; the **locked** split is run only to report (docs/results.md). Trials g
 the sweep machinery into one resumable SQLite results file per split (a mission's trial id
 hashes its text, level and seed, so a run stopped at any moment resumes where it was), then
 per family: success with 95 % Wilson intervals, median and mean completion (a failure counts
-at its step limit), and ``third`` against every other level, paired on the same trials, with
+at its step limit), and the rules (``rules-third``; ``rules`` on collaborative missions)
+against every other level, paired on the same trials, with
 95 % bootstrap intervals over missions and win/tie/loss counts (benchmarks/paired_tables.py).
 
     python benchmarks/generated_benchmark.py --split tuning --missions 20 --workers 2
@@ -15,7 +16,7 @@ at its step limit), and ``third`` against every other level, paired on the same 
     python benchmarks/generated_benchmark.py --split locked --missions 3 --trial-seeds 1 \\
         --out runs/quick.sqlite                              # a prefix of the split (CI)
     python benchmarks/generated_benchmark.py --split tuning --families collaborative \\
-        --missions 20 --trial-seeds 1 --collaborative-levels plan-third,recruit,first,oracle
+        --missions 20 --trial-seeds 1 --collaborative-levels third,recruit,rules-first,oracle
 """
 
 from __future__ import annotations
@@ -46,14 +47,20 @@ SPLITS = {
     "tuning": Split(0, 200, (0, 1)),
     "locked": Split(1_000_000, 200, (30_000, 30_001)),
 }
-GOAL_LEVELS = ("convention", "convention+rules", "first", "third-shared", "third")
+GOAL_LEVELS = (
+    "convention",
+    "convention+rules",
+    "rules-first",
+    "rules-third-shared",
+    "rules-third",
+)
 COLLABORATIVE_LEVELS = (
     "convention",
-    "first",
+    "rules-first",
     "recruit",
     "convention+rules",
-    "third-shared",
-    "third",
+    "rules-shared",
+    "rules",
 )
 #: Goal families draw walls and disc robots in a quarter of their missions each.
 GOAL_OPTIONS = Options(obstacles=0.25, discs=0.25)
@@ -63,19 +70,26 @@ def family_levels(family: str) -> tuple[str, ...]:
     return COLLABORATIVE_LEVELS if family == "collaborative" else GOAL_LEVELS
 
 
+def reference(family: str) -> str:
+    """The level the others are paired against: the rules' (``rules-third``, ``rules``)."""
+    return "rules" if family == "collaborative" else "rules-third"
+
+
 def use_goal_levels(levels: str | None) -> None:
-    """``--levels``: the goal families' levels (``third`` stays the reference)."""
+    """``--levels``: the goal families' levels (``rules-third`` stays the reference)."""
     global GOAL_LEVELS
     if levels:
-        GOAL_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
+        GOAL_LEVELS = tuple(dict.fromkeys([reference("goal"), *levels.split(",")]))
 
 
 def use_collaborative_levels(levels: str | None) -> None:
-    """``--collaborative-levels``: the collaborative family's levels (``third``, the
-    rules, stays the reference), e.g. ``plan-third,recruit,first,oracle``."""
+    """``--collaborative-levels``: the collaborative family's levels (``rules`` stays the
+    reference), e.g. ``third,recruit,rules-first,oracle``."""
     global COLLABORATIVE_LEVELS
     if levels:
-        COLLABORATIVE_LEVELS = tuple(dict.fromkeys(["third", *levels.split(",")]))
+        COLLABORATIVE_LEVELS = tuple(
+            dict.fromkeys([reference("collaborative"), *levels.split(",")])
+        )
 
 
 #: ``--policy``: ``policy NAME VALUE`` lines added to every mission (tuning runs).
@@ -152,7 +166,7 @@ def tables(path: Path, families, split_name: str, missions: int, seeds: int) -> 
             "",
             *success_table(rows, family_levels(family)),
             "",
-            *versus_table(rows, "third", family_levels(family), rng),
+            *versus_table(rows, reference(family), family_levels(family), rng),
             "",
         ]
     return "\n".join(lines)

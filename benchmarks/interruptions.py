@@ -41,7 +41,7 @@ def _alive(pid: int) -> bool:
 
 def one(out: Path, how: str) -> tuple[float, int]:
     args = [sys.executable, "-m", "epistemica", "sweep", "--mission", "allocation",
-            "--robots", "5", "--reasoning", "third", "--trials", "200", "--workers", "2",
+            "--robots", "5", "--reasoning", "rules-third", "--trials", "200", "--workers", "2",
             "--out", str(out)]  # fmt: skip
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                             start_new_session=True)  # fmt: skip

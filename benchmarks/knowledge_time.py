@@ -23,9 +23,9 @@ from epistemica.sim.engine.knowledge import TeamKnowledge
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (
-    ("allocation_radius_10", "third", 0),
-    ("allocation_hardest_10", "third", 0),
-    ("rendezvous_radius_5", "third", 0),
+    ("allocation_radius_10", "rules-third", 0),
+    ("allocation_hardest_10", "rules-third", 0),
+    ("rendezvous_radius_5", "rules-third", 0),
 )
 _clock = {"inside": 0.0, "depth": 0}
 

@@ -7,7 +7,7 @@ changes after a colon: ``third:anticipate=true`` (fields of
 :class:`epistemica.sim.ActiveParameters`, or controller arguments).
 
     python benchmarks/level_study.py specs/nested/*_3.epi --seeds 1000-1019 \\
-        --levels convention,first,third-shared,third,third:anticipate=true
+        --levels convention,rules-first,rules-third-shared,rules-third,rules-third:anticipate=true
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="+")
     parser.add_argument("--seeds", default="0-99", help="first-last (inclusive)")
-    parser.add_argument("--levels", default="convention,first,third-shared,third")
+    parser.add_argument("--levels", default="convention,rules-first,rules-third-shared,rules-third")
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     levels = args.levels.split(",")

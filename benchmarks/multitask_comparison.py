@@ -134,20 +134,20 @@ def main(path: str) -> None:
             return
     print(
         "| robots | zero (published zero) | convention | third | published higher | "
-        "third successes |"
+        "rules-third successes |"
     )
     print("|---|---|---|---|---|---|")
     for n in sorted({r["robots"] for r in rows}):
         cell = {}
-        for level in ("zero", "convention", "third"):
+        for level in ("zero", "convention", "rules-third"):
             mine = [r for r in rows if r["robots"] == n and r["reasoning"] == level]
             cell[level] = mine
         done = {k: [r["completion_step"] or 150 for r in v] for k, v in cell.items()}
-        ok = sum(r["success"] for r in cell["third"])
+        ok = sum(r["success"] for r in cell["rules-third"])
         print(
             f"| {n} | {mean_ci(done['zero'])} ({PUBLISHED_ZERO.get(n, '-')}) | "
-            f"{mean_ci(done['convention'])} | {mean_ci(done['third'])} | "
-            f"{PUBLISHED_HIGHER.get(n, '-')} | {ok}/{len(cell['third'])} |"
+            f"{mean_ci(done['convention'])} | {mean_ci(done['rules-third'])} | "
+            f"{PUBLISHED_HIGHER.get(n, '-')} | {ok}/{len(cell['rules-third'])} |"
         )
 
 

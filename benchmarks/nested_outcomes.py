@@ -7,7 +7,7 @@ configuration that sends it to ``--goal`` (the goal only some robots know of: g4
 ``--wait`` steps or more (it waited there for the team), and whether the mission was done.
 
     python benchmarks/nested_outcomes.py specs/nested/private_goal_3.epi --goal g4 \
-        --levels third-shared,third --seeds 0-99
+        --levels rules-third-shared,rules-third --seeds 0-99
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("missions", nargs="+")
     parser.add_argument("--goal", required=True, help="the goal some robots cannot conceive of")
-    parser.add_argument("--levels", default="third-shared,third")
+    parser.add_argument("--levels", default="rules-third-shared,rules-third")
     parser.add_argument("--seeds", default="0-99", help="first-last (inclusive)")
     parser.add_argument("--wait", type=int, default=5, help="steps on the goal that count")
     args = parser.parse_args()

@@ -20,7 +20,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "specs" / "nested"
-LEVELS = "convention, first, third_shared, third"
+LEVELS = "convention, rules_first, rules_third_shared, rules_third, third"
 
 HEADER = {
     "private_goal": """\
@@ -28,7 +28,7 @@ HEADER = {
 # the centre of the workspace: the cheapest meeting place for most starts. The others do
 # not know of it, and r1 knows that they do not (it knows they cannot have seen it). From
 # its own view (first order), or taking its teammates to know what it knows
-# (third_shared), r1 heads for g4 whenever it is cheapest, and waits there for a team that
+# (rules_third_shared), r1 heads for g4 whenever it is cheapest, and waits there for a team that
 # never comes (they see each other only within 6 m). Third order predicts each teammate's
 # choice over the goals that teammate knows, and meets it there.""",
     "relocated": """\
@@ -36,7 +36,7 @@ HEADER = {
 # g4 at the centre, is moved at step 0 to g5 (closed until then, placed at random): g4
 # closes and g5 opens. Only robots within 10 m of either place see it; the others still
 # believe g4 open and do not know g5 exists, and those who saw it know that. A robot that
-# saw it and heads for g5 (first order, third_shared) waits for teammates who will go to
+# saw it and heads for g5 (rules_first, rules_third_shared) waits for teammates who will go to
 # g4, find it shut and choose among the goals they know. Third order predicts that
 # choice and goes there.""",
     "moved": """\
@@ -47,13 +47,13 @@ HEADER = {
 # A robot that did not see it goes to g4 and finds it shut, but from there sees neither
 # g5 (3 m) nor a robot waiting at it (4 m), and chooses among the goals it knows. g5 lies
 # near the centre, so it is the cheapest goal for a robot that saw the move in most
-# trials: that robot (first order, third_shared) waits at g5 for teammates who never
+# trials: that robot (rules_first, rules_third_shared) waits at g5 for teammates who never
 # come. Third order predicts where they go once they find g4 shut, and goes there.""",
     "new_goal": """\
 # Asymmetric observation (rendezvous, {n} robots). At the start a new goal opens at the centre
 # of the workspace, g4, the cheapest meeting place for most starts; only robots within 10 m
 # see it open, and they know who else did. A robot that saw it and heads for it (first
-# order, or third_shared, which takes every teammate to have seen it) waits for teammates
+# order, or rules_third_shared, which takes every teammate to have seen it) waits for teammates
 # who do not know it exists. Third order meets them at a goal they know.""",
     "commitment": """\
 # Commitment before motion reveals intent (rendezvous, {n} robots). The robots see each
@@ -61,7 +61,7 @@ HEADER = {
 # what it knows of what the others know. Goals g1 and g2 are known to everyone (and
 # everyone knows it); goals g3 to g5 are each known to two robots, who do not know who
 # else knows them. A robot choosing from its own view (first order) or taking the others
-# to know what it knows (third_shared) goes to a goal some teammates have never heard of
+# to know what it knows (rules_third_shared) goes to a goal some teammates have never heard of
 # whenever it is cheaper; third order predicts each teammate's choice over the goals it
 # knows the teammate knows, and meets the team at one of those.""",
 }

@@ -20,7 +20,7 @@ import numpy as np
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.policies.levels import make_policy
 
-LEVELS = ("third", "plan-first", "plan-second", "plan-third", "plan-third-wait")
+LEVELS = ("rules-third", "first", "second", "third", "third-wait")
 
 
 def main(argv=None) -> int:

@@ -7,7 +7,7 @@ and the median completion step (a failure counts at the step limit).
 Usage::
 
     python benchmarks/planning_missions.py --suite nested --seeds 20
-    python benchmarks/planning_missions.py --suite stress --seeds 10 --levels third,plan-third
+    python benchmarks/planning_missions.py --suite stress --seeds 10 --levels rules-third,third
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ def main(argv=None) -> int:
     ap.add_argument("--suite", choices=("nested", "stress"), default="nested")
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=20_000)
-    ap.add_argument("--levels", default="third,plan-third,plan-second,plan-third-shared")
+    ap.add_argument("--levels", default="rules-third,third,second,third-shared")
     ap.add_argument("--skip", type=int, default=0, help="leave out the first N files")
     ap.add_argument("--stop", type=int, default=None, help="stop before file N (from 0)")
     args = ap.parse_args(argv)

@@ -13,7 +13,7 @@ Robots and goals are named as in mission files (``r1``, ``g1``: 1-based).
 Usage::
 
     python benchmarks/planning_trace.py specs/stress/allocation_hardest_8.epi --seed 20009 \\
-        --level plan-third --set plan_unseen=false --robot r2 --steps 35:40
+        --level third --set plan_unseen=false --robot r2 --steps 35:40
 
 ``docs/results/planning_wrong_decision.md`` is this script's output at a decision that
 went wrong, with the fix it led to.
@@ -82,7 +82,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("mission", type=Path)
     ap.add_argument("--seed", type=int, required=True)
-    ap.add_argument("--level", default="plan-third")
+    ap.add_argument("--level", default="third")
     ap.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE",
         help="a policy parameter, as a mission file's `policy NAME VALUE` line",

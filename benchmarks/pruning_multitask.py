@@ -27,7 +27,7 @@ def main() -> None:
     parser.add_argument("--robots", type=int, default=8)
     parser.add_argument("--tasks", type=int, default=45)
     parser.add_argument("--seeds", default="0..9")
-    parser.add_argument("--levels", default="convention,third,third-unpruned")
+    parser.add_argument("--levels", default="convention,rules-third,rules-third-unpruned")
     args = parser.parse_args()
     low, _, high = args.seeds.partition("..")
     seeds = range(int(low), int(high or low) + 1)

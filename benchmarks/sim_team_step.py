@@ -36,7 +36,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--missions", default="rendezvous,allocation")
     parser.add_argument("--robots", default="2,3,5,8,10")
-    parser.add_argument("--levels", default="zero,convention,first,third")
+    parser.add_argument("--levels", default="zero,convention,rules-first,rules-third")
     parser.add_argument("--trials", type=int, default=5)
     args = parser.parse_args()
     print("| mission | robots | level | configurations | team step (ms, median) | trials/s |")

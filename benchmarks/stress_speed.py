@@ -19,9 +19,9 @@ from epistemica.sim.study.sweep import run_trial
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (
-    ("allocation_radius_10", "third", 0),
-    ("allocation_hardest_10", "third", 0),
-    ("rendezvous_hardest_10", "third", 0),
+    ("allocation_radius_10", "rules-third", 0),
+    ("allocation_hardest_10", "rules-third", 0),
+    ("rendezvous_hardest_10", "rules-third", 0),
 )
 
 

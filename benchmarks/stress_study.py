@@ -22,7 +22,7 @@ from epistemica.sim.study.report import summarise, wilson_interval
 from epistemica.sim.study.store import ResultStore
 
 ROOT = Path(__file__).resolve().parents[1]
-LEVELS = ("convention", "first", "third", "third-shared", "third-unpruned")
+LEVELS = ("convention", "rules-first", "rules-third", "rules-third-shared", "rules-third-unpruned")
 
 
 def files(sizes, match: str = "", skip=()):

@@ -103,7 +103,7 @@ def mission_text(mission: str, variant: str, n: int) -> str:
         f"goal g1..g{n} at random",
         *lines,
         "simulate trials 100 seed 0 steps 100 "
-        "levels convention, first, third, third_shared, third_unpruned",
+        "levels convention, rules_first, rules_third, rules_third_shared, rules_third_unpruned",
     ]
     # Wrap the comment at 90 columns.
     words, wrapped, line = " ".join(head[2:]).split(), [], "#"

@@ -42,7 +42,11 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=5)
     args = parser.parse_args()
     specs = plan_sweep(
-        ["rendezvous", "allocation"], [3, 5], None, ["zero", "convention", "third"], args.trials
+        ["rendezvous", "allocation"],
+        [3, 5],
+        None,
+        ["zero", "convention", "rules-third"],
+        args.trials,
     )
     times: dict[bool, list[float]] = {True: [], False: []}
     with tempfile.TemporaryDirectory() as tmp:

@@ -7,9 +7,10 @@ fingerprints of one version, then compare another version against them:
 
     python benchmarks/trial_fingerprints.py --write before.jsonl
     python benchmarks/trial_fingerprints.py --compare before.jsonl
+    python benchmarks/trial_fingerprints.py --compare old.jsonl --before-switch  # renamed
 
 ``--sample`` chooses the set: ``stress`` (every stress-suite variant at 3 and 5 robots, four
-levels, seeds 0-1, and the 10-robot radius and hardest cells at seed 0), ``shipped``
+levels of the rules, seeds 0-1, and the 10-robot radius and hardest cells at seed 0), ``shipped``
 (every mission file under specs/, its own levels, seeds 0-2), ``nested`` (every file of
 specs/nested/, its own levels, seeds 0-9) or ``collaborative`` (specs/collaborative/, every
 collaborative level, seeds 0-99).
@@ -36,10 +37,35 @@ from epistemica.sim.study.sweep import run_trial
 from epistemica.sim.study.trace import decode
 
 ROOT = Path(__file__).resolve().parents[1]
-STRESS_LEVELS = ("convention", "first", "third", "third-shared")
+STRESS_LEVELS = ("convention", "rules-first", "rules-third", "rules-third-shared")
 
 
-COLLABORATIVE_LEVELS = ("convention", "first", "third-shared", "third", "oracle", "oracle-events")
+COLLABORATIVE_LEVELS = (
+    "convention",
+    "rules-first",
+    "rules-shared",
+    "rules",
+    "oracle",
+    "oracle-events",
+)
+#: ``--before-switch``: the level names of fingerprints written before the level switch
+#: (issue 37) -> today's names of the same policies (goal kinds; collaborative).
+OLD_NAMES = {
+    "first": "rules-first",
+    "second": "rules-second",
+    "third": "rules-third",
+    **{f"{o}-{a}": f"rules-{o}-{a}" for o in ("first", "second", "third")
+       for a in ("shared", "unpruned")},
+    **{f"plan-{name}": name for name in ("first", "second", "third", "third-shared")},
+    "plan-third-wait": "third-wait",
+}  # fmt: skip
+OLD_JOINT_NAMES = {
+    "first": "rules-first",
+    "third": "rules",
+    "third-shared": "rules-shared",
+    **{f"plan-{name}": name for name in ("first", "second", "third", "third-shared")},
+    "plan-third-priormode": "third-priormode",
+}
 
 
 def _cases(sample: str) -> list[tuple[Path, str, int]]:
@@ -60,12 +86,26 @@ def _cases(sample: str) -> list[tuple[Path, str, int]]:
         for seed in (0, 1)
     ]
     for name in ("allocation_radius_10", "rendezvous_hardest_10"):
-        cases += [(stress / f"{name}.epi", level, 0) for level in ("convention", "third")]
+        cases += [(stress / f"{name}.epi", level, 0) for level in ("convention", "rules-third")]
     return cases
 
 
 def _levels(path: Path) -> tuple[str, ...]:
     return load_mission(path).study.levels
+
+
+def _key(path: Path, level: str, seed: int) -> str:
+    return f"{path.stem}/{level}/{seed}"
+
+
+def renamed(key: str, names: dict[str, str]) -> str:
+    """A stored trial's key with its level renamed by ``names`` (the rest kept).
+
+    >>> renamed("tasks_3/third/4", OLD_JOINT_NAMES), renamed("moved_3/third-shared/0", OLD_NAMES)
+    ('tasks_3/rules/4', 'moved_3/rules-third-shared/0')
+    """
+    stem, level, seed = key.split("/")
+    return f"{stem}/{names.get(level, level)}/{seed}"
 
 
 def trace_fingerprint(path: Path, level: str, seed: int) -> dict:
@@ -77,7 +117,7 @@ def trace_fingerprint(path: Path, level: str, seed: int) -> dict:
     record["steer_to"] = trace.get("steer_to")
     digest = hashlib.sha256(json.dumps(record).encode())
     return {
-        "trial": f"{path.stem}/{level}/{seed}",
+        "trial": _key(path, level, seed),
         "success": bool(trace["success"]),
         "steps": int(trace["steps"]),
         "hash": digest.hexdigest()[:16],
@@ -96,7 +136,7 @@ def fingerprint(path: Path, level: str, seed: int) -> dict:
     events = [[int(e[0]), str(e[1]), [int(i) for i in e[-1]]] for e in trial.events]
     digest.update(json.dumps(events).encode())
     return {
-        "trial": f"{path.stem}/{level}/{seed}",
+        "trial": _key(path, level, seed),
         "success": bool(trial.success),
         "steps": int(trial.steps),
         "hash": digest.hexdigest()[:16],
@@ -111,6 +151,12 @@ def main() -> int:
     group = parser.add_mutually_exclusive_group(required=True)
     group.add_argument("--write", metavar="FILE", help="write the fingerprints (JSON lines)")
     group.add_argument("--compare", metavar="FILE", help="compare against stored fingerprints")
+    parser.add_argument(
+        "--before-switch",
+        action="store_true",
+        help="--compare: the file was written before the level switch (issue 37); its "
+        "first/second/third are the rules' levels of today and plan-* the planner's",
+    )
     args = parser.parse_args()
     cases = _cases(args.sample)
     by_trace = args.sample in ("nested", "collaborative")
@@ -122,17 +168,21 @@ def main() -> int:
                 out.flush()
         print(f"{len(cases)} trials written to {args.write}")
         return 0
+    names = {}
+    if args.before_switch:
+        names = OLD_JOINT_NAMES if args.sample == "collaborative" else OLD_NAMES
     stored = {}
     with open(args.compare, encoding="utf-8") as handle:
         for line in handle:
             row = json.loads(line)
+            row["trial"] = renamed(row["trial"], names)
             stored[row["trial"]] = row
     same = differ = 0
     for case in cases:
-        now = fingerprint_of(*case)
-        before = stored.get(now["trial"])
-        if before is None:
+        before = stored.get(_key(*case))
+        if before is None:  # not fingerprinted then: not simulated now
             continue
+        now = fingerprint_of(*case)
         if before == now:
             same += 1
         else:

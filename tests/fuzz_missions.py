@@ -37,7 +37,7 @@ def _is_mission(path: Path) -> bool:
 
 
 MISSIONS = sorted(p for p in ROOT.glob("specs/**/*.epi") if _is_mission(p))
-LEVELS = ["zero", "convention", "first", "third", "paper-first", "bogus", "zero,zero"]
+LEVELS = ["zero", "convention", "rules-first", "rules-third", "paper-first", "bogus", "zero,zero"]
 # Mission words and values at the edges of what they accept.
 MISSION_PIECES = [
     "robot r1..rN: random at random", "simulate robots 12", "simulate robots 0",

@@ -25,7 +25,7 @@ goal x at random
 goal y at random
 event settle seen by nearby
 sensing range 12
-simulate trials 3 seed 5 steps 60 levels zero, convention, third
+simulate trials 3 seed 5 steps 60 levels zero, convention, rules_third
 """
 
 
@@ -40,12 +40,12 @@ def tiny(tmp_path, monkeypatch):
 def test_run_writes_rows_table_figure_and_animation(tiny, capsys):
     assert main(["run", str(tiny)]) == 0
     out = capsys.readouterr().out
-    for level in ("zero", "convention", "third"):
+    for level in ("zero", "convention", "rules-third"):
         assert f" {level} " in out
     db = Path("runs/tiny.sqlite")
     rows = sqlite3.connect(db).execute("SELECT reasoning, seed FROM trials").fetchall()
     assert sorted(rows) == sorted(
-        (lv, s) for lv in ("zero", "convention", "third") for s in (5, 6, 7)
+        (lv, s) for lv in ("zero", "convention", "rules-third") for s in (5, 6, 7)
     )
     assert Path("runs/tiny.png").stat().st_size > 0
     assert Path("runs/tiny.gif").read_bytes()[:3] == b"GIF"
@@ -60,7 +60,7 @@ def test_run_writes_rows_table_figure_and_animation(tiny, capsys):
         for lv, s, ok in sqlite3.connect(db).execute("SELECT reasoning, seed, success FROM trials")
         if s == seed and ok
     }
-    assert shown[0][0] == "third" and shown[1][1] == seed and len(shown) == 2
+    assert shown[0][0] == "rules-third" and shown[1][1] == seed and len(shown) == 2
     expected = [lv for lv in ("zero", "convention") if lv in failed] or ["convention"]
     assert shown[1][0] == expected[-1] and shown[1][2] == (shown[1][0] not in failed)
 
@@ -92,7 +92,7 @@ def test_the_stored_rows_are_the_simulator_outcomes(tiny):
 
 def test_several_missions_run_in_turn_each_to_its_own_file(tiny, capsys):
     other = tiny.with_name("other.epi")
-    other.write_text(TINY.replace("levels zero, convention, third", "levels zero"))
+    other.write_text(TINY.replace("levels zero, convention, rules_third", "levels zero"))
     assert main(["run", str(tiny), str(other), "--no-gif"]) == 0
     out = capsys.readouterr().out
     assert out.index("tiny.epi") < out.index("other.epi")
@@ -130,7 +130,7 @@ def test_check_claims_of_a_mission(capsys):
 def test_check_after_steps_applies_the_trial_events(capsys):
     path = ROOT / "specs" / "sensing_radius.epi"
     mission = load_mission(path)
-    trial = simulate(mission.scenario(0), "third", seed=0)
+    trial = simulate(mission.scenario(0), "rules-third", seed=0)
     settles = [e for e in trial.events if e[1] == "settle"]
     assert settles, "the spec's first trial should show a settle event"
     step = max(e[0] for e in settles) + 1
@@ -172,7 +172,7 @@ event door_shuts {
     full robots if near(g2, 100)
 }
 check "g2 closed": K[r1] closed(g2)
-simulate trials 1 seed 0 steps 20 levels third
+simulate trials 1 seed 0 steps 20 levels rules_third
 """
 
 

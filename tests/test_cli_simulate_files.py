@@ -19,7 +19,7 @@ def test_text_names_robots_and_goals_as_the_pictures_do(capsys):
     assert main(["simulate", "--mission", "allocation", "--robots", "3", "--seed", "2"]) in (0, 1)
     lines = capsys.readouterr().out.splitlines()[1:]
     s = Scenario.paper("allocation", 3, seed=2)
-    trial = simulate(s, "third", seed=2)
+    trial = simulate(s, "rules-third", seed=2)
     for i, line in enumerate(lines):
         words = line.split()
         assert words[0] == s.robot_names[i] == f"r{i + 1}"
@@ -29,11 +29,11 @@ def test_text_names_robots_and_goals_as_the_pictures_do(capsys):
 
 def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys):
     gif = tmp_path / "t.gif"
-    argv = ["simulate", "--mission", str(PRIVATE), "--seed", "4", "--reasoning", "first"]
+    argv = ["simulate", "--mission", str(PRIVATE), "--seed", "4", "--reasoning", "rules-first"]
     status = main([*argv, "--gif", str(gif)])
     out = capsys.readouterr().out
     mission = load_mission(PRIVATE)
-    trial = simulate(mission.scenario(4), "first", seed=4, parameters=mission.parameters)
+    trial = simulate(mission.scenario(4), "rules-first", seed=4, parameters=mission.parameters)
     assert status == (0 if trial.success else 1)
     verdict = f"succeeded at step {trial.steps}" if trial.success else "failed within"
     assert (verdict in out and "r1  bearing" in out) or "r1  range" in out
@@ -46,13 +46,13 @@ def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys):
 def test_a_collaborative_mission_file_is_simulated_and_drawn(tmp_path, capsys):
     path = ROOT / "specs" / "collaborative" / "tasks_3.epi"
     png, gif = tmp_path / "t.png", tmp_path / "t.gif"
-    argv = ["simulate", "--mission", str(path), "--seed", "1", "--reasoning", "third"]
+    argv = ["simulate", "--mission", str(path), "--seed", "1", "--reasoning", "rules"]
     status = main([*argv, "--png", str(png), "--gif", str(gif)])
     out = capsys.readouterr().out.splitlines()
     mission = load_mission(path)
     s = mission.scenario(1)
     trial = simulate(
-        s, "third", seed=1, policies=mission.policies(1), parameters=mission.parameters
+        s, "rules", seed=1, policies=mission.policies(1), parameters=mission.parameters
     )
     assert status == (0 if trial.success else 1)
     verdict = f"succeeded at step {trial.steps}" if trial.success else "failed within"
@@ -61,7 +61,7 @@ def test_a_collaborative_mission_file_is_simulated_and_drawn(tmp_path, capsys):
     for i, line in enumerate(out[3:6]):
         target = int(trial.steer_to[-1, i])
         words = line.split()
-        assert words[:3] == [s.robot_names[i], s.sensors[i], "third"]
+        assert words[:3] == [s.robot_names[i], s.sensors[i], "rules"]
         expected = doing.get(target) or f"steering to {s.task_names[target]}"
         assert " ".join(words[3:]).startswith(expected)
         x, y = trial.trajectory[-1, i, :2]

@@ -58,10 +58,10 @@ def test_a_teammate_known_to_know_is_fetched_by_the_baselines_but_not_by_third()
     # fetches r2, the teammate seen lately nearest t1, and goes towards it (6.5 m off,
     # beyond the 7 - 2 = 5 m from which it would turn back).
     s, view = _scene([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), [[True, True]])
-    assert _decide("third", s, view) == ([3.0, 15.0], 0)
+    assert _decide("rules", s, view) == ([3.0, 15.0], 0)
     assert _decide("recruit", s, view) == ([26.5, 15.0], FETCHING)
     assert _decide("convention+rules", s, view) == ([26.5, 15.0], FETCHING)
-    assert _decide("first", s, view) == ([3.0, 15.0], 0)  # no recruiting at all
+    assert _decide("rules-first", s, view) == ([3.0, 15.0], 0)  # no recruiting at all
 
 
 @pytest.mark.parametrize(
@@ -83,7 +83,7 @@ def test_convention_rules_keeps_the_rules_but_fetches_a_teammate_that_knows():
     # waited for), 6 m off. `recruit` sees nobody at t1 and does the same.
     s, view = _scene([[6, 15, 0], [12, 15, 0], [25, 15, 0]], [[5, 15]], (3,),
                      [[True, True, False]])  # fmt: skip
-    assert _decide("third", s, view) == ([25.0, 15.0], FETCHING)
+    assert _decide("rules", s, view) == ([25.0, 15.0], FETCHING)
     assert _decide("convention+rules", s, view) == ([12.0, 15.0], FETCHING)
     assert _decide("recruit", s, view) == ([12.0, 15.0], FETCHING)
 

@@ -24,13 +24,13 @@ from epistemica.sim.study.trace import trial_trace
 SPEC = str(Path(__file__).resolve().parents[1] / "specs/collaborative/tasks_3.epi")
 
 
-def _trial(seed: int, steps: int = 120, level: str = "third"):
+def _trial(seed: int, steps: int = 120, level: str = "rules"):
     scenario = load_mission(SPEC).scenario(seed).replace(max_steps=steps)
     return scenario, simulate(scenario, level, seed)
 
 
 @settings(max_examples=12, deadline=None)
-@given(st.integers(0, 10_000), st.sampled_from(["first", "third", "oracle-events"]))
+@given(st.integers(0, 10_000), st.sampled_from(["rules-first", "rules", "oracle-events"]))
 def test_aware_since_is_the_knowledge_and_knowledge_is_true(seed, level):
     s, trial = _trial(seed, steps=80, level=level)
     since, k, n = trial.aware_since, trial.knowledge, s.n_robots
@@ -53,7 +53,7 @@ def test_the_frame_draws_what_the_trace_says():
     trace = trial_trace(s, trial)
     focus = fetching_robot(trace)
     fetched = (trial.steer_to == -2).sum(axis=0)
-    assert fetched[focus] == fetched.max() and fetched.max() > 0  # third fetches on seed 1
+    assert fetched[focus] == fetched.max() and fetched.max() > 0  # rules fetches on seed 1
     frame = JointFrame(trace, "tasks_3")
     try:
         last = trial.steps - 1
@@ -90,7 +90,7 @@ def test_every_kind_is_drawn_by_the_frame_of_its_panels():
     goal = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=5)
     for scenario, trace, frame_class in (
         (s, trial_trace(s, trial), JointFrame),
-        (goal, trial_trace(goal, simulate(goal, "first", seed=0)), TraceFrame),
+        (goal, trial_trace(goal, simulate(goal, "rules-first", seed=0)), TraceFrame),
     ):
         frame = frame_for(trace)
         try:
@@ -107,30 +107,30 @@ def test_the_animation_has_one_frame_a_step_up_to_sixty(tmp_path):
     assert Image.open(path).n_frames == count
 
 
-def test_run_animates_the_trial_third_gains_most_on(tmp_path, capsys, monkeypatch):
+def test_run_animates_the_trial_the_rules_gain_most_on(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     text = Path(SPEC).read_text().replace("steps 400", "steps 150")
     (tmp_path / "small.epi").write_text(text)
-    assert main(["run", "small.epi", "--trials", "3", "--levels", "first,third"]) == 0
+    assert main(["run", "small.epi", "--trials", "3", "--levels", "rules-first,rules"]) == 0
     out = capsys.readouterr().out
     m = load_mission(str(tmp_path / "small.epi"))
     steps = {}
-    for level in ("first", "third"):
+    for level in ("rules-first", "rules"):
         for seed in range(3):
             trial = simulate(m.scenario(seed), level, seed, parameters=m.parameters)
             steps[level, seed] = trial.steps if trial.success else None
     gains = {
-        seed: steps["first", seed] - steps["third", seed]
+        seed: steps["rules-first", seed] - steps["rules", seed]
         for seed in range(3)
-        if steps["first", seed] is not None and steps["third", seed] is not None
+        if steps["rules-first", seed] is not None and steps["rules", seed] is not None
     }
     best = min(gains, key=lambda s: (-gains[s], s))
-    assert f"animation (third, seed {best}: {gains[best]} steps sooner than first" in out
+    assert f"animation (rules, seed {best}: {gains[best]} steps sooner than rules-first" in out
     assert Image.open(tmp_path / "runs" / "small.gif").n_frames > 1
-    # and its replay page, as for a goal mission: third beside the level that failed there
+    # and its replay page, as for a goal mission: rules beside the level that failed there
     # or else the other level
     page = (tmp_path / "runs" / "small.html").read_text()
-    assert f"seed {best}: third " in page and "; first " in page
+    assert f"seed {best}: rules " in page and "; rules-first " in page
 
 
 def test_the_animated_seed_without_a_gain_and_when_chosen():
@@ -138,19 +138,21 @@ def test_the_animated_seed_without_a_gain_and_when_chosen():
 
     from epistemica.cli.run import _collaborative_trial
 
-    specs = [SimpleNamespace(reasoning=lv, seed=s) for lv in ("first", "third") for s in (4, 5)]
+    specs = [
+        SimpleNamespace(reasoning=lv, seed=s) for lv in ("rules-first", "rules") for s in (4, 5)
+    ]
     rows = [
-        {"reasoning": "first", "seed": 4, "steps": 50, "success": 1},
-        {"reasoning": "third", "seed": 4, "steps": 58, "success": 1},
-        {"reasoning": "first", "seed": 5, "steps": 60, "success": 1},
-        {"reasoning": "third", "seed": 5, "steps": 61, "success": 1},
+        {"reasoning": "rules-first", "seed": 4, "steps": 50, "success": 1},
+        {"reasoning": "rules", "seed": 4, "steps": 58, "success": 1},
+        {"reasoning": "rules-first", "seed": 5, "steps": 60, "success": 1},
+        {"reasoning": "rules", "seed": 5, "steps": 61, "success": 1},
     ]
     assert _collaborative_trial(None, rows, specs) == (
-        "third", 5, ": no sooner than first on any seed, the least behind"
+        "rules", 5, ": no sooner than rules-first on any seed, the least behind"
     )  # fmt: skip
     rows[3]["steps"] = 40
-    assert _collaborative_trial(None, rows, specs)[:2] == ("third", 5)
-    assert _collaborative_trial(4, rows, specs) == ("third", 4, "")
+    assert _collaborative_trial(None, rows, specs)[:2] == ("rules", 5)
+    assert _collaborative_trial(4, rows, specs) == ("rules", 4, "")
 
 
 def test_the_trajectory_figure_draws_tasks_needs_and_who_steered_where(tmp_path, monkeypatch):
@@ -179,7 +181,7 @@ def test_the_trajectory_figure_draws_tasks_needs_and_who_steered_where(tmp_path,
     for i, name in enumerate(s.robot_names):
         target = int(trial.steer_to[-1, i])
         status = doing.get(target) or f"steering to {s.task_names[target]}"
-        assert legend[i] == f"{name} ({s.sensors[i]}, third): {status}"
+        assert legend[i] == f"{name} ({s.sensors[i]}, rules): {status}"
         path = next(line for line in ax.get_lines() if line.get_label() == legend[i])
         assert np.allclose(
             path.get_xydata(), trial.trajectory[:, i, :2], atol=0.006

@@ -74,7 +74,7 @@ def test_shipped_missions_compile_with_their_needs():
         assert m.kind.name == "collaborative"
         assert s.needs == needs[len(m.robots)]
         # the documented default study; oracle-events is for analysis only
-        assert m.study.levels == ("convention", "first", "third-shared", "third", "oracle")
+        assert m.study.levels == ("convention", "rules-first", "rules", "first", "third", "oracle")
         assert {r.trigger.kind for r in s.events} == {"within", "settles", "heads", "reached"}
 
 
@@ -165,8 +165,8 @@ def test_a_finder_seen_by_a_teammate_tells_it_and_one_out_of_sight_does_not():
     seen = CollaborativeScenario([[5, 8], [5, 14.5], [28, 28]], tasks, needs,
                                  workspace=30.0, sensing_range=7.0, events=_events())  # fmt: skip
     unseen = seen.replace(starts=np.array([[5, 8, 0], [5, 20, 0], [28, 28, 0]]))
-    a = simulate(seen, "first", seed=0, parameters=None)
-    b = simulate(unseen, "first", seed=0)
+    a = simulate(seen, "rules-first", seed=0, parameters=None)
+    b = simulate(unseen, "rules-first", seed=0)
     # r2 is 9.5 m from the task: it learns of it from the found event (it sees r1, 6.5 m)
     assert a.knows[0, 1, 0] and not b.knows[0, 1, 0]
     assert a.knowledge.knows_goals((0, 1))[0]  # r1 knows r2 saw it find the task
@@ -200,9 +200,9 @@ def test_oracle_events_spreads_news_of_a_task_but_not_where_teammates_are(monkey
     monkeypatch.setattr(
         CollaborativePolicy, "plan", lambda self, view: views.append(view) or plan(self, view)
     )
-    for level, where in (("third", False), ("oracle-events", False), ("oracle", True)):
+    for level, where in (("rules", False), ("oracle-events", False), ("oracle", True)):
         trial = simulate(s.replace(max_steps=1), level, seed=0)
-        assert trial.knows[0, :, 0].tolist() == [True, level != "third", level != "third"]
+        assert trial.knows[0, :, 0].tolist() == [True, level != "rules", level != "rules"]
         assert (views[-1].last_seen[0, 2] == 0) == where  # what robot 1 knows of robot 3
 
 
@@ -210,7 +210,7 @@ def test_every_level_sees_the_same_world_on_a_seed():
     m = load_mission(SPECS[0])
     s = m.scenario(7).replace(max_steps=30)
     starts = {lv: simulate(s, lv, 7).trajectory[0] for lv in COLLABORATIVE_LEVELS}
-    assert all(np.array_equal(v, starts["third"]) for v in starts.values())
+    assert all(np.array_equal(v, starts["rules"]) for v in starts.values())
 
 
 def test_bad_scenarios_and_parameters_are_refused():
@@ -270,7 +270,7 @@ def _small(tmp_path, steps=60):
 def test_run_stores_collaborative_trials_and_resumes(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     path = _small(tmp_path)
-    args = ["run", path, "--trials", "2", "--levels", "first,third", "--no-gif"]
+    args = ["run", path, "--trials", "2", "--levels", "rules-first,rules", "--no-gif"]
     assert main(args) == 0
     first = capsys.readouterr().out
     rows = read_rows(tmp_path / "runs" / "small.sqlite")
@@ -282,7 +282,7 @@ def test_run_stores_collaborative_trials_and_resumes(capsys, tmp_path, monkeypat
         assert (row["success"], row["steps"]) == (int(trial.success), trial.steps)
         assert row["completion_step"] == trial.completion_step
         assert row["mission"] == "collaborative" and (row["robots"], row["goals"]) == (3, 3)
-    mean = np.mean([r["steps"] for r in rows if r["reasoning"] == "third" and r["success"]])
+    mean = np.mean([r["steps"] for r in rows if r["reasoning"] == "rules" and r["success"]])
     if not np.isnan(mean):  # the table is the stored rows'
         assert f"{mean:.1f}" in first
     assert main([*args[:3], "3", *args[4:]]) == 0  # one more seed: only its trials run
@@ -292,10 +292,10 @@ def test_run_stores_collaborative_trials_and_resumes(capsys, tmp_path, monkeypat
 
 def test_a_stored_collaborative_trace_is_the_trial(tmp_path):
     m = load_mission(_small(tmp_path, steps=80))
-    spec = mission_trials(m, ["third"], 1, seed=3)[0]
+    spec = mission_trials(m, ["rules"], 1, seed=3)[0]
     row = run_trial(spec)
     trace = decode(row["trace"])
-    trial = simulate(m.scenario(3), "third", 3, parameters=m.parameters)
+    trial = simulate(m.scenario(3), "rules", 3, parameters=m.parameters)
     assert trace["kind"] == "collaborative" and trace["steps"] == trial.steps
     assert np.allclose(trace["poses"], trial.trajectory, atol=0.006)
     assert trace["tasks_known"] == trial.knows.astype(int).tolist() and "knows" not in trace
@@ -323,7 +323,7 @@ def test_sweep_stores_a_collaborative_mission(capsys, tmp_path, monkeypatch):
 
 def test_view_of_a_collaborative_result_replays_it(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert main(["run", _small(tmp_path, 20), "--trials", "1", "--levels", "first",
+    assert main(["run", _small(tmp_path, 20), "--trials", "1", "--levels", "rules-first",
                  "--no-gif"]) == 0  # fmt: skip
     assert main(["view", "runs/small.sqlite", "-o", "v.html"]) == 0
     html = (tmp_path / "v.html").read_text()
@@ -345,7 +345,7 @@ def test_a_backed_waiter_waits_longer():
     for backed in (60, 150):
         trial = simulate(
             s,
-            "third",
+            "rules",
             0,
             parameters=CollaborativeParameters(
                 backed_patience=backed, rejoin=False, seek_limit=0, fetch_together=False

@@ -22,9 +22,9 @@ def test_the_planning_levels_sit_beside_the_rules():
     names = level_names("collaborative")
     assert names[: len(names) - len(PLANNING_LEVELS)][-1] == "convention+rules"
     assert set(PLANNING_LEVELS) <= set(names)
-    assert make_level("collaborative", "plan-third").order == 3
-    assert make_level("collaborative", "plan-third-priormode").order == 0
-    assert make_level("collaborative", "third").style == "third"
+    assert make_level("collaborative", "third").order == 3
+    assert make_level("collaborative", "third-priormode").order == 0
+    assert make_level("collaborative", "rules").style == "third"
     assert all(JOINT_LEVELS[name].description for name in PLANNING_LEVELS)
 
 
@@ -52,16 +52,16 @@ def _scene(together: bool):
 @pytest.mark.parametrize("together", [False, True])
 def test_a_teammate_is_fetched_only_when_it_is_known_not_to_know(together):
     # r1 at (20, 15) found t1 at (3, 15), which needs 2; r2 stands 6.5 m off, in sight.
-    # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at plan-third;
-    # plan-third-shared takes r2 to know and heads for the task.
+    # If r2 saw it found, r1 knows r2 knows: both go. If not, r1 fetches r2 at third;
+    # third-shared takes r2 to know and heads for the task.
     s, view = _scene(together)
     steer = {}
-    for level in ("plan-third", "plan-third-shared"):
+    for level in ("third", "third-shared"):
         policy = make_level("collaborative", level)
         policy.start(s)
         steer[level] = int(policy.plan(view)[1][0])
-    assert steer["plan-third-shared"] == 0
-    assert steer["plan-third"] == (0 if together else FETCHING)
+    assert steer["third-shared"] == 0
+    assert steer["third"] == (0 if together else FETCHING)
 
 
 @pytest.mark.parametrize("retry", [False, True])
@@ -69,7 +69,7 @@ def test_a_teammate_given_up_on_is_fetched_again_once_seen_with_plan_retry(retry
     # The scene above, r2 not knowing of t1; r1 had given up fetching it (it was not
     # where its sweep put it). r2 is in sight now: with plan_retry r1 fetches it again.
     s, view = _scene(together=False)
-    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(plan_retry=retry))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_retry=retry))
     policy.start(s)
     policy.gave_up[0, 0, 1] = True
     steer = int(policy.plan(view)[1][0])
@@ -78,18 +78,18 @@ def test_a_teammate_given_up_on_is_fetched_again_once_seen_with_plan_retry(retry
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_a_small_mission_succeeds_at_plan_third(seed):
+def test_a_small_mission_succeeds_at_third(seed):
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
-    trial = simulate(s, "plan-third", seed=seed)
+    trial = simulate(s, "third", seed=seed)
     assert trial.success
     assert (trial.tasks_done >= 0).all() and trial.completion_step == trial.tasks_done.max()
 
 
 def test_a_traced_trial_is_the_same_trial_with_every_decision_kept():
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=2)
-    policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(), trace=True)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(), trace=True)
     traced = simulate(s, policy, seed=2)
-    plain = simulate(s, "plan-third", seed=2)
+    plain = simulate(s, "third", seed=2)
     assert (traced.success, traced.steps) == (plain.success, plain.steps)
     np.testing.assert_array_equal(traced.trajectory, plain.trajectory)
     assert [(d.step, d.robot) for d in policy.trace] == [

@@ -21,7 +21,7 @@ LANE = Route(np.array([[5.0, 0.0], [5.0, 30.0], [15.0, 30.0]]))  # up x = 5, the
 
 
 def _policy(scenario, **changes):
-    policy = make_level("collaborative", "third", CollaborativeParameters().replace(**changes))
+    policy = make_level("collaborative", "rules", CollaborativeParameters().replace(**changes))
     policy.start(scenario)
     return policy
 
@@ -342,7 +342,7 @@ def test_a_teammate_is_known_on_its_sweep_until_it_could_have_found_a_task():
 # -- the world: a task done is not found again ---------------------------------------------
 
 
-@pytest.mark.parametrize("level", ["first", "third"])
+@pytest.mark.parametrize("level", ["rules-first", "rules"])
 def test_no_task_is_found_after_it_is_done(level):
     mission = load_mission("specs/collaborative/tasks_5.epi")
     for seed in range(4):

@@ -14,6 +14,7 @@ from epistemica.cli.generate_arguments import FAMILY_NAMES
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.generate import FAMILIES, Options, generate, mission_text
 from epistemica.mission import parse_mission
+from epistemica.sim.policies.levels import rules_level
 
 
 def _drawn(text: str) -> dict[str, str]:
@@ -53,7 +54,7 @@ def test_a_generated_mission_compiles_passes_check_and_runs(tmp_path_factory, fa
     else:
         assert len(mission.goals) == int(drawn["goals"])
         assert text.count("\nobstacle ") == int(drawn["walls"])
-    trial = mission.trial(15, seed % 1000, "third")
+    trial = mission.trial(15, seed % 1000, rules_level(mission.kind))
     assert trial.steps >= 1
 
 

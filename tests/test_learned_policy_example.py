@@ -94,7 +94,7 @@ def test_the_meeting_goal_is_the_goal_every_robot_ended_at():
     mission = load_mission(RENDEZVOUS)
     for seed in (0, 1, 2):
         s = mission.scenario(seed)
-        trial = simulate(s, "third", seed=seed)
+        trial = simulate(s, "rules-third", seed=seed)
         assert trial.success
         ends = trial.trajectory[-1, :, :2]
         near = [

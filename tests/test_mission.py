@@ -198,9 +198,11 @@ def test_random_knowledge_and_an_ad_hoc_teammate_are_drawn_per_trial():
 
 
 def test_the_study_line():
-    mission = parse_mission(TWO + "simulate trials 7 seed 3 levels convention, third_unpruned\n")
+    mission = parse_mission(
+        TWO + "simulate trials 7 seed 3 levels convention, rules_third_unpruned\n"
+    )
     assert (mission.study.trials, mission.study.seed) == (7, 3)
-    assert mission.study.levels == ("convention", "third-unpruned")
+    assert mission.study.levels == ("convention", "rules-third-unpruned")
 
 
 BAD = [

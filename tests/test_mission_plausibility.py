@@ -59,12 +59,12 @@ def test_the_example_revises_instead_of_emptying():
     assert believed(m, m.knowledge()) == [["west", "east"], ["north", "east"]]
     # East closes at step 3, seen by everyone: (west, north) (rank 1) and (north, west)
     # (rank 2) are left; r1 believes the rank-1 one, r2 (no order) both.
-    after = m.trial(5, seed=0, level="third").knowledge
+    after = m.trial(5, seed=0, level="rules-third").knowledge
     assert believed(m, after) == [["west", "north"]]
     assert believed(m, after, robot=1) == [["west", "north"], ["north", "west"]]
     # The same mission without the order: r1 believes both as well.
     plain = parse_mission(EXAMPLE.read_text().replace("plausibility r1:", "# "), "plain.epi")
-    plain_after = plain.trial(5, seed=0, level="third").knowledge
+    plain_after = plain.trial(5, seed=0, level="rules-third").knowledge
     assert believed(plain, plain_after) == [["west", "north"], ["north", "west"]]
 
 
@@ -102,7 +102,7 @@ event g3_only {
     announces assigned(r1, g3)
     full r1
 }
-simulate steps 20 levels third
+simulate steps 20 levels rules_third
 """
 )
 

@@ -17,7 +17,15 @@ from epistemica.results import STEP_COLUMNS, load, load_steps  # noqa: E402
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
     path = tmp_path_factory.mktemp("data") / "r.sqlite"
-    argv = ["sweep", "--robots", "2,3", "--trials", "2", "--reasoning", "third,zero,convention"]
+    argv = [
+        "sweep",
+        "--robots",
+        "2,3",
+        "--trials",
+        "2",
+        "--reasoning",
+        "rules-third,zero,convention",
+    ]
     assert main([*argv, "--out", str(path)]) == 0
     return path
 
@@ -54,7 +62,7 @@ def test_report_writes_csv_and_parquet_and_lists_levels_in_study_order(results, 
     out = capsys.readouterr().out
     assert f"trials: {csv}" in out
     table = [line.split()[1:4] for line in out.splitlines() if line.startswith("rendezvous")]
-    levels = ["zero", "convention", "third"]
+    levels = ["zero", "convention", "rules-third"]
     assert table == [[n, n, level] for n in ("2", "3") for level in levels]
     read = pandas.read_csv(csv)
     assert sorted(read["id"]) == sorted(load(results)["id"])

@@ -5,7 +5,7 @@ place moved) and others do not, so that a witness must predict what another witn
 expects of the robots that did not see it: a chain of three robots. The tests check that
 the family is what docs/results.md §1b says it is: it parses, its claims hold, the sets the
 planner reads differ between chains of length two and three, and in a closed loop
-``plan-third`` meets where ``plan-second`` does not.
+``third`` (the planner at order 3) meets where ``second`` does not.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from epistemica.mission import load_mission
 
 ROOT = Path(__file__).resolve().parents[1]
 FAMILY = sorted((ROOT / "specs" / "third_order").glob("*.epi"))
-LEVELS = {"plan_second", "plan_third", "third", "convention"}
+LEVELS = {"second", "third", "rules_third", "convention"}
 
 
 def test_the_family_has_four_missions_at_three_and_five_robots():
@@ -59,7 +59,7 @@ def test_the_chain_of_three_keeps_less_than_the_chain_of_two():
     late_news_3 (trial 1000: r1 and r3 saw g4), r1 knows r3 keeps meetings at g4, but not
     that r3 thinks r2 does; a second-order robot cuts the chain (r1, r3, r2) to (r1, r3)."""
     mission = load_mission(ROOT / "specs" / "third_order" / "late_news_3.epi")
-    trial = mission.trial(5, 1000, "plan-third")
+    trial = mission.trial(5, 1000, "third")
     assert {r for _, name, seen in trial.events for r in seen if name == "news"} == {0, 2}
     rows = mission.configurations()
     at_g4 = (rows == mission.goals.index("g4")).all(axis=1)
@@ -73,6 +73,6 @@ def test_third_order_meets_where_second_order_waits_alone():
     """A few design seeds of late_news_3 where two robots saw the news (under 10 s)."""
     mission = load_mission(ROOT / "specs" / "third_order" / "late_news_3.epi")
     seeds = (1003, 1004, 1005)
-    second = [mission.trial(60, s, "plan-second").success for s in seeds]
-    third = [mission.trial(60, s, "plan-third").success for s in seeds]
+    second = [mission.trial(60, s, "second").success for s in seeds]
+    third = [mission.trial(60, s, "third").success for s in seeds]
     assert sum(third) - sum(second) >= 2

@@ -77,9 +77,9 @@ def test_view_reads_a_trace_in_json_or_compressed(tmp_path, long_trace, capsys):
 def test_view_simulates_a_mission_files_trial(tmp_path):
     spec = SPECS / "nested" / "relocated_3.epi"
     out = tmp_path / "m.html"
-    assert main(["view", str(spec), "--trial", "2", "--level", "first", "-o", str(out)]) == 0
+    assert main(["view", str(spec), "--trial", "2", "--level", "rules-first", "-o", str(out)]) == 0
     trace = _data(out.read_text())["trials"][0]["trace"]
-    assert trace["seed"] == 2 and set(trace["policies"]) == {"first"}
+    assert trace["seed"] == 2 and set(trace["policies"]) == {"rules-first"}
     assert trace["robots"] == ["r1", "r2", "r3"] and trace["goals"][-1] == "g5"
 
 
@@ -154,7 +154,7 @@ def joint_trace():
 
     mission = load_mission(str(SPECS / "collaborative" / "tasks_3.epi"))
     scenario = mission.scenario(1).replace(max_steps=30)
-    return trial_trace(scenario, simulate(scenario, "third", seed=1))
+    return trial_trace(scenario, simulate(scenario, "rules", seed=1))
 
 
 def test_a_joint_trace_of_version_2_views_with_its_tasks_known(tmp_path, joint_trace):

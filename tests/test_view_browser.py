@@ -35,7 +35,7 @@ SPECS = os.path.join(os.path.dirname(__file__), "..", "specs", "puzzles")
 def trial_page(tmp_path_factory):
     """A 5-robot trial with a sensing range, its trace and its page."""
     s = Scenario.paper("rendezvous", 5, seed=2, max_steps=30, sensing_range=8.0)
-    trace = trial_trace(s, simulate(s, "third", seed=2))
+    trace = trial_trace(s, simulate(s, "rules-third", seed=2))
     path = tmp_path_factory.mktemp("view") / "trace.json"
     path.write_text(json.dumps(trace))
     out = path.with_suffix(".html")
@@ -169,9 +169,9 @@ PRIVATE = os.path.join(os.path.dirname(__file__), "..", "specs", "nested", "priv
 
 @pytest.fixture(scope="module")
 def compared(tmp_path_factory):
-    """private_goal_3, seed 4, third beside first; the two trials simulated here too."""
+    """private_goal_3, seed 4, rules-third beside rules-first; the two trials simulated here too."""
     out = tmp_path_factory.mktemp("compare") / "private.html"
-    argv = ["view", PRIVATE, "--trial", "4", "--level", "third", "--compare", "first"]
+    argv = ["view", PRIVATE, "--trial", "4", "--level", "rules-third", "--compare", "rules-first"]
     assert main([*argv, "-o", str(out)]) == 0
     with open(PRIVATE) as f:
         mission = parse_mission(f.read(), PRIVATE)
@@ -180,7 +180,7 @@ def compared(tmp_path_factory):
         simulate(
             scenario, level, seed=4, policies=mission.policies(4), parameters=mission.parameters
         )
-        for level in ("third", "first")
+        for level in ("rules-third", "rules-first")
     ]
     return out, [trial_trace(scenario, t) for t in trials], trials
 
@@ -198,12 +198,12 @@ def test_both_levels_are_drawn_with_one_slider_and_a_title_saying_how_each_did(b
         for t in trials
     ]
     assert browser.js("document.title") == (
-        f"private_goal_3: 3 robots, seed 4: third {verdicts[0]}; first {verdicts[1]}"
+        f"private_goal_3: 3 robots, seed 4: rules-third {verdicts[0]}; rules-first {verdicts[1]}"
     )
     assert trials[0].success and not trials[1].success  # the levels disagree on this seed
     assert browser.js("[...document.querySelectorAll('.column')].map(c => c.dataset.level)") == [
-        "third",
-        "first",
+        "rules-third",
+        "rules-first",
     ]
     assert browser.js("window.epistemicaView.last") == max(t.steps for t in trials)
     # One slider moves both maps; a column whose trial ended keeps its last poses.
@@ -271,7 +271,7 @@ def test_obstacles_closed_goals_axes_and_a_robot_under_another_are_drawn(browser
         "rendezvous", [[3.0, 3.0], [3.0, 3.0], [25.0, 25.0]], [[5.0, 25.0], [25.0, 5.0]],
         ["range"] * 3, workspace=30.0, closed=[False, True], obstacles=[square], max_steps=4,
     )  # fmt: skip
-    trace = trial_trace(s, simulate(s, "first", seed=0))
+    trace = trial_trace(s, simulate(s, "rules-first", seed=0))
     path = tmp_path / "trace.json"
     path.write_text(json.dumps(trace))
     assert main(["view", str(path), "-o", str(tmp_path / "p.html")]) == 0

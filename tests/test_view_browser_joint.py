@@ -16,7 +16,7 @@ from epistemica.mission import load_mission
 from epistemica.sim import simulate
 
 SPEC = str(Path(__file__).resolve().parents[1] / "specs/collaborative/tasks_3.epi")
-LEVELS = ("third", "first")
+LEVELS = ("rules", "rules-first")
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +24,7 @@ def joint(tmp_path_factory):
     """tasks_3, seed 1, third beside first (as `view` simulates them), and the two trials
     simulated here."""
     out = tmp_path_factory.mktemp("joint") / "tasks.html"
-    argv = ["view", SPEC, "--trial", "1", "--level", "third", "--compare", "first"]
+    argv = ["view", SPEC, "--trial", "1", "--level", "rules", "--compare", "rules-first"]
     assert main([*argv, "-o", str(out)]) == 0
     mission = load_mission(SPEC)
     scenario = mission.scenario(1)
@@ -149,11 +149,11 @@ def test_a_results_file_of_collaborative_trials_views(browser, tmp_path, monkeyp
     monkeypatch.chdir(tmp_path)
     text = Path(SPEC).read_text().replace("steps 400", "steps 60")
     (tmp_path / "small.epi").write_text(text)
-    assert main(["run", "small.epi", "--trials", "1", "--levels", "third", "--no-gif"]) == 0
+    assert main(["run", "small.epi", "--trials", "1", "--levels", "rules", "--no-gif"]) == 0
     assert main(["view", "runs/small.sqlite", "-o", "page.html"]) == 0
     browser.open(tmp_path / "page.html", "window.epistemicaView")
     m = load_mission(str(tmp_path / "small.epi"))
-    trial = simulate(m.scenario(0), "third", seed=0, parameters=m.parameters)
+    trial = simulate(m.scenario(0), "rules", seed=0, parameters=m.parameters)
     browser.js("window.epistemicaView.setStep(5)")
     assert browser.texts("#targets-0 td.target") == [
         _target(int(v), m.scenario(0).task_names) for v in trial.steer_to[5]

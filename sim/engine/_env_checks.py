@@ -76,7 +76,7 @@ def checked_teammates(value) -> Mapping:
     if not isinstance(value, Mapping):
         raise InvalidArgumentError(
             f"teammates must map robots to levels, got {type(value).__name__}",
-            hint='e.g. {"r2": "third"} (RobotEnv takes one level: teammates="third")',
+            hint='e.g. {"r2": "third"} (RobotEnv takes one level: teammates="rules-third")',
         )
     for level in value.values():
         checked_level(level)

@@ -109,6 +109,7 @@ from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.simulate import TrialRun, policy_groups
 from epistemica.sim.engine.trial import Trial
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
+from epistemica.sim.policies.levels import rules_level
 from epistemica.sim.study.figures import plot_trial, pyplot
 
 try:
@@ -138,7 +139,8 @@ class MissionEnv(ParallelEnv):
     source : Scenario or object with ``scenario(seed)``
         The world: one fixed scenario, or a mission whose layout each reset draws.
     teammates : mapping, optional
-        Robot (name or index) to reasoning level (``"third"``, ``"convention"``, ...):
+        Robot (name or index) to reasoning level (``"third"``, ``"rules-third"``,
+        ``"convention"``, ...):
         those robots are driven by the level and are not agents.
     parameters : ActiveParameters, optional
         Parameters of the active-inference levels.
@@ -434,8 +436,10 @@ class RobotEnv(gymnasium.Env):
     source : Scenario or object with ``scenario(seed)``
     robot : str or int
         The robot the learner drives (default the first).
-    teammates : str
-        The reasoning level of every other robot (default ``"third"``).
+    teammates : str, optional
+        The reasoning level of every other robot (default: the rules' highest level of
+        the mission's kind, ``"rules-third"``, ``"rules"`` on a collaborative mission:
+        the teammates the learned policy's results were measured with).
     **options
         ``parameters``, ``shaping``, ``render_mode``, ``seed``, ``epistemic``,
         ``normalized`` of :class:`MissionEnv`.
@@ -451,10 +455,14 @@ class RobotEnv(gymnasium.Env):
 
     metadata: ClassVar[dict] = MissionEnv.metadata
 
-    def __init__(self, source, robot: str | int = 0, teammates: str = "third", **options) -> None:
+    def __init__(
+        self, source, robot: str | int = 0, teammates: str | None = None, **options
+    ) -> None:
         checked_keywords(options, _OPTIONS)
         first = MissionEnv(source, **{k: v for k, v in options.items() if k != "render_mode"})
         names = first.scenario.robot_names
+        if teammates is None:
+            teammates = rules_level(first.scenario.kind)
         robot = checked_robot(robot, names)
         others = {j: teammates for j in range(len(names)) if j != robot}
         self.multi = MissionEnv(source, others, **options)

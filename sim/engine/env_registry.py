@@ -5,10 +5,11 @@
 A family draws one trial's layout per seed (:class:`PaperFamily`, the published protocol's
 generator, :meth:`epistemica.sim.Scenario.paper`); each id makes a
 :class:`~epistemica.sim.engine.env.RobotEnv` of its first robot among teammates of a reasoning
-level (``teammates=``, default ``"third"``), with actions normalised to ``[-1, 1]²``
-(``normalized=True``; every keyword of ``RobotEnv`` passes through
-``gymnasium.make``). :func:`register` runs when :mod:`epistemica.sim.engine.env` is imported
-(Gymnasium loads no plugins by itself: import it first, or name it in the id,
+level (``teammates=``, default ``"rules-third"``, the rules' one-step controller), with
+actions normalised to ``[-1, 1]²`` (``normalized=True``; every keyword of ``RobotEnv``
+passes through ``gymnasium.make``). :func:`register` runs when
+:mod:`epistemica.sim.engine.env` is imported (Gymnasium loads no plugins by itself:
+import it first, or name it in the id,
 ``gymnasium.make("epistemica.sim.engine.env:epistemica/Rendezvous-v0")``).
 
 ==========================  ================================================================

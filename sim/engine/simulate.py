@@ -85,7 +85,8 @@ def simulate(
     reasoning : str or Policy
         The level of every robot: a name of the levels of the scenario's kind
         (:func:`epistemica.sim.policies.levels.level_names`: for goal missions ``"zero"``,
-        ``"convention"``, ``"first"``, ``"third"``, the ablations and the ``"paper-*"``
+        ``"convention"``, the planner's ``"first"``, ``"second"``, ``"third"``, the rules'
+        ``"rules-first"`` ... ``"rules-third"``, the ablations and the ``"paper-*"``
         levels), or a :class:`~epistemica.sim.policies.policy.Policy`.
     seed : int
         Trial seed: observation and process noise, and any policy randomness. The same

@@ -35,7 +35,7 @@ from epistemica.sim.kinds.base import GOAL_PANELS
 
 __all__ = ["ALLOCATION", "CAPACITY", "RENDEZVOUS", "GoalKind"]
 
-_STUDY_LEVELS = ("zero", "convention", "first", "third")
+_STUDY_LEVELS = ("zero", "convention", "rules-third", "first", "third")
 
 
 @dataclass(frozen=True)

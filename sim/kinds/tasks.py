@@ -37,7 +37,7 @@ class TaskKind:
     goals: int | None
     why: str
     paper: tuple[tuple[str, float], ...] | None = None
-    study_levels: tuple[str, ...] = ("zero", "convention", "first", "third")
+    study_levels: tuple[str, ...] = ("zero", "convention", "rules-third", "first", "third")
     trace_kind: str | None = None
     panels: tuple[str, ...] = GOAL_PANELS
     tasks: bool = True
@@ -91,7 +91,7 @@ COLLABORATIVE = TaskKind(
     goals=None,
     why="its tasks are found while exploring and done by several robots at once",
     joint=True,
-    study_levels=("convention", "first", "third-shared", "third", "oracle"),
+    study_levels=("convention", "rules-first", "rules", "first", "third", "oracle"),
     trace_kind="collaborative",
     panels=JOINT_PANELS,
 )

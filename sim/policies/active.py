@@ -1,4 +1,7 @@
-"""Active-inference levels ``"first"``, ``"second"`` and ``"third"`` in the simulator.
+"""The active-inference levels of goal and multitask missions in the simulator: the
+planner's ``"first"``, ``"second"`` and ``"third"`` (``planning=True``) and the rules'
+one-step controller ``"rules-first"``, ``"rules-second"``, ``"rules-third"``
+(:func:`level_name`).
 
 Each robot runs :class:`epistemica.aif.Controller` at its order over the valid
 configurations of the goals it knows of. The parts, each with one job:
@@ -39,10 +42,36 @@ from epistemica.sim.policies.policy import Decisions, Policy, steer
 from epistemica.sim.policies.search import RendezvousSearch
 from epistemica.sim.policies.teammate_models import TeammateModels
 
-__all__ = ["ORDERS", "ActiveInference"]
+__all__ = ["ORDERS", "ActiveInference", "level_name"]
 
 #: Order of reasoning of each active-inference level.
 ORDERS = {"first": 1, "second": 2, "third": 3}
+
+
+def level_name(order: int, parameters: ActiveParameters) -> str:
+    """The level name of the controller at ``order`` with ``parameters``: the planner's
+    levels are ``first``, ``second``, ``third`` and their ablations; the one-step
+    controller's carry the prefix ``rules-``; without expected free energy both play the
+    prior's mode, the same trial, under one name (``third-priormode``).
+
+    Examples
+    --------
+    >>> level_name(3, ActiveParameters(planning=True)), level_name(3, ActiveParameters())
+    ('third', 'rules-third')
+    >>> level_name(2, ActiveParameters(planning=True, plan_horizon=3, nested=False))
+    'second-shared-wait'
+    """
+    p = parameters
+    name = {v: k for k, v in ORDERS.items()}.get(int(order), f"order-{order}")
+    if not p.pruning:
+        name += "-unpruned"
+    elif not p.nested:
+        name += "-shared"
+    if not p.free_energy:
+        return name + "-priormode"
+    if not p.planning:
+        return "rules-" + name
+    return name + ("-wait" if p.plan_horizon > 1 else "")
 
 
 class ActiveInference(Policy):
@@ -63,6 +92,8 @@ class ActiveInference(Policy):
     >>> ActiveInference(3, lone_wait=30).parameters.lone_wait
     30
     >>> ActiveInference(3, nested=False).name
+    'rules-third-shared'
+    >>> ActiveInference(3, planning=True, nested=False).name
     'third-shared'
     """
 
@@ -70,13 +101,7 @@ class ActiveInference(Policy):
         base = ActiveParameters() if parameters is None else parameters
         self.parameters = base.replace(**changes) if changes else base
         self.order = int(order)
-        self.name = {v: k for k, v in ORDERS.items()}.get(self.order, f"order-{order}")
-        if not self.parameters.pruning:
-            self.name += "-unpruned"
-        elif not self.parameters.nested:
-            self.name += "-shared"
-        if not self.parameters.free_energy:
-            self.name += "-priormode"
+        self.name = level_name(self.order, self.parameters)
 
     def start(self, scenario, robots, generators) -> None:
         super().start(scenario, robots, generators)

@@ -39,7 +39,7 @@ class CoalitionRules:
         if self.parameters.soonest:
             tasks = self._soonest_first(i, tasks, aware, where)
         for t in tasks:
-            if aware is None:  # third-shared: everyone knows what i knows
+            if aware is None:  # rules-shared: everyone knows what i knows
                 knowers = np.ones(n, dtype=bool)
             else:
                 knowers = aware[i, :, t].copy()

@@ -5,16 +5,18 @@ Every level sweeps the workspace in lanes (a boustrophedon, each robot starting 
 of its own, a convention every robot knows) while it has nothing better to do, and waits at
 a task it goes to; after ``patience`` steps of waiting in vain it explores again for
 ``hold`` steps before it may come back. They differ in what a robot does with what it
-knows:
+knows. These are the rules' levels, named ``rules-*`` since the planning controller took
+the names ``first``, ``second`` and ``third``
+(:mod:`~epistemica.sim.policies.collaborative_planning`):
 
 =================  ======================================================================
 ``convention``     the nearest task it knows of, not known done
-``first``          its own knowledge: the known task it expects done soonest (nearest,
+``rules-first``    its own knowledge: the known task it expects done soonest (nearest,
                    less ``join_bonus`` m per teammate it sees waiting there)
-``third-shared``   takes every teammate to know what it knows: per task (first the one
+``rules-shared``   takes every teammate to know what it knows: per task (first the one
                    whose ``needs`` nearest robots assemble soonest: ``soonest``) the
                    ``needs`` robots nearest it go; a robot not among them explores
-``third``          the same over the teammates it knows know the task (the chain
+``rules``          the same over the teammates it knows know the task (the chain
                    ``(i, j)`` is aware of it: they saw the same found, waiting, heading or
                    done event); when those are too few, a knower fetches the nearest
                    teammate that does not know (an intercept: it goes where it predicts
@@ -27,24 +29,24 @@ knows:
                    joins the teammates it expects busy at another task (``join_busy``)
                    or, with none, looks for helpers ``seek_limit`` steps, then waits.
                    Teammates out of sight are predicted by :class:`TeammateModel`
-                   (``third-shared`` too).
+                   (``rules-shared`` too).
                    Tasks enough robots it knows know of come first (``complete_first``);
                    news of one more knower renews a waiting robot's patience
                    (``rejoin``); a task as many teammates as it needs have long been
                    known to know of is presumed done (``stale_after``) until, with every
                    task known and nothing to do, it goes to see (``verify``)
-``oracle``         ``third`` with full communication: every robot observes every event
+``oracle``         ``rules`` with full communication: every robot observes every event
                    and knows where every robot is
-``oracle-events``  ``third`` where every robot observes every event (news of a task
+``oracle-events``  ``rules`` where every robot observes every event (news of a task
                    spreads at once) but sees teammates only within range: what the
                    oracle owes to news alone
-``recruit``        a baseline: ``first``'s choice of task, and, while it sees fewer
+``recruit``        a baseline: ``rules-first``'s choice of task, and, while it sees fewer
                    teammates there than the task needs, it fetches the teammate seen in
-                   the last ``fetch_memory`` steps nearest the task (as ``third`` fetches:
+                   the last ``fetch_memory`` steps nearest the task (as ``rules`` fetches:
                    the intercept, ``wait_horizon``, ``intercept_limit``) without knowing
                    whether that teammate knows of the task: first-order knowledge plus
                    the recruiting behaviour
-``convention+rules``  a baseline: every rule of ``third`` (the assignment, ``soonest``,
+``convention+rules``  a baseline: every rule of ``rules`` (the assignment, ``soonest``,
                    fetching, waiting, ``join_busy``, ``seek``, ...) on first-order
                    knowledge: a robot knows which tasks it knows of, never that a teammate
                    knows of one, so it fetches teammates whether or not they know
@@ -85,9 +87,9 @@ __all__ = [
 #: event and task sighting, "everything" those and every robot's place).
 COLLABORATIVE_LEVELS = {
     "convention": ("convention", ""),
-    "first": ("first", ""),
-    "third-shared": ("shared", ""),
-    "third": ("third", ""),
+    "rules-first": ("first", ""),
+    "rules-shared": ("shared", ""),
+    "rules": ("third", ""),
     "oracle": ("third", "everything"),
     "oracle-events": ("third", "events"),
     "recruit": ("recruit", ""),

@@ -35,65 +35,65 @@ class CollaborativeParameters:
     patience, hold : int
         Steps a robot waits at a task before exploring again; steps before it may return.
     join_bonus : float
-        ``first``: metres a task seems nearer per teammate seen waiting there.
+        ``rules-first``: metres a task seems nearer per teammate seen waiting there.
     intercept_limit : int
-        ``third``: steps a robot looks for a teammate it fetches before it gives up on it.
+        ``rules``: steps a robot looks for a teammate it fetches before it gives up on it.
     wait_horizon : int
-        ``third``: a teammate whose predicted sweep passes within sight of the task in this
+        ``rules``: a teammate whose predicted sweep passes within sight of the task in this
         many steps is waited for rather than fetched (0: only one in sight of it now).
         With teammates predicted as :class:`TeammateModel` does, 0 / 10 / 20 / 40 took
         76.4 / 76.5 / 80.4 / 93.4 steps at 3 robots, 85.5 / 85.6 / 87.1 / 89.6 at 5 and
         74.0 / 75.0 / 75.3 / 75.6 at 8 (tuning seeds 1000-1199): a fetcher brings the
         teammate sooner than its sweep would.
     fetch_memory : int
-        ``third``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
+        ``rules``: only a teammate seen in the last ``fetch_memory`` steps is fetched (where
         others are is a guess). A teammate never seen counts as seen at the start, on its
         way to its sweep (the convention says where that begins): fetching only teammates
         really seen took 95.5 / 92.6 / 81.1 steps against 86.9 / 91.1 / 78.4 at 3 / 5 / 8
         robots on tuning seeds 1000-1199.
     seek : bool
-        ``third``: the only robot it knows knows of a task, with nobody to fetch, explores
+        ``rules``: the only robot it knows knows of a task, with nobody to fetch, explores
         on (it meets teammates to fetch) rather than waiting at the task.
     backed_patience : int
-        ``third``: steps a robot waits at a task while it knows a teammate that knows the
+        ``rules``: steps a robot waits at a task while it knows a teammate that knows the
         task is out fetching or looking for helpers for it (``patience`` otherwise).
     stand_in : bool
-        ``third``: a knower of a task not among the ones it would send goes in place of
+        ``rules``: a knower of a task not among the ones it would send goes in place of
         each chosen teammate whose place it does not know (not seen for ``fetch_memory``
         steps): that teammate's own view, and so its choice, may differ.
     sweep_memory : int
-        ``third``: a teammate not seen for longer than ``fetch_memory`` (at most this many
+        ``rules``: a teammate not seen for longer than ``fetch_memory`` (at most this many
         steps) is still fetched when the robot knows it is on its sweep: it knows of no
         open task the robot knows that teammate knows, and its predicted sweep since it
         was last seen passed in sight of no open task the robot knows (0: off).
     meet_ahead : bool
-        ``third``: a fetcher goes to the first place of the teammate's predicted sweep it
+        ``rules``: a fetcher goes to the first place of the teammate's predicted sweep it
         can reach in time (:func:`~epistemica.sim.policies.collaborative_sweep.meeting_point`),
         rather than to where the teammate is now, and picks the teammate it brings to the
         task soonest.
     complete_first : bool
-        ``third``: a robot assigns the tasks that enough robots it knows know of (itself
+        ``rules``: a robot assigns the tasks that enough robots it knows know of (itself
         included) before those that too few know of, rather than in index order.
     rejoin : bool
-        ``third``: news of one more robot that knows of a task renews the patience of a
+        ``rules``: news of one more robot that knows of a task renews the patience of a
         robot waiting there, and a task a robot put on hold is open to it again as soon as
         it knows of more robots that know of it than when it gave up waiting.
     stale_after : int
-        ``third``: a robot presumes a task done once at least as many teammates as it
+        ``rules``: a robot presumes a task done once at least as many teammates as it
         needs have been known to know of it for this many steps while the robot has not
         seen it open for as long (0: off).
     verify : bool
-        ``third``: a robot that knows of every task of the mission and has nothing to do
+        ``rules``: a robot that knows of every task of the mission and has nothing to do
         goes to see the nearest task it presumes done (``stale_after``) rather than
         exploring: teammates known to know of a task may have been busy elsewhere, and
         nothing is left to find.
     seek_limit : int
-        ``third``: a robot that began looking for helpers for a task (``seek``) this many
+        ``rules``: a robot that began looking for helpers for a task (``seek``) this many
         steps ago waits at the task instead until its patience there runs out, and looks
         anew after its hold (0: it looks on: robots that each know a task nobody else is
         known to know of, on parallel sweeps, may never meet).
     fetch_together : bool
-        ``third``: the knower nearest a task too few know of, which would wait there while
+        ``rules``: the knower nearest a task too few know of, which would wait there while
         another knower fetches a teammate, goes for that teammate too when no other
         teammate that does not know of the task is near enough to see it wait
         (``watch_range``; with three robots, two knowers and the one fetched, none is).
@@ -106,26 +106,26 @@ class CollaborativeParameters:
         74.1 at 8 (tuning seeds 1000-1199; 3 against unbounded at 5 robots, paired:
         -2.2 +- 1.1, faster in 26 trials, slower in 19).
     join_busy : bool
-        ``third``: a knower of a task too few know of, with no free teammate it knows where
+        ``rules``: a knower of a task too few know of, with no free teammate it knows where
         to find, goes to the nearest task it expects teammates at (sent there by its own
         assignment) rather than looking for helpers: once that task is done they are free
         and in its sight, to be told. Paired on tuning seeds 1000-1199 at 3 / 5 / 8 robots:
         -2.5 +- 0.8 / -0.5 +- 0.7 / -0.2 +- 0.1 steps; on 1200-1399: -3.4 +- 0.7 / -0.5 +-
         0.3 / +0.3 +- 0.3.
     soonest : bool
-        ``third``, ``third-shared``: tasks go to robots coalition by coalition, first the
+        ``rules``, ``rules-shared``: tasks go to robots coalition by coalition, first the
         task whose ``needs`` nearest free knowers assemble soonest (the farthest of them is
         nearest), rather than in index order (a robot 30 m off no longer walks past a task
-        teammates wait at for one that comes first in the mission). Paired for ``third``
+        teammates wait at for one that comes first in the mission). Paired for ``rules``
         at 3 / 5 / 8 robots, on tuning seeds 1000-1199: -1.8 +- 0.8 / -0.7 +- 0.9 / -0.3 +-
         0.9 steps; on 1200-1399: -1.2 +- 0.6 / -2.1 +- 0.8 / -2.1 +- 0.9.
     resume : bool
-        ``third``, ``third-shared``: a teammate seen off its sweep and moving makes for the
+        ``rules``, ``rules-shared``: a teammate seen off its sweep and moving makes for the
         waypoint its motion points at, then sweeps on
         (:class:`~epistemica.sim.policies.collaborative_teammates.TeammateModel`), rather than being
         put on the nearest point of its sweep.
     particles : int
-        ``third``, ``third-shared``: a teammate never seen started at one of a grid of
+        ``rules``, ``rules-shared``: a teammate never seen started at one of a grid of
         ``particles`` x ``particles`` starts, less those that would have put it in sight
         (0: it reached its sweep after half the workspace's side). Prediction error of
         unseen teammates, median on tuning seeds 1000-1039 at 3 / 5 / 8 robots: 12.1 /
@@ -134,7 +134,7 @@ class CollaborativeParameters:
     The geometry of sight and sweeps (set once, before any tuning; not tuned since):
 
     off_sweep : float
-        ``third``: a teammate last seen farther than this many sensing ranges from its
+        ``rules``: a teammate last seen farther than this many sensing ranges from its
         sweep is off it (at a task): where it resumed is unknown (``sweep_memory``).
     sight_fraction : float
         Sensing ranges within which a robot counts on being seen: where a fetcher meets a
@@ -155,8 +155,9 @@ class CollaborativeParameters:
         ``resume``: waypoints whose direction is within this cosine of the teammate's
         motion are the one it makes for (the same point on later laps of the sweep).
 
-    The planning levels (``plan-*``, :mod:`epistemica.sim.policies.collaborative_planning`;
-    times in units of the workspace's crossing time, side / mean speed):
+    The planning levels (``first``, ``second``, ``third`` and their ablations,
+    :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
+    crossing time, side / mean speed):
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
@@ -167,9 +168,9 @@ class CollaborativeParameters:
         steps, both 100 %.
     plan_explore : float
         Time saved per unknown task by one more explorer, as a fraction of ``fail``
-        shared by the team. ``plan-third`` on tuning missions 0-39 (generator seeds, trial
+        shared by the team. ``third`` on tuning missions 0-39 (generator seeds, trial
         seed 0): 0.5 / 0.25 / 0.1 succeed in 98 / 100 / 100 %, median 94 / 88 / 88 steps,
-        mean 135.6 / 116.8 / 121.0 (``third``: 100 %, 91, 126.4).
+        mean 135.6 / 116.8 / 121.0 (``rules``: 100 %, 91, 126.4).
     plan_commitment : float
         Nats a robot pays to change the option it chose at its last plan.
     plan_convention : float
@@ -188,14 +189,14 @@ class CollaborativeParameters:
         rather than the 5 % spread of an option it never takes: without it the convention
         term (``plan_convention``) cost a fetch ~5 nats, more than most fetches save, and
         a knower of a task too few know of explored past the teammates it could tell
-        (docs/results/collaborative_wrong_decision.md). ``plan-third`` on tuning missions
+        (docs/results/collaborative_wrong_decision.md). ``third`` on tuning missions
         40-69 (trial seed 1000): 90 -> 97 % success, median 107 -> 94, mean 164.0 -> 144.4
-        steps (paired -19.6; ``third``: 93 %, 102, 157.0).
+        steps (paired -19.6; ``rules``: 93 %, 102, 157.0).
     plan_timed : bool
         The credit of a robot that comes to a short-handed task falls with its arrival
         (``1 - a / fail`` of its share), so a fetch is worth the time by which its
         teammate comes sooner and fetches rank by meeting time (untimed, every fetch for
-        a task needing four or more tied and the lowest index won). Off: ``plan-third``
+        a task needing four or more tied and the lowest index won). Off: ``third``
         on tuning missions 0-59 (trial seed 1001, with ``plan_retry``) went from median /
         mean 89 / 119.9 to 85 / 127.8 (paired mean +7.9 [-7.6, +25.4], median +0.0
         [-1.0, +1.0]); without ``plan_retry``, on missions 0-29: +8.8 [-14.1, +36.4].
@@ -217,10 +218,10 @@ class CollaborativeParameters:
         A teammate a robot gave up fetching (it was not where its sweep put it) may be
         fetched again once the robot sees it: the sighting says where it is. Without it a
         robot that gave up never fetched that teammate again, and a task needing the
-        whole team waited for the last robot to find it by itself. ``plan-third`` on tuning
+        whole team waited for the last robot to find it by itself. ``third`` on tuning
         missions 0-59 (trial seed 1001): 97 -> 98 % success, median 89 -> 89, mean 135.2
         -> 119.9 steps (paired -15.2 [-35.3, +1.0]; 49 trials identical, 9 quicker, 2
-        slower; ``third``: 97 %, 87.5, 140.6).
+        slower; ``rules``: 97 %, 87.5, 140.6).
     """
 
     lane_factor: float = 2.0

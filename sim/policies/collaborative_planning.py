@@ -13,12 +13,12 @@ which tasks have long been presumed done, and going to see one of those when eve
 known and no option saves anything.
 
 =======================  ================================================================
-``plan-first``           order 1 on first-order knowledge: teammates predicted (order 0)
+``first``                order 1 on first-order knowledge: teammates predicted (order 0)
                          over its own tasks; any teammate may be fetched
-``plan-second``          order 2 over the nested sets ``(i, j)``
-``plan-third``           order 3 over ``(i, j)`` and ``(i, j, l)``
-``plan-third-shared``    order 3, every teammate taken to know what it knows (no fetching)
-``plan-third-priormode`` the same beliefs, no planning: the convention (order 0)
+``second``               order 2 over the nested sets ``(i, j)``
+``third``                order 3 over ``(i, j)`` and ``(i, j, l)``
+``third-shared``         order 3, every teammate taken to know what it knows (no fetching)
+``third-priormode``      the same beliefs, no planning: the convention (order 0)
 =======================  ================================================================
 
 Examples
@@ -26,9 +26,9 @@ Examples
 >>> from epistemica.sim import simulate
 >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
 >>> s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=1)
->>> simulate(s, "plan-third", seed=1).success
+>>> simulate(s, "third", seed=1).success
 True
->>> PlanningCollaborativePolicy("plan-second", CollaborativeParameters()).order
+>>> PlanningCollaborativePolicy("second", CollaborativeParameters()).order
 2
 """
 
@@ -54,11 +54,11 @@ __all__ = [
 #: Level name -> (order, how it models teammates' knowledge: "first" its own view only,
 #: "nested" the ledger's chains, "shared" everyone knows what it knows).
 PLANNING_LEVELS = {
-    "plan-first": (1, "first"),
-    "plan-second": (2, "nested"),
-    "plan-third": (3, "nested"),
-    "plan-third-shared": (3, "shared"),
-    "plan-third-priormode": (0, "nested"),
+    "first": (1, "first"),
+    "second": (2, "nested"),
+    "third": (3, "nested"),
+    "third-shared": (3, "shared"),
+    "third-priormode": (0, "nested"),
 }
 
 
@@ -140,7 +140,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
     --------
     >>> from epistemica.sim import simulate
     >>> from epistemica.sim.kinds.collaborative import CollaborativeScenario
-    >>> policy = PlanningCollaborativePolicy("plan-third", CollaborativeParameters(), trace=True)
+    >>> policy = PlanningCollaborativePolicy("third", CollaborativeParameters(), trace=True)
     >>> trial = simulate(CollaborativeScenario.drawn(robots=3, needs=(2,), seed=1), policy, seed=1)
     >>> first = policy.trace[0]
     >>> first.step, first.robot, first.options[first.choice]

@@ -14,14 +14,16 @@ level's own settings, such as ``nested=False`` for ``third-shared``, always win)
 
 Examples
 --------
->>> make_policy("third-shared").parameters.nested
+>>> make_policy("third-shared").parameters.nested, make_policy("third").parameters.planning
+(False, True)
+>>> make_policy("rules-third").parameters.planning
 False
 >>> make_policy("third", ActiveParameters(lone_wait=40)).parameters.lone_wait
 40
 >>> "convention-reverse" in REASONING
 True
->>> level_names("collaborative")[:3]
-('convention', 'first', 'third-shared')
+>>> level_names("collaborative")[:4]
+('convention', 'rules-first', 'rules-shared', 'rules')
 >>> make_level("collaborative", "oracle").shares
 'everything'
 """
@@ -59,6 +61,7 @@ __all__ = [
     "make_level",
     "make_policy",
     "parameters_for",
+    "rules_level",
 ]
 
 
@@ -84,6 +87,24 @@ def _named(name: str, build: Callable[[ActiveParameters], Policy]):
     return named
 
 
+def _orders(levels: dict[str, Level], prefix: str, what: str, planning: bool) -> None:
+    """Register one controller's levels: each order, and its ablations, under ``prefix``."""
+    for name, order in ORDERS.items():
+        levels[f"{prefix}{name}"] = Level(
+            f"{what} at order {order}", _active(order, planning=planning)
+        )
+    for name, order in ORDERS.items():
+        levels[f"{prefix}{name}-unpruned"] = Level(
+            f"{what} at order {order}, ignoring observed events (ablation)",
+            _active(order, planning=planning, pruning=False),
+        )
+    for name, order in list(ORDERS.items())[1:]:
+        levels[f"{prefix}{name}-shared"] = Level(
+            f"{what} at order {order}, every teammate taken to have seen what it saw (ablation)",
+            _active(order, planning=planning, nested=False),
+        )
+
+
 def _table() -> dict[str, Level]:
     levels = {
         "zero": Level("greedy: the nearest goal it knows", lambda p: Greedy()),
@@ -92,41 +113,35 @@ def _table() -> dict[str, Level]:
             lambda p: Convention(),
         ),
     }
-    for name, order in ORDERS.items():
-        levels[name] = Level(f"active inference at order {order}", _active(order))
-    for name, order in ORDERS.items():
-        levels[f"{name}-unpruned"] = Level(
-            f"order {order}, ignoring observed events (ablation)", _active(order, pruning=False)
-        )
-    for name, order in list(ORDERS.items())[1:]:
-        levels[f"{name}-shared"] = Level(
-            f"order {order}, every teammate taken to have seen what it saw (ablation)",
-            _active(order, nested=False),
-        )
+    _orders(
+        levels,
+        "rules-",
+        "the rules' one-step controller (expected free energy over the next control, with "
+        "the search, anchoring and anticipation rules; the first/second/third of before "
+        "issue 37)",
+        planning=False,
+    )
+    _orders(
+        levels,
+        "",
+        "the planning controller (options scored by expected free energy over teammates' "
+        "choices predicted one order down, epistemica.aif.planning)",
+        planning=True,
+    )
     for name, order in ORDERS.items():
         levels[f"{name}-priormode"] = Level(
-            f"order {order}, straight to the prior's most probable configuration (ablation "
-            "of expected free energy)",
-            _active(order, free_energy=False),
+            f"order {order}, the same beliefs, no planning: straight to the prior's most "
+            "probable configuration (ablation of expected free energy; the planner and the "
+            "rules play the same trial)",
+            _active(order, planning=True, free_energy=False),
         )
-    for name, order in ORDERS.items():
-        levels[f"plan-{name}"] = Level(
-            f"the planning controller at order {order}: goals scored by expected completion "
-            "time over teammates' choices predicted one order down (epistemica.aif.planning)",
-            _named(f"plan-{name}", _active(order, planning=True)),
-        )
-    levels["plan-third-shared"] = Level(
-        "the planning controller at order 3, every teammate taken to have seen what it saw "
-        "(ablation of the nested sets)",
-        _named("plan-third-shared", _active(3, planning=True, nested=False)),
-    )
-    levels["plan-third-wait"] = Level(
+    levels["third-wait"] = Level(
         "the planning controller at order 3 with a waiting option over a 3-step horizon "
         "(wait, read the teammates' moves, then choose)",
-        _named("plan-third-wait", _active(3, planning=True, plan_horizon=3)),
+        _active(3, planning=True, plan_horizon=3),
     )
     levels["convention+rules"] = Level(
-        "the convention on the common view with every rule of the active levels (search, "
+        "the convention on the common view with every rule of the rules' levels (search, "
         "exploration, pruning), no inference",
         _named("convention+rules", _active(2, free_energy=False, nested=False, anticipate=False)),
     )
@@ -153,22 +168,27 @@ REASONING: tuple[str, ...] = tuple(LEVELS)
 
 _JOINT_DESCRIPTIONS = {
     "convention": "the sweep convention, a task done by whoever finds it with enough robots",
-    "first": "first order: tasks it knows of, teammates as it sees them",
-    "third-shared": "every rule of third, every teammate taken to know what it knows (ablation)",
-    "third": "who knows which task, nested: fetching and waiting by what teammates know",
-    "oracle": "third's rules with full communication (news and places): an upper bound",
-    "oracle-events": "third's rules with every event and sighting shared, places not",
-    "recruit": "first's choice of task, fetching any recently seen teammate to it (baseline)",
-    "convention+rules": "every rule of third, no knowledge of which teammates know (baseline)",
-    "plan-first": "the planning controller at order 1 on first-order knowledge: options "
+    "rules-first": "the rules at first order: tasks it knows of, teammates as it sees them "
+    "(first before issue 37)",
+    "rules-shared": "every rule of rules, every teammate taken to know what it knows "
+    "(ablation; third-shared before issue 37)",
+    "rules": "the rules over who knows which task, nested: fetching and waiting by what "
+    "teammates know, about twenty hand-written rules (third before issue 37)",
+    "oracle": "the rules' level with full communication (news and places): an upper bound",
+    "oracle-events": "the rules' level with every event and sighting shared, places not",
+    "recruit": "the rules' first-order choice of task, fetching any recently seen teammate "
+    "to it (baseline)",
+    "convention+rules": "every rule of the rules' level, no knowledge of which teammates know "
+    "(baseline)",
+    "first": "the planning controller at order 1 on first-order knowledge: options "
     "(go to a task, fetch a teammate, explore) scored by expected time saved "
     "(epistemica.aif.task_planning)",
-    "plan-second": "the planning controller at order 2 over who knows which task, nested",
-    "plan-third": "the planning controller at order 3: teammates predicted one order down "
+    "second": "the planning controller at order 2 over who knows which task, nested",
+    "third": "the planning controller at order 3: teammates predicted one order down "
     "over what it knows they know",
-    "plan-third-shared": "the planning controller at order 3, every teammate taken to know "
+    "third-shared": "the planning controller at order 3, every teammate taken to know "
     "what it knows (ablation of the nested ledger)",
-    "plan-third-priormode": "the planning controller's beliefs, no planning: the nearest open "
+    "third-priormode": "the planning controller's beliefs, no planning: the nearest open "
     "task it knows of (ablation of expected free energy)",
 }
 
@@ -193,6 +213,18 @@ KIND_LEVELS: dict[str, dict[str, Level]] = {
 def level_names(kind: str | MissionKind) -> tuple[str, ...]:
     """The names of the levels that play missions of ``kind``, in the registry's order."""
     return tuple(KIND_LEVELS[kind_named(kind).name])
+
+
+def rules_level(kind: str | MissionKind) -> str:
+    """The rules' highest level of ``kind`` (``rules-third``; ``rules`` on joint missions):
+    the teammates of an environment by default, the level its measured results name.
+
+    Examples
+    --------
+    >>> rules_level("rendezvous"), rules_level("collaborative")
+    ('rules-third', 'rules')
+    """
+    return "rules" if kind_named(kind).joint else "rules-third"
 
 
 def parameters_for(kind: str | MissionKind) -> type:

@@ -18,10 +18,12 @@ Importing this module registers (again: replaced) one id per
   one environment holds one mission, and another generator seed is another environment).
 
 Each id makes a :class:`~epistemica.sim.engine.env.RobotEnv` of the mission's first robot
-among teammates of a reasoning level (``teammates=``, default ``"third"``) with actions in
-``[-1, 1]²`` (``normalized=True``); each reset draws trial ``seed`` (a mission file's
-layout where it is drawn at random, the noise) and every keyword of ``RobotEnv`` passes
-through ``gymnasium.make``. A mission file's ``policy`` line is the teammates' parameters.
+among teammates of a reasoning level (``teammates=``, default the rules' level the
+learned policy was measured with: ``"rules-third"``, ``"rules"`` on a collaborative
+mission) with actions in ``[-1, 1]²`` (``normalized=True``); each reset draws trial
+``seed`` (a mission file's layout where it is drawn at random, the noise) and every keyword
+of ``RobotEnv`` passes through ``gymnasium.make``. A mission file's ``policy`` line is the
+teammates' parameters.
 
 Examples
 --------
@@ -90,14 +92,16 @@ def mission_files(specs: str | Path = SPECS) -> list[Path]:
     return [p for p in paths if file_kind(p.read_text(encoding="utf-8"))[0] == "mission"]
 
 
-def _robot_env(mission: Mission, robot: str | int, teammates: str, options: dict) -> RobotEnv:
+def _robot_env(
+    mission: Mission, robot: str | int, teammates: str | None, options: dict
+) -> RobotEnv:
     options.setdefault("parameters", mission.parameters)
     options.setdefault("normalized", True)
     return RobotEnv(mission, robot, teammates, **options)
 
 
 def mission_env(
-    path: str | Path, robot: str | int = 0, teammates: str = "third", **options
+    path: str | Path, robot: str | int = 0, teammates: str | None = None, **options
 ) -> RobotEnv:
     """The :class:`~epistemica.sim.engine.env.RobotEnv` of mission file ``path`` (what a
     shipped mission's id makes)."""
@@ -108,7 +112,7 @@ def generated_env(
     family: str,
     generator_seed: int = 0,
     robot: str | int = 0,
-    teammates: str = "third",
+    teammates: str | None = None,
     generator_options: Options | None = None,
     **options,
 ) -> RobotEnv:

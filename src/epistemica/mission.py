@@ -125,12 +125,13 @@ class Study:
     seed : int
         Seed of the first trial; trial ``t`` uses ``seed + t``.
     levels : tuple of str
-        Reasoning levels to compare (default ``zero, convention, first, third``).
+        Reasoning levels to compare (default ``zero, convention, rules-third, first,
+        third``: the rules' one-step controller beside the planner).
     """
 
     trials: int = 20
     seed: int = 0
-    levels: tuple[str, ...] = ("zero", "convention", "first", "third")
+    levels: tuple[str, ...] = ("zero", "convention", "rules-third", "first", "third")
 
 
 @dataclass(frozen=True, eq=False)

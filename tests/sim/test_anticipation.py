@@ -96,7 +96,7 @@ knows r1: g1, g2, g3, g4
 knows r2, r3: g1, g2, g3
 sensing model paper noise 0.5 range 6 discovery 3
 event settle seen by nearby
-simulate trials 8 seed 0 steps 60 levels third
+simulate trials 8 seed 0 steps 60 levels rules_third
 """
 
 
@@ -110,7 +110,7 @@ def test_anticipation_lets_the_robot_with_a_private_goal_meet_its_team():
     for seed in range(8):
         scenario, policies = mission.scenario(seed), mission.policies(seed)
         for flag, parameters in ((True, mission.parameters), (False, off)):
-            trial = simulate(scenario, "third", seed=seed, policies=policies,
+            trial = simulate(scenario, "rules-third", seed=seed, policies=policies,
                              parameters=parameters)  # fmt: skip
             wins[flag] += bool(trial.success)
     assert mission.parameters.anticipate

@@ -34,8 +34,8 @@ def _same(a, b) -> bool:
 def test_the_builtin_objects_run_the_same_trial_as_the_names(observation):
     s = Scenario.paper("allocation", 3, seed=2, observation=observation, sensing_range=12.0)
     sensor = PaperSensor() if observation == "paper" else HonestSensor()
-    named = simulate(s, "third", seed=2)
-    plugged = simulate(s.replace(observation=sensor, dynamics=Unicycle()), "third", seed=2)
+    named = simulate(s, "rules-third", seed=2)
+    plugged = simulate(s.replace(observation=sensor, dynamics=Unicycle()), "rules-third", seed=2)
     assert _same(named, plugged)
 
 
@@ -85,7 +85,7 @@ def test_without_contacts_the_old_trial_is_run():
     s = Scenario.paper("rendezvous", 3, 3, seed=3)
     # radius 0 and no obstacle: moves are resolved but nothing is in the way
     points = s.replace(robot_radius=0.0)
-    assert _same(simulate(s, "third", seed=3), simulate(points, "third", seed=3))
+    assert _same(simulate(s, "rules-third", seed=3), simulate(points, "rules-third", seed=3))
 
 
 # -- geometry, by hand --------------------------------------------------------------------

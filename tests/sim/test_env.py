@@ -91,8 +91,8 @@ def test_the_env_reproduces_the_active_inference_level_too(name):
     mission = load_mission(ROOT / "specs" / name)
     seed = 2
     _assert_same_trial(
-        _through_env(MissionEnv(mission), seed, "third"),
-        simulate(mission.scenario(seed), "third", seed=seed),
+        _through_env(MissionEnv(mission), seed, "rules-third"),
+        simulate(mission.scenario(seed), "rules-third", seed=seed),
     )
 
 
@@ -100,8 +100,8 @@ def test_scripted_teammates_are_simulates_policies():
     s = Scenario.paper("allocation", 3, seed=4, sensing_range=12.0)
     env = MissionEnv(s, teammates={"r1": "zero"})
     assert env.possible_agents == ["r2", "r3"]
-    trial = _through_env(env, 4, "third")
-    expected = simulate(s, "third", seed=4, policies={0: "zero"})
+    trial = _through_env(env, 4, "rules-third")
+    expected = simulate(s, "rules-third", seed=4, policies={0: "zero"})
     _assert_same_trial(trial, expected)
     assert trial.policies == ("zero", "env", "env")
     assert np.array_equal(trial.focal[:, 0], expected.focal[:, 0])  # the teammate's record

@@ -40,7 +40,7 @@ def _assert_same_trial(a, b):
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.name)
-@pytest.mark.parametrize("level", ["convention", "third"])
+@pytest.mark.parametrize("level", ["convention", "rules"])
 def test_a_levels_actions_through_the_env_are_simulates_trial(path, level):
     mission = load_mission(path)
     env = MissionEnv(mission, parameters=mission.parameters)
@@ -51,23 +51,23 @@ def test_a_levels_actions_through_the_env_are_simulates_trial(path, level):
 
 def test_scripted_teammates_play_their_level_beside_the_agents():
     mission = load_mission(FOLDER / "tasks_5.epi")
-    env = MissionEnv(mission, {"r1": "third", "r4": "third"}, parameters=mission.parameters)
+    env = MissionEnv(mission, {"r1": "rules", "r4": "rules"}, parameters=mission.parameters)
     assert env.possible_agents == ["r2", "r3", "r5"]
     trial = _through_env(env, 3, "convention")
-    policies = {0: "third", 3: "third"}
+    policies = {0: "rules", 3: "rules"}
     expected = simulate(
         mission.scenario(3), "convention", 3, parameters=mission.parameters, policies=policies
     )
     _assert_same_trial(trial, expected)
-    assert trial.policies == ("third", "env", "env", "third", "env")
+    assert trial.policies == ("rules", "env", "env", "rules", "env")
 
 
 def test_an_agent_that_plays_its_own_actions_declares_no_task():
     mission = load_mission(FOLDER / "tasks_3.epi")
-    env = MissionEnv(mission, {"r1": "third"})
+    env = MissionEnv(mission, {"r1": "rules"})
     env.reset(seed=0)
     for _ in range(5):
-        advised = env.level_actions("third")
+        advised = env.level_actions("rules")
         env.step({a: np.clip(advised[a] * 0.5, -1, 1) for a in env.agents})  # not the level's
     assert (env.trial().steer_to[:, 1:] == -1).all()  # exploring, as far as anyone can tell
 
@@ -132,7 +132,7 @@ def test_rewards_add_up_to_the_tasks_done_plus_the_shaping():
 
 def test_teammates_that_share_and_that_do_not_are_refused_together():
     mission = load_mission(FOLDER / "tasks_3.epi")
-    env = MissionEnv(mission, {"r1": "oracle", "r2": "third"})
+    env = MissionEnv(mission, {"r1": "oracle", "r2": "rules"})
     with pytest.raises(InvalidArgumentError, match="share what they see"):
         env.reset(seed=0)
 
@@ -142,7 +142,7 @@ def test_render_draws_the_collaborative_trial_so_far():
     env = MissionEnv(mission, render_mode="rgb_array")
     env.reset(seed=1)
     for _ in range(5):
-        env.step(env.level_actions("third"))
+        env.step(env.level_actions("rules"))
     image = env.render()
     assert image.dtype == np.uint8 and image.ndim == 3 and image.shape[2] == 3
     # the robots' colours are on it (their trails and ends), as plot_trial draws them

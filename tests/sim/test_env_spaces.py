@@ -85,10 +85,10 @@ def test_epistemic_observations_are_the_trials_knowledge():
     observations, _ = env.reset(seed=4)
     seen = [observations]
     while env.agents:
-        observations, *_ = env.step(env.level_actions("third"))
+        observations, *_ = env.step(env.level_actions("rules-third"))
         if env.agents:
             seen.append(observations)
-    trial = simulate(mission.scenario(4), "third", seed=4, parameters=mission.parameters)
+    trial = simulate(mission.scenario(4), "rules-third", seed=4, parameters=mission.parameters)
     assert trial.steps == len(seen)
     for step, views in enumerate(seen):
         for i, robot in enumerate(["r1", "r2", "r3"]):
@@ -135,7 +135,7 @@ def test_the_other_bad_arguments_are_refused_with_what_to_pass():
     with pytest.raises(InvalidArgumentError, match="teammates must map robots to levels"):
         MissionEnv(s, teammates=["r1"])
     with pytest.raises(InvalidArgumentError, match="a level's name or a Policy"):
-        RobotEnv(s, teammates=["third"])
+        RobotEnv(s, teammates=["rules-third"])
     with pytest.raises(InvalidArgumentError, match=r"unknown keyword.*colour") as info:
         RobotEnv(s, colour="red")
     assert "shaping" in info.value.hint

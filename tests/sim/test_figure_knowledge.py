@@ -36,7 +36,7 @@ def _gids(ax) -> list[str]:
 
 def test_frame_draws_obstacles_closed_goals_and_knowledge():
     s = _scenario()
-    trial = simulate(s, "first", seed=0)
+    trial = simulate(s, "rules-first", seed=0)
     frame = TraceFrame(trial_trace(s, trial))
     try:
         frame.draw(2)
@@ -61,7 +61,7 @@ def test_frame_draws_obstacles_closed_goals_and_knowledge():
 
 def test_trajectory_figure_draws_obstacles_and_closed_goals(tmp_path):
     s = _scenario()
-    plot_trial(s, simulate(s, "first", seed=0), tmp_path / "t.png")
+    plot_trial(s, simulate(s, "rules-first", seed=0), tmp_path / "t.png")
     assert (tmp_path / "t.png").stat().st_size > 10_000
 
 
@@ -73,7 +73,7 @@ def private_frame():
     """private_goal_3 at seed 4, third: the story of issue 39 (r1 alone knows of g4)."""
     mission = load_mission(str(PRIVATE))
     s = mission.scenario(4)
-    trial = simulate(s, "third", seed=4, policies=mission.policies(4))
+    trial = simulate(s, "rules-third", seed=4, policies=mission.policies(4))
     frame = TraceFrame(trial_trace(s, trial), "private_goal_3")
     yield trial, frame
     frame.close()

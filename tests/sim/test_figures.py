@@ -73,7 +73,7 @@ def test_png_has_the_map(tmp_path):
 
 def test_gif_frames_follow_the_trial(tmp_path):
     s = Scenario.paper("rendezvous", 2, 2, seed=3).replace(max_steps=12)
-    trial = simulate(s, "third", seed=3)
+    trial = simulate(s, "rules-third", seed=3)
     path = tmp_path / "t.gif"
     frames = animate_trial(s, trial, path)
     assert frames == min(trial.steps + 1, 60)
@@ -116,7 +116,9 @@ def relocated():
 
     mission = load_mission(str(SPECS / "nested" / "relocated_3.epi"))
     s = mission.scenario(0)
-    t = simulate(s, "third", seed=0, policies=mission.policies(0), parameters=mission.parameters)
+    t = simulate(
+        s, "rules-third", seed=0, policies=mission.policies(0), parameters=mission.parameters
+    )
     return s, t, trial_trace(s, t)
 
 
@@ -174,7 +176,7 @@ def test_a_settle_event_names_the_robot_and_the_goal_it_settled_at():
 
     mission = load_mission(str(SPECS / "stress" / "rendezvous_radius_3.epi"))
     s = mission.scenario(0)
-    trace = trial_trace(s, simulate(s, "third", seed=0, policies=mission.policies(0)))
+    trace = trial_trace(s, simulate(s, "rules-third", seed=0, policies=mission.policies(0)))
     settles = [e for e in trace["events"] if e[1] == "settle"]
     assert settles
     for step, _, (robot, goal), _observers in settles:
@@ -188,13 +190,13 @@ def test_the_teammate_types_a_robot_reads_are_recorded_and_drawn():
 
     mission = load_mission(str(SPECS / "stress" / "rendezvous_adhoc_stationary_silent_3.epi"))
     s = mission.scenario(0)
-    trial = simulate(s, "third", seed=0, policies=mission.policies(0))
+    trial = simulate(s, "rules-third", seed=0, policies=mission.policies(0))
     trace = trial_trace(s, trial)
     plain = trial_trace(s, simulate(s, "convention", seed=0, policies=mission.policies(0)))
     assert "teammate_types" not in plain  # no level kept models: nothing recorded
     types = np.asarray(trace["teammate_types"], dtype=float)  # (T, n, n, K)
     assert types.shape == (trial.steps, 3, 3, len(trace["types"]))
-    kept = [i for i, level in enumerate(trial.policies) if level == "third"]
+    kept = [i for i, level in enumerate(trial.policies) if level == "rules-third"]
     assert np.allclose(types[:, kept].sum(axis=-1), 1.0, atol=0.03)  # posteriors, rounded
     assert np.isnan(types[:, [i for i in range(3) if i not in kept]]).all()
     frame = TraceFrame(trace)
@@ -256,7 +258,7 @@ def test_events_are_listed_and_ringed_when_they_happen(relocated):
 
 def test_no_sensing_circles_with_unlimited_sensing():
     s = Scenario.paper("rendezvous", 2, 2, seed=0, max_steps=4)
-    frame = TraceFrame(trial_trace(s, simulate(s, "third", seed=0)))
+    frame = TraceFrame(trial_trace(s, simulate(s, "rules-third", seed=0)))
     try:
         assert s.sensing_range is None and frame.sensing == []
     finally:
@@ -281,11 +283,15 @@ def test_report_figure_in_study_order_with_markers_and_styles(tmp_path, monkeypa
 
     saved = []
     monkeypatch.setattr(Figure, "savefig", lambda self, *a, **k: saved.append(self))
-    levels = ["third", "zero", "first", "third-shared", "convention"]
+    levels = ["rules-third", "zero", "rules-first", "rules-third-shared", "convention"]
     plot_results(_cells(levels), tmp_path / "r.png")
     (ax,) = saved[0].axes
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert legend == study_order(levels) == ["zero", "convention", "first", "third", "third-shared"]
+    assert (
+        legend
+        == study_order(levels)
+        == ["zero", "convention", "rules-first", "rules-third", "rules-third-shared"]
+    )
     lines = [line for line in ax.get_lines() if line.get_label() in legend]
     looks = {(line.get_marker(), line.get_linestyle(), line.get_color()) for line in lines}
     assert len(looks) == len(levels) and len({lk[0] for lk in looks}) == len(levels)
@@ -297,7 +303,7 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
 
     db = tmp_path / "r.sqlite"
     with ResultStore(db) as store:
-        for i, c in enumerate(_cells(["zero", "third"])):
+        for i, c in enumerate(_cells(["zero", "rules-third"])):
             store.add({"id": str(i), "mission": c.mission, "robots": c.robots, "goals": c.goals,
                        "reasoning": c.reasoning, "seed": i, "options": "{}", "success": 1,
                        "steps": 9, "completion_step": None, "wall_time": 0.1,
@@ -324,7 +330,7 @@ def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, cap
     db = tmp_path / "r.sqlite"
     with ResultStore(db) as store:
         store.add({"id": "0", "mission": "rendezvous", "robots": 2, "goals": 2,
-                   "reasoning": "third", "seed": 0, "options": "{}", "success": 1,
+                   "reasoning": "rules-third", "seed": 0, "options": "{}", "success": 1,
                    "steps": 9, "completion_step": None, "wall_time": 0.1,
                    "decision_ms": 0.1, "considered": 1.0, "version": "0"})  # fmt: skip
     assert main(["report", str(db), "--png", "/dev/full"]) == 2
@@ -346,7 +352,7 @@ def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys
     from epistemica.mission import load_mission
 
     spec = str(SPECS / "rendezvous.epi")
-    argv = ["run", spec, "--trials", "4", "--levels", "zero,third", "--workers", "1"]
+    argv = ["run", spec, "--trials", "4", "--levels", "zero,rules-third", "--workers", "1"]
     assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
     printed = capsys.readouterr().out
     mission = load_mission(spec)
@@ -354,16 +360,16 @@ def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys
         seed: {
             level: simulate(mission.scenario(seed), level, seed=seed,
                             policies=mission.policies(seed), parameters=mission.parameters).success
-            for level in ("zero", "third")
+            for level in ("zero", "rules-third")
         }
         for seed in range(4)
     }  # fmt: skip
-    # Third succeeding where zero fails comes first; any disagreement next.
-    decided = [seed for seed, o in outcomes.items() if o["third"] and not o["zero"]]
+    # rules-third succeeding where zero fails comes first; any disagreement next.
+    decided = [seed for seed, o in outcomes.items() if o["rules-third"] and not o["zero"]]
     disputed = decided or [seed for seed, o in outcomes.items() if len(set(o.values())) > 1]
     expected = f"seed {disputed[0]}: the first where" if disputed else "the levels agree"
-    assert f"animation (third, {expected}" in printed
+    assert f"animation (rules-third, {expected}" in printed
     assert main([*argv, "--out", str(tmp_path / "s.sqlite"), "--trial", "2"]) == 0
-    assert "animation (third, seed 2)" in capsys.readouterr().out
+    assert "animation (rules-third, seed 2)" in capsys.readouterr().out
     with PIL.open(tmp_path / "s.gif") as gif:
         assert gif.n_frames >= 2

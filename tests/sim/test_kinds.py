@@ -126,10 +126,10 @@ def test_a_joint_mission_runs_in_the_one_loop_and_refuses_mixed_communication():
     from epistemica.sim.kinds.collaborative import CollaborativeScenario
 
     s = CollaborativeScenario.drawn(robots=3, needs=(2,), seed=2).replace(max_steps=40)
-    trial = simulate(s, "third", seed=2)
+    trial = simulate(s, "rules", seed=2)
     assert trial.steer_to.shape == (trial.steps, 3) and trial.unpruned is None
     assert trial.knows.shape == (trial.steps, 3, 1) and trial.aware_since.shape == (3, 3, 1)
     # a teammate that shares everything and one that shares nothing see different worlds
     with pytest.raises(InvalidArgumentError, match="share") as caught:
-        simulate(s, "third", seed=2, policies={0: "oracle"})
+        simulate(s, "rules", seed=2, policies={0: "oracle"})
     assert "one level" in caught.value.hint

@@ -211,7 +211,7 @@ def test_settle_events_of_a_trial_are_recorded_with_their_observers():
         sensing_range=8.0,
         events=[library_event("settle")],
     )
-    trial = simulate(s, "third", seed=0)
+    trial = simulate(s, "rules-third", seed=0)
     assert trial.success
     settles = [e for e in trial.events if e[1] == "settle"]
     assert {e[2] for e in settles} == {0, 1, 2}
@@ -229,7 +229,7 @@ def test_nested_sets_that_prune_nothing_leave_the_trial_unchanged():
     # whose sets are then the whole table: the trial must equal the plain one.
     base = Scenario.paper("allocation", 3, 3, seed=2)
     told = base.replace(told=[((True,) * 3, parse_formula("assigned(r1, g1) | ~assigned(r1, g1)"))])
-    plain, nested = simulate(base, "third", seed=2), simulate(told, "third", seed=2)
+    plain, nested = simulate(base, "rules-third", seed=2), simulate(told, "rules-third", seed=2)
     assert np.allclose(plain.trajectory, nested.trajectory, atol=1e-9)
     assert plain.success == nested.success
 
@@ -255,7 +255,7 @@ def test_a_robot_that_knows_no_goal_sweeps_until_it_finds_one():
         known_goals=np.array([[True], [False]]),
         max_steps=150,
     )
-    trial = simulate(s, "third", seed=0)
+    trial = simulate(s, "rules-third", seed=0)
     assert trial.success
     assert np.hypot(*(trial.trajectory[-1, 1, :2] - s.goals[0])) <= s.success_radius
 
@@ -272,7 +272,7 @@ def test_unseen_teammates_meet_at_the_goal_of_the_common_view():
         ["range", "range"],
         sensing_range=5.0,
     )
-    common = simulate(s, "third", seed=0)
+    common = simulate(s, "rules-third", seed=0)
     assert common.success
     end = common.trajectory[-1, :, :2]
     assert np.all(np.hypot(*(end - s.goals[2]).T) <= s.success_radius)
@@ -320,7 +320,7 @@ def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
         events=[library_event("settle")],
         max_steps=150,
     )
-    trial = simulate(s, "third", seed=0, policies={1: "zero"})
+    trial = simulate(s, "rules-third", seed=0, policies={1: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 1 and 0 in e[4] for e in trial.events)
     patient = ActiveInference(3, search=False)
@@ -329,7 +329,7 @@ def test_a_robot_alone_at_the_meeting_goal_searches_for_the_team():
 
 def test_the_shared_ablation_models_teammates_over_the_robots_own_set(monkeypatch):
     # Robot 0 alone sees robot 2 settle: with nested sets it models robot 1 over the
-    # larger set (robot 1 did not see it); "third-shared" models it over its own set.
+    # larger set (robot 1 did not see it); "rules-third-shared" models it over its own set.
     from epistemica.aif.controller import Controller
 
     seen = []
@@ -342,7 +342,7 @@ def test_the_shared_ablation_models_teammates_over_the_robots_own_set(monkeypatc
     monkeypatch.setattr(Controller, "decide", spy)
     s = Scenario.paper("allocation", 3, 3, seed=2)
     s = s.replace(told=[((True, False, False), parse_formula("assigned(r3, g2)"))])
-    for level, same in (("third", False), ("third-shared", True)):
+    for level, same in (("rules-third", False), ("rules-third-shared", True)):
         seen.clear()
         simulate(s.replace(max_steps=1), level, seed=2)
         prior, modelled = seen[0]
@@ -353,7 +353,10 @@ def test_the_shared_ablation_models_teammates_over_the_robots_own_set(monkeypatc
 def test_the_shared_ablation_changes_nothing_when_everyone_saw_everything():
     base = Scenario.paper("allocation", 3, 3, seed=4)
     told = base.replace(told=[((True,) * 3, parse_formula("~assigned(r1, g1)"))])
-    nested, shared = simulate(told, "third", seed=4), simulate(told, "third-shared", seed=4)
+    nested, shared = (
+        simulate(told, "rules-third", seed=4),
+        simulate(told, "rules-third-shared", seed=4),
+    )
     assert np.array_equal(nested.trajectory, shared.trajectory)
 
 
@@ -371,7 +374,7 @@ def test_a_group_waiting_for_the_rest_of_the_team_searches_for_it():
         events=[library_event("settle")],
         max_steps=150,
     )
-    trial = simulate(s, "third", seed=0, policies={2: "zero"})
+    trial = simulate(s, "rules-third", seed=0, policies={2: "zero"})
     assert trial.success
     assert any(e[1] == "settle" and e[2] == 2 and {0, 1} & set(e[4]) for e in trial.events)
     patient = ActiveInference(3, search=False)

@@ -15,7 +15,7 @@ TINY = """\
 mission rendezvous
 robot r1..r2: random at random
 goal g1..g2 at random
-simulate trials 2 seed 3 steps 40 levels zero, third
+simulate trials 2 seed 3 steps 40 levels zero, rules_third
 """
 
 
@@ -46,9 +46,9 @@ def _text_as_text():
 
 def test_bar_colours_are_the_levels_colours(tmp_path):
     path = tmp_path / "bars.svg"
-    plot_levels([_cell("zero", 4), _cell("third", 4)], path, "demo")
+    plot_levels([_cell("zero", 4), _cell("rules-third", 4)], path, "demo")
     svg = path.read_text()
-    for level in ("zero", "third"):
+    for level in ("zero", "rules-third"):
         assert level_style(level)[0] in svg
     assert "demo (4 trials per level, the same seeds)" in svg
     assert "success rate (%) with 95 % interval" in svg
@@ -56,11 +56,11 @@ def test_bar_colours_are_the_levels_colours(tmp_path):
 
 def test_report_figure_counts_trials_honestly_and_names_mission_files(tmp_path):
     spec = '{"spec": "private_goal_3"}'
-    cells = [_cell("zero", 17), _cell("third", 50), _cell("zero", 50, 3, spec)]
+    cells = [_cell("zero", 17), _cell("rules-third", 50), _cell("zero", 50, 3, spec)]
     path = tmp_path / "report.svg"
     plot_results(cells, path)
     svg = path.read_text()
     assert "rendezvous, 17-50 trials per cell" in svg
     assert "private_goal_3 (rendezvous), 50 trials per cell" in svg
     assert "Success rate over 17-50 trials per cell" in svg
-    assert level_style("zero")[0] in svg and level_style("third")[0] in svg
+    assert level_style("zero")[0] in svg and level_style("rules-third")[0] in svg

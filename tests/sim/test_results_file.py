@@ -244,7 +244,7 @@ def _default_sigint() -> None:
 
 def _start_sweep(out, extra=()):
     args = [sys.executable, "-m", "epistemica", "sweep", "--mission", "allocation",
-            "--robots", "4..5", "--reasoning", "third", "--trials", "60", "--workers", "2",
+            "--robots", "4..5", "--reasoning", "rules-third", "--trials", "60", "--workers", "2",
             "--out", str(out), *extra]  # fmt: skip
     # A process started in the background of a non-interactive shell inherits SIGINT
     # ignored, and Python then keeps ignoring it: give the sweep the default, as a terminal.

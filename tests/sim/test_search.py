@@ -24,7 +24,7 @@ knows r3: g2
 sensing model paper noise 0.5 range 10
 event settle seen by nearby
 teammate r1 follows stationary
-simulate trials 1 seed 0 steps 150 levels third
+simulate trials 1 seed 0 steps 150 levels rules_third
 """
 
 
@@ -33,7 +33,7 @@ def _run(text: str, seed: int = 0, **changes):
     parameters = mission.parameters.replace(**changes) if changes else mission.parameters
     return mission, simulate(
         mission.scenario(seed),
-        "third",
+        "rules-third",
         seed=seed,
         policies=mission.policies(seed),
         parameters=parameters,
@@ -68,7 +68,7 @@ def test_a_teammate_that_only_left_later_is_no_anchor():
         return 1.0, float(np.angle(np.exp(-1j * heading)))
 
     trial = simulate(
-        mission.scenario(0), "third", seed=0, policies={0: FunctionPolicy(late_leaver)}
+        mission.scenario(0), "rules-third", seed=0, policies={0: FunctionPolicy(late_leaver)}
     )
     r2 = _distance_from(trial, 1, (5, 5))
     left = int(np.flatnonzero(r2 > 1.5)[0])
@@ -126,7 +126,7 @@ knows r1: g1
 knows r2: g2
 sensing model paper noise 0.5 range 10
 event settle seen by nearby
-simulate trials 1 seed 0 steps 40 levels third
+simulate trials 1 seed 0 steps 40 levels rules_third
 """
 
 
@@ -144,7 +144,7 @@ def test_a_robot_that_knows_a_teammate_cannot_know_its_goal_searches_sooner():
     assert p.lone_wait < aware <= p.lone_wait + 3
 
 
-@pytest.mark.parametrize("level", ["first", "third-shared", "convention+rules"])
+@pytest.mark.parametrize("level", ["rules-first", "rules-third-shared", "convention+rules"])
 def test_knowing_what_a_teammate_does_not_know_is_for_the_nested_levels(level):
     mission = parse_mission(UNAWARE)  # r1 knows r2 never heard of g1; these levels do not
     trial = simulate(mission.scenario(0), level, seed=0, parameters=mission.parameters)

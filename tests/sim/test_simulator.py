@@ -35,7 +35,7 @@ def symmetric(mission: str) -> Scenario:
 
 def test_same_seed_same_trial_and_different_seed_different_noise():
     s = Scenario.paper("allocation", 3, seed=3)
-    a, b = simulate(s, "third", seed=3), simulate(s, "third", seed=3)
+    a, b = simulate(s, "rules-third", seed=3), simulate(s, "rules-third", seed=3)
     assert np.array_equal(a.trajectory, b.trajectory) and np.array_equal(a.focal, b.focal)
     seen = []
     for seed in (3, 4):  # the noise differs (decisions on a grid may well not)
@@ -61,7 +61,7 @@ class Recorder(Policy):
 def test_every_level_sees_the_same_first_observation():
     s = Scenario.paper("rendezvous", 3, 3, seed=11)
     first = []
-    for level in ("zero", "convention", "first", "third"):
+    for level in ("zero", "convention", "rules-first", "rules-third"):
         rec = Recorder()
         simulate(s, level, seed=11, policies={0: rec})  # robot 0 records, others act
         first.append(rec.seen[0])
@@ -190,10 +190,10 @@ def test_no_nan_far_away_or_with_coincident_robots_and_goals():
     )
     same = Scenario("rendezvous", [[5, 5], [5, 5]], [[5, 5], [5, 5]], ["bearing"] * 2, max_steps=8)
     for s in (far, same):
-        for level in ("zero", "convention", "third", "paper-higher"):
+        for level in ("zero", "convention", "rules-third", "paper-higher"):
             t = simulate(s, level, seed=0)
             assert np.all(np.isfinite(t.trajectory))
-    assert simulate(same, "third", seed=0).success
+    assert simulate(same, "rules-third", seed=0).success
 
 
 def test_dwell_counts_steps_not_necessarily_consecutive():
@@ -303,7 +303,11 @@ def test_scenario_is_immutable_and_paper_draws_are_in_range():
 
 def test_policy_mapping_and_errors():
     s = Scenario.paper("allocation", 3, seed=1)
-    assert simulate(s, "third", seed=1, policies={0: "zero"}).policies == ("zero", "third", "third")
+    assert simulate(s, "rules-third", seed=1, policies={0: "zero"}).policies == (
+        "zero",
+        "rules-third",
+        "rules-third",
+    )
     with pytest.raises(InvalidArgumentError, match="unknown reasoning"):
         simulate(s, "omniscient", seed=1)
     with pytest.raises(InvalidArgumentError, match=r"robots 0\.\.2"):
@@ -319,4 +323,4 @@ def test_third_order_breaks_the_exact_tie():
     s = Scenario(
         "rendezvous", [[5, 15, 0], [25, 15, np.pi]], [[10, 15], [20, 15]], ["range", "bearing"]
     )
-    assert sum(simulate(s, "third", seed=k).success for k in range(10)) >= 8
+    assert sum(simulate(s, "rules-third", seed=k).success for k in range(10)) >= 8

@@ -49,7 +49,7 @@ def test_trial_id_depends_on_every_parameter_and_nothing_else():
         _spec("allocation", 2, 3, "zero", 4),
         _spec("rendezvous", 3, 3, "zero", 4),
         _spec("rendezvous", 2, 2, "zero", 4),
-        _spec("rendezvous", 2, 3, "first", 4),
+        _spec("rendezvous", 2, 3, "rules-first", 4),
         _spec("rendezvous", 2, 3, "zero", 5),
         _spec("rendezvous", 2, 3, "zero", 4, (("sensing_range", 10.0),)),
     ]

@@ -30,7 +30,7 @@ def test_a_stationary_robot_drives_to_one_goal_and_never_leaves_it():
 def test_the_models_are_a_parameter_on_at_order_two_and_above():
     assert ActiveParameters().teammate_models
     assert not make_policy(
-        "third", ActiveParameters(teammate_models=False)
+        "rules-third", ActiveParameters(teammate_models=False)
     ).parameters.teammate_models
     with pytest.raises(InvalidArgumentError, match="teammate_leak"):
         ActiveParameters(teammate_leak=2.0)
@@ -44,7 +44,7 @@ def _run(path: Path, seed: int, **changes):
     mission = load_mission(str(path))
     parameters = mission.parameters.replace(**changes) if changes else mission.parameters
     return simulate(
-        mission.scenario(seed), "third", seed=seed, policies=mission.policies(seed),
+        mission.scenario(seed), "rules-third", seed=seed, policies=mission.policies(seed),
         parameters=parameters,
     )  # fmt: skip
 

@@ -27,7 +27,7 @@ from epistemica.sim.study.trace import (
 SPEC = str(Path(__file__).resolve().parents[2] / "specs/collaborative/tasks_3.epi")
 
 
-def _trace(seed: int = 1, level: str = "third", steps: int = 60):
+def _trace(seed: int = 1, level: str = "rules", steps: int = 60):
     scenario = load_mission(SPEC).scenario(seed).replace(max_steps=steps)
     trial = simulate(scenario, level, seed)
     return scenario, trial, trial_trace(scenario, trial)
@@ -68,7 +68,7 @@ def version_2_results(tmp_path_factory):
     text = Path(SPEC).read_text().replace("steps 400", "steps 40")
     (folder / "small.epi").write_text(text)
     out = folder / "small.sqlite"
-    argv = ["run", str(folder / "small.epi"), "--trials", "1", "--levels", "first,third"]
+    argv = ["run", str(folder / "small.epi"), "--trials", "1", "--levels", "rules-first,rules"]
     assert main([*argv, "--out", str(out), "--no-gif"]) == 0
     with sqlite3.connect(out) as db:
         for trial_id, blob in db.execute("SELECT id, trace FROM trials").fetchall():

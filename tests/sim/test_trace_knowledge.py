@@ -24,7 +24,7 @@ def _private(**changes) -> Scenario:
 
 def test_knows_lists_the_start_and_round_trips_to_the_trials_array():
     s = _private()
-    trial = simulate(s, "first", seed=1)
+    trial = simulate(s, "rules-first", seed=1)
     trace = decode(encode(trial_trace(s, trial)))
     start = {(i, j, g) for step, i, j, g, now, how in trace["knows"] if step == 0}
     # Own knowledge at the start: the told goals; another's: the goals every robot knows.
@@ -39,7 +39,7 @@ def test_knows_lists_the_start_and_round_trips_to_the_trials_array():
 
 def test_common_knowledge_keeps_no_knows_field():
     s = Scenario("rendezvous", STARTS, GOALS, ["range"] * 3, workspace=30.0, max_steps=3)
-    trace = trial_trace(s, simulate(s, "first", seed=0))
+    trace = trial_trace(s, simulate(s, "rules-first", seed=0))
     assert "knows" not in trace and known_goals(trace) is None
     assert "closed" not in trace and "obstacles" not in trace
 
@@ -47,7 +47,7 @@ def test_common_knowledge_keeps_no_knows_field():
 def test_closed_goals_and_obstacles_are_in_the_trace():
     square = [[10.0, 5.0], [12.0, 5.0], [12.0, 7.0], [10.0, 7.0]]
     s = _private(closed=[False, True, False], obstacles=[square])
-    trace = trial_trace(s, simulate(s, "first", seed=0))
+    trace = trial_trace(s, simulate(s, "rules-first", seed=0))
     assert trace["closed"][0] == [0, 1, 1]
     assert trace["obstacles"] == [square]
     assert trace["discovery_range"] == 1.0

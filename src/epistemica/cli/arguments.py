@@ -20,7 +20,29 @@ __all__ = [
     "parse_counts",
 ]
 
-_RUN_EXAMPLES = """\
+_LEVELS = """\
+levels (a mission file writes - as _, e.g. rules_third):
+  goal and multitask missions
+    first, second, third      the planning controller at orders 1-3: options (head for a
+                              goal, wait) scored by expected free energy over teammates'
+                              choices predicted one order down
+    rules-first, rules-second, rules-third
+                              the rules' one-step controller (expected free energy over
+                              the next control, with the search, anchoring and
+                              anticipation rules): first/second/third before the switch
+    *-shared, *-unpruned      ablations of either (rules-third-shared, third-shared, ...)
+    first/second/third-priormode  no expected free energy: the prior's mode
+    third-wait                the planner with a 3-step waiting option
+    zero, convention, convention+rules, convention-reverse, stationary, paper-*  baselines
+  collaborative missions
+    first, second, third, third-shared, third-priormode   the planning controller
+    rules, rules-first, rules-shared   the rules (third, first, third-shared before)
+    convention, recruit, convention+rules, oracle, oracle-events   the rules' baselines
+"""
+
+_RUN_EXAMPLES = (
+    _LEVELS
+    + """
 examples:
   epistemica run specs/rendezvous.epi                     # its study, table, PNG and GIF
   epistemica run specs/rendezvous.epi specs/nested/private_goal_3.epi   # one after another
@@ -32,9 +54,12 @@ examples:
 
 exit status: 0 done, 2 bad input
 """
+)
 
 
-_SIMULATE_EXAMPLES = """\
+_SIMULATE_EXAMPLES = (
+    _LEVELS
+    + """
 examples:
   epistemica simulate --mission allocation --robots 4 --seed 2 --reasoning third
   epistemica simulate --mission rendezvous --robots 3 --goals 4 --reasoning convention --json
@@ -44,12 +69,13 @@ examples:
 
 exit status: 0 the mission succeeded, 1 it failed, 2 bad input
 """
+)
 
 
 _SWEEP_EXAMPLES = """\
 examples:
   epistemica sweep --mission rendezvous --robots 2..5 --goals 2..5 \\
-      --reasoning zero,convention,first,third --trials 50 --out results.sqlite
+      --reasoning zero,convention,rules-third,third --trials 50 --out results.sqlite
   epistemica sweep ... --out results.sqlite --resume       # after an interruption
   epistemica sweep ... --scheduler tcp://127.0.0.1:8786    # on a Dask cluster
   epistemica report results.sqlite --markdown --png results.png
@@ -91,7 +117,8 @@ def add_run_command(commands) -> None:
         help="the seed of the animated trial (default: the first seed where the last level "
         "succeeds and the one before it fails, else where the levels disagree, else the "
         "first seed); the study's last level is animated (a collaborative mission: third, "
-        "by default at the seed where it finishes most steps sooner than first)",
+        "else rules, by default at the seed where it finishes most steps sooner than first, "
+        "else rules-first)",
     )
     cmd.add_argument("--markdown", action="store_true", help="print a markdown table")
     cmd.add_argument(
@@ -166,8 +193,10 @@ def add_simulate_command(commands) -> None:
     cmd.add_argument(
         "--reasoning",
         default=None,
-        help="zero, convention, first, second, third, paper-first, paper-higher, "
-        "paper-higher-fixed (default third; a mission file: its study's last level)",
+        help="zero, convention, first, second, third (the planner), rules-first, "
+        "rules-second, rules-third (the rules), paper-first, paper-higher, "
+        "paper-higher-fixed, ... (below; default third; a mission file: its study's last "
+        "level)",
     )
     add_scenario_options(cmd)
     cmd.add_argument("--json", action="store_true", help="print a JSON object")

@@ -141,25 +141,27 @@ def _beside(level: str, seed: int, rows: list[dict], specs) -> list[str]:
 
 
 def _collaborative_trial(chosen: int | None, rows: list[dict], specs) -> tuple[str, int, str]:
-    """The level and seed of a collaborative study's animated trial: ``third`` (else the
-    last level) at ``--trial``, else the seed where it gains most steps over ``first``
-    among the trials both solve (the first seed when it has no such trial)."""
+    """The level and seed of a collaborative study's animated trial: ``third`` (else
+    ``rules``, else the last level) at ``--trial``, else the seed where it gains most steps
+    over ``first`` (else ``rules-first``) among the trials both solve (the first seed when
+    it has no such trial)."""
     levels = list(dict.fromkeys(s.reasoning for s in specs))
-    level = "third" if "third" in levels else levels[-1]
+    level = next((lv for lv in ("third", "rules") if lv in levels), levels[-1])
     if chosen is not None:
         return level, chosen, ""
+    base = next((lv for lv in ("first", "rules-first") if lv in levels and lv != level), None)
     steps = {(r["reasoning"], int(r["seed"])): r["steps"] for r in rows if r["success"]}
     gains = {
-        seed: steps[("first", seed)] - steps[(level, seed)]
+        seed: steps[(base, seed)] - steps[(level, seed)]
         for _, seed in steps
-        if ("first", seed) in steps and (level, seed) in steps
+        if (base, seed) in steps and (level, seed) in steps
     }
-    if not gains or level == "first":
+    if not gains:
         return level, specs[0].seed, ""
     seed = min(gains, key=lambda s: (-gains[s], s))
     if gains[seed] <= 0:
-        return level, seed, ": no sooner than first on any seed, the least behind"
-    return level, seed, f": {gains[seed]} steps sooner than first, the most of any seed"
+        return level, seed, f": no sooner than {base} on any seed, the least behind"
+    return level, seed, f": {gains[seed]} steps sooner than {base}, the most of any seed"
 
 
 def _animate(mission, level: str, seed: int, path: Path, others: list[str]) -> None:
