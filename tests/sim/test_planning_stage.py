@@ -57,7 +57,7 @@ def _stationary_trial(plan_types: float):
     )
     text = path.read_text() + f"\npolicy plan_types {plan_types}\n"
     mission = parse_mission(text, str(path))
-    return mission, mission.trial(100, 1004, "plan-third")
+    return mission, mission.trial(100, 1004, "third")
 
 
 def test_the_team_meets_a_stationary_teammate_on_its_goal_once_its_type_is_read():
