@@ -157,11 +157,8 @@ class ActiveParameters:
         controller over controls. The anticipation rule (``anticipate``) is then not
         applied: the planner's nested predictions subsume it.
     plan_horizon : int
-        Steps of the planner's waiting option; 1 (the default) plans no waiting: the
-        planner's horizon is over options, each a multi-step policy (head for a goal), so
-        ``first``, ``second`` and ``third`` already plan one option ahead; ``third-wait``
-        plans 3. The myopic ablation, expected free energy over the next control alone, is
-        the rules' one-step controller ``rules-third``.
+        Steps of the planner's waiting option (``third-wait``: 3); 1, no waiting: each
+        option is already a multi-step policy. The myopic ablation is ``rules-third``.
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, mismatch repair time and evidence scale
         (:class:`epistemica.aif.planning.Planner`).
