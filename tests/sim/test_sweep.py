@@ -215,8 +215,12 @@ def test_a_sweep_on_a_scheduler_without_workers_exits_2(tmp_path, monkeypatch, c
 
 # Ctrl-C (a SIGINT to this process) while the pool forks its first worker, from an
 # at-fork hook: where Python would raise it, it is printed as "Exception ignored" and lost.
+# The child starts as a terminal's foreground process would: a shell's background job (CI
+# run with `&`) inherits SIGINT ignored, and a held or ignored Ctrl-C is never raised.
 _CTRL_C_DURING_FORK = """
 import os, signal, sys
+signal.signal(signal.SIGINT, signal.default_int_handler)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 from epistemica.sim.study._executors import run_local
 fired = []
 def hook():
