@@ -238,6 +238,7 @@ class ActiveParameters:
     plan_success: float = 3.0
     plan_unseen: int = 0
     plan_types: float = 0.97
+    plan_blind: bool = False
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -261,7 +262,8 @@ class ActiveParameters:
                 hint="'recency' (the default) or the ablation 'primacy'",
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
-                    "free_energy", "search", "teammate_models", "planning")  # fmt: skip
+                    "free_energy", "search", "teammate_models", "planning",
+                    "plan_blind")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
