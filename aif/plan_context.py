@@ -41,6 +41,20 @@ class PlanContext:
         self.memo: dict = {}
         self.typed: dict[int, np.ndarray] = {}  # teammate -> its ad hoc type's goals
         self.held: np.ndarray | None = None  # the configurations the typed teammates allow
+        self.blind = np.zeros(pos.shape[0], dtype=bool)  # robots never seen (see ``hide``)
+
+    def hide(self, robot: int, never: np.ndarray) -> None:
+        """Mark the teammates in ``never`` (``(n,)`` booleans) as never seen: the
+        placeholder that places one is no evidence of its goal, and one of them, as a
+        predictor, is not credited with what the robot saw of anyone."""
+        never = np.asarray(never, dtype=bool)
+        if never.shape != self.blind.shape:
+            raise InvalidArgumentError(
+                f"blind must have shape {self.blind.shape}, got {never.shape}",
+                hint="one boolean per robot: never seen",
+            )
+        self.blind = never.copy()
+        self.blind[robot] = False
 
     def type_rows(self, robot: int, typed: np.ndarray) -> None:
         """Predict each teammate with a row in ``typed`` (``(n, m)``, ``nan`` rows for
@@ -125,7 +139,15 @@ class PlanContext:
     def key(self, chain: tuple[int, ...], order: int) -> tuple:
         if len(chain) < self.depth:  # deeper chains may have sets of their own
             return chain, order
-        return self._mask(chain)[1], chain[-1], order, len(chain) > 1
+        return self._mask(chain)[1], chain[-1], order, len(chain) > 1, self.unread(chain)
+
+    def unread(self, chain: tuple[int, ...]) -> bool:
+        """Whether the chain's last robot is predicted without the robot's evidence of it:
+        it was never seen (its place is a placeholder), or the chain's predictor of it
+        was (nothing says that one saw what the robot saw)."""
+        if len(chain) < 2 or not self.blind.any():
+            return False
+        return bool(self.blind[chain[-1]] or (len(chain) > 2 and self.blind[chain[-2]]))
 
     def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` at ``order``
@@ -179,7 +201,7 @@ class PlanContext:
                 continue
             weights = np.where(finite, np.exp(-(G - G[finite].min()) / self.p.tau), 0.0)
             q += self.p.hierarchy ** (max(order, 0) - level) * weights / weights.sum()
-        if len(chain) > 1:  # a teammate: weigh by where it is seen and how it moves
+        if len(chain) > 1 and not self.unread(chain):  # weigh by where it is seen, its moves
             q = q * np.exp(self.evidence[chain[-1]] - self.evidence[chain[-1]].max())
         total = q.sum()
         q = q / total if total > 0 else np.full(len(q), 1.0 / len(q))

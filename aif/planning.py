@@ -216,6 +216,7 @@ class Planner:
         previous: int | None = None,
         unseen=None,
         typed=None,
+        blind=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -250,6 +251,11 @@ class Planner:
             ``(n, m)`` goal distributions of the teammates read as ad hoc
             (:func:`epistemica.aif.teammates.typed_predictions`; ``nan`` rows: planners),
             each the prediction in every chain that ends with it. Default: no one typed.
+        blind : array_like, optional
+            ``(n,)`` booleans: the teammates never seen. The place ``positions`` gives one
+            (a placeholder) is then no evidence of its goal, and where one of them
+            predicts another robot, the robot's evidence of that robot (where it is seen,
+            its moves) is left out: nothing says the teammate saw it. Default: no one.
 
         Examples
         --------
@@ -266,7 +272,8 @@ class Planner:
         n, k = self.speeds.shape[0], self.configurations.shape[0]
         pos = as_finite(positions, "positions", ndim=2, shape=(n, None))[:, :2]
         weights, moving, evidence, unseen = self._inputs(k, prior, moving, evidence, unseen)
-        context = self._context(robot, pos, weights, sets, evidence, unseen, typed)
+        inputs = (pos, weights, sets, evidence, unseen, blind)
+        context = self._context(robot, *inputs, typed)
         G = self._own_costs(context, robot, weights, previous)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
@@ -281,7 +288,7 @@ class Planner:
         belief = context.belief((robot,), preds)
         mine = self.configurations[:, robot] == goal if goal != WAIT else np.ones(len(belief))
         focal = int(np.argmax(np.where(mine, belief, -1.0)))
-        planned = self._as_planners(context, robot, preds, (pos, weights, sets, evidence, unseen))
+        planned = self._as_planners(context, robot, preds, inputs)
         return PlanResult(goal, G / self.tau, wait / self.tau, preds, belief, focal, planned)
 
     def _inputs(self, k: int, prior, moving, evidence, unseen) -> tuple:
@@ -297,7 +304,8 @@ class Planner:
 
     def _as_planners(self, context, robot: int, preds: np.ndarray, inputs) -> np.ndarray:
         """``preds`` with each typed teammate's row its prediction as a planner: the same
-        plan's ``inputs`` (positions, prior, sets, evidence, draws) without the types."""
+        plan's ``inputs`` (positions, prior, sets, evidence, draws, blind) without the
+        types."""
         planned = preds.copy()
         if context.typed:
             plain = self._context(robot, *inputs, None)
@@ -305,10 +313,14 @@ class Planner:
                 planned[j] = plain.choice((robot, j), max(self.order - 1, 0))
         return planned
 
-    def _context(self, robot: int, pos, weights, sets, evidence, unseen, typed) -> PlanContext:
-        """One plan's predictions: the moves' evidence first (every prediction below
-        reads it), then the typed teammates and the unseen teammates' draws."""
+    def _context(self, robot: int, pos, weights, sets, evidence, unseen, blind, typed
+                 ) -> PlanContext:  # fmt: skip
+        """One plan's predictions: the moves' evidence and who was never seen first
+        (every prediction below reads them), then the typed teammates and the unseen
+        teammates' draws."""
         context = PlanContext(self, pos, weights, dict(sets or {}))
+        if blind is not None:
+            context.hide(robot, blind)
         if evidence is not None:
             context.extra = evidence
             context.evidence = context.evidence + evidence

@@ -190,6 +190,13 @@ class ActiveParameters:
         In ``[0, 1)``: posterior on greedy + stationary (``teammate_sigma``, ``_leak``)
         at which a teammate seen on a goal is planned as holding to it (aif.md §6g); 0:
         off. Chosen on design seeds (0.9 and 0.95 changed specs/third_order/ trials).
+    plan_blind : bool
+        Predict a teammate never seen without the robot's evidence: its placeholder is
+        no evidence of its goal, and as a predictor of others it is not credited with
+        what the robot saw of them (``Planner.plan(blind=...)``). ``False`` (the default):
+        on design seeds 1000-1059 of the stress cells rendezvous_radius_5/_10 and
+        allocation_hardest_8 it won one trial and lost one and was slower on
+        allocation_hardest_5 (docs/results/planning_wrong_decision.md).
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -235,6 +242,7 @@ class ActiveParameters:
     plan_success: float = 3.0
     plan_unseen: int = 0
     plan_types: float = 0.97
+    plan_blind: bool = False
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -258,7 +266,8 @@ class ActiveParameters:
                 hint="'recency' (the default) or the ablation 'primacy'",
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
-                    "free_energy", "search", "teammate_models", "planning")  # fmt: skip
+                    "free_energy", "search", "teammate_models", "planning",
+                    "plan_blind")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(

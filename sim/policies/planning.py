@@ -132,7 +132,7 @@ class PlanningStage:
             "success_weight": p.plan_success,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-        self.sigma, self.leak = p.plan_sigma, p.plan_leak
+        self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
         self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
         self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
@@ -235,6 +235,7 @@ class PlanningStage:
             robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
             int(local[0]) if local.size else None,
             self.unseen(observations, robot), typed,
+            observations.last_seen[robot] < 0 if self.blind else None,
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
             self._typing[robot][4][:, TYPES.index("team")] = result.planned
