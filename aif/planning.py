@@ -235,8 +235,7 @@ class Planner:
             robots see it (a chain without an entry takes its longest prefix that has one,
             a chain whose set is empty restricts nothing; default every configuration).
         moving : array_like, optional
-            ``(n,)`` in ``[0, 1]``: how much of its speed each teammate was seen to use
-            (what waiting can reveal); default 1.
+            ``(n,)`` in ``[0, 1]``: the share of its speed each teammate was seen to use.
         evidence : array_like, optional
             ``(n, m)`` log-likelihood of each robot heading for each goal from what the
             robot saw of its moves (:func:`motion_evidence`), added to the position's
@@ -244,18 +243,14 @@ class Planner:
         previous : int, optional
             The goal it headed for at its last plan: changing it costs ``commitment``.
         unseen : array_like, optional
-            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan`` for the
-            robots seen): it is predicted as the mean of its predictions from them, not
-            from its placeholder ``positions`` row. Default: every robot seen.
+            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan``: seen),
+            predicted as the mean of its predictions from them.
         typed : array_like, optional
-            ``(n, m)`` goal distributions of the teammates read as ad hoc
-            (:func:`epistemica.aif.teammates.typed_predictions`; ``nan`` rows: planners),
-            each the prediction in every chain that ends with it. Default: no one typed.
+            ``(n, m)`` goal distributions of teammates read as ad hoc (``nan`` rows:
+            planners; :func:`epistemica.aif.teammates.typed_predictions`), in every chain.
         blind : array_like, optional
-            ``(n,)`` booleans: the teammates never seen. The place ``positions`` gives one
-            (a placeholder) is then no evidence of its goal, and where one of them
-            predicts another robot, the robot's evidence of that robot (where it is seen,
-            its moves) is left out: nothing says the teammate saw it. Default: no one.
+            ``(n,)`` booleans, the teammates never seen: a placeholder is no evidence of
+            one's goal, nor the robot's evidence of others one of them predicts.
 
         Examples
         --------

@@ -165,38 +165,29 @@ class ActiveParameters:
     plan_particles : int
         Particles of the teammates' choices that score the waiting option.
     plan_sigma : float
-        Error of the planner's motion model, in steps of the mean top speed: a
-        teammate's goal is read from its moves with this much slack
+        Error of the planner's motion model, in steps of the mean top speed
         (:func:`epistemica.aif.planning.motion_evidence`).
     plan_leak : float
         Rate in ``[0, 1)`` at which that reading forgets, per planned step.
     plan_commitment : float
         Nats the planner charges for changing the goal a robot headed for.
     plan_convention : float
-        Nats of the team prior's convention (a bounded tie-break) in the planner's own
-        choice.
+        Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
-        expected completion time (0: a mismatch costs ``plan_repair`` seconds instead).
-        Chosen on tuning seeds 1000-1009 of the nested missions (82 % at 0, 98 % at 1,
-        99 % at 3) and the generated tuning split (no family lost success at 3).
+        expected completion time (0: a mismatch costs ``plan_repair`` s). Nested missions,
+        seeds 1000-1009: 82 % at 0, 98 % at 1, 99 % at 3 (no tuning family lost at 3).
     plan_unseen : int
-        Places drawn over the workspace for a teammate the robot has never seen: it is
-        predicted as the mean of its predictions from them, not from the placeholder
-        (the workspace centre) its estimate holds until then. 0 (the default) plans from
-        the placeholder: the draws were not measured to help
-        (docs/results/planning_wrong_decision.md) and cost a plan per draw.
+        Places drawn over the workspace for a teammate never seen, predicted as the mean
+        from them; 0 (the default): from its placeholder, the draws measured no help
+        (docs/results/planning_wrong_decision.md) and cost a plan each.
     plan_types : float
-        In ``[0, 1)``: posterior on greedy + stationary (``teammate_sigma``, ``_leak``)
-        at which a teammate seen on a goal is planned as holding to it (aif.md §6g); 0:
-        off. Chosen on design seeds (0.9 and 0.95 changed specs/third_order/ trials).
+        Posterior on greedy + stationary at which a teammate seen on a goal is held to it
+        (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind : bool
-        Predict a teammate never seen without the robot's evidence: its placeholder is
-        no evidence of its goal, and as a predictor of others it is not credited with
-        what the robot saw of them (``Planner.plan(blind=...)``). ``False`` (the default):
-        on design seeds 1000-1059 of the stress cells rendezvous_radius_5/_10 and
-        allocation_hardest_8 it won one trial and lost one and was slower on
-        allocation_hardest_5 (docs/results/planning_wrong_decision.md).
+        Predict a teammate never seen without the robot's evidence
+        (``Planner.plan(blind=...)``). Off: +1/-1 trial on design seeds 1000-1059
+        (docs/results/planning_wrong_decision.md).
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
