@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from epistemica.sim.policies.levels import REASONING
+from epistemica.sim.policies.levels import KIND_LEVELS, REASONING
 from epistemica.sim.study.trace import known_goals
 
 __all__ = [
@@ -65,21 +65,40 @@ TYPE_MEANINGS = {
 }
 
 
+#: The levels most often drawn side by side (the main job's and the default studies'):
+#: the first places, so that each has a colour of its own.
+_SHOWN_FIRST = ("third", "convention", "rules-first", "rules-third-shared", "rules-third",
+                "first", "second", "zero", "third-shared", "third-priormode")  # fmt: skip
+#: Every level of every kind, in the order their styles are given.
+_ORDER = tuple(dict.fromkeys((*_SHOWN_FIRST, *REASONING, *(n for t in KIND_LEVELS.values()
+                                                           for n in t))))  # fmt: skip
+#: Collaborative levels drawn beside those: the rules take the rules' colour, the oracle
+#: one the collaborative study leaves free.
+_COLOUR_OF = {"rules": 4, "rules-shared": 3, "oracle": 6}
+
+
 def level_style(level: str) -> tuple[str, str, str]:
     """``(colour, line style, marker)`` of a reasoning level, the same in every figure
-    (fixed by the level's place in :data:`~epistemica.sim.policies.levels.REASONING`; a level not
-    there takes a place after them by its name). Two levels never share all three.
+    (fixed by the level's place in :data:`_ORDER`: the levels most often compared first,
+    then :data:`~epistemica.sim.policies.levels.REASONING` and the other kinds' levels; a
+    level not there takes a place after them by its name). Two registered levels never
+    share all three (up to 40 of them), and the levels of one default study never share a
+    colour.
 
     Examples
     --------
-    >>> level_style("third") == level_style("third"), level_style("zero") != level_style("first")
+    >>> level_style("third") == level_style("third"), level_style("third") != level_style("first")
     (True, True)
+    >>> shown = ("convention", "rules-first", "rules-third", "third")
+    >>> len({level_style(name)[0] for name in shown})
+    4
     """
-    if level in REASONING:
-        k = REASONING.index(level)
+    if level in _ORDER:
+        k = _ORDER.index(level)
     else:
-        k = len(REASONING) + sum(map(ord, level)) % 31
-    return LEVEL_COLOURS[k % 10], _LINES[k % 4], _MARKERS[k % len(_MARKERS)]
+        k = len(_ORDER) + sum(map(ord, level)) % 31
+    colour = _COLOUR_OF.get(level, k % 10)
+    return LEVEL_COLOURS[colour], _LINES[(k // 10) % 4], _MARKERS[k % len(_MARKERS)]
 
 
 def robot_colour(i: int) -> str:

@@ -13,16 +13,19 @@ import pytest
 from epistemica.mission import load_mission
 from epistemica.sim import simulate
 from epistemica.sim.engine.env import RobotEnv
+from epistemica.sim.kinds.registry import KINDS
 from epistemica.sim.policies.active import ORDERS, ActiveInference
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy
 from epistemica.sim.policies.collaborative_planning import PlanningCollaborativePolicy
 from epistemica.sim.policies.levels import (
     JOINT_LEVELS,
+    KIND_LEVELS,
     LEVELS,
     make_level,
     make_policy,
     rules_level,
 )
+from epistemica.sim.study.palette import level_style
 
 ROOT = Path(__file__).resolve().parents[2]
 PRIVATE = ROOT / "specs" / "nested" / "private_goal_3.epi"
@@ -112,3 +115,13 @@ def test_the_help_says_which_level_is_which_and_names_only_real_levels(capsys):
         assert name in goal and name in LEVELS
     for name in ("rules", "rules-first", "rules-shared", "third-priormode", "oracle-events"):
         assert name in joint and name in JOINT_LEVELS
+
+
+def test_every_registered_level_has_a_style_of_its_own():
+    names = {name for table in KIND_LEVELS.values() for name in table}
+    styles = {name: level_style(name) for name in names}
+    assert len(set(styles.values())) == len(names)
+    # The main job's bars (private_goal_3) and every kind's default study: one colour each.
+    main_job = ("convention", "rules-first", "rules-third-shared", "rules-third", "third")
+    for shown in (main_job, *(kind.study_levels for kind in KINDS.values())):
+        assert len({styles[name][0] for name in shown}) == len(shown), shown
