@@ -46,6 +46,7 @@ from __future__ import annotations
 import itertools
 import re
 from collections.abc import Iterable
+from functools import cached_property
 
 from epistemica.del_.errors import InvalidArgumentError
 from epistemica.del_.explicit.action import ActionModel
@@ -397,7 +398,7 @@ class _Writer:
             return terms[0]
         return f"(or {' '.join(terms)})" if terms else "(false)"
 
-    @property
+    @cached_property
     def slot_atoms(self) -> dict[int, str]:
         return {slot: atom for atom, slot in self.model.atom_slots.items()}
 
