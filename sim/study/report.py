@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
@@ -226,6 +227,22 @@ def format_table(cells: list[Cell], markdown: bool = False) -> str:
 
 
 _FONTS = {"font.size": 11, "legend.fontsize": 10, "axes.titlesize": 11}
+_CAPTION_SIZE = 10
+
+
+def _fitted(text: str, width_inches: float, size: float) -> str:
+    """``text`` wrapped to lines that fit ``width_inches`` at font ``size`` (an average
+    glyph is about 0.55 em wide), so no caption or title runs off the figure's edge."""
+    return textwrap.fill(text, max(20, int(width_inches * 72 / (0.55 * size))))
+
+
+def _add_caption(fig, text: str) -> float:
+    """Write ``text`` under the axes, wrapped to the figure's width; return the fraction of
+    the figure's height it takes, for ``tight_layout``'s rectangle."""
+    fitted = _fitted(text, fig.get_figwidth() - 0.2, _CAPTION_SIZE)
+    fig.text(0.01, 0.01, fitted, fontsize=_CAPTION_SIZE, ha="left", va="bottom", gid="caption")
+    lines = fitted.count("\n") + 1
+    return 0.02 + lines * 1.3 * _CAPTION_SIZE / 72 / fig.get_figheight()
 
 
 def plot_results(
@@ -248,16 +265,20 @@ def plot_results(
         )
         for ax, (mission, spec) in zip(axes[0], panels, strict=True):
             mine = [c for c in cells if (c.mission, _spec(c)) == (mission, spec)]
-            for level in order:
+            present = [lv for lv in order if any(c.reasoning == lv for c in mine)]
+            for k, level in enumerate(present):
                 chosen = [c for c in mine if c.reasoning == level]
-                if chosen:
-                    _plot_level(ax, chosen, level, mission, level_style(level))
+                # At one team size the levels' intervals would stack: set them side by side.
+                shift = 0.06 * (k - (len(present) - 1) / 2) if _one_size(mine) else 0.0
+                _plot_level(ax, chosen, level, mission, level_style(level), shift)
             ax.set_xlabel("robots")
             ax.set_xticks(sorted({c.robots for c in mine}))
             name = f"{spec} ({mission})" if spec else mission
-            ax.set_title(f"{name}, {trial_counts(mine)} per cell")
+            ax.set_title(
+                _fitted(f"{name}, {trial_counts(mine)} per cell", 4.6, _FONTS["axes.titlesize"])
+            )
             ax.grid(alpha=0.3)
-        fig.text(0.01, 0.01, _caption(cells), fontsize=10, ha="left", va="bottom", gid="caption")
+        bottom = _add_caption(fig, _caption(cells))
         # One legend for every panel (a level keeps its look across missions), outside
         # the data; its entries in study order.
         shown = {h.get_label(): h for ax in axes[0] for h in ax.get_lines()}
@@ -268,7 +289,7 @@ def plot_results(
             loc="upper left",
             bbox_to_anchor=(1.02, 1.0),
         )
-        fig.tight_layout(rect=(0, 0.06, 1, 1))
+        fig.tight_layout(rect=(0, bottom, 1, 1))
         save_figure(fig, path, fmt)
     plt.close(fig)
 
@@ -309,21 +330,33 @@ def _caption(cells: Sequence[Cell]) -> str:
     )
 
 
-def _plot_level(ax, cells: list[Cell], level: str, mission: str, style: tuple) -> None:
+def _one_size(cells: Sequence[Cell]) -> bool:
+    return len({c.robots for c in cells}) == 1
+
+
+def _plot_level(
+    ax, cells: list[Cell], level: str, mission: str, style: tuple, shift: float = 0.0
+) -> None:
     colour, line, marker = style
     sizes = sorted({c.robots for c in cells})
+    at = np.array(sizes, dtype=float) + shift
     look = {"color": colour, "linestyle": line, "marker": marker, "markersize": 7, "label": level}
     if _tasks(mission):
         means = [np.mean([c.mean_completion for c in cells if c.robots == n]) for n in sizes]
-        ax.plot(sizes, means, **look)
+        ax.plot(at, means, **look)
         ax.set_ylabel("mean completion step (failures = limit)")
         return
     # Pool the goal counts of one team size, as the paper's per-team-size figure does.
     ok = np.array([sum(c.successes for c in cells if c.robots == n) for n in sizes])
     total = np.array([sum(c.trials for c in cells if c.robots == n) for n in sizes])
     bands = np.array([wilson_interval(k, t) for k, t in zip(ok, total, strict=True)])
-    ax.plot(sizes, 100 * ok / total, **look)
-    ax.fill_between(sizes, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.15, color=colour)
+    rate = 100 * ok / total
+    ax.plot(at, rate, **look)
+    if len(sizes) == 1:  # a band over one team size has no width: draw the interval as a bar
+        spread = [rate - 100 * bands[:, 0], 100 * bands[:, 1] - rate]
+        ax.errorbar(at, rate, yerr=spread, capsize=5, color=colour, linestyle="none")
+    else:
+        ax.fill_between(at, 100 * bands[:, 0], 100 * bands[:, 1], alpha=0.15, color=colour)
     ax.set_ylabel("success rate (%) with 95 % interval")
     ax.set_ylim(-2, 102)
 
@@ -360,9 +393,10 @@ def _level_bars(plt, cells: list[Cell], path, title: str) -> None:
         caption = "Bars: success rate, 95 % Wilson interval; in a bar: mean steps of its successes."
     ax.set_xticks(x, names, rotation=20)
     ax.set_xlabel("reasoning level")
-    ax.set_title(f"{title} ({trial_counts(cells)} per level, the same seeds)")
+    heading = f"{title} ({trial_counts(cells)} per level, the same seeds)"
+    ax.set_title(_fitted(heading, fig.get_figwidth() - 0.4, _FONTS["axes.titlesize"]))
     ax.grid(axis="y", alpha=0.3)
-    fig.text(0.01, 0.01, caption, fontsize=10, ha="left", va="bottom", gid="caption")
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    bottom = _add_caption(fig, caption)
+    fig.tight_layout(rect=(0, bottom, 1, 1))
     save_figure(fig, path)
     plt.close(fig)
