@@ -11,6 +11,7 @@ import pytest
 pandas = pytest.importorskip("pandas")  # in the test extra
 
 from epistemica.cli import main  # noqa: E402
+from epistemica.del_.errors import InvalidArgumentError  # noqa: E402
 from epistemica.results import STEP_COLUMNS, load, load_steps  # noqa: E402
 
 
@@ -54,6 +55,26 @@ def test_load_steps_is_every_trace_step_by_step(results):
         xs = [p[0] for p in trace["poses"][-1]]
         assert last["x"].tolist() == pytest.approx(xs)
         assert last["considered"].tolist() == trace["considered"][-1]
+
+
+def test_load_steps_selects_trials_and_counts_rows_before_reading(results):
+    trials = load(results)
+    two = trials["id"].tolist()[:2]
+    steps = load_steps(results, ids=two)
+    assert sorted(set(steps["id"])) == sorted(two)
+    expected = int(
+        (trials.set_index("id").loc[two, "steps"] * trials.set_index("id").loc[two, "robots"]).sum()
+    )
+    assert len(steps) == expected
+    assert len(load_steps(results, max_rows=expected, ids=two)) == expected
+    with pytest.raises(
+        InvalidArgumentError,
+        match=f"hold {expected:,} step rows, more than max_rows={expected - 1:,}",
+    ):
+        load_steps(results, ids=two, max_rows=expected - 1)
+    for bad in (0, -3, 2.5, True, "10"):
+        with pytest.raises(InvalidArgumentError, match="max_rows must be a positive integer"):
+            load_steps(results, max_rows=bad)
 
 
 def test_report_writes_csv_and_parquet_and_lists_levels_in_study_order(results, tmp_path, capsys):
