@@ -329,8 +329,9 @@ class Grounder(_Terms):
                     yield node.children[0], node.children[1] and str(node.children[1])
 
     def _collect_libraries(self, libraries) -> None:
-        """The action types of every library given (as plank: the ones the domain names
-        must be among them, and come first when two define one name)."""
+        """The action types of every library given. As plank: the libraries the domain
+        names must be among them, two libraries may not share a name, nor two action types
+        (``basic`` included): which one was meant is not for the reader to guess."""
         wanted: dict[str, Token] = {}
         for item in self.domain.children[1:]:
             if item.data == "libraries":
@@ -343,7 +344,14 @@ class Grounder(_Terms):
                     f"expected an action-type library, found a {tree.data}", tree,
                     "pass libraries with -l; the domain and problem come first",
                 )  # fmt: skip
-            given[str(tree.children[0])] = (tree, src)
+            name = tree.children[0]
+            if str(name) in given:
+                first, first_src = given[str(name)]
+                raise src.error(
+                    f"a second action-type library named '{name}'", name,
+                    f"the first is at {_where(first_src, first.children[0])}; pass one of them",
+                )  # fmt: skip
+            given[str(name)] = (tree, src)
         for name, token in wanted.items():
             if name not in given:
                 raise self.dsrc.error(
@@ -355,7 +363,23 @@ class Grounder(_Terms):
             tree, src = given[name]
             for item in tree.children[1:]:
                 if item.data == "action_type":
-                    self.action_types.setdefault(str(item.children[0]), (item, src))
+                    self._add_action_type(item, src)
+
+    def _add_action_type(self, item: Tree, src: Source) -> None:
+        name = item.children[0]
+        if str(name) == "basic":
+            raise src.error(
+                "the action type 'basic' is built in (one event seen by every agent)", name,
+                "rename this action type",
+            )  # fmt: skip
+        if str(name) in self.action_types:
+            first, first_src = self.action_types[str(name)]
+            raise src.error(
+                f"action type '{name}' is defined twice", name,
+                f"the first definition is at {_where(first_src, first.children[0])}; "
+                "rename one of them",
+            )  # fmt: skip
+        self.action_types[str(name)] = (item, src)
 
     def _collect_problem(self) -> None:
         _name, domain_name, *items = self.problem.children
@@ -456,3 +480,8 @@ def _closest(name: str, known: Iterable[str]) -> str:
     if close:
         return f"did you mean '{close[0]}'?"
     return "declare it first (:objects, :agents, :constants or :predicates)"
+
+
+def _where(src: Source, token: Token) -> str:
+    """``file:line:col`` of ``token`` in ``src``, for a hint that points at a first definition."""
+    return f"{src.filename}:{token.line}:{token.column}"

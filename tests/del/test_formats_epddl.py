@@ -178,6 +178,26 @@ def test_a_library_the_domain_names_must_be_given():
     assert "action-type library 'test-types' is not given" in err.message and err.line == 6
 
 
+def test_libraries_and_action_types_are_never_defined_twice():
+    # As plank refuses them: which definition was meant is not the reader's to guess.
+    text = LIBRARY.read_text()
+    err = _error(libraries=[text, text])
+    assert "a second action-type library named 'test-types'" in err.message
+    assert err.line == 2 and "the first is at l.epddl:2:" in err.hint
+    twice = text.replace("  ; sensing:", "  (:action-type everyone :events (?e)\n"
+                         "    :observability-types (Full) :relations (Full (?e ?e))"
+                         " :designated (?e))\n  ; sensing:")  # fmt: skip
+    err = _error(libraries=[twice])
+    assert "action type 'everyone' is defined twice" in err.message
+    assert err.line == 18 and "l.epddl:5:17" in err.hint
+    other = text.replace("(action-type-library test-types)", "(action-type-library more)")
+    err = _error(libraries=[text, other])
+    assert "action type 'everyone' is defined twice" in err.message
+    built_in = text.replace("(:action-type everyone", "(:action-type basic")
+    err = _error(libraries=[built_in])
+    assert "'basic' is built in" in err.message and err.line == 5
+
+
 def test_a_theory_that_contradicts_itself_is_an_error():
     broken = PROBLEM.replace("(heads) (looking a)\n", "(heads) (not (looking a))\n")
     err = _error(problem=broken)
