@@ -239,7 +239,7 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
-    plan_meet: bool = False
+    plan_meet: bool = True
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:

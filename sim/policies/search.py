@@ -139,24 +139,22 @@ class RendezvousSearch:
         return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
 
     def _meet(self, observations: Observations, robots, own, still, seen, group) -> np.ndarray:
-        """``(len(robots),)`` which searchers end their search at the goal where they met
-        other teammates (in sight, ``seen``, outside the ``group`` each left with).
+        """``(len(robots),)`` which searchers end their search where they met other
+        teammates (in sight, ``seen``, outside the ``group`` each left with).
 
-        A searcher that first sees such teammates heads for the goal the robots in its sight
-        reach soonest (least largest distance; everyone there computes it from the same
-        view); its search ends once it stands still on that goal, where its settle and
-        theirs are the newest each has seen."""
-        s = self.scenario
-        meeting = self.meeting[robots]
-        met = (self.left[robots] >= 0) & (meeting < 0) & (seen & ~group).any(axis=1)
+        From the step a searcher first sees such a teammate it heads, every step, for the
+        goal nearest the lowest-numbered robot in its sight (itself included): robots in
+        sight of one another follow the same one, who heads for its own nearest goal, so
+        groups that see each other converge on one goal. Its search ends once it stands
+        still on that goal, where its settle and theirs are the newest each has seen."""
+        goals, meeting = self.scenario.goals, self.meeting[robots]
+        met = (self.left[robots] >= 0) & ((meeting >= 0) | (seen & ~group).any(axis=1))
         for row in np.flatnonzero(met):
             robot = int(robots[row])
-            team = seen[row].copy()
-            team[robot] = True
-            view = observations.poses[robot, team, :2]
-            reach = np.hypot(*(view[:, None] - s.goals[None]).transpose(2, 0, 1)).max(axis=0)
-            reach[~observations.known_goals[robot]] = np.inf
-            meeting[row] = int(np.argmin(reach))
+            leader = min(robot, int(np.argmax(seen[row]))) if seen[row].any() else robot
+            d = np.hypot(*(goals - observations.poses[robot, leader, :2]).T)
+            d[~observations.known_goals[robot]] = np.inf
+            meeting[row] = int(np.argmin(d))
         self.meeting[robots] = meeting
         return (meeting >= 0) & (meeting == own) & still
 
