@@ -125,6 +125,7 @@ class ActiveInference(Policy):
             p.look,
             p.anchor_check,
             p.unaware_wait if aware_of_others else p.lone_wait,
+            meet=p.plan_meet and self._plans is not None,
         )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
@@ -146,11 +147,15 @@ class ActiveInference(Policy):
         groups: dict[int, tuple[Controller, np.ndarray, list]] = {}
         self.common_view.follow(observations, robots)
         self._explorer.visit(observations.poses[robots, robots], robots)
+        was = self._search.left[robots] >= 0
         searching = (
             self._search.searchers(observations, robots)
             if self.parameters.search
             else np.zeros(len(robots), dtype=bool)
         )
+        if self._search.meet:  # a search ended: what was read before it is stale
+            for robot in robots[was & ~searching]:
+                self._plans.forget(int(robot))
         for row, robot in enumerate(robots):
             if searching[row]:
                 target = self._search.target(observations, robot)

@@ -188,6 +188,11 @@ class ActiveParameters:
         Predict a teammate never seen without the robot's evidence
         (``Planner.plan(blind=...)``). Off: +1/-1 trial on design seeds 1000-1059
         (docs/results/planning_wrong_decision.md).
+    plan_meet : bool
+        Planner levels, rendezvous search: a searcher that sees a teammate outside the
+        group it left with has found its team and stops searching, and a robot whose
+        search ends plans afresh, forgetting the moves it read and the goal it headed for
+        before (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
     plan_hierarchy : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
         teammates (0: level-k, 1: a uniform cognitive hierarchy).
@@ -234,6 +239,7 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
+    plan_meet: bool = True
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -258,7 +264,7 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind")  # fmt: skip
+                    "plan_blind", "plan_meet")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(

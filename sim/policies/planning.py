@@ -178,6 +178,12 @@ class PlanningStage:
         used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
         return np.where(seen, np.clip(used, 0.0, 1.0), 1.0)
 
+    def forget(self, robot: int) -> None:
+        """Drop what the robot read of its teammates' moves and the goal it headed for:
+        its next plan starts from their positions alone (after a rendezvous search)."""
+        for memory in (self._last, self._read, self._heading):
+            memory.pop(robot, None)
+
     def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
         """The planner's draws of where the robot's never-seen teammates may be."""
         never = observations.last_seen[robot] < 0

@@ -55,6 +55,9 @@ class RendezvousSearch:
         Steps a group waits instead when it knows that a teammate it does not see does
         not know of its goal (default ``lone_wait``: a level that does not reason about
         what teammates know).
+    meet : bool, optional
+        A searcher stops when it sees a teammate outside the group it left with
+        (default False: only a teammate settled elsewhere, or newly at the goal it left).
     """
 
     def __init__(
@@ -65,11 +68,12 @@ class RendezvousSearch:
         look: float,
         anchor_check: int,
         unaware_wait: int | None = None,
+        meet: bool = False,
     ) -> None:
         n = scenario.n_robots
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
         self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
-        self.anchor_check = int(anchor_check)
+        self.anchor_check, self.meet = int(anchor_check), bool(meet)
         self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
         self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
         self.since = np.zeros(n, dtype=int)  # steps since the search started
@@ -82,6 +86,7 @@ class RendezvousSearch:
         self.mark = np.zeros(n, dtype=int)  # settles it had seen when it left
         self.checked = np.zeros((n, scenario.n_goals), dtype=bool)
         self.last = np.full((n, 2), np.nan)  # each robot's own position a step before
+        self.meeting = np.full(n, -1)  # the goal two groups that met head for (-1: none)
 
     def applies(self) -> bool:
         """Whether the scenario calls for searching (rendezvous with a sensing range)."""
@@ -111,6 +116,8 @@ class RendezvousSearch:
         elsewhere = seen & (at >= 0) & (at != left[:, None])
         newcomer = fresh & ~group & (at == left[:, None])
         found = (elsewhere | newcomer).any(axis=1)
+        if self.meet:
+            found |= self._meet(observations, robots, own, still, seen, group)
         searching = (left >= 0) & ~found
         waiting = (own >= 0) & ~everyone & together & ~searching
         self.waiting[robots] = np.where(waiting, self.waiting[robots] + still, 0)
@@ -127,8 +134,29 @@ class RendezvousSearch:
             self.group[robots[start]] = seen[start] & (at[start] == own[start, None])
             self.mark[robots[start]] = count[start]
         self.left[robots] = np.where(start, own, np.where(searching, left, -1))
+        self.meeting[robots] = np.where(searching, self.meeting[robots], -1)
         self._watch(observations, robots, start)
         return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
+
+    def _meet(self, observations: Observations, robots, own, still, seen, group) -> np.ndarray:
+        """``(len(robots),)`` which searchers end their search where they met other
+        teammates (in sight, ``seen``, outside the ``group`` each left with).
+
+        From the step a searcher first sees such a teammate it heads, every step, for the
+        goal nearest the lowest-numbered robot in its sight (itself included): robots in
+        sight of one another follow the same one, who heads for its own nearest goal, so
+        groups that see each other converge on one goal. Its search ends once it stands
+        still on that goal, where its settle and theirs are the newest each has seen."""
+        goals, meeting = self.scenario.goals, self.meeting[robots]
+        met = (self.left[robots] >= 0) & ((meeting >= 0) | (seen & ~group).any(axis=1))
+        for row in np.flatnonzero(met):
+            robot = int(robots[row])
+            leader = min(robot, int(np.argmax(seen[row]))) if seen[row].any() else robot
+            d = np.hypot(*(goals - observations.poses[robot, leader, :2]).T)
+            d[~observations.known_goals[robot]] = np.inf
+            meeting[row] = int(np.argmin(d))
+        self.meeting[robots] = meeting
+        return (meeting >= 0) & (meeting == own) & still
 
     def _unaware(self, observations: Observations, robots, own, seen, waiting) -> np.ndarray:
         """``(len(robots),)`` which waiting robots know that a teammate they do not see
@@ -198,6 +226,8 @@ class RendezvousSearch:
         then the other goals it knows, then the nearest cell not swept; None when all
         are searched."""
         s, pose = self.scenario, observations.poses[robot, robot]
+        if self.meeting[robot] >= 0:
+            return s.goals[self.meeting[robot]]
         if self.anchor[robot] >= 0:
             return s.goals[self.anchor[robot]]
         self.sweep.visit(pose[None, :2], [robot])
