@@ -45,84 +45,10 @@ import numpy as np
 
 from epistemica.aif._validate import as_finite, positive
 from epistemica.aif.evidence import check_order, check_robot
+from epistemica.aif.task_completion import Credit, completion_times, sorted_completion
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
-
-
-def completion_times(
-    arrivals, presence, needs, fail, credit: float = 0.0, timed: bool = False, quorum: int = 1
-) -> np.ndarray:
-    """``(c,)`` the expected completion time of each column: the ``needs``-th arrival
-    among the robots that come; when only ``c < needs`` come, ``fail`` less ``credit``
-    of its ``1 / needs`` share for each that came (those still to be brought cost less).
-
-    Parameters
-    ----------
-    arrivals : array_like
-        ``(r, c)`` when each robot would arrive (``inf``: it cannot).
-    presence : array_like
-        ``(r, c)`` the probability that each robot comes (independently).
-    needs : array_like
-        ``(c,)`` robots each column needs at once (``>= 1``).
-    fail : array_like
-        ``(c,)`` the cost of too few coming.
-    credit : float
-        In ``[0, 1]``: 0, too few is as bad as none; 1, the cost falls in proportion.
-    timed : bool
-        A robot arriving at ``a`` earns ``1 - a / fail`` of its share (sooner is worth more).
-    quorum : int
-        The fewest robots that earn credit (``>= 1``; one waiting alone brings nobody).
-
-    Examples
-    --------
-    One of two robots certain, the other coming with probability one half:
-
-    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0]).tolist()
-    [55.0]
-    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], credit=1.0).tolist()
-    [30.0]
-    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], 1.0, timed=True).tolist()
-    [31.25]
-    >>> completion_times([[5.0], [10.0]], [[1.0], [0.5]], [2], [100.0], 1.0, quorum=2).tolist()
-    [55.0]
-    """
-    a = np.asarray(arrivals, dtype=float)
-    p = np.where(np.isfinite(a), np.asarray(presence, dtype=float), 0.0)
-    order = np.argsort(a, axis=0, kind="stable")
-    cols = np.arange(a.shape[1])
-    rule = _Credit(credit, timed, quorum)
-    return _expected(a[order, cols], p[order, cols], np.asarray(needs, dtype=int), fail, rule)
-
-
-class _Credit(NamedTuple):
-    """How a robot that came to a task too few came to counts (:func:`completion_times`)."""
-
-    share: float = 0.0
-    timed: bool = False
-    quorum: int = 1
-
-
-def _expected(a: np.ndarray, p: np.ndarray, needs: np.ndarray, fail, rule: _Credit) -> np.ndarray:
-    """:func:`completion_times` of arrivals sorted down each column (``p`` likewise)."""
-    cols = np.arange(a.shape[1])
-    fail = np.broadcast_to(np.asarray(fail, dtype=float), cols.shape)
-    count = np.zeros((a.shape[1], int(needs.max(initial=1)) + 1))
-    count[:, 0] = 1.0  # the distribution of how many came so far, below needs
-    earned = np.zeros_like(count)  # E[credit of those that came; that many came]
-    expected = np.zeros(a.shape[1])
-    for k in np.flatnonzero(p.any(axis=1)):  # robots that never come change nothing
-        q = p[k][:, None]
-        reach = count[cols, needs - 1] * q[:, 0]  # this arrival is the needs-th
-        expected += reach * np.where(reach > 0, a[k], 0.0)
-        w = np.clip(1.0 - a[k] / fail, 0.0, 1.0)[:, None] if rule.timed else 1.0
-        earned[:, 1:] = earned[:, 1:] * (1 - q) + (earned[:, :-1] + count[:, :-1] * w) * q
-        count[:, 1:] = count[:, 1:] * (1 - q) + count[:, :-1] * q
-        count[:, 0] *= 1 - q[:, 0]
-        count[cols, needs] = earned[cols, needs] = 0.0
-    came = earned[:, max(int(rule.quorum), 1) :].sum(axis=1) / needs
-    missing = count.sum(axis=1) - rule.share * came  # each robot that came: its credit
-    return expected + missing * fail
 
 
 def convention(arrivals, knowers, needs) -> np.ndarray:
@@ -252,6 +178,19 @@ class TaskPlanner:
     later : float
         Choosing otherwise, the robot still comes to a task this much later: an option is
         worth the time by which it comes sooner. ``inf``: it never comes.
+    rendezvous : bool
+        Going to a task is worth the completion its coming makes more likely given the
+        teammates' predicted choices (done at the ``needs``-th arrival, not at all when too
+        few come); ``credit`` goes only to a teammate a fetch brings (a knower gained),
+        not to robots that come to a short-handed task of their own accord.
+    mission : bool
+        A fetch is charged what its helper's other tasks lose: brought to the fetch's
+        task, it no longer comes to those it was predicted to (the preference is over the
+        sum of the tasks' completion times, and a fetch changes more than one term).
+    pool : bool
+        Credit for the robots at a short-handed task counts only when enough of the rest
+        are predicted free (exploring) to make up the number: waiting for teammates
+        predicted at other tasks is worth nothing (:func:`completion_times`' ``free``).
     """
 
     def __init__(
@@ -269,6 +208,9 @@ class TaskPlanner:
         timed: bool = False,
         quorum: int = 1,
         later: float = np.inf,
+        rendezvous: bool = False,
+        mission: bool = False,
+        pool: bool = False,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -284,7 +226,11 @@ class TaskPlanner:
         self.recruit = bool(recruit)
         if int(quorum) < 1:
             raise InvalidArgumentError(f"quorum must be >= 1, got {quorum}")
-        self.rule = _Credit(self.credit, bool(timed), int(quorum))
+        self.rule = Credit(self.credit, bool(timed), int(quorum))
+        self.rendezvous = bool(rendezvous)  # no credit for coming: only for bringing
+        self.coming = self.rule._replace(share=0.0) if rendezvous else self.rule
+        self.mission = bool(mission)
+        self.pool = bool(pool)
         self.later = float(later)
         if not self.later > 0:
             raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")
@@ -436,14 +382,20 @@ class _Context:
             G[task if task >= 0 else m] = 0.0
             return G
         presence = np.zeros((n, 2 * m))  # without the agent, then with it
+        free = np.zeros((n, 2 * m))  # the probability it explores: free to be brought
+        free[agent, :m] = 1.0
         for j in range(n):
             if j != agent:
-                presence[j, :m] = presence[j, m:] = self.choice((*chain, j), order - 1)[:m]
+                pick = self.choice((*chain, j), order - 1)
+                presence[j, :m] = presence[j, m:] = pick[:m]
+                free[j] = pick[m]
         presence[agent, m:] = np.isfinite(self.arrivals[agent])  # it comes if it can
         if np.isfinite(p.later):  # and, choosing otherwise, it comes later
             presence[agent, :m] = presence[agent, m:]
         order_, ranked = self.rank(agent)
-        both = _expected(ranked, presence[order_, self.cols], self.needs2, self.fail2, p.rule)
+        pooled = free[order_, self.cols] if p.pool else None
+        coming = presence[order_, self.cols]
+        both = sorted_completion(ranked, coming, self.needs2, self.fail2, p.coming, free=pooled)
         saved = both[m:] - both[:m]
         G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
         G[m] = -p.explore * float(p.fail.mean()) * unknown / n
@@ -478,15 +430,17 @@ class _Context:
         if not fetches:
             return np.zeros(0)
         p = self.p
-        presence = np.zeros((n, m))
+        presence, free = np.zeros((n, m)), np.ones((n, m))
         for j in range(n):
             if j != robot:
-                presence[j] = self.choice((robot, j), max(p.order - 1, 0))[:m]
+                pick = self.choice((robot, j), max(p.order - 1, 0))
+                presence[j], free[j] = pick[:m], pick[m]
         late = self.arrivals.copy()
         if np.isfinite(p.later):  # not fetching, it comes later
             late[robot] += p.later
             presence[robot] = 1.0
-        without = completion_times(late, presence, p.needs, p.fail, *p.rule)
+        pool = free if p.pool else None
+        without = completion_times(late, presence, p.needs, p.fail, *p.coming, free=pool)
         tasks = np.array([f.task for f in fetches], dtype=int)
         helpers = np.array([f.helper for f in fetches], dtype=int)
         cols = np.arange(len(fetches))
@@ -495,5 +449,28 @@ class _Context:
         a[robot], q[robot] = [f.arrival for f in fetches], 1.0
         a[helpers, cols] = [f.helper_arrival for f in fetches]
         q[helpers, cols] = [f.found for f in fetches]
-        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], *p.rule)
-        return fetched - without[tasks]
+        brought = None
+        if p.rendezvous:  # only the helper a fetch brings earns credit
+            brought = np.zeros(a.shape, dtype=bool)
+            brought[helpers, cols] = True
+        if p.pool:
+            pool = free[:, tasks].copy()
+            pool[robot], pool[helpers, cols] = 0.0, 1.0 - q[helpers, cols]
+        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], *p.rule, brought, pool)
+        return fetched - without[tasks] + self.taken(late, presence, without, fetches)
+
+    def taken(self, late, presence, without, fetches: Sequence[Fetch]) -> np.ndarray:
+        """What each fetch costs the other tasks (time units): its helper, brought to the
+        fetch's task, no longer comes to those it was predicted to (``mission``; else 0)."""
+        cost = np.zeros(len(fetches))
+        if not self.p.mission:
+            return cost
+        lost = {}
+        for k, f in enumerate(fetches):
+            if f.helper not in lost:
+                q = presence.copy()
+                q[f.helper] = 0.0
+                p = self.p
+                lost[f.helper] = completion_times(late, q, p.needs, p.fail, *p.coming) - without
+            cost[k] = f.found * (lost[f.helper].sum() - lost[f.helper][f.task])
+        return cost

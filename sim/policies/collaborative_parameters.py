@@ -222,6 +222,29 @@ class CollaborativeParameters:
         missions 0-59 (trial seed 1001): 97 -> 98 % success, median 89 -> 89, mean 135.2
         -> 119.9 steps (paired -15.2 [-35.3, +1.0]; 49 trials identical, 9 quicker, 2
         slower; ``rules``: 97 %, 87.5, 140.6).
+    plan_rendezvous : bool
+        Going to a task is valued by the completion it makes likelier under the
+        teammates' predicted choices alone (done at the ``needs``-th arrival, not at all
+        when too few are predicted to come); ``plan_credit`` goes only to the teammate a
+        fetch brings. Off: ``third`` on tuning missions 0-59 (trial seed 1001) went from
+        98 % success, median / mean 89 / 119.9 to 95 %, 99 / 128.1 (paired mean +8.1
+        [-11.9, +31.3], median +1.0 [+0.0, +8.0]); crediting the fetching robot too: 93 %,
+        100 / 149.6 (+29.7 [+4.4, +57.7]). Teammates' fetches are not in their predicted
+        choices, so a task needing four that one robot knows of is worth nothing to
+        anyone, and a fetch earns one decaying share: in mission 11 no robot fetched
+        (step 44: fetch -2.03 nats against explore -2.46) and it failed.
+    plan_mission : bool
+        A fetch is charged what its helper's other tasks lose (brought to the fetch's
+        task, it no longer comes to those it was predicted at). Off: on the same missions
+        98 %, 94 / 121.3 (paired +1.4 [-13.7, +18.9], median +0.0 [+0.0, +0.0]); it
+        ended mission 41's standoff (a failure at 454 steps -> 189).
+    plan_pool : bool
+        Credit for the robots at a short-handed task counts only while enough of the
+        others are predicted free (exploring) to make up the number. Off: on the same
+        missions 100 %, 90 / 123.0 (paired +3.0 [-6.4, +13.0], median +0.0 [+0.0,
+        +0.0]; mission 27 294 -> 168 steps, mission 30 199 -> 296) at 2.5 times the
+        decision time; with ``plan_mission`` too, stopped after 12 missions at +15.3
+        [-0.2, +44.1] (mission 1 failed).
     """
 
     lane_factor: float = 2.0
@@ -266,6 +289,9 @@ class CollaborativeParameters:
     plan_quorum: int = 1
     plan_later: float = 0.0
     plan_retry: bool = True
+    plan_rendezvous: bool = False
+    plan_mission: bool = False
+    plan_pool: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -173,6 +173,9 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             timed=p.plan_timed,
             quorum=int(p.plan_quorum),
             later=p.plan_later * crossing if p.plan_later > 0 else np.inf,
+            rendezvous=bool(p.plan_rendezvous),
+            mission=bool(p.plan_mission),
+            pool=bool(p.plan_pool),
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots

@@ -93,6 +93,79 @@ def test_coming_later_anyway_is_the_baseline_of_an_option():
     assert G[0] == pytest.approx(-30.0 / 3)
 
 
+def _enumerated_pooled(arrivals, presence, free, brought, need, fail):
+    """E[T] of one task over every robot's state (comes / free / elsewhere): credit 1 per
+    robot that came and was brought, counted only when enough of the rest are free."""
+    total = 0.0
+    states = [(p, f, 1 - p - f) for p, f in zip(presence, free, strict=True)]
+    for state in itertools.product(range(3), repeat=len(arrivals)):
+        weight = np.prod([s[k] for s, k in zip(states, state, strict=True)])
+        came = [k for k, x in enumerate(state) if x == 0]
+        times = sorted(arrivals[k] for k in came)
+        if len(times) >= need:
+            total += weight * times[need - 1]
+            continue
+        earned = sum(brought[k] for k in came) if len(came) + state.count(1) >= need else 0
+        total += weight * fail * (1 - earned / need)
+    return total
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    st.integers(1, 4).flatmap(
+        lambda r: st.tuples(
+            st.lists(st.floats(0, 120), min_size=r, max_size=r),
+            st.lists(st.floats(0, 1), min_size=r, max_size=r),
+            st.lists(st.floats(0, 1), min_size=r, max_size=r),
+            st.lists(st.booleans(), min_size=r, max_size=r),
+            st.integers(1, r),
+        )
+    )
+)
+def test_pooled_and_brought_credit_match_enumeration(case):
+    arrivals, presence, share, brought, need = case
+    free = [s * (1 - p) for s, p in zip(share, presence, strict=True)]
+    column = lambda v: np.array(v, dtype=float)[:, None]  # noqa: E731
+    got = completion_times(column(arrivals), column(presence), [need], [80.0], 1.0,
+                           brought=column(brought), free=column(free))  # fmt: skip
+    want = _enumerated_pooled(arrivals, presence, free, brought, need, 80.0)
+    assert got[0] == pytest.approx(want, abs=1e-9)
+
+
+def test_waiting_for_teammates_predicted_elsewhere_is_worth_nothing_when_pooled():
+    # Robot 0 alone at a task needing 3 (arrival 0). Its two teammates are free (exploring,
+    # to be brought) or busy elsewhere: with both free it keeps its third of the credit.
+    at, coming = [[0.0], [30.0], [30.0]], [[1.0], [0.0], [0.0]]
+    both = completion_times(at, coming, [3], [90.0], 1.0, free=[[0.0], [1.0], [1.0]])
+    one = completion_times(at, coming, [3], [90.0], 1.0, free=[[0.0], [1.0], [0.0]])
+    assert both.tolist() == pytest.approx([60.0]) and one.tolist() == pytest.approx([90.0])
+
+
+def test_rendezvous_values_coming_by_completion_and_bringing_by_credit():
+    # A task needing 3 that only robot 0 knows of. Coming alone completes nothing: worth 0
+    # (with credit: a third of the fail cost). Fetching robot 1 (found surely) brings one
+    # knower: a third of the fail cost, not the two thirds of robot and helper.
+    sets, unknown = {(0,): [True], (0, 1): [False], (0, 2): [False]}, {(0, 1): 1, (0, 2): 1}
+    arrivals, fetch = [[3.0], [20.0], [25.0]], [Fetch(0, 1, 12.0, 12.0, 1.0)]
+    credit = TaskPlanner([3], order=2, temperature=1.0, fail=[90.0], credit=1.0)
+    meet = TaskPlanner([3], order=2, temperature=1.0, fail=[90.0], credit=1.0, rendezvous=True)
+    assert credit.plan(0, arrivals, sets, unknown, fetch).G[[0, 2]] == pytest.approx([-30, -60])
+    assert meet.plan(0, arrivals, sets, unknown, fetch).G[[0, 2]] == pytest.approx([0, -30])
+
+
+def test_a_fetch_is_charged_what_its_helper_leaves_undone():
+    # Robot 1 and robot 2 know of task 0 (needs 2) and are both sent there (the convention);
+    # robot 0 may fetch robot 1 for task 1 (needs 2, both there by step 12). Taking robot 1
+    # away leaves robot 2 alone at task 0: done at step 1 -> 100 less robot 2's half.
+    sets = {(0,): [True, True], (0, 1): [True, False], (0, 2): [True, False]}
+    arrivals, fetch = [[30.0, 3.0], [1.0, 20.0], [1.0, 25.0]], [Fetch(1, 1, 12.0, 12.0, 1.0)]
+    kw = dict(order=2, temperature=1.0, fail=[100.0, 100.0], credit=1.0)
+    alone = TaskPlanner([2, 2], **kw).plan(0, arrivals, sets, {}, fetch).G[3]
+    whole = TaskPlanner([2, 2], mission=True, **kw).plan(0, arrivals, sets, {}, fetch).G[3]
+    assert alone == pytest.approx(12.0 - 100.0)
+    assert whole - alone == pytest.approx((100.0 - 50.0) - 1.0)
+
+
 def test_a_robot_that_cannot_arrive_never_comes():
     got = completion_times([[3.0], [np.inf]], [[1.0], [1.0]], [2], [60.0])
     assert got.tolist() == [60.0]
