@@ -175,6 +175,20 @@ class PlanContext:
         preds = np.stack(
             [np.ones(m) if j == agent else self.choice((*chain, j), order - 1) for j in range(n)]
         )
+        return self.given(chain, preds)
+
+    def given(self, chain: tuple[int, ...], preds: np.ndarray) -> np.ndarray:
+        """``(m,)`` expected completion time (s) of each goal of ``chain[-1]`` with the
+        other robots' goals distributed as the rows of ``preds`` (its own row unread)."""
+        p, agent = self.p, chain[-1]
+        n, m = p.speeds.shape[0], p.goals.shape[0]
+        mask = self.mask(chain)
+        rows = p.configurations if mask is None else p.configurations[mask]
+        own = rows[:, agent]
+        if own.size == 0:
+            return np.full(m, np.inf)
+        preds = preds.copy()
+        preds[agent] = 1.0
         w = np.prod(preds[np.arange(n), rows], axis=1)
         finish = (self.row_times if mask is None else self.row_times[mask]).max(axis=1)
         valid = np.bincount(own, weights=w, minlength=m)

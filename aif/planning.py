@@ -146,6 +146,14 @@ class Planner:
         In ``[0, 1]``: a teammate predicted at order ``k`` is the mixture of orders
         ``0..k`` with weights ``hierarchy ** (k - j)`` (a cognitive hierarchy); 0 predicts
         it at order ``k`` alone (level-k).
+    shown : float
+        Steps a teammate watching the robot (``plan(watching=...)``) sees it head for the
+        goal of an option before the option is scored: at order 2 and above, each option
+        is scored with the watchers predicted from that sight (the value of being seen);
+        0 scores every option under one prediction.
+    sigma : float
+        Error of the watchers' motion model, in steps of the mean top speed
+        (:func:`motion_evidence`): what one step of the robot's shows.
     """
 
     def __init__(
@@ -165,6 +173,8 @@ class Planner:
         convention: float = 0.0,
         hierarchy: float = 0.0,
         success_weight: float = 3.0,
+        shown: float = 0.0,
+        sigma: float = 0.5,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -183,6 +193,9 @@ class Planner:
         self.convention = float(as_finite(convention, "convention"))
         self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
         self.success_weight = float(as_finite(success_weight, "success_weight"))
+        self.shown = float(as_finite(shown, "shown"))
+        if self.shown < 0:
+            raise InvalidArgumentError("shown must be >= 0", hint="steps; 0 leaves it out")
         if self.success_weight < 0:
             raise InvalidArgumentError(
                 "success_weight must be >= 0", hint="nats per nat of -ln P(success); 0: time"
@@ -204,6 +217,7 @@ class Planner:
         # A mismatch costs more than any trip between goals: someone has to cross them.
         self.repair = positive(repair, "repair") * max(diameter, scale) / float(self.speeds.min())
         self.eta = positive(evidence, "evidence") * scale
+        self.sigma = positive(sigma, "sigma") * float(self.speeds.mean()) * self.dt
 
     def plan(
         self,
@@ -217,6 +231,7 @@ class Planner:
         unseen=None,
         typed=None,
         blind=None,
+        watching=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -227,19 +242,16 @@ class Planner:
         positions : array_like
             ``(n, 2)`` (or ``(n, 3)`` poses): where it sees every robot, itself exactly.
         prior : array_like, optional
-            ``(k,)`` weights of the configurations (default uniform): what order 0 reads
-            a teammate's goal from.
+            ``(k,)`` configuration weights (default uniform), read by order 0.
         sets : mapping, optional
-            Chain of robots ``(robot, l, ...)`` -> ``(k,)`` booleans: the configurations
-            ``robot`` knows that the last robot of the chain keeps, as the chain's middle
-            robots see it (a chain without an entry takes its longest prefix that has one,
-            a chain whose set is empty restricts nothing; default every configuration).
+            Chain ``(robot, l, ...)`` -> ``(k,)`` booleans: the configurations ``robot``
+            knows the chain's last robot keeps, as its middle robots see it (default: the
+            longest prefix with an entry; an empty set restricts nothing).
         moving : array_like, optional
             ``(n,)`` in ``[0, 1]``: the share of its speed each teammate was seen to use.
         evidence : array_like, optional
-            ``(n, m)`` log-likelihood of each robot heading for each goal from what the
-            robot saw of its moves (:func:`motion_evidence`), added to the position's
-            ``-d / eta``.
+            ``(n, m)`` log-likelihood of each robot heading for each goal, from its moves
+            (:func:`motion_evidence`), added to the position's ``-d / eta``.
         previous : int, optional
             The goal it headed for at its last plan: changing it costs ``commitment``.
         unseen : array_like, optional
@@ -248,9 +260,10 @@ class Planner:
         typed : array_like, optional
             ``(n, m)`` goal distributions of teammates read as ad hoc (``nan`` rows:
             planners; :func:`epistemica.aif.teammates.typed_predictions`), in every chain.
-        blind : array_like, optional
-            ``(n,)`` booleans, the teammates never seen: a placeholder is no evidence of
-            one's goal, nor the robot's evidence of others one of them predicts.
+        blind, watching : array_like, optional
+            ``(n,)`` booleans. ``blind``: the teammates never seen (a placeholder is no
+            evidence of one's goal, nor the robot's evidence of others one of them
+            predicts); ``watching``: those that see the robot now (``shown``).
 
         Examples
         --------
@@ -269,7 +282,8 @@ class Planner:
         weights, moving, evidence, unseen = self._inputs(k, prior, moving, evidence, unseen)
         inputs = (pos, weights, sets, evidence, unseen, blind)
         context = self._context(robot, *inputs, typed)
-        G = self._own_costs(context, robot, weights, previous)
+        G = self._shown(context, robot, inputs, typed, watching)
+        G = self._own_costs(G, robot, weights, previous)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
         preds = np.stack(
@@ -337,10 +351,37 @@ class Planner:
             return given - self.success_weight * self.tau * np.log(np.maximum(formed, 1e-12))
         return timed + (1.0 - formed) * (alone + self.repair)
 
-    def _own_costs(self, context, robot: int, weights, previous) -> np.ndarray:
-        """``(m,)`` the robot's own expected times, with the convention's tie-break and
-        the cost of changing its goal."""
+    def _shown(self, context, robot: int, inputs, typed, watching) -> np.ndarray:
+        """``(m,)`` the robot's own expected times; with ``shown`` steps, each goal's with
+        the teammates watching it predicted as having seen it head there (order >= 2:
+        what they think it does enters their choice)."""
         G = context.costs((robot,), self.order)
+        watchers = [] if watching is None else np.flatnonzero(np.asarray(watching, bool))
+        watchers = [int(j) for j in watchers if j != robot]
+        if self.shown <= 0 or self.order < 2 or not watchers:
+            return G
+        n, m, below = self.speeds.shape[0], self.goals.shape[0], self.order - 1
+        preds = np.stack([context.choice((robot, j), below) for j in range(n)])
+        here = np.repeat(inputs[0][[robot]], m, axis=0)
+        to_goal = self.goals - here
+        distance = np.maximum(np.hypot(to_goal[:, 0], to_goal[:, 1]), 1e-9)
+        step = np.minimum(self.speeds[robot] * self.dt, distance)[:, None] * to_goal
+        speeds = np.full(m, self.speeds[robot])
+        moves = motion_evidence(here, here + step / distance[:, None], self.goals, speeds,
+                                self.dt, self.sigma)  # fmt: skip
+        out = G.copy()
+        for g in np.flatnonzero(np.isfinite(G)):
+            seen = self._context(robot, *inputs, typed)
+            seen.evidence[robot] = seen.evidence[robot] + self.shown * moves[g]
+            shown = preds.copy()
+            for j in watchers:
+                shown[j] = seen.choice((robot, j), below)
+            out[g] = seen.given((robot,), shown)[g]
+        return out
+
+    def _own_costs(self, G: np.ndarray, robot: int, weights, previous) -> np.ndarray:
+        """``(m,)`` the robot's own expected times ``G`` with the convention's tie-break
+        and the cost of changing its goal."""
         if self.convention > 0:  # the shared tie-break: symmetric standoffs resolve alike
             mass = np.bincount(self.configurations[:, robot], weights=weights,
                                minlength=G.shape[0])  # fmt: skip

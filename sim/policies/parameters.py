@@ -160,17 +160,14 @@ class ActiveParameters:
         Steps of the planner's waiting option (``third-wait``: 3); 1, no waiting: each
         option is already a multi-step policy. The myopic ablation is ``rules-third``.
     plan_temperature, plan_repair, plan_evidence : float
-        The planner's precision, mismatch repair time and evidence scale
-        (:class:`epistemica.aif.planning.Planner`).
+        The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_particles : int
         Particles of the teammates' choices that score the waiting option.
     plan_sigma : float
-        Error of the planner's motion model, in steps of the mean top speed
-        (:func:`epistemica.aif.planning.motion_evidence`).
-    plan_leak : float
-        Rate in ``[0, 1)`` at which that reading forgets, per planned step.
-    plan_commitment : float
-        Nats the planner charges for changing the goal a robot headed for.
+        Error of the planner's motion model in steps of the mean top speed (motion_evidence).
+    plan_leak, plan_commitment : float
+        Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the
+        planner charges for changing the goal a robot headed for.
     plan_convention : float
         Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
     plan_success : float
@@ -179,8 +176,7 @@ class ActiveParameters:
         seeds 1000-1009: 82 % at 0, 98 % at 1, 99 % at 3 (no tuning family lost at 3).
     plan_unseen : int
         Places drawn over the workspace for a teammate never seen, predicted as the mean
-        from them; 0 (the default): from its placeholder, the draws measured no help
-        (docs/results/planning_wrong_decision.md) and cost a plan each.
+        from them; 0: from its placeholder (the draws measured no help, cost a plan each).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
@@ -194,8 +190,10 @@ class ActiveParameters:
         search ends plans afresh, forgetting the moves it read and the goal it headed for
         before (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
     plan_hierarchy : float
-        In ``[0, 1]``: weight decay of lower orders in the planner's predictions of
-        teammates (0: level-k, 1: a uniform cognitive hierarchy).
+        In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k).
+    plan_shown : float
+        Steps a teammate that sees the robot watches it head for an option's goal (aif.md
+        §6g, the value of being seen; 0: off).
     controller : tuple of (str, value)
         Arguments of :class:`epistemica.aif.Controller` (``progress_weight``,
         ``horizon``, ...), as name-value pairs.
@@ -240,13 +238,17 @@ class ActiveParameters:
     plan_types: float = 0.97
     plan_blind: bool = False
     plan_meet: bool = True
+
+
+    plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
                    "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
                    "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
-                   "plan_convention", "plan_hierarchy", "plan_success", "plan_types")  # fmt: skip
+                   "plan_convention", "plan_hierarchy", "plan_success", "plan_types",
+                   "plan_shown")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -315,10 +317,10 @@ class ActiveParameters:
             raise InvalidArgumentError(
                 f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
             )
-        if not (math.isfinite(float(self.plan_success)) and float(self.plan_success) >= 0):
-            raise InvalidArgumentError(
-                f"plan_success must be >= 0 and finite, got {self.plan_success!r}", hint="e.g. 3"
-            )
+        for name in ("plan_success", "plan_shown"):
+            value = float(getattr(self, name))
+            if not (math.isfinite(value) and value >= 0):
+                raise InvalidArgumentError(f"{name} must be >= 0 and finite", hint="e.g. 3")
         if not 0.0 <= float(self.plan_hierarchy) <= 1.0:
             raise InvalidArgumentError(
                 f"plan_hierarchy must lie in [0, 1], got {self.plan_hierarchy!r}", hint="e.g. 0"

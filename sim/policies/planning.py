@@ -130,6 +130,8 @@ class PlanningStage:
             "convention": p.plan_convention,
             "hierarchy": p.plan_hierarchy,
             "success_weight": p.plan_success,
+            "shown": p.plan_shown,
+            "sigma": p.plan_sigma,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
@@ -242,6 +244,7 @@ class PlanningStage:
             int(local[0]) if local.size else None,
             self.unseen(observations, robot), typed,
             observations.last_seen[robot] < 0 if self.blind else None,
+            observations.last_seen[robot] == observations.step,  # who sees it: sight is mutual
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
             self._typing[robot][4][:, TYPES.index("team")] = result.planned
