@@ -83,25 +83,14 @@ class ActiveParameters:
         teammate out of sight no position is, so every robot is placed at the workspace
         centre (the shared default estimate) and the shared tie-break decides.
     remember_sight : bool
-        With ``common_view``: while a teammate is out of sight, a robot takes the team
-        prior from the poses it estimated at the last step it saw the whole team within
-        sight of each other (its estimates put every pair within the sensing range), when
-        there was one, rather than from the workspace centre. Every robot that saw that
-        step computes nearly the same view, and the configuration the team chose in
-        sight stays the one it keeps out of sight: two robots whose goals lead out of each
-        other's sight otherwise turn back at the edge, each step, for good. Measured on
-        tuning seeds 1000-1029 (1000-1019 at 8 and 10 robots) of every stress cell with a
-        sensing range and the nested missions: no success rate moves there, steps fall
-        by up to 3.2 %, and no trial at 8 or 10 robots changes (docs/results.md §6,
-        "Remembered sight"); ``False`` is the ablation (the centre).
+        With ``common_view``: while a teammate is out of sight, take the team prior from the
+        poses estimated at the last step the robot saw the whole team within sight of each
+        other, rather than from the workspace centre, so the configuration chosen in sight
+        is kept out of sight. Tuning seeds 1000-1029: no success rate moves, steps fall by
+        up to 3.2 % (docs/results.md §6, "Remembered sight"); ``False``: the centre.
     sight_hysteresis : int
-        Steps ``k`` a change of sight must last before the common view follows it: a robot
-        that sees every teammate switches to the common view only after some teammate has
-        been out of its sight for ``k`` consecutive steps, and back to its own view only
-        after it has seen all of them for ``k`` consecutive steps. ``1`` switches at once.
-        More damps a robot at the edge of sight flipping between the two views and the
-        goals they favour; measured, ``k`` = 3 and 6 change no success rate of the stress
-        suite, so it stays 1 (docs/results.md §6, "The edge of sight").
+        Steps a change of sight must last before the common view follows it (1: at once;
+        3 and 6 changed no success rate of the stress suite, docs/results.md §6).
     free_energy : bool
         Choose each move by expected free energy (:class:`epistemica.aif.Controller`);
         ``False`` is the ablation (level ``*-priormode``, and ``convention+rules``): drive
@@ -238,8 +227,6 @@ class ActiveParameters:
     plan_types: float = 0.97
     plan_blind: bool = False
     plan_meet: bool = True
-
-
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
