@@ -245,6 +245,12 @@ class CollaborativeParameters:
         +0.0]; mission 27 294 -> 168 steps, mission 30 199 -> 296) at 2.5 times the
         decision time; with ``plan_mission`` too, stopped after 12 missions at +15.3
         [-0.2, +44.1] (mission 1 failed).
+    plan_fetchers : bool
+        Teammates' predicted choices include fetching a robot they are known not to know
+        of a task (the chain ``(i, l, h)``), a fetch raising both robots' presence at the
+        task from the meeting's time (``l`` goes to where ``h`` is predicted, then both
+        to the task), so the completion model sees recruited coalitions form
+        (:class:`~epistemica.aif.task_planning.TaskPlanner` ``fetchers``). MEASURED.
     """
 
     lane_factor: float = 2.0
@@ -292,6 +298,7 @@ class CollaborativeParameters:
     plan_rendezvous: bool = False
     plan_mission: bool = False
     plan_pool: bool = False
+    plan_fetchers: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
