@@ -45,74 +45,11 @@ import numpy as np
 
 from epistemica.aif._validate import as_finite, positive
 from epistemica.aif.evidence import check_order, check_robot
-from epistemica.aif.task_completion import Credit, completion_times, sorted_completion
+from epistemica.aif.task_completion import Credit, completion_times
+from epistemica.aif.task_context import Fetch, TaskContext, convention, softmax
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
-
-
-def convention(arrivals, knowers, needs) -> np.ndarray:
-    """``(n,)`` the task each robot goes to by the shared convention (-1: none, it
-    explores): coalition by coalition, the task whose ``needs`` nearest free knowers
-    assemble soonest (the latest of their arrivals is earliest) gets them, until no task
-    has enough free knowers.
-
-    Parameters
-    ----------
-    arrivals : array_like
-        ``(n, m)`` when each robot would reach each task (``inf``: never).
-    knowers : array_like
-        ``(n, m)`` booleans: the robot knows of the task (as whoever applies the
-        convention sees it).
-    needs : array_like
-        ``(m,)`` robots each task needs.
-
-    Examples
-    --------
-    Three robots; task 0 (needs 2) is known to robots 0 and 1, task 1 (needs 2) to all:
-    robots 1 and 2 reach task 1 by step 3, robots 0 and 1 task 0 by step 5, so task 1 goes
-    first, and task 0 is left with one free knower.
-
-    >>> convention([[5, 9], [2, 3], [9, 1]], [[1, 1], [1, 1], [0, 1]], [2, 2]).tolist()
-    [-1, 1, 1]
-    """
-    a = np.asarray(arrivals, dtype=float)
-    able = np.asarray(knowers, dtype=bool) & np.isfinite(a)
-    needs = np.asarray(needs, dtype=int)
-    out = np.full(a.shape[0], -1)
-    left = np.ones(a.shape[1], dtype=bool)
-    while left.any():
-        ok = able & (out < 0)[:, None] & left[None]
-        times = np.sort(np.where(ok, a, np.inf), axis=0)
-        latest = times[np.minimum(needs, a.shape[0]) - 1, np.arange(a.shape[1])]
-        latest = np.where(left & (needs <= a.shape[0]), latest, np.inf)
-        t = int(np.argmin(latest))
-        if not np.isfinite(latest[t]):
-            break
-        chosen = np.flatnonzero(ok[:, t])
-        out[chosen[np.argsort(a[chosen, t], kind="stable")[: needs[t]]]] = t
-        left[t] = False
-    return out
-
-
-class Fetch(NamedTuple):
-    """A teammate the planning robot may fetch for a task.
-
-    Attributes
-    ----------
-    task, helper : int
-        The task, and the teammate that does not know of it.
-    arrival, helper_arrival : float
-        When the robot and the helper would reach the task (intercept, then the trip).
-    found : float
-        The probability that the helper is where the robot expects it.
-    """
-
-    task: int
-    helper: int
-    arrival: float
-    helper_arrival: float
-    found: float
 
 
 class TaskPlan(NamedTuple):
@@ -191,6 +128,13 @@ class TaskPlanner:
         Credit for the robots at a short-handed task counts only when enough of the rest
         are predicted free (exploring) to make up the number: waiting for teammates
         predicted at other tasks is worth nothing (:func:`completion_times`' ``free``).
+    fetchers : bool
+        Teammates' predicted choices include their fetches (given ``meetings`` to
+        :meth:`plan`): a teammate ``l`` that knows of a task a robot ``h`` does not (as the
+        chain ``(i, l, h)`` has it) may fetch ``h``, valued like its other options, and a
+        fetch predicted with probability ``q`` adds two arrivals at the task, ``l`` and
+        ``h`` at the meeting's time, each coming with ``q`` (independently, an
+        approximation): the completion model then sees recruited coalitions form.
     """
 
     def __init__(
@@ -211,6 +155,7 @@ class TaskPlanner:
         rendezvous: bool = False,
         mission: bool = False,
         pool: bool = False,
+        fetchers: bool = False,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -231,6 +176,7 @@ class TaskPlanner:
         self.coming = self.rule._replace(share=0.0) if rendezvous else self.rule
         self.mission = bool(mission)
         self.pool = bool(pool)
+        self.fetchers = bool(fetchers)
         self.later = float(later)
         if not self.later > 0:
             raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")
@@ -247,6 +193,7 @@ class TaskPlanner:
         unknown: Mapping[tuple[int, ...], int] | None = None,
         fetches: Sequence[Fetch] = (),
         previous: int | None = None,
+        meetings=None,
     ) -> TaskPlan:
         """Robot ``robot``'s plan.
 
@@ -266,6 +213,8 @@ class TaskPlanner:
             The teammates it may fetch.
         previous : int, optional
             Its last plan's option (an index of :attr:`TaskPlan.G`).
+        meetings : array_like, optional
+            ``(n, n, m)``: when ``l`` and ``h`` reach task ``t`` if ``l`` fetches ``h``.
 
         Examples
         --------
@@ -286,14 +235,14 @@ class TaskPlanner:
             raise InvalidArgumentError(f"arrivals must be ({n}, {m}) numbers, got {a.shape}")
         if (robot,) not in sets:
             raise InvalidArgumentError("sets needs the robot's own chain", hint="(robot,)")
-        context = _Context(self, a, sets, unknown or {})
+        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n))
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
         extra = context.fetch_costs(robot, fetches) if fetching else np.full(len(fetches), np.inf)
         G = np.concatenate([own, extra])
         if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
             prior = np.full(G.size, 0.05 / G.size)
-            prior[: m + 1] += 0.95 * _softmax(context.costs((robot,), 0), self.tau)
+            prior[: m + 1] += 0.95 * softmax(context.costs((robot,), 0), self.tau)
             if self.recruit:  # a fetch is as likely as exploring (the convention's free time)
                 prior[m + 1 :] = prior[m]
             G = G - self.convention * self.tau * np.log(prior)
@@ -303,13 +252,11 @@ class TaskPlanner:
         best = int(np.argmin(G))
         if G[m] <= G[best] + 1e-9 * self.tau:  # nothing saves more: explore (ties too)
             best = m
+        below = max(self.order - 1, 0)
+        mine = softmax(own, self.tau)
         preds = np.stack(
-            [
-                _softmax(own, self.tau) if j == robot
-                else context.choice((robot, j), max(self.order - 1, 0))
-                for j in range(n)
-            ]
-        )  # fmt: skip
+            [mine if j == robot else context.choice((robot, j), below) for j in range(n)]
+        )
         if best < m:
             kind, task, helper = "task", best, -1
         elif best == m:
@@ -319,158 +266,12 @@ class TaskPlanner:
             kind, task, helper = "fetch", int(fetch.task), int(fetch.helper)
         return TaskPlan(kind, task, helper, best, G / self.tau, preds)
 
-
-def _softmax(G: np.ndarray, tau: float) -> np.ndarray:
-    finite = np.isfinite(G)
-    if not finite.any():
-        return np.full(G.shape, 1.0 / G.size)
-    q = np.where(finite, np.exp(-(G - G[finite].min()) / tau), 0.0)
-    return q / q.sum()
-
-
-class _Context:
-    """The memoised predictions of one plan: chain and order -> a choice distribution."""
-
-    def __init__(self, planner: TaskPlanner, arrivals, sets, unknown) -> None:
-        self.p = planner
-        self.arrivals = arrivals
-        self.sets = {tuple(c): np.asarray(v, dtype=bool) for c, v in sets.items()}
-        self.unknown = {tuple(c): int(v) for c, v in unknown.items()}
-        self.memo: dict = {}
-        self.keys: dict = {}
-        m = arrivals.shape[1]
-        self.twice = np.hstack([arrivals, arrivals])
-        self.cols = np.arange(2 * m)
-        self.ranked: dict = {}  # agent -> the arrivals sorted down each column, and how
-        self.needs2 = np.tile(planner.needs, 2)
-        self.fail2 = np.tile(planner.fail, 2)
-
-    def rank(self, agent: int) -> tuple[np.ndarray, np.ndarray]:
-        """``(order, sorted)`` of the arrivals, without ``agent`` (it comes ``later``
-        than its arrival) then with it, sorted down each column."""
-        found = self.ranked.get(agent if np.isfinite(self.p.later) else -1)
-        if found is None:
-            twice = self.twice
-            if np.isfinite(self.p.later):
-                twice = twice.copy()
-                twice[agent, : twice.shape[1] // 2] += self.p.later
-            order = np.argsort(twice, axis=0, kind="stable")
-            found = self.ranked[agent] = (order, twice[order, self.cols])
-        return found
-
-    def _lookup(self, table: dict, chain: tuple[int, ...]):
-        # A robot at order k models sets down to chains of length k, no deeper.
-        for length in range(min(len(chain), max(self.p.order, 1)), 0, -1):
-            found = table.get(chain[:length])
-            if found is not None:
-                return found
-        return None
-
-    def costs(self, chain: tuple[int, ...], order: int) -> np.ndarray:
-        """``(m + 1,)`` expected free energy (time units) of each task and exploring for
-        ``chain[-1]`` at ``order``."""
-        p, agent = self.p, chain[-1]
-        n, m = self.arrivals.shape
-        open_ = self._lookup(self.sets, chain)
-        unknown = self._lookup(self.unknown, chain) or 0
-        G = np.full(m + 1, np.inf)
-        if order == 0:  # the convention over who it knows knows of what, else explore
-            knowers = np.stack(
-                [open_ if j == agent else self._lookup(self.sets, (*chain, j)) for j in range(n)]
-            )
-            task = convention(self.arrivals, knowers, p.needs)[agent]
-            G[task if task >= 0 else m] = 0.0
-            return G
-        presence = np.zeros((n, 2 * m))  # without the agent, then with it
-        free = np.zeros((n, 2 * m))  # the probability it explores: free to be brought
-        free[agent, :m] = 1.0
-        for j in range(n):
-            if j != agent:
-                pick = self.choice((*chain, j), order - 1)
-                presence[j, :m] = presence[j, m:] = pick[:m]
-                free[j] = pick[m]
-        presence[agent, m:] = np.isfinite(self.arrivals[agent])  # it comes if it can
-        if np.isfinite(p.later):  # and, choosing otherwise, it comes later
-            presence[agent, :m] = presence[agent, m:]
-        order_, ranked = self.rank(agent)
-        pooled = free[order_, self.cols] if p.pool else None
-        coming = presence[order_, self.cols]
-        both = sorted_completion(ranked, coming, self.needs2, self.fail2, p.coming, free=pooled)
-        saved = both[m:] - both[:m]
-        G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
-        G[m] = -p.explore * float(p.fail.mean()) * unknown / n
-        return G
-
-    def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
-        """``(m + 1,)`` ``chain[-1]``'s choice as ``chain[:-1]`` predicts it: a mixture of
-        orders ``0 .. order``."""
-        key = (self.key(chain), order)
-        found = self.memo.get(key)
-        if found is None:
-            mix = [_softmax(self.costs(chain, level), self.p.tau) for level in range(order + 1)]
-            found = self.memo[key] = sum(mix) / len(mix)
-        return found
-
-    def key(self, chain: tuple[int, ...]) -> tuple:
-        """What ``chain``'s predictions depend on: its last robot and what it knows, or
-        the chain itself when deeper chains may have sets of their own."""
-        found = self.keys.get(chain)
-        if found is None:
-            if len(chain) < max(self.p.order, 1):
-                found = chain
-            else:
-                open_ = self._lookup(self.sets, chain)
-                found = (open_.tobytes(), self._lookup(self.unknown, chain), chain[-1])
-            self.keys[chain] = found
-        return found
-
-    def fetch_costs(self, robot: int, fetches: Sequence[Fetch]) -> np.ndarray:
-        """Expected free energy (time units) of each fetch, against not serving its task."""
-        n, m = self.arrivals.shape
-        if not fetches:
-            return np.zeros(0)
-        p = self.p
-        presence, free = np.zeros((n, m)), np.ones((n, m))
-        for j in range(n):
-            if j != robot:
-                pick = self.choice((robot, j), max(p.order - 1, 0))
-                presence[j], free[j] = pick[:m], pick[m]
-        late = self.arrivals.copy()
-        if np.isfinite(p.later):  # not fetching, it comes later
-            late[robot] += p.later
-            presence[robot] = 1.0
-        pool = free if p.pool else None
-        without = completion_times(late, presence, p.needs, p.fail, *p.coming, free=pool)
-        tasks = np.array([f.task for f in fetches], dtype=int)
-        helpers = np.array([f.helper for f in fetches], dtype=int)
-        cols = np.arange(len(fetches))
-        a = self.arrivals[:, tasks].copy()
-        q = presence[:, tasks].copy()
-        a[robot], q[robot] = [f.arrival for f in fetches], 1.0
-        a[helpers, cols] = [f.helper_arrival for f in fetches]
-        q[helpers, cols] = [f.found for f in fetches]
-        brought = None
-        if p.rendezvous:  # only the helper a fetch brings earns credit
-            brought = np.zeros(a.shape, dtype=bool)
-            brought[helpers, cols] = True
-        if p.pool:
-            pool = free[:, tasks].copy()
-            pool[robot], pool[helpers, cols] = 0.0, 1.0 - q[helpers, cols]
-        fetched = completion_times(a, q, p.needs[tasks], p.fail[tasks], *p.rule, brought, pool)
-        return fetched - without[tasks] + self.taken(late, presence, without, fetches)
-
-    def taken(self, late, presence, without, fetches: Sequence[Fetch]) -> np.ndarray:
-        """What each fetch costs the other tasks (time units): its helper, brought to the
-        fetch's task, no longer comes to those it was predicted to (``mission``; else 0)."""
-        cost = np.zeros(len(fetches))
-        if not self.p.mission:
-            return cost
-        lost = {}
-        for k, f in enumerate(fetches):
-            if f.helper not in lost:
-                q = presence.copy()
-                q[f.helper] = 0.0
-                p = self.p
-                lost[f.helper] = completion_times(late, q, p.needs, p.fail, *p.coming) - without
-            cost[k] = f.found * (lost[f.helper].sum() - lost[f.helper][f.task])
-        return cost
+    def _meetings(self, meetings, n: int) -> np.ndarray | None:
+        """The checked ``(n, n, m)`` meeting times, or None without ``fetchers``."""
+        if not self.fetchers or meetings is None:
+            return None
+        meet = np.asarray(meetings, dtype=float)
+        m = self.needs.shape[0]
+        if meet.shape != (n, n, m) or np.isnan(meet).any():
+            raise InvalidArgumentError(f"meetings must be ({n}, {n}, {m}), got {meet.shape}")
+        return meet

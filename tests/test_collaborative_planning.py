@@ -104,3 +104,23 @@ def test_a_traced_trial_is_the_same_trial_with_every_decision_kept():
         elif kind == "task":
             assert steer == d.options[d.choice][1]
     assert "| yes |" in explain(policy.trace[-1])
+
+
+def test_a_fetch_meets_the_helper_where_it_is_then_both_go_at_the_slower_speed():
+    s, view = _scene(together=False)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_fetchers=True))
+    policy.start(s)
+    policy.plan(view)
+    policy.arrivals(view, 0)
+    speed = np.asarray(s.max_speed, dtype=float) * s.dt
+    r1, r2, t1 = np.asarray(s.starts, dtype=float)[0, :2], np.asarray(s.starts)[1, :2], s.tasks[0]
+    want = np.linalg.norm(r2 - r1) / speed[0] + np.linalg.norm(t1 - r2) / speed.min()
+    assert policy.meetings()[0, 1, 0] == pytest.approx(want)
+    assert policy.meetings()[1, 1, 0] == pytest.approx(np.linalg.norm(t1 - r2) / speed[1])
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_a_small_mission_succeeds_with_teammates_fetches_predicted(seed):
+    s = CollaborativeScenario.drawn(robots=4, needs=(3, 2), seed=seed)
+    parameters = CollaborativeParameters(plan_fetchers=True)
+    assert simulate(s, "third", seed=seed, parameters=parameters).success

@@ -176,6 +176,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             rendezvous=bool(p.plan_rendezvous),
             mission=bool(p.plan_mission),
             pool=bool(p.plan_pool),
+            fetchers=bool(p.plan_fetchers),
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
@@ -209,9 +210,20 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
     def arrivals(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` steps robot ``i`` expects each robot to take to each task."""
         s = self.s
-        where = np.array([self.predicted(view, i, j) for j in range(s.n_robots)])
-        gaps = np.hypot(*(where[:, None, :] - s.tasks[None]).transpose(2, 0, 1))
+        self.where = np.array([self.predicted(view, i, j) for j in range(s.n_robots)])
+        gaps = np.hypot(*(self.where[:, None, :] - s.tasks[None]).transpose(2, 0, 1))
         return gaps / (np.asarray(s.max_speed, dtype=float).reshape(-1, 1) * s.dt)
+
+    def meetings(self) -> np.ndarray:
+        """``(n, n, m)`` steps until robots ``l`` and ``h`` reach each task if ``l`` fetched
+        ``h``, as the last :meth:`arrivals` placed them: ``l`` goes to where ``h`` is
+        predicted, then both go to the task at the slower one's speed."""
+        s = self.s
+        speed = np.asarray(s.max_speed, dtype=float) * s.dt
+        gap = np.hypot(*(self.where[:, None] - self.where[None]).transpose(2, 0, 1))
+        back = np.hypot(*(self.where[:, None, :] - s.tasks[None]).transpose(2, 0, 1))
+        slower = np.minimum(speed[:, None], speed[None])
+        return (gap / speed[:, None])[..., None] + back[None] / slower[..., None]
 
     def chains(self, view: View, i: int, closed: np.ndarray) -> tuple[dict, dict]:
         """Robot ``i``'s open tasks and unknown-task counts per chain, as the level models
@@ -262,7 +274,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         keys = [("task", t, -1) for t in range(m)] + [("explore", -1, -1)]
         keys += [("fetch", f.task, f.helper) for f in fetches]
         previous = keys.index(self.previous[i]) if self.previous[i] in keys else None
-        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous)
+        meetings = self.meetings() if self.parameters.plan_fetchers else None
+        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous, meetings)
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]
         if self.trace is not None:

@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from epistemica import InvalidArgumentError
+from epistemica.aif.task_context import TaskContext
 from epistemica.aif.task_planning import Fetch, TaskPlanner, completion_times, convention
 
 
@@ -304,3 +305,68 @@ def test_bad_arguments_are_refused():
         TaskPlanner([2], quorum=0)
     with pytest.raises(InvalidArgumentError):
         TaskPlanner([2], later=0.0)
+
+
+def _recruiting():
+    """Task 0 needs 3; robots 0 and 1 know of it, robot 2 does not, and robot 0 knows that
+    robot 1 knows robot 2 does not. Robot 1 fetching robot 2 brings both by step 20."""
+    sets = {(0,): [True], (0, 1): [True], (0, 2): [False], (0, 1, 0): [True],
+            (0, 1, 2): [False], (0, 2, 0): [False], (0, 2, 1): [False]}  # fmt: skip
+    meetings = np.full((3, 3, 1), np.inf)
+    meetings[1, 2, 0] = 20.0
+    return [[5.0], [6.0], [8.0]], sets, meetings
+
+
+def test_a_teammates_predicted_fetch_brings_the_pair_at_the_meeting():
+    arrivals, sets, meetings = _recruiting()
+    planner = TaskPlanner([3], order=3, temperature=5.0, fail=[100.0], fetchers=True)
+    context = TaskContext(planner, np.array(arrivals), sets, {}, meetings)
+    own = context.costs((0,), 3)
+    q, when = context.fetching((0, 1), 2)
+    assert 0 < q[0] < 1 and when[0] == 20.0
+    pick = [context.choice((0, j), 2)[0] for j in (1, 2)]
+    assert pick[1] == 0.0  # robot 2 does not know of the task
+    np.testing.assert_allclose(context.choice((0, 1), 2).sum(), 1.0 - q[0])
+    # Robot 0's option, by enumerating who comes: robot 1 by itself, robot 2, the pair.
+    times = [5.0, 6.0, 8.0, 20.0, 20.0]
+    going = _enumerated(times, [1.0, pick[0], pick[1], q[0], q[0]], 3, 100.0, 0.0)
+    staying = _enumerated(times, [0.0, pick[0], pick[1], q[0], q[0]], 3, 100.0, 0.0)
+    assert own[0] == pytest.approx(going - staying)
+
+
+def test_with_teammates_fetches_predicted_the_knower_goes_to_the_task():
+    # All or nothing, a task needing three that only two know of is worth nothing to
+    # robot 0 unless robot 1 is predicted to bring robot 2.
+    arrivals, sets, meetings = _recruiting()
+    kinds = {}
+    for fetchers in (False, True):
+        planner = TaskPlanner([3], order=3, temperature=5.0, fail=[100.0], fetchers=fetchers)
+        kinds[fetchers] = planner.plan(0, arrivals, sets, {(0, 2): 1}, meetings=meetings).kind
+    assert kinds == {False: "explore", True: "task"}
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 4), st.integers(1, 3), st.integers(1, 3))
+def test_no_possible_fetch_leaves_the_plan_as_without_fetchers(seed, n, m, order):
+    rng = np.random.default_rng(seed)
+    arrivals = rng.uniform(0, 40, (n, m))
+    sets = {(0,): rng.random(m) < 0.7}
+    for j in range(1, n):
+        sets[(0, j)] = rng.random(m) < 0.5
+        for h in range(n):
+            if h != j:
+                sets[(0, j, h)] = rng.random(m) < 0.5
+    needs, never = rng.integers(1, n + 1, m), np.full((n, n, m), np.inf)
+    plans = [
+        TaskPlanner(needs, order=order, temperature=3.0, fail=60.0, credit=0.5,
+                    fetchers=fetchers).plan(0, arrivals, sets, meetings=never)
+        for fetchers in (False, True)
+    ]  # fmt: skip
+    np.testing.assert_allclose(plans[1].G, plans[0].G)
+    np.testing.assert_allclose(plans[1].predictions, plans[0].predictions)
+
+
+def test_meetings_of_the_wrong_shape_are_refused():
+    with pytest.raises(InvalidArgumentError):
+        TaskPlanner([2], fetchers=True).plan(0, [[1.0], [2.0]], {(0,): [True]},
+                                             meetings=np.zeros((2, 2, 2)))  # fmt: skip
