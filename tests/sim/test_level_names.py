@@ -71,7 +71,9 @@ def test_the_orders_and_ablations_have_both_controllers():
 def test_the_prior_mode_plays_the_same_trial_with_or_without_the_planner(order):
     # free_energy=False bypasses the planner (ControllerStage.act, _decide_nested), so the
     # registered -priormode (planning=True) and the rules' controller without expected
-    # free energy move every robot alike, on a mission whose events nest the sets.
+    # free energy move every robot alike, on a mission whose events nest the sets. (Only a
+    # rendezvous search that meets another group can differ: plan_meet's search end is the
+    # planner levels', the ablation included; no search on these seeds.)
     mission = load_mission(PRIVATE)
     name = {v: k for k, v in ORDERS.items()}[order] + "-priormode"
     for seed in range(3):
