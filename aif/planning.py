@@ -232,6 +232,7 @@ class Planner:
         typed=None,
         blind=None,
         watching=None,
+        progress: float = 0.0,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -250,25 +251,24 @@ class Planner:
         moving : array_like, optional
             ``(n,)`` in ``[0, 1]``: the share of its speed each teammate was seen to use.
         evidence : array_like, optional
-            ``(n, m)`` log-likelihood of each robot heading for each goal, from its moves
-            (:func:`motion_evidence`), added to the position's ``-d / eta``.
+            ``(n, m)`` log-likelihood of each robot heading for each goal from its moves
+            (:func:`motion_evidence`; beside the position's ``-d / eta``).
         previous : int, optional
-            The goal it headed for at its last plan: changing it costs ``commitment``.
+            The goal it headed for at its last plan: changing it costs ``commitment``
+            nats and the ``progress`` seconds it has driven towards it.
         unseen : array_like, optional
-            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan``: seen),
-            predicted as the mean of its predictions from them.
+            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan``: seen).
         typed : array_like, optional
-            ``(n, m)`` goal distributions of teammates read as ad hoc (``nan`` rows:
-            planners; :func:`epistemica.aif.teammates.typed_predictions`), in every chain.
+            ``(n, m)`` goal distributions of ad hoc teammates (``nan`` rows: planners;
+            :func:`epistemica.aif.teammates.typed_predictions`).
         blind, watching : array_like, optional
             ``(n,)`` booleans. ``blind``: the teammates never seen (a placeholder is no
-            evidence of one's goal, nor the robot's evidence of others one of them
-            predicts); ``watching``: those that see the robot now (``shown``).
+            evidence of one's goal, nor of others they predict); ``watching``: those that
+            see the robot now (``shown``).
 
         Examples
         --------
-        Allocation of two robots to two goals; robot 1 knows only configurations that
-        put it on goal 0, and robot 0 knows that:
+        Allocation of two robots to two goals; robot 0 knows robot 1 keeps only goal 0:
 
         >>> planner = Planner([[0.0, 0.0], [10.0, 0.0]], [[0, 1], [1, 0]], [1.0, 1.0],
         ...                   order=2, horizon=1)
@@ -283,7 +283,7 @@ class Planner:
         inputs = (pos, weights, sets, evidence, unseen, blind)
         context = self._context(robot, *inputs, typed)
         G = self._shown(context, robot, inputs, typed, watching)
-        G = self._own_costs(G, robot, weights, previous)
+        G = self._own_costs(G, robot, weights, previous, progress)
         own = context.choice((robot,), self.order)
         below = max(self.order - 1, 0)
         preds = np.stack(
@@ -379,7 +379,8 @@ class Planner:
             out[g] = seen.given((robot,), shown)[g]
         return out
 
-    def _own_costs(self, G: np.ndarray, robot: int, weights, previous) -> np.ndarray:
+    def _own_costs(self, G: np.ndarray, robot: int, weights, previous, progress=0.0
+                   ) -> np.ndarray:  # fmt: skip
         """``(m,)`` the robot's own expected times ``G`` with the convention's tie-break
         and the cost of changing its goal."""
         if self.convention > 0:  # the shared tie-break: symmetric standoffs resolve alike
@@ -387,8 +388,9 @@ class Planner:
                                minlength=G.shape[0])  # fmt: skip
             G = G + self.convention * self.tau * (1.0 - mass / mass.max())
         if previous is not None and 0 <= previous < G.shape[0] and np.isfinite(G[previous]):
-            G = G + self.commitment * self.tau
-            G[previous] -= self.commitment * self.tau
+            switch = self.commitment * self.tau + max(float(progress), 0.0)
+            G = G + switch
+            G[previous] -= switch
         return G
 
 
@@ -406,13 +408,14 @@ def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
     return quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)
 
 
-def motion_evidence(before, after, goals, speeds, dt: float, sigma: float) -> np.ndarray:
+def motion_evidence(before, after, goals, speeds, dt: float, sigma) -> np.ndarray:
     """``(n, m)`` log-likelihood of one step's moves ``before -> after`` for each goal.
 
     A robot heading for goal ``g`` moves ``min(v dt, d)`` straight at it (and stands once
-    there); the observed move is that with Gaussian error ``sigma`` (m) per axis. Summed
-    over steps, this is how a teammate's goal is read from what it does, standing still
-    on a goal included.
+    there); the observed move is that with Gaussian error ``sigma`` (m) per axis, one
+    value or ``(n,)`` (a robot seen through noisier sightings moves the reading less).
+    Summed over steps, this is how a teammate's goal is read from what it does, standing
+    still on a goal included.
 
     Examples
     --------
@@ -428,4 +431,5 @@ def motion_evidence(before, after, goals, speeds, dt: float, sigma: float) -> np
     reach = np.minimum(np.asarray(speeds, dtype=float)[:, None] * dt, distance)
     unit = to_goal / np.where(distance > 0, distance, 1.0)[..., None]
     residual = (after - before)[:, None] - reach[..., None] * unit
+    sigma = np.broadcast_to(np.asarray(sigma, dtype=float), before.shape[:1])[:, None]
     return -(residual**2).sum(axis=2) / (2 * sigma**2)

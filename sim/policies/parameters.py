@@ -152,8 +152,10 @@ class ActiveParameters:
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_particles : int
         Particles of the teammates' choices that score the waiting option.
-    plan_sigma : float
-        Error of the planner's motion model in steps of the mean top speed (motion_evidence).
+    plan_sigma, plan_noise, plan_progress : float
+        Error of the planner's motion model in steps of the mean top speed (motion_evidence);
+        weight of the two sightings' variance added to its square; weight of the seconds
+        driven towards its goal charged for changing it (both 0, off: no gain measured).
     plan_leak, plan_commitment : float
         Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the
         planner charges for changing the goal a robot headed for.
@@ -170,9 +172,8 @@ class ActiveParameters:
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind : bool
-        Predict a teammate never seen without the robot's evidence
-        (``Planner.plan(blind=...)``). Off: +1/-1 trial on design seeds 1000-1059
-        (docs/results/planning_wrong_decision.md).
+        Predict a teammate never seen without the robot's evidence (``Planner.plan(blind=
+        ...)``). Off: +1/-1 trial on design seeds (docs/results/planning_wrong_decision.md).
     plan_meet : bool
         Planner levels, rendezvous search: a searcher that sees a teammate outside the
         group it left with has found its team and stops searching, and a robot whose
@@ -218,6 +219,8 @@ class ActiveParameters:
     plan_evidence: float = 5.0
     plan_particles: int = 32
     plan_sigma: float = 0.5
+    plan_noise: float = 0.0
+    plan_progress: float = 0.0
     plan_leak: float = 0.1
     plan_commitment: float = 1.0
     plan_convention: float = 1.0
@@ -233,9 +236,9 @@ class ActiveParameters:
     def __post_init__(self) -> None:
         numbers = ("memory", "tie_weight", "look", "plausible_margin", "log_prior_floor",
                    "teammate_sigma", "teammate_leak", "plan_temperature", "plan_repair",
-                   "plan_evidence", "plan_sigma", "plan_leak", "plan_commitment",
-                   "plan_convention", "plan_hierarchy", "plan_success", "plan_types",
-                   "plan_shown")  # fmt: skip
+                   "plan_evidence", "plan_sigma", "plan_noise", "plan_leak", "plan_progress",
+                   "plan_commitment", "plan_convention", "plan_hierarchy", "plan_success",
+                   "plan_types", "plan_shown")  # fmt: skip
         for name in (*numbers, "prior_scale"):
             value = getattr(self, name)
             if isinstance(value, str | bool) or (value is None and name != "prior_scale"):
@@ -304,7 +307,7 @@ class ActiveParameters:
             raise InvalidArgumentError(
                 f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
             )
-        for name in ("plan_success", "plan_shown"):
+        for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):
                 raise InvalidArgumentError(f"{name} must be >= 0 and finite", hint="e.g. 3")

@@ -46,7 +46,7 @@ from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import steer
 
-__all__ = ["PlanRecord", "PlanningStage", "chains_of", "recording_plans"]
+__all__ = ["PlanRecord", "PlanningStage", "chains_of", "recording_plans", "sighting_variance"]
 
 
 class PlanRecord(NamedTuple):
@@ -114,6 +114,25 @@ def chains_of(robot: int, own, pairs, triples, keep=None) -> dict[tuple[int, ...
     return chains
 
 
+def sighting_variance(scenario: Scenario, distance) -> np.ndarray:
+    """Per-axis variance (m²) of a sighting of teammates at ``distance`` (m): the paper's
+    sensor, ``position_noise``; the honest one, the mean of its error ellipse's axes, the
+    range's ``position_noise`` and the bearing's ``distance² angle_noise``.
+
+    Examples
+    --------
+    >>> from epistemica.sim import Scenario
+    >>> honest = Scenario.paper("allocation", 2, 2, seed=0).replace(
+    ...     observation="honest", position_noise=8.0, angle_noise=0.1)
+    >>> sighting_variance(honest, [0.0, 10.0]).tolist()
+    [4.0, 9.0]
+    """
+    distance = np.asarray(distance, dtype=float)
+    if getattr(scenario.sensor, "name", "") != "honest":
+        return np.full(distance.shape, float(scenario.position_noise))
+    return (scenario.position_noise + distance**2 * scenario.angle_noise) / 2
+
+
 class PlanningStage:
     """Plans of the robots of one trial, with what each saw its teammates do last step."""
 
@@ -135,6 +154,8 @@ class PlanningStage:
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
+        self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
+        self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
         self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
         self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
@@ -173,17 +194,32 @@ class PlanningStage:
         if before is None or before[0] >= step:
             return np.ones(s.n_robots)
         gap = (step - before[0]) * s.dt
-        sigma = self.sigma * float(s.max_speed.mean()) * gap
+        model = self.sigma * float(s.max_speed.mean()) * gap
+        # A move is the difference of two sightings: their noise adds to the model's error.
+        sigma = model
+        if self.noise > 0:
+            noise = 2 * self.noise * sighting_variance(s, np.hypot(*(now - now[robot]).T))
+            sigma = np.sqrt(model**2 + noise)
         moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
         read *= 1.0 - self.leak
         read[seen] += moves[seen]
         used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
         return np.where(seen, np.clip(used, 0.0, 1.0), 1.0)
 
+    def _progress(self, robot: int, pose) -> float:
+        """Seconds (times ``plan_progress``) the robot has driven towards the goal it
+        heads for since it chose it: what turning to another goal wastes."""
+        goal, start = self._start.get(robot, (-1, 0.0))
+        if goal < 0 or self.progress <= 0:
+            return 0.0
+        s = self.scenario
+        done = start - float(np.hypot(*(s.goals[goal] - pose[:2])))
+        return self.progress * max(done, 0.0) / float(s.max_speed[robot])
+
     def forget(self, robot: int) -> None:
         """Drop what the robot read of its teammates' moves and the goal it headed for:
         its next plan starts from their positions alone (after a rendezvous search)."""
-        for memory in (self._last, self._read, self._heading):
+        for memory in (self._last, self._read, self._heading, self._start):
             memory.pop(robot, None)
 
     def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
@@ -238,6 +274,7 @@ class PlanningStage:
         pose = observations.poses[robot, robot]
         moving = self.observe(observations, robot)
         local = np.flatnonzero(goals == self._heading.get(robot, -1))
+        progress = self._progress(robot, pose)
         typed = self.typed(ctrl, goals, robot, observations)
         result = self.planner(ctrl).plan(
             robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
@@ -245,11 +282,15 @@ class PlanningStage:
             self.unseen(observations, robot), typed,
             observations.last_seen[robot] < 0 if self.blind else None,
             observations.last_seen[robot] == observations.step,  # who sees it: sight is mutual
+            progress,
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
             self._typing[robot][4][:, TYPES.index("team")] = result.planned
         if result.goal != WAIT:
-            self._heading[robot] = int(goals[result.goal])
+            chosen = int(goals[result.goal])
+            if self._start.get(robot, (-1,))[0] != chosen:
+                self._start[robot] = (chosen, float(np.hypot(*(s.goals[chosen] - pose[:2]))))
+            self._heading[robot] = chosen
         log = _RECORDER.get()
         if log is not None:
             chosen = int(goals[result.goal]) if result.goal != WAIT else WAIT

@@ -88,6 +88,14 @@ def test_commitment_and_convention_shift_by_their_nats():
     np.testing.assert_allclose(out.G - plain.G, [1 - 0.25 / 0.75, 0.0], atol=1e-9)
 
 
+def test_progress_towards_the_previous_goal_is_charged_in_seconds_over_tau():
+    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1)
+    base = planner.plan(0, [[5.0, 0.0], [5.0, 0.0]])
+    driven = planner.plan(0, [[5.0, 0.0], [5.0, 0.0]], previous=1, progress=3.0)
+    # tau = temperature x the goals' spread (10 m) at 1 m/s = 2.5 s: 3 s is 1.2 nats.
+    np.testing.assert_allclose(driven.G - base.G, [3.0 / 2.5, 0.0])
+
+
 def test_waiting_pays_when_the_teammate_is_undecided_and_far():
     # Allocation, robot 0 midway and slow to reach either goal; robot 1 far and moving,
     # equally likely to take either goal: guessing risks a long repair; waiting reveals.
@@ -104,6 +112,15 @@ def test_waiting_pays_when_the_teammate_is_undecided_and_far():
 def test_motion_evidence_standing_on_a_goal():
     ev = motion_evidence([[10.0, 0.0]], [[10.0, 0.0]], GOALS, [1.0], 1.0, 0.5)
     assert ev[0, 1] == 0.0 and ev[0, 0] == pytest.approx(-2.0)
+
+
+def test_motion_evidence_per_robot_noise_divides_by_its_variance():
+    # Both robots stand on goal 1 at (10, 0) (GOALS: goal 0 at the origin, reach 1 m): the
+    # residual under goal 0 is the 1 m step not made, 1 / (2 sigma^2) nats.
+    ev = motion_evidence([[10.0, 0.0]] * 2, [[10.0, 0.0]] * 2, GOALS, [1.0, 1.0], 1.0,
+                         [0.5, 2.0])  # fmt: skip
+    assert ev[:, 0] == pytest.approx([-1 / (2 * 0.25), -1 / (2 * 4.0)])
+    assert (ev[:, 1] == 0.0).all()
 
 
 @settings(max_examples=40, deadline=None)

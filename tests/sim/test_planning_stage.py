@@ -14,7 +14,7 @@ from epistemica.mission import parse_mission
 from epistemica.sim import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.policies.planning import PlanningStage
+from epistemica.sim.policies.planning import PlanningStage, sighting_variance
 
 
 def _observations(step: int, teammate, last_seen) -> Observations:
@@ -71,3 +71,40 @@ def test_the_team_meets_a_stationary_teammate_on_its_goal_once_its_type_is_read(
     assert (nearest == nearest[stationary]).all()
     _, without = _stationary_trial(0.0)
     assert not without.success  # predicted as a planner, it was waited for elsewhere
+
+
+def test_sighting_variance_of_each_sensor_by_hand():
+    paper = Scenario.paper("rendezvous", 2, 2, seed=3).replace(position_noise=2.0)
+    assert sighting_variance(paper, [0.0, 7.0]).tolist() == [2.0, 2.0]
+    honest = paper.replace(observation="honest", position_noise=8.0, angle_noise=0.1)
+    # the range's 8 m^2 and the bearing's (10 m)^2 * 0.1 rad^2, averaged over two axes
+    assert sighting_variance(honest, [0.0, 10.0]).tolist() == pytest.approx([4.0, 9.0])
+
+
+@pytest.mark.parametrize("noise", [0.0, 1.0])
+def test_a_move_between_noisy_sightings_weighs_by_their_variance(noise):
+    scenario = Scenario.paper("rendezvous", 2, 2, seed=3).replace(position_noise=2.0)
+    params = ActiveParameters(planning=True, plan_noise=noise, plan_leak=0.0)
+    stage = PlanningStage(scenario, params, order=2)
+    stage.observe(_observations(4, [15.0, 15.0], 4), 0)
+    stage.observe(_observations(5, [15.0, 15.0], 5), 0)  # stood still for one step
+    read = stage._read[0][1]
+    # Standing still misses each goal's step of min(v dt, d): residual^2 = reach^2.
+    distance = np.hypot(*(scenario.goals - [15.0, 15.0]).T)
+    reach = np.minimum(scenario.max_speed[1] * scenario.dt, distance)
+    model = 0.5 * float(scenario.max_speed.mean()) * scenario.dt
+    variance = model**2 + noise * 2 * 2.0
+    assert read == pytest.approx(-(reach**2) / (2 * variance))
+
+
+def test_progress_is_the_time_driven_towards_the_goal_since_choosing_it():
+    scenario = Scenario.paper("rendezvous", 2, 2, seed=3)
+    stage = PlanningStage(scenario, ActiveParameters(planning=True, plan_progress=1.0), order=2)
+    goal = scenario.goals[1]
+    start = goal + np.array([6.0, 8.0])  # 10 m away when chosen
+    stage._start[0] = (1, 10.0)
+    halfway = (start + goal) / 2  # 5 m driven
+    assert stage._progress(0, halfway) == pytest.approx(5.0 / scenario.max_speed[0])
+    assert stage._progress(0, start + np.array([3.0, 4.0])) == 0.0  # driven away: nothing to lose
+    stage.forget(0)
+    assert stage._progress(0, halfway) == 0.0
