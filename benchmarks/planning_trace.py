@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from epistemica.aif.teammates import TYPES
 from epistemica.mission import parse_mission
 from epistemica.sim.policies.planning import WAIT, PlanRecord, recording_plans
 
@@ -57,15 +58,21 @@ def decision_table(record: PlanRecord) -> list[str]:
         lines.append(f"| {_goal(int(record.goals[local]))}{mark} | {shown} |")
     if np.isfinite(record.wait):
         lines.append(f"| wait | {record.wait:.2f} |")
-    lines += ["", "| robot | placed at | ever seen | predicted goals (top 3) |"]
-    lines.append("|---|---|---|---|")
+    typing = record.types is not None
+    header = "| robot | placed at | ever seen | predicted goals (top 3) |"
+    lines += ["", header + (f" type posterior ({' / '.join(TYPES)}) |" if typing else "")]
+    lines.append("|---|---|---|---|" + ("---|" if typing else ""))
     for j, row in enumerate(record.predictions):
         top = np.argsort(-row, kind="stable")[:3]
         guess = ", ".join(f"{_goal(int(record.goals[g]))} {row[g]:.2f}" for g in top)
         x, y = record.positions[j]
         who = f"r{j + 1}" + (" (itself)" if j == record.robot else "")
         seen = "yes" if record.seen[j] else "no"
-        lines.append(f"| {who} | ({x:.1f}, {y:.1f}) | {seen} | {guess} |")
+        line = f"| {who} | ({x:.1f}, {y:.1f}) | {seen} | {guess} |"
+        if typing:
+            held = " (typed: held to its goal)" if record.typed[j] else ""
+            line += " " + " / ".join(f"{p:.2f}" for p in record.types[j]) + held + " |"
+        lines.append(line)
     sizes = Counter(len(chain) for chain, size in record.sets.items() if size > 0)
     empty = sum(1 for size in record.sets.values() if size == 0)
     lines += [

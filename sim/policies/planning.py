@@ -57,7 +57,9 @@ class PlanRecord(NamedTuple):
     (``predictions[j]`` the robot's predicted distribution of teammate ``j``'s goal, its own
     row its own); ``chosen`` the scenario index of the goal it heads for (-1: waits);
     ``positions`` where it places every robot (a placeholder for one it never saw:
-    ``seen``); ``sets`` the size of each chain's set.
+    ``seen``); ``sets`` the size of each chain's set; ``types`` each robot's posterior
+    over :data:`~epistemica.aif.teammates.TYPES` and ``typed`` whether it was held to a
+    goal by its type (both ``None`` with ``plan_types = 0``).
     """
 
     step: int
@@ -72,6 +74,8 @@ class PlanRecord(NamedTuple):
     positions: np.ndarray
     seen: np.ndarray
     sets: dict
+    types: np.ndarray | None = None
+    typed: np.ndarray | None = None
 
 
 _RECORDER: ContextVar[list | None] = ContextVar("epistemica_plan_recorder", default=None)
@@ -265,6 +269,14 @@ class PlanningStage:
         rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
         return rows
 
+    def _type_record(self, robot: int, typed) -> tuple:
+        """The robot's type posteriors of every robot and which are typed, for a record."""
+        log_types = self._types.get(robot)
+        if typed is None or log_types is None:
+            return None, None
+        posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
+        return posterior / posterior.sum(axis=1, keepdims=True), ~np.isnan(typed[:, 0])
+
     def decide(
         self, ctrl, goals, robot: int, observations: Observations, prior, sets=None
     ) -> Decision:
@@ -298,7 +310,8 @@ class PlanningStage:
             log.append(PlanRecord(observations.step, robot, np.asarray(goals).copy(), result.G,
                                   result.wait, result.predictions, result.belief, result.focal,
                                   chosen, observations.poses[robot, :, :2].copy(),
-                                  observations.last_seen[robot] >= 0, sizes))  # fmt: skip
+                                  observations.last_seen[robot] >= 0, sizes,
+                                  *self._type_record(robot, typed)))  # fmt: skip
         if result.goal == WAIT:
             control = (0.0, 0.0)
         else:

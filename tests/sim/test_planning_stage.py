@@ -9,12 +9,13 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from epistemica.aif.teammates import TYPES
 from epistemica.del_.errors import EpistemicaError
 from epistemica.mission import parse_mission
 from epistemica.sim import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.policies.planning import PlanningStage, sighting_variance
+from epistemica.sim.policies.planning import PlanningStage, recording_plans, sighting_variance
 
 
 def _observations(step: int, teammate, last_seen) -> Observations:
@@ -71,6 +72,21 @@ def test_the_team_meets_a_stationary_teammate_on_its_goal_once_its_type_is_read(
     assert (nearest == nearest[stationary]).all()
     _, without = _stationary_trial(0.0)
     assert not without.success  # predicted as a planner, it was waited for elsewhere
+
+
+def test_recorded_plans_carry_the_type_posteriors_that_typed_a_teammate():
+    with recording_plans() as plans:
+        mission, _ = _stationary_trial(0.97)
+    (stationary,) = mission.policies(1004)
+    assert plans and all(np.allclose(p.types.sum(axis=1), 1.0) for p in plans)
+    typed = [p for p in plans if p.typed.any()]
+    assert typed and all(p.typed[stationary] for p in typed)  # only the stationary one
+    greedy, still = TYPES.index("greedy"), TYPES.index("stationary")
+    for p in typed:  # typed only once greedy + stationary reach the threshold
+        assert p.types[p.typed][:, [greedy, still]].sum(axis=1).min() >= 0.97 - 1e-9
+    with recording_plans() as plans:
+        _stationary_trial(0.0)
+    assert plans and all(p.types is None and p.typed is None for p in plans)
 
 
 def test_sighting_variance_of_each_sensor_by_hand():
