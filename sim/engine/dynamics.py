@@ -64,7 +64,9 @@ class Sensor(Protocol):
     step's ``(n, n, 2)`` standard normal draws (row ``i`` from robot ``i``'s own stream)
     and the scenario; it returns ``(n, n, 3)`` measured poses. The simulator keeps a
     measurement only where robot ``j`` is visible to robot ``i`` and sets each robot's own
-    pose exactly.
+    pose exactly. An optional ``variance(distance, scenario)``, the per-axis variance of a
+    sighting at that distance, lets the planner weigh sightings (``plan_noise``); without
+    it ``position_noise`` is assumed.
     """
 
     name: str
@@ -115,6 +117,10 @@ class PaperSensor:
         truth[..., :2] += np.sqrt(scenario.position_noise) * noise
         return truth
 
+    def variance(self, distance: np.ndarray, scenario) -> np.ndarray:
+        """Per-axis variance (m²) of a sighting at ``distance``: ``position_noise``."""
+        return np.full(np.shape(distance), float(scenario.position_noise))
+
     def __repr__(self) -> str:
         return "PaperSensor()"
 
@@ -145,6 +151,13 @@ class HonestSensor:
         truth[..., 1] = own[..., 1] + r * np.sin(angle)
         truth[..., 2] = 0.0
         return truth
+
+    def variance(self, distance: np.ndarray, scenario) -> np.ndarray:
+        """Per-axis variance (m²) of a range robot's sighting at ``distance``: the mean of
+        its error ellipse's axes, the range's ``position_noise`` and the bearing's
+        ``distance² angle_noise``."""
+        distance = np.asarray(distance, dtype=float)
+        return (scenario.position_noise + distance**2 * scenario.angle_noise) / 2
 
     def __repr__(self) -> str:
         return "HonestSensor()"

@@ -119,9 +119,8 @@ def chains_of(robot: int, own, pairs, triples, keep=None) -> dict[tuple[int, ...
 
 
 def sighting_variance(scenario: Scenario, distance) -> np.ndarray:
-    """Per-axis variance (m²) of a sighting of teammates at ``distance`` (m): the paper's
-    sensor, ``position_noise``; the honest one, the mean of its error ellipse's axes, the
-    range's ``position_noise`` and the bearing's ``distance² angle_noise``.
+    """Per-axis variance (m²) of a sighting of teammates at ``distance`` (m), as the
+    scenario's sensor states it (``variance``; a sensor without one: ``position_noise``).
 
     Examples
     --------
@@ -132,9 +131,10 @@ def sighting_variance(scenario: Scenario, distance) -> np.ndarray:
     [4.0, 9.0]
     """
     distance = np.asarray(distance, dtype=float)
-    if getattr(scenario.sensor, "name", "") != "honest":
+    variance = getattr(scenario.sensor, "variance", None)  # a sensor of one's own may lack it
+    if variance is None:
         return np.full(distance.shape, float(scenario.position_noise))
-    return (scenario.position_noise + distance**2 * scenario.angle_noise) / 2
+    return variance(distance, scenario)
 
 
 class PlanningStage:
