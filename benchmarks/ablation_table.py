@@ -1,6 +1,7 @@
 """One row per mechanism of the active levels: what removing it costs (issue 19 §5).
 
-For each mission file, runs the full level (default ``rules-third``) and, for each mechanism,
+For each mission file, runs the full level (default ``rules-third``; ``third`` adds the
+planner's own rules and terms) and, for each mechanism,
 the same level with that mechanism removed, on the same seeds. Prints success of the full
 level, then per mechanism and mission the change in success (points) and the mean paired
 change in completion steps over the trials both solve, when the mechanism is removed.
@@ -22,6 +23,8 @@ from pathlib import Path
 
 from level_study import _seeds, run_one, wilson
 
+from epistemica.sim.policies.levels import make_policy
+
 #: Mechanism -> the parameter changes that remove it (fields of ActiveParameters or
 #: controller arguments, in level_study's ``name=value;...`` form).
 MECHANISMS = {
@@ -36,6 +39,16 @@ MECHANISMS = {
     "short wait when unaware": "unaware_wait=15",
     "pruning by events": "pruning=false",
     "recency revision": "revision=primacy",
+}
+
+#: The planning levels' own rules and terms (aif.md §6g), removed the same way; listed by
+#: default when the level plans (``third``, ``second``, ...), where they act.
+PLANNER_MECHANISMS = {
+    "meeting of searching groups": "plan_meet=false",
+    "teammate types": "plan_types=0",
+    "success weight": "plan_success=0",
+    "commitment": "plan_commitment=0",
+    "convention tie-break": "plan_convention=0",
 }
 
 
@@ -85,11 +98,14 @@ def main() -> None:
     parser.add_argument("--cache", type=Path, help="JSON-lines file of finished trials")
     args = parser.parse_args()
     seeds = _seeds(args.seeds)
-    names = args.mechanisms.split(",") if args.mechanisms else list(MECHANISMS)
-    unknown = [n for n in names if n not in MECHANISMS]
+    known = MECHANISMS | PLANNER_MECHANISMS
+    plans = make_policy(args.level.partition(":")[0]).parameters.planning
+    default = list(known) if plans else list(MECHANISMS)
+    names = args.mechanisms.split(",") if args.mechanisms else default
+    unknown = [n for n in names if n not in known]
     if unknown:
-        parser.error(f"unknown mechanism {unknown[0]!r}; known: {', '.join(MECHANISMS)}")
-    specs = [args.level] + [f"{args.level}:{MECHANISMS[n]}" for n in names]
+        parser.error(f"unknown mechanism {unknown[0]!r}; known: {', '.join(known)}")
+    specs = [args.level] + [f"{args.level}:{known[n]}" for n in names]
     jobs = [(str(p), spec, s) for p in args.missions for spec in specs for s in seeds]
     done = run_all(jobs, args.workers, args.cache)
 
