@@ -44,6 +44,7 @@ MECHANISMS = {
 #: The planning levels' own rules and terms (aif.md §6g), removed the same way; listed by
 #: default when the level plans (``third``, ``second``, ...), where they act.
 PLANNER_MECHANISMS = {
+    "planner's evidence of teammates' goals": "plan_evidence=1e12;plan_sigma=1e12",
     "meeting of searching groups": "plan_meet=false",
     "teammate types": "plan_types=0",
     "success weight": "plan_success=0",
