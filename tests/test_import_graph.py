@@ -328,3 +328,39 @@ def test_a_type_checking_block_is_not_a_runtime_import():
     code = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\nelse:\n    import b"
     names = [alias.name for node in _runtime_imports(ast.parse(code)) for alias in node.names]
     assert sorted(names) == ["TYPE_CHECKING", "b"]
+
+
+#: sim/'s subpackages by rank in docs/architecture.md's drawing: each imports only ranks
+#: up to its own (``kinds`` and ``engine`` read each other's modules, without a cycle).
+SIM_RANK = {"kinds": 0, "engine": 0, "policies": 1, "study": 2}
+#: The imports up that drawing that the map names: the one loop takes a level's name, and
+#: the Gymnasium / PettingZoo adapters build levels and draw with the figures.
+SIM_UPWARD = {
+    ("engine.simulate", "policies.levels"),
+    ("engine.simulate", "policies.parameters"),
+    ("engine.simulate", "policies.policy"),
+    ("engine._env_checks", "policies.policy"),
+    ("engine.env", "policies.levels"),
+    ("engine.env", "study.figures"),
+}
+
+
+def _sim_module(name: str) -> str | None:
+    parts = name.split(".")
+    if parts[:2] != ["epistemica", "sim"] or len(parts) < 4 or parts[2] not in SIM_RANK:
+        return None
+    return ".".join(parts[2:])
+
+
+def test_sim_subpackages_import_down_the_drawing_but_for_the_named_adapters():
+    graph, _ = import_graph()
+    upward = set()
+    for a, b in graph.edges:
+        source, target = _sim_module(a), _sim_module(b)
+        if source and target:
+            if SIM_RANK[target.split(".")[0]] > SIM_RANK[source.split(".")[0]]:
+                upward.add((source, target))
+    assert upward == SIM_UPWARD, (
+        f"new: {sorted(upward - SIM_UPWARD)}; gone (update SIM_UPWARD and the map): "
+        f"{sorted(SIM_UPWARD - upward)}"
+    )
