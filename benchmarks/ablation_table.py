@@ -113,20 +113,23 @@ def main() -> None:
     def results(path, spec):
         return {s: done[(str(path), spec, s)] for s in seeds}
 
-    stems = [Path(p).stem for p in args.missions]
+    def pooled(spec):
+        return {(p, s): done[(str(p), spec, s)] for p in args.missions for s in seeds}
+
+    stems = [Path(p).stem for p in args.missions] + [f"all {len(args.missions)} pooled"]
     print(f"seeds {args.seeds}; level {args.level}\n")
     print("| mechanism removed | " + " | ".join(stems) + " |")
     print("|---|" + "---|" * len(stems))
     row = []
-    for path in args.missions:
-        full = results(path, args.level)
+    for full in [results(p, args.level) for p in args.missions] + [pooled(args.level)]:
         k = sum(s for s, _ in full.values())
-        low, high = wilson(k, len(seeds))
+        low, high = wilson(k, len(full))
         steps = statistics.mean([t for s, t in full.values() if s] or [0])
-        row.append(f"{100 * k / len(seeds):.0f} % [{low:.0f}, {high:.0f}], {steps:.1f} steps")
+        row.append(f"{100 * k / len(full):.0f} % [{low:.0f}, {high:.0f}], {steps:.1f} steps")
     print(f"| none ({args.level}) | " + " | ".join(row) + " |")
     for name, spec in zip(names, specs[1:], strict=True):
         cells = [cell(results(p, args.level), results(p, spec)) for p in args.missions]
+        cells.append(cell(pooled(args.level), pooled(spec)))
         print(f"| {name} | " + " | ".join(cells) + " |")
     print(
         "\ncells: change in success (points) and mean paired change in steps (trials both "
