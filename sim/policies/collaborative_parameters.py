@@ -164,8 +164,7 @@ class CollaborativeParameters:
         also scales the convention and commitment terms). 0.05 / 0.1 / 0.2 on tuning
         missions 0-39: 98 / 100 / 60 % success, mean 118.1 / 116.8 / 313.2 steps.
     plan_repair : float
-        The cost of a task too few robots come to (``fail``). 2 / 3: mean 116.8 / 121.0
-        steps, both 100 %.
+        The cost of a task too few come to (``fail``). 2 / 3: mean 116.8 / 121.0, 100 %.
     plan_explore : float
         Time saved per unknown task by one more explorer, as a fraction of ``fail``
         shared by the team. ``third`` on tuning missions 0-39 (generator seeds, trial
@@ -247,10 +246,11 @@ class CollaborativeParameters:
         [-0.2, +44.1] (mission 1 failed).
     plan_fetchers : bool
         Teammates' predicted choices include fetching a robot known not to know of a task
-        (chain ``(i, l, h)``), both then at the task from the meeting. Off: ``third`` on
-        tuning missions 0-59 (trial seed 1001) 98 -> 95 % success, median / mean 89 /
-        119.9 -> 92.5 / 134.0 (paired +14.1 [+1.2, +31.0]); with ``plan_rendezvous``:
-        93 %, 90.5 / 140.5 (+20.5 [+0.3, +43.5]); mission 11 still fails.
+        (chain ``(i, l, h)``), both then at the task from the meeting. Off: on tuning
+        missions 0-59 (trial seed 1001) 98 -> 95 %, 89 / 119.9 -> 92.5 / 134.0 (paired
+        +14.1 [+1.2, +31.0]); with ``plan_rendezvous`` 93 %, 90.5 / 140.5 (+20.5).
+    plan_rollout : bool
+        Options valued by rollout over chains of fetches (docs/aif.md §6h, fifth pass).
     """
 
     lane_factor: float = 2.0
@@ -299,6 +299,7 @@ class CollaborativeParameters:
     plan_mission: bool = False
     plan_pool: bool = False
     plan_fetchers: bool = False
+    plan_rollout: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
