@@ -136,10 +136,11 @@ class TaskPlanner:
         fetch predicted with probability ``q`` adds two arrivals at the task, ``l`` and
         ``h`` at the meeting's time, each coming with ``q`` (independently, an
         approximation): the completion model then sees recruited coalitions form.
-    rollout : bool
-        Going to a task and fetching are valued by rollout over chains of fetches
-        (:func:`~epistemica.aif.task_rollout.rollout_values`, given ``geometry`` to
-        :meth:`plan`; a fetch's value times the probability its helper is found).
+    rollout : float
+        The horizon of a rollout over chains of fetches, in the units of the arrivals (0:
+        none): going to a task and fetching are valued by
+        :func:`~epistemica.aif.task_rollout.rollout_values` when :meth:`plan` is given
+        ``geometry`` (a fetch's value times the probability its helper is found).
     """
 
     def __init__(
@@ -161,7 +162,7 @@ class TaskPlanner:
         mission: bool = False,
         pool: bool = False,
         fetchers: bool = False,
-        rollout: bool = False,
+        rollout: float = 0.0,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -183,7 +184,7 @@ class TaskPlanner:
         self.mission = bool(mission)
         self.pool = bool(pool)
         self.fetchers = bool(fetchers)
-        self.rollout = bool(rollout)
+        self.rollout = float(as_finite(rollout, "rollout"))
         self.later = float(later)
         if not self.later > 0:
             raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")
@@ -243,7 +244,7 @@ class TaskPlanner:
         context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n))
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
-        if self.rollout and geometry is not None and fetching:
+        if self.rollout > 0 and geometry is not None and fetching:
             own, extra = self._rollout(robot, geometry, sets, fetches, own)
         else:
             extra = (
@@ -297,7 +298,7 @@ class TaskPlanner:
         an option (a fetch's value times the probability its helper is found)."""
         helpers = sorted({int(f.helper) for f in fetches})
         go, fetched = rollout_values(
-            robot, geometry, sets, self.needs, self.fail, self.order, helpers
+            robot, geometry, sets, self.needs, self.rollout, self.order, helpers
         )
         m = self.needs.shape[0]
         own = own.copy()

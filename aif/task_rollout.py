@@ -7,9 +7,9 @@ fetched, fetches the next) is worth nothing to it. Here each option is valued by
 improvement by rollout (Bertsekas): robot ``i`` commits to the option for its first leg,
 and then every robot, ``i`` included, follows a *base policy* in an abstract,
 event-driven model of the team over ``i``'s beliefs until every task it knows of is done,
-or the task's ``fail`` time has passed (the horizon). The option's value is the sum of the
-tasks' completion times (``fail`` for a task not done by then): the risk term of a
-multi-step expected free energy with the base policy for the tail.
+or a ``horizon`` has passed. The option's value is the sum of the tasks' completion times
+(``horizon`` for a task not done by then): the risk term of a multi-step expected free
+energy with the base policy for the tail.
 
 The model: robots move in straight lines at their speed; a robot that is not going
 anywhere stands still (where its teammates find it). The base policy of a free robot, on
@@ -34,7 +34,7 @@ at step 40, against the 100 of failing):
 
 >>> geometry = Geometry([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0]], [[0.0, 0.0]], [1.0] * 3)
 >>> sets = {(0,): [True], (0, 1): [False], (0, 2): [False]}
->>> go, fetch = rollout_values(0, geometry, sets, [3], [100.0], 2, [1, 2])
+>>> go, fetch = rollout_values(0, geometry, sets, [3], 100.0, 2, [1, 2])
 >>> go.tolist(), fetch.tolist()
 ([0.0], [-60.0, -50.0])
 """
@@ -223,11 +223,11 @@ class _Team:
         return now
 
 
-def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs, fail, K, V,
-                  shared: bool) -> float:  # fmt: skip
+def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs,
+                  horizon: float, K, V, shared: bool) -> float:  # fmt: skip
     """The sum of the completion times of the tasks anyone knows of (``K``), robot
     ``robot`` taking ``leg`` first and then every robot the base policy, from robots at
-    ``positions`` (``(n, 2)``); a task not done by its ``fail`` costs ``fail``.
+    ``positions`` (``(n, 2)``); a task not done by the ``horizon`` costs ``horizon``.
 
     Examples
     --------
@@ -237,14 +237,12 @@ def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs, fa
     >>> K = np.ones((2, 1), dtype=bool)
     >>> V = np.ones((2, 2, 1), dtype=bool)
     >>> rollout_total(0, Leg("task", 0), [[3.0, 0.0], [0.0, 4.0]], g, np.array([2]),
-    ...               np.array([100.0]), K, V, True)
+    ...               100.0, K, V, True)
     4.0
     """
-    fail = np.asarray(fail, dtype=float)
     team = _Team(positions, geometry, np.asarray(needs, dtype=int), K, V, shared)
     team.start(robot, leg)
-    known = ~team.done
-    now, horizon = 0.0, float(fail[known].max(initial=0.0))
+    known, now = ~team.done, 0.0
     for _ in range(4 * K.size + 4 * K.shape[0] + 8):  # every event changes a set or a task
         if team.done.all():
             break
@@ -252,12 +250,12 @@ def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs, fa
         now = team.advance(horizon)
         if not np.isfinite(now):
             break
-    cost = np.where(team.done, np.minimum(team.done_at, fail), fail)
+    cost = np.where(team.done, np.minimum(team.done_at, horizon), horizon)
     return float(cost[known].sum())
 
 
-def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, fail, order: int,
-                   helpers: Sequence[int] = ()) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon: float,
+                   order: int, helpers: Sequence[int] = ()) -> tuple[np.ndarray, ...]:  # fmt: skip
     """``(go, fetch)``: the rollout value of going to each task (``(m,)``) and of fetching
     each teammate in ``helpers``, in time units against taking no part (negative: time
     saved); ``inf`` for a task the robot does not know is open.
@@ -270,8 +268,10 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, fail, o
         Positions (or particles of them), tasks and speeds.
     sets : mapping
         Chain -> open tasks known, as :func:`team_views` reads them.
-    needs, fail : array_like
-        ``(m,)`` robots each task needs, and the cost of one not done.
+    needs : array_like
+        ``(m,)`` robots each task needs.
+    horizon : float
+        When the rollout stops: a task not done by then costs ``horizon``.
     order : int
         Order of reasoning (:func:`team_views`; fetches are seen by all below 3).
     helpers : sequence of int
@@ -280,7 +280,7 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, fail, o
     Examples
     --------
     >>> g = Geometry([[3.0, 0.0], [0.0, 4.0]], [[0.0, 0.0]], [1.0, 1.0])
-    >>> go, _ = rollout_values(0, g, {(0,): [True], (0, 1): [True]}, [2], [100.0], 2)
+    >>> go, _ = rollout_values(0, g, {(0,): [True], (0, 1): [True]}, [2], 100.0, 2)
     >>> go.tolist()                         # done at step 4 rather than never
     [-96.0]
     """
@@ -289,14 +289,16 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, fail, o
     n, m = particles.shape[1], len(needs)
     if particles.shape[2] != 2 or np.asarray(geometry.tasks).shape != (m, 2):
         raise InvalidArgumentError("positions must be (n, 2) or (p, n, 2), tasks (m, 2)")
-    needs, fail = np.asarray(needs, dtype=int), np.broadcast_to(fail, (m,)).astype(float)
+    needs, horizon = np.asarray(needs, dtype=int), float(horizon)
+    if not horizon > 0:
+        raise InvalidArgumentError(f"horizon must be > 0, got {horizon}")
     K, V = team_views(robot, n, sets, order)
     legs = [Leg("task", t) for t in range(m) if K[robot, t]] + [Leg("fetch", h) for h in helpers]
     totals = np.zeros(len(legs) + 1)
     for where in particles:
-        base = rollout_total(robot, Leg("absent"), where, geometry, needs, fail, K, V, order < 3)
+        base = rollout_total(robot, Leg("absent"), where, geometry, needs, horizon, K, V, order < 3)
         for k, leg in enumerate(legs):
-            totals[k] += rollout_total(robot, leg, where, geometry, needs, fail, K, V, order < 3)
+            totals[k] += rollout_total(robot, leg, where, geometry, needs, horizon, K, V, order < 3)
         totals[-1] += base
     totals /= particles.shape[0]
     go = np.full(m, np.inf)

@@ -249,8 +249,8 @@ class CollaborativeParameters:
         (chain ``(i, l, h)``), both then at the task from the meeting. Off: on tuning
         missions 0-59 (trial seed 1001) 98 -> 95 %, 89 / 119.9 -> 92.5 / 134.0 (paired
         +14.1 [+1.2, +31.0]); with ``plan_rendezvous`` 93 %, 90.5 / 140.5 (+20.5).
-    plan_rollout : bool
-        Options valued by rollout over chains of fetches (docs/aif.md §6h, fifth pass).
+    plan_rollout : float
+        Horizon (crossings) of a rollout over chains of fetches (0: off; aif.md §6h).
     """
 
     lane_factor: float = 2.0
@@ -299,7 +299,7 @@ class CollaborativeParameters:
     plan_mission: bool = False
     plan_pool: bool = False
     plan_fetchers: bool = False
-    plan_rollout: bool = False
+    plan_rollout: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -177,7 +177,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             mission=bool(p.plan_mission),
             pool=bool(p.plan_pool),
             fetchers=bool(p.plan_fetchers),
-            rollout=bool(p.plan_rollout),
+            rollout=p.plan_rollout * crossing,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
