@@ -139,12 +139,14 @@ def test_particles_are_averaged():
     _, geometry, sets = _chain()
     near = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0]])
     far = np.array([[0.0, 0.0], [30.0, 0.0], [40.0, 0.0]])
-    one = [rollout_values(0, g, sets, [3], HORIZON, 2, [1, 2]) for g in (
-        geometry._replace(positions=near), geometry._replace(positions=far))]  # fmt: skip
-    both = rollout_values(
-        0, geometry._replace(positions=[near, far]), sets, [3], HORIZON, 2, [1, 2]
+    one = [
+        rollout_values(0, geometry._replace(positions=p), sets, [3], HORIZON, 2, [1, 2])[1]
+        for p in (near, far)
+    ]
+    both = geometry._replace(positions=[near, far])
+    assert rollout_values(0, both, sets, [3], HORIZON, 2, [1, 2])[1] == pytest.approx(
+        (one[0] + one[1]) / 2
     )
-    assert both[1] == pytest.approx((one[0][1] + one[1][1]) / 2)
 
 
 def test_bad_arguments_are_refused():
