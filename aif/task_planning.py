@@ -47,7 +47,7 @@ from epistemica.aif._validate import as_finite, positive
 from epistemica.aif.evidence import check_order, check_robot
 from epistemica.aif.task_completion import Credit, completion_times
 from epistemica.aif.task_context import Fetch, TaskContext, convention, softmax
-from epistemica.aif.task_rollout import Geometry, rollout_values
+from epistemica.aif.task_rollout import Geometry, Leg, rollout_values
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = ["Fetch", "Geometry", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
@@ -296,15 +296,16 @@ class TaskPlanner:
     def _rollout(self, robot: int, geometry: Geometry, sets, fetches, own):
         """``own`` (tasks, explore) and the fetches' values, by rollout where a task is
         an option (a fetch's value times the probability its helper is found)."""
-        helpers = sorted({int(f.helper) for f in fetches})
+        legs = list(dict.fromkeys(Leg("fetch", int(f.helper), f.meeting, f.place) for f in fetches))
         go, fetched = rollout_values(
-            robot, geometry, sets, self.needs, self.rollout, self.order, helpers
+            robot, geometry, sets, self.needs, self.rollout, self.order, legs
         )
         m = self.needs.shape[0]
         own = own.copy()
         own[:m] = np.where(np.isfinite(own[:m]), go, np.inf)
-        value = dict(zip(helpers, fetched, strict=True))
-        return own, np.array([f.found * value[int(f.helper)] for f in fetches])
+        value = dict(zip(legs, fetched, strict=True))
+        return own, np.array([f.found * value[Leg("fetch", int(f.helper), f.meeting, f.place)]
+                              for f in fetches])  # fmt: skip
 
     def _meetings(self, meetings, n: int) -> np.ndarray | None:
         """The checked ``(n, n, m)`` meeting times, or None without ``fetchers``."""

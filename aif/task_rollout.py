@@ -75,7 +75,9 @@ class Geometry(NamedTuple):
 
 class Leg(NamedTuple):
     """The planning robot's first leg: ``kind`` is ``"task"`` (``target`` a task),
-    ``"fetch"`` (``target`` a teammate) or ``"absent"`` (it takes no part).
+    ``"fetch"`` (``target`` a teammate) or ``"absent"`` (it takes no part). A fetch meets
+    the teammate at time ``when`` at ``place`` if they are given (an intercept on its
+    predicted path), else where it stands.
 
     Examples
     --------
@@ -85,6 +87,8 @@ class Leg(NamedTuple):
 
     kind: str
     target: int = -1
+    when: float = float("nan")
+    place: tuple | None = None
 
 
 def _lookup(sets: Mapping, chain: tuple[int, ...], fallback: np.ndarray) -> np.ndarray:
@@ -153,6 +157,8 @@ class _Team:
             self.when[robot] = gap / self.speed[robot]
         else:
             self._fetch(robot, leg.target, 0.0)
+            if leg.place is not None and np.isfinite(leg.when):
+                self.pos[leg.target], self.when[robot] = leg.place, leg.when
 
     def _fetch(self, j: int, h: int, now: float) -> None:
         gap = np.hypot(*(self.pos[h] - self.pos[j]))
@@ -274,8 +280,9 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon
         When the rollout stops: a task not done by then costs ``horizon``.
     order : int
         Order of reasoning (:func:`team_views`; fetches are seen by all below 3).
-    helpers : sequence of int
-        Teammates it may fetch (a fetched teammate learns every task it knows of).
+    helpers : sequence of int or Leg
+        Teammates it may fetch, or its fetches as :class:`Leg` (a fetched teammate learns
+        every task it knows of).
 
     Examples
     --------
@@ -293,7 +300,8 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon
     if not horizon > 0:
         raise InvalidArgumentError(f"horizon must be > 0, got {horizon}")
     K, V = team_views(robot, n, sets, order)
-    legs = [Leg("task", t) for t in range(m) if K[robot, t]] + [Leg("fetch", h) for h in helpers]
+    legs = [Leg("task", t) for t in range(m) if K[robot, t]]
+    legs += [h if isinstance(h, Leg) else Leg("fetch", int(h)) for h in helpers]
     totals = np.zeros(len(legs) + 1)
     for where in particles:
         base = rollout_total(robot, Leg("absent"), where, geometry, needs, horizon, K, V, order < 3)

@@ -263,7 +263,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             for t in np.flatnonzero(unaware):
                 back = float(np.hypot(*(met[1] - s.tasks[t])))
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
-                                 found))  # fmt: skip
+                                 found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
         return out
 
     def choose(self, view: View, i: int, closed: np.ndarray) -> tuple:
