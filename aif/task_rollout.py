@@ -171,8 +171,10 @@ class _Team:
         need = self.needs - np.bincount(going, minlength=self.needs.size)
         return np.where(self.done, 0, need)
 
-    def decide(self, now: float) -> None:
-        """Every free robot's base policy at ``now``: the convention, else a fetch."""
+    def decide(self, now: float, pending: int = -1) -> None:
+        """Every free robot's base policy at ``now``: the convention, else a fetch
+        (``pending``: a robot counted free in the others' conventions that does not
+        decide and is not fetched: the planning robot, whose choice they do not see)."""
         left = self.left()
         active = left > 0
         free = self.status == FREE
@@ -181,6 +183,8 @@ class _Team:
         times = np.where(free[:, None] & active[None], arrive, np.inf)
         chosen, memo = {}, {}
         for j in np.flatnonzero(free & (self.K & active).any(axis=1)):
+            if j == pending:
+                continue
             key = self.V[j].tobytes()
             if key not in memo:
                 memo[key] = convention(times, self.V[j], np.maximum(left, 1))
@@ -190,11 +194,11 @@ class _Team:
             self.status[j], self.goal[j], self.when[j] = GOING, t, arrive[j, t]
         active = self.left() > 0
         for j in np.flatnonzero(self.status == FREE):
-            if self.status[j] != FREE or not (self.K[j] & active).any():
+            if self.status[j] != FREE or j == pending or not (self.K[j] & active).any():
                 continue
             unaware = (~self.V[j] & (self.K[j] & active)).any(axis=1)
             unaware &= self.status == FREE
-            unaware[j] = False
+            unaware[[j, pending] if pending >= 0 else j] = False
             if unaware.any():
                 gap = np.where(unaware, np.hypot(*(self.pos - self.pos[j]).T), np.inf)
                 self._fetch(j, int(np.argmin(gap)), now)
@@ -247,15 +251,14 @@ def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs,
     4.0
     """
     team = _Team(positions, geometry, np.asarray(needs, dtype=int), K, V, shared)
+    known = ~team.done
+    team.decide(0.0, pending=robot)  # the teammates do not see the robot's choice
     team.start(robot, leg)
-    known, now = ~team.done, 0.0
     for _ in range(4 * K.size + 4 * K.shape[0] + 8):  # every event changes a set or a task
-        if team.done.all():
+        now = team.advance(horizon)
+        if team.done.all() or not np.isfinite(now):
             break
         team.decide(now)
-        now = team.advance(horizon)
-        if not np.isfinite(now):
-            break
     cost = np.where(team.done, np.minimum(team.done_at, horizon), horizon)
     return float(cost[known].sum())
 
