@@ -15,11 +15,13 @@ The model: robots move in straight lines at their speed; a robot that is not goi
 anywhere stands still (where its teammates find it). The base policy of a free robot, on
 what it knows: the convention (:func:`~epistemica.aif.task_context.convention`) over the
 free robots it thinks know of each task, for the robots each task still needs (robots
-already going there are seen by all); else, knowing of a task that still needs robots, it
-fetches the nearest free robot it thinks does not know of it; else it waits. A fetched
-robot learns every task its fetcher knows of (and may fetch in turn); robots going to a
-task learn nothing else. A task is done at the ``needs``-th arrival of the robots going
-there, which are then free at the task.
+already going there are seen by all); else, for a task it knows still needs robots, the
+free knower and the free robot that does not know of it nearest each other (as it sees
+them) are fetcher and fetched: it fetches if it is that fetcher, else goes to the task to
+wait. A fetched robot learns every task its fetcher knows of (and may fetch in turn);
+robots going to a task learn nothing else. A task is done at the ``needs``-th arrival of
+the robots going there, which are then free at the task. The teammates' first moves are
+decided before robot ``i``'s, counting it free: they do not see its choice.
 
 What robot ``j`` knows starts as robot ``i`` thinks it does (the chain ``(i, j)``); what
 ``j`` thinks ``l`` knows is the chain ``(i, j, l)`` at order 3 and ``(i, l)`` below (every
@@ -29,14 +31,15 @@ Examples
 --------
 Robot 0 alone knows of a task needing three, at its feet; robots 1 and 2 stand 10 and 20
 metres along a line. Going to the task saves nothing (nobody else ever learns of it);
-fetching robot 1 makes a chain (robot 0 then fetches robot 2; all three reach the task
-at step 40, against the 100 of failing):
+fetching robot 1 makes a chain (robot 0 then fetches robot 2 while robot 1 goes to wait;
+all three are at the task at step 40, against the horizon's 100), and so does fetching
+robot 2 first:
 
 >>> geometry = Geometry([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0]], [[0.0, 0.0]], [1.0] * 3)
 >>> sets = {(0,): [True], (0, 1): [False], (0, 2): [False]}
 >>> go, fetch = rollout_values(0, geometry, sets, [3], 100.0, 2, [1, 2])
 >>> go.tolist(), fetch.tolist()
-([0.0], [-60.0, -50.0])
+([0.0], [-60.0, -60.0])
 """
 
 from __future__ import annotations
@@ -194,14 +197,37 @@ class _Team:
             self.status[j], self.goal[j], self.when[j] = GOING, t, arrive[j, t]
         active = self.left() > 0
         for j in np.flatnonzero(self.status == FREE):
-            if self.status[j] != FREE or j == pending or not (self.K[j] & active).any():
+            if self.status[j] == FREE and j != pending and (self.K[j] & active).any():
+                self._recruit(j, active, pending, now)
+
+    def _recruit(self, j: int, active: np.ndarray, pending: int, now: float) -> None:
+        """Free robot ``j``, knowing of tasks that still need robots and not sent to one:
+        for each such task (in order) the free knower and unaware free robot nearest each
+        other, as ``j`` sees it, are the fetcher and the fetched; ``j`` fetches if it is
+        that fetcher, else goes to the nearest such task to wait (one fetcher a task; it
+        also waits when nobody is left to fetch while a teammate is being fetched)."""
+        free = self.status == FREE
+        targets = free.copy()
+        targets[pending if pending >= 0 else j] = False
+        gaps = np.hypot(*(self.pos[:, None, :] - self.pos[None]).transpose(2, 0, 1))
+        gaps = gaps / self.speed[:, None]
+        waits = []
+        for t in np.flatnonzero(self.K[j] & active):
+            fetchers = np.flatnonzero(self.V[j][:, t] & free)
+            unaware = np.flatnonzero(~self.V[j][:, t] & targets)
+            if unaware.size == 0:  # wait there while a teammate is being fetched
+                waits += [t] if (self.status == HELD).any() else []
                 continue
-            unaware = (~self.V[j] & (self.K[j] & active)).any(axis=1)
-            unaware &= self.status == FREE
-            unaware[[j, pending] if pending >= 0 else j] = False
-            if unaware.any():
-                gap = np.where(unaware, np.hypot(*(self.pos - self.pos[j]).T), np.inf)
-                self._fetch(j, int(np.argmin(gap)), now)
+            pair = np.argmin(gaps[np.ix_(fetchers, unaware)])
+            fetcher, helper = fetchers[pair // unaware.size], unaware[pair % unaware.size]
+            if fetcher == j:
+                self._fetch(j, int(helper), now)
+                return
+            waits.append(t)
+        if waits:
+            t = waits[int(np.argmin(np.hypot(*(self.tasks[waits] - self.pos[j]).T)))]
+            gap = np.hypot(*(self.tasks[t] - self.pos[j]))
+            self.status[j], self.goal[j], self.when[j] = GOING, t, now + gap / self.speed[j]
 
     def advance(self, horizon: float) -> float:
         """Play the earliest event (a task done or a meeting); its time (inf: none left

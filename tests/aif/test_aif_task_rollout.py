@@ -26,15 +26,17 @@ def _chain():
 def test_a_chain_of_fetches_worked_by_hand():
     robots, geometry, sets = _chain()
     task = (0.0, 0.0)
-    # fetch 1: meet it, then robot 0 (the first free knower) fetches 2 from there; then
-    # all three go, and the task is done at the last arrival.
+    # fetch 1: meet it, then robot 0 (the lower index of the two knowers there, equally
+    # near robot 2) fetches 2 while robot 1 goes to wait; the task is done at the last
+    # arrival.
     met1 = _gap(robots[0], robots[1])
     met2 = met1 + _gap(robots[1], robots[2])
     via1 = max(met2 + _gap(robots[2], task), met2 + _gap(robots[1], task))
-    # fetch 2 first: then robot 0, at 2's place, fetches 1.
+    # fetch 2 first: then robot 0 (the lower index of the two knowers at 2's place, equally
+    # near robot 1) fetches 1, while robot 2 goes to the task to wait.
     met2 = _gap(robots[0], robots[2])
     met1 = met2 + _gap(robots[2], robots[1])
-    via2 = max(met1 + _gap(robots[1], task), met1 + _gap(robots[2], task))
+    via2 = max(met1 + _gap(robots[1], task), met2 + _gap(robots[2], task))
     go, fetch = rollout_values(0, geometry, sets, [3], HORIZON, 2, [1, 2])
     # nobody else ever learns of the task: going and taking no part both cost the horizon
     assert go.tolist() == [0.0]
