@@ -49,6 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from epistemica.aif._validate import positive
 from epistemica.aif.task_context import convention
 from epistemica.del_.errors import InvalidArgumentError
 
@@ -186,8 +187,9 @@ class _Team:
         times = np.where(free[:, None] & active[None], arrive, np.inf)
         chosen, memo = {}, {}
         for j in np.flatnonzero(free & (self.K & active).any(axis=1)):
-            if j == pending:
-                continue
+            enough = (self.V[j] & free[:, None]).sum(axis=0) >= left
+            if j == pending or not (enough & active & self.K[j]).any():
+                continue  # (no task it knows has enough free knowers: the convention idles it)
             key = self.V[j].tobytes()
             if key not in memo:
                 memo[key] = convention(times, self.V[j], np.maximum(left, 1))
@@ -325,9 +327,7 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon
     n, m = particles.shape[1], len(needs)
     if particles.shape[2] != 2 or np.asarray(geometry.tasks).shape != (m, 2):
         raise InvalidArgumentError("positions must be (n, 2) or (p, n, 2), tasks (m, 2)")
-    needs, horizon = np.asarray(needs, dtype=int), float(horizon)
-    if not horizon > 0:
-        raise InvalidArgumentError(f"horizon must be > 0, got {horizon}")
+    needs, horizon = np.asarray(needs, dtype=int), positive(horizon, "horizon")
     K, V = team_views(robot, n, sets, order)
     legs = [Leg("task", t) for t in range(m) if K[robot, t]]
     legs += [h if isinstance(h, Leg) else Leg("fetch", int(h)) for h in helpers]

@@ -158,4 +158,6 @@ def test_bad_arguments_are_refused():
     with pytest.raises(InvalidArgumentError):
         rollout_values(0, geometry, sets, [3], 0.0, 2)
     with pytest.raises(InvalidArgumentError):
+        rollout_values(0, geometry, sets, [3], [100.0, 100.0], 2)
+    with pytest.raises(InvalidArgumentError):
         TaskPlanner([3], rollout=np.nan)
