@@ -140,7 +140,8 @@ class TaskPlanner:
         The horizon of a rollout over chains of fetches, in the units of the arrivals (0:
         none): going to a task and fetching are valued by
         :func:`~epistemica.aif.task_rollout.rollout_values` when :meth:`plan` is given
-        ``geometry`` (a fetch's value times the probability its helper is found).
+        ``geometry`` (a fetch's value times the probability its helper is found; at order
+        3 the rollouts of orders 2 and 3 averaged).
     """
 
     def __init__(
@@ -298,7 +299,7 @@ class TaskPlanner:
         an option (a fetch's value times the probability its helper is found)."""
         legs = list(dict.fromkeys(Leg("fetch", int(f.helper), f.meeting, f.place) for f in fetches))
         go, fetched = rollout_values(
-            robot, geometry, sets, self.needs, self.rollout, self.order, legs
+            robot, geometry, sets, self.needs, self.rollout, self.order, legs, True
         )
         m = self.needs.shape[0]
         own = own.copy()

@@ -25,7 +25,10 @@ decided before robot ``i``'s, counting it free: they do not see its choice.
 
 What robot ``j`` knows starts as robot ``i`` thinks it does (the chain ``(i, j)``); what
 ``j`` thinks ``l`` knows is the chain ``(i, j, l)`` at order 3 and ``(i, l)`` below (every
-robot then shares ``i``'s picture, fetches included).
+robot then shares ``i``'s picture, fetches included). ``mixed`` averages the rollouts of
+orders 2 to ``order``, as the one-step predictions mix orders: the third-order sets lag
+(a teammate's news of a third robot reaches the ledger late), and a rollout that trusted
+them alone sent a robot to a task its waiting teammates were not at.
 
 Examples
 --------
@@ -292,7 +295,8 @@ def rollout_total(robot: int, leg: Leg, positions, geometry: Geometry, needs,
 
 
 def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon: float,
-                   order: int, helpers: Sequence[int] = ()) -> tuple[np.ndarray, ...]:  # fmt: skip
+                   order: int, helpers: Sequence[int] = (), mixed: bool = False,
+                   ) -> tuple[np.ndarray, ...]:  # fmt: skip
     """``(go, fetch)``: the rollout value of going to each task (``(m,)``) and of fetching
     each teammate in ``helpers``, in time units against taking no part (negative: time
     saved); ``inf`` for a task the robot does not know is open.
@@ -314,6 +318,9 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon
     helpers : sequence of int or Leg
         Teammates it may fetch, or its fetches as :class:`Leg` (a fetched teammate learns
         every task it knows of).
+    mixed : bool
+        Average over the rollouts at orders 2 .. ``order`` (at order 3: teammates' views
+        of each other as the robot's own, and as the chains ``(i, j, l)`` have them).
 
     Examples
     --------
@@ -328,16 +335,19 @@ def rollout_values(robot: int, geometry: Geometry, sets: Mapping, needs, horizon
     if particles.shape[2] != 2 or np.asarray(geometry.tasks).shape != (m, 2):
         raise InvalidArgumentError("positions must be (n, 2) or (p, n, 2), tasks (m, 2)")
     needs, horizon = np.asarray(needs, dtype=int), positive(horizon, "horizon")
-    K, V = team_views(robot, n, sets, order)
-    legs = [Leg("task", t) for t in range(m) if K[robot, t]]
+    own = np.asarray(sets[(robot,)], dtype=bool)
+    legs = [Leg("task", t) for t in range(m) if own[t]]
     legs += [h if isinstance(h, Leg) else Leg("fetch", int(h)) for h in helpers]
+    levels = range(min(order, 2), order + 1) if mixed else (order,)
     totals = np.zeros(len(legs) + 1)
-    for where in particles:
-        base = rollout_total(robot, Leg("absent"), where, geometry, needs, horizon, K, V, order < 3)
-        for k, leg in enumerate(legs):
-            totals[k] += rollout_total(robot, leg, where, geometry, needs, horizon, K, V, order < 3)
-        totals[-1] += base
-    totals /= particles.shape[0]
+    for level in levels:
+        K, V = team_views(robot, n, sets, level)
+        for where in particles:
+            for k, leg in enumerate([*legs, Leg("absent")]):
+                totals[k] += rollout_total(
+                    robot, leg, where, geometry, needs, horizon, K, V, level < 3
+                )
+    totals /= particles.shape[0] * len(levels)
     go = np.full(m, np.inf)
-    go[K[robot]] = totals[: int(K[robot].sum())] - totals[-1]
-    return go, totals[int(K[robot].sum()) : -1] - totals[-1]
+    go[own] = totals[: int(own.sum())] - totals[-1]
+    return go, totals[int(own.sum()) : -1] - totals[-1]

@@ -161,3 +161,17 @@ def test_bad_arguments_are_refused():
         rollout_values(0, geometry, sets, [3], [100.0, 100.0], 2)
     with pytest.raises(InvalidArgumentError):
         TaskPlanner([3], rollout=np.nan)
+
+
+def test_mixed_orders_average_the_rollouts_of_orders_two_and_three():
+    robots = [[0.0, 0.0], [10.0, 0.0], [20.0, 0.0]]
+    geometry = Geometry(robots, [[0.0, 0.0]], [1.0, 1.0, 1.0])
+    sets = {(0,): [True], (0, 1): [True], (0, 2): [False], (0, 1, 2): [True]}
+    two = rollout_values(0, geometry, sets, [3], HORIZON, 2)[0]
+    three = rollout_values(0, geometry, sets, [3], HORIZON, 3)[0]
+    assert two[0] != three[0]
+    mixed = rollout_values(0, geometry, sets, [3], HORIZON, 3, mixed=True)[0]
+    assert mixed.tolist() == pytest.approx(((two + three) / 2).tolist())
+    assert rollout_values(0, geometry, sets, [3], HORIZON, 2, mixed=True)[0].tolist() == (
+        two.tolist()
+    )
