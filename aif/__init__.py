@@ -14,7 +14,9 @@ and scipy. One module per concept:
 - :mod:`~epistemica.aif.row_index`: sparse gathers over the valid configurations;
 - :mod:`~epistemica.aif.one_step`: the one-step expected free energy of candidate positions;
 - :mod:`~epistemica.aif.search`: receding-horizon search with pruning of dominated branches;
-- :mod:`~epistemica.aif.controller`: the expected-free-energy controller.
+- :mod:`~epistemica.aif.controller`: the expected-free-energy controller;
+- :mod:`~epistemica.aif.task_rollout`: collaborative options valued by rollout over chains
+  of fetches (the planner of tasks is :mod:`~epistemica.aif.task_planning`).
 
 See ``docs/aif.md`` for the equations and how they map to the paper.
 
@@ -87,6 +89,7 @@ from epistemica.aif.motion import (
 )
 from epistemica.aif.one_step import Terms
 from epistemica.aif.perspective import Perspective
+from epistemica.aif.task_rollout import rollout_values
 
 __all__ = [
     "BEARING",
@@ -129,6 +132,7 @@ __all__ = [
     "published_free_energy",
     "published_update",
     "range_evidence",
+    "rollout_values",
     "row_sums",
     "select_policy",
     "shared_configurations",

@@ -75,6 +75,8 @@ class Fetch(NamedTuple):
         When the robot and the helper would reach the task (intercept, then the trip).
     found : float
         The probability that the helper is where the robot expects it.
+    meeting, place : float, tuple, optional
+        When and where the robot meets the helper (for a rollout; NaN / None: unknown).
     """
 
     task: int
@@ -82,6 +84,8 @@ class Fetch(NamedTuple):
     arrival: float
     helper_arrival: float
     found: float
+    meeting: float = float("nan")
+    place: tuple | None = None
 
 
 def softmax(G: np.ndarray, tau: float) -> np.ndarray:

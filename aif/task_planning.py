@@ -47,9 +47,10 @@ from epistemica.aif._validate import as_finite, positive
 from epistemica.aif.evidence import check_order, check_robot
 from epistemica.aif.task_completion import Credit, completion_times
 from epistemica.aif.task_context import Fetch, TaskContext, convention, softmax
+from epistemica.aif.task_rollout import Geometry, Leg, rollout_values
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["Fetch", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
+__all__ = ["Fetch", "Geometry", "TaskPlan", "TaskPlanner", "completion_times", "convention"]
 
 
 class TaskPlan(NamedTuple):
@@ -135,6 +136,12 @@ class TaskPlanner:
         fetch predicted with probability ``q`` adds two arrivals at the task, ``l`` and
         ``h`` at the meeting's time, each coming with ``q`` (independently, an
         approximation): the completion model then sees recruited coalitions form.
+    rollout : float
+        The horizon of a rollout over chains of fetches, in the units of the arrivals (0:
+        none): going to a task and fetching are valued by
+        :func:`~epistemica.aif.task_rollout.rollout_values` when :meth:`plan` is given
+        ``geometry`` (a fetch's value times the probability its helper is found; at order
+        3 the rollouts of orders 2 and 3 averaged).
     """
 
     def __init__(
@@ -156,6 +163,7 @@ class TaskPlanner:
         mission: bool = False,
         pool: bool = False,
         fetchers: bool = False,
+        rollout: float = 0.0,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -177,6 +185,7 @@ class TaskPlanner:
         self.mission = bool(mission)
         self.pool = bool(pool)
         self.fetchers = bool(fetchers)
+        self.rollout = float(as_finite(rollout, "rollout"))
         self.later = float(later)
         if not self.later > 0:
             raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")
@@ -194,6 +203,7 @@ class TaskPlanner:
         fetches: Sequence[Fetch] = (),
         previous: int | None = None,
         meetings=None,
+        geometry: Geometry | None = None,
     ) -> TaskPlan:
         """Robot ``robot``'s plan.
 
@@ -215,6 +225,8 @@ class TaskPlanner:
             Its last plan's option (an index of :attr:`TaskPlan.G`).
         meetings : array_like, optional
             ``(n, n, m)``: when ``l`` and ``h`` reach task ``t`` if ``l`` fetches ``h``.
+        geometry : Geometry, optional
+            Where robots and tasks are, for ``rollout`` (without it: one-step values).
 
         Examples
         --------
@@ -228,27 +240,18 @@ class TaskPlanner:
         >>> plan.kind, plan.helper, round(float(plan.G[2]), 6)   # 0.9 * 12 + 0.1 * 100 - 100
         ('fetch', 1, -79.2)
         """
-        a = np.asarray(arrivals, dtype=float)
+        a, robot = self._checked(arrivals, robot, sets)
         n, m = a.shape[0], self.needs.shape[0]
-        robot = check_robot(robot, n)
-        if a.shape != (n, m) or np.isnan(a).any():
-            raise InvalidArgumentError(f"arrivals must be ({n}, {m}) numbers, got {a.shape}")
-        if (robot,) not in sets:
-            raise InvalidArgumentError("sets needs the robot's own chain", hint="(robot,)")
         context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n))
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
-        extra = context.fetch_costs(robot, fetches) if fetching else np.full(len(fetches), np.inf)
-        G = np.concatenate([own, extra])
-        if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
-            prior = np.full(G.size, 0.05 / G.size)
-            prior[: m + 1] += 0.95 * softmax(context.costs((robot,), 0), self.tau)
-            if self.recruit:  # a fetch is as likely as exploring (the convention's free time)
-                prior[m + 1 :] = prior[m]
-            G = G - self.convention * self.tau * np.log(prior)
-        if previous is not None and 0 <= previous < G.size and np.isfinite(G[previous]):
-            G = G + self.commitment * self.tau
-            G[previous] -= self.commitment * self.tau
+        if self.rollout > 0 and geometry is not None and fetching:
+            own, extra = self._rollout(robot, geometry, sets, fetches, own)
+        else:
+            extra = (
+                context.fetch_costs(robot, fetches) if fetching else np.full(len(fetches), np.inf)
+            )
+        G = self._biased(np.concatenate([own, extra]), context, robot, previous)
         best = int(np.argmin(G))
         if G[m] <= G[best] + 1e-9 * self.tau:  # nothing saves more: explore (ties too)
             best = m
@@ -265,6 +268,45 @@ class TaskPlanner:
             fetch = fetches[best - m - 1]
             kind, task, helper = "fetch", int(fetch.task), int(fetch.helper)
         return TaskPlan(kind, task, helper, best, G / self.tau, preds)
+
+    def _biased(self, G: np.ndarray, context: TaskContext, robot: int, previous) -> np.ndarray:
+        """``G`` with the convention's prior and the commitment to ``previous``."""
+        m = self.needs.shape[0]
+        if self.convention > 0 and self.order >= 1:  # the shared convention breaks standoffs
+            prior = np.full(G.size, 0.05 / G.size)
+            prior[: m + 1] += 0.95 * softmax(context.costs((robot,), 0), self.tau)
+            if self.recruit:  # a fetch is as likely as exploring (the convention's free time)
+                prior[m + 1 :] = prior[m]
+            G = G - self.convention * self.tau * np.log(prior)
+        if previous is not None and 0 <= previous < G.size and np.isfinite(G[previous]):
+            G = G + self.commitment * self.tau
+            G[previous] -= self.commitment * self.tau
+        return G
+
+    def _checked(self, arrivals, robot: int, sets) -> tuple[np.ndarray, int]:
+        """The arrivals as an ``(n, m)`` array and the robot, checked."""
+        a = np.asarray(arrivals, dtype=float)
+        n, m = a.shape[0], self.needs.shape[0]
+        robot = check_robot(robot, n)
+        if a.shape != (n, m) or np.isnan(a).any():
+            raise InvalidArgumentError(f"arrivals must be ({n}, {m}) numbers, got {a.shape}")
+        if (robot,) not in sets:
+            raise InvalidArgumentError("sets needs the robot's own chain", hint="(robot,)")
+        return a, robot
+
+    def _rollout(self, robot: int, geometry: Geometry, sets, fetches, own):
+        """``own`` (tasks, explore) and the fetches' values, by rollout where a task is
+        an option (a fetch's value times the probability its helper is found)."""
+        legs = list(dict.fromkeys(Leg("fetch", int(f.helper), f.meeting, f.place) for f in fetches))
+        go, fetched = rollout_values(
+            robot, geometry, sets, self.needs, self.rollout, self.order, legs, True
+        )
+        m = self.needs.shape[0]
+        own = own.copy()
+        own[:m] = np.where(np.isfinite(own[:m]), go, np.inf)
+        value = dict(zip(legs, fetched, strict=True))
+        return own, np.array([f.found * value[Leg("fetch", int(f.helper), f.meeting, f.place)]
+                              for f in fetches])  # fmt: skip
 
     def _meetings(self, meetings, n: int) -> np.ndarray | None:
         """The checked ``(n, n, m)`` meeting times, or None without ``fetchers``."""

@@ -96,18 +96,22 @@ def table(rows: list[dict], levels: list[str], count: int) -> list[str]:
     return lines
 
 
-def timing(count: int, level: str, steps: int) -> list[str]:
-    """Seconds per decision per robot of ``level`` on the 8-robot missions."""
+def timing(count: int, level: str, steps: int, policy: str = "", robots: int = 8) -> list[str]:
+    """Seconds per decision per robot of ``level`` on the split's ``robots``-robot missions,
+    and each whole trial's seconds."""
     seed = SPLITS["tuning"].trial_seeds[0]
     lines = []
-    for mission in missions(count):
-        if len(mission.robots) != 8:
+    for mission in missions(count, policy):
+        if len(mission.robots) != robots:
             continue
+        started = time.perf_counter()
         trial = mission.trial(steps, seed, level)
-        per = trial.decision_time / 8 * 1000
+        whole = time.perf_counter() - started
+        per = trial.decision_time / robots * 1000
         lines.append(
-            f"{mission.filename}: {len(per)} steps, per robot median {np.median(per):.1f} ms, "
-            f"95th percentile {np.percentile(per, 95):.1f} ms, max {per.max():.1f} ms"
+            f"{mission.filename}: {len(per)} steps in {whole:.1f} s, per robot median "
+            f"{np.median(per):.1f} ms, 95th percentile {np.percentile(per, 95):.1f} ms, "
+            f"max {per.max():.1f} ms"
         )
     return lines
 
@@ -151,6 +155,7 @@ def main(argv=None) -> int:
     ap.add_argument("--timing", action="store_true", help="time decisions instead")
     ap.add_argument("--level", default="third", help="--timing: the level timed")
     ap.add_argument("--steps", type=int, default=200, help="--timing: steps per trial")
+    ap.add_argument("--robots", type=int, default=8, help="--timing: the team size timed")
     ap.add_argument("--trace", default="", help="MISSION:ROBOT:STEP, one traced decision")
     args = ap.parse_args(argv)
     if args.trace:
@@ -158,7 +163,7 @@ def main(argv=None) -> int:
         print("\n".join(trace(mission_seed, robot, step, args.policy)))
         return 0
     if args.timing:
-        print("\n".join(timing(args.missions, args.level, args.steps)))
+        print("\n".join(timing(args.missions, args.level, args.steps, args.policy, args.robots)))
         return 0
     levels = [name.strip() for name in args.levels.split(",")]
     path = Path(args.out)

@@ -124,3 +124,34 @@ def test_a_small_mission_succeeds_with_teammates_fetches_predicted(seed):
     s = CollaborativeScenario.drawn(robots=4, needs=(3, 2), seed=seed)
     parameters = CollaborativeParameters(plan_fetchers=True)
     assert simulate(s, "third", seed=seed, parameters=parameters).success
+
+
+class _Recording(PlanningCollaborativePolicy):
+    """Keeps the geometry each plan was given, and where the policy predicted robots."""
+
+    def start(self, scenario, robots=None, generators=None) -> None:
+        super().start(scenario, robots, generators)
+        self.given, plan = [], self.planner.plan
+
+        def recorded(*args, **kwargs):
+            self.given.append((args[-1], self.where.copy()))
+            return plan(*args, **kwargs)
+
+        self.planner.plan = recorded
+
+
+@pytest.mark.parametrize("horizon", [0.0, 6.0])
+def test_plan_rollout_gives_the_planner_its_horizon_and_the_predicted_geometry(horizon):
+    s = CollaborativeScenario.drawn(robots=4, needs=(3, 2), seed=1)
+    parameters = CollaborativeParameters(plan_rollout=horizon)
+    policy = _Recording("third", parameters)
+    assert simulate(s, policy, seed=1, parameters=parameters).success
+    crossing = s.workspace / (np.mean(s.max_speed) * s.dt)
+    assert policy.planner.rollout == pytest.approx(horizon * crossing)
+    for geometry, where in policy.given:
+        if horizon == 0:
+            assert geometry is None
+            continue
+        assert np.array_equal(geometry.positions, where)
+        assert np.allclose(geometry.speed, np.asarray(s.max_speed) * s.dt)
+        assert np.array_equal(geometry.tasks, s.tasks)

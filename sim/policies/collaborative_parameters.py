@@ -164,8 +164,7 @@ class CollaborativeParameters:
         also scales the convention and commitment terms). 0.05 / 0.1 / 0.2 on tuning
         missions 0-39: 98 / 100 / 60 % success, mean 118.1 / 116.8 / 313.2 steps.
     plan_repair : float
-        The cost of a task too few robots come to (``fail``). 2 / 3: mean 116.8 / 121.0
-        steps, both 100 %.
+        The cost of a task too few come to (``fail``). 2 / 3: mean 116.8 / 121.0, 100 %.
     plan_explore : float
         Time saved per unknown task by one more explorer, as a fraction of ``fail``
         shared by the team. ``third`` on tuning missions 0-39 (generator seeds, trial
@@ -201,9 +200,8 @@ class CollaborativeParameters:
         mean 89 / 119.9 to 85 / 127.8 (paired mean +7.9 [-7.6, +25.4], median +0.0
         [-1.0, +1.0]); without ``plan_retry``, on missions 0-29: +8.8 [-14.1, +36.4].
     plan_quorum : int
-        The fewest robots at a short-handed task that earn credit (1: any). 2, with
-        ``plan_timed``, on tuning missions 0-29 (trial seed 1001): 100 -> 90 % success,
-        paired mean +22.3 [-8.9, +61.2] steps.
+        The fewest robots at a short-handed task that earn credit (1: any). 2 (``plan_timed``,
+        tuning 0-29, seed 1001): 100 -> 90 % success, paired +22.3 [-8.9, +61.2] steps.
     plan_later : float
         Crossings by which a robot that chooses another option still comes to a task
         (the baseline its option saves time against; 0: it never comes, as before). A
@@ -247,10 +245,12 @@ class CollaborativeParameters:
         [-0.2, +44.1] (mission 1 failed).
     plan_fetchers : bool
         Teammates' predicted choices include fetching a robot known not to know of a task
-        (chain ``(i, l, h)``), both then at the task from the meeting. Off: ``third`` on
-        tuning missions 0-59 (trial seed 1001) 98 -> 95 % success, median / mean 89 /
-        119.9 -> 92.5 / 134.0 (paired +14.1 [+1.2, +31.0]); with ``plan_rendezvous``:
-        93 %, 90.5 / 140.5 (+20.5 [+0.3, +43.5]); mission 11 still fails.
+        (chain ``(i, l, h)``), both then at the task from the meeting. Off: on tuning
+        missions 0-59 (trial seed 1001) 98 -> 95 %, 89 / 119.9 -> 92.5 / 134.0 (paired
+        +14.1 [+1.2, +31.0]); with ``plan_rendezvous`` 93 %, 90.5 / 140.5 (+20.5).
+    plan_rollout : float
+        Horizon (crossings) of a rollout over fetch chains (0: off). 6, tuning 0-99: paired
+        -3.3 [-18.0, +12.2]; a drawn 3-robot mission fails (aif.md §6h, fifth pass).
     """
 
     lane_factor: float = 2.0
@@ -299,6 +299,7 @@ class CollaborativeParameters:
     plan_mission: bool = False
     plan_pool: bool = False
     plan_fetchers: bool = False
+    plan_rollout: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):

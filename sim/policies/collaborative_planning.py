@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from epistemica.aif.task_planning import Fetch, TaskPlanner
+from epistemica.aif.task_planning import Fetch, Geometry, TaskPlanner
 from epistemica.sim.engine.joint import JointView as View
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy, first_order
 from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
@@ -177,6 +177,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             mission=bool(p.plan_mission),
             pool=bool(p.plan_pool),
             fetchers=bool(p.plan_fetchers),
+            rollout=p.plan_rollout * crossing,
         )
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
@@ -262,7 +263,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             for t in np.flatnonzero(unaware):
                 back = float(np.hypot(*(met[1] - s.tasks[t])))
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
-                                 found))  # fmt: skip
+                                 found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
         return out
 
     def choose(self, view: View, i: int, closed: np.ndarray) -> tuple:
@@ -274,8 +275,11 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         keys = [("task", t, -1) for t in range(m)] + [("explore", -1, -1)]
         keys += [("fetch", f.task, f.helper) for f in fetches]
         previous = keys.index(self.previous[i]) if self.previous[i] in keys else None
-        meetings = self.meetings() if self.parameters.plan_fetchers else None
-        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous, meetings)
+        p, s = self.parameters, self.s
+        meetings = self.meetings() if p.plan_fetchers else None
+        speed = np.asarray(s.max_speed, dtype=float) * s.dt
+        geometry = Geometry(self.where, s.tasks, speed) if p.plan_rollout else None
+        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous, meetings, geometry)
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]
         if self.trace is not None:
