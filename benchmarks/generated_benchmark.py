@@ -100,6 +100,17 @@ def family_options(family: str) -> Options:
     return Options() if family == "collaborative" else GOAL_OPTIONS
 
 
+#: Families whose trials do not depend on the trial seed: a collaborative mission fixes
+#: every position and its sensing is exact, so a second seed would replay the first and
+#: count every trial twice (tests/test_generated_benchmark.py checks it stays so).
+SEEDLESS = frozenset({"collaborative"})
+
+
+def family_seeds(family: str, split: Split, seeds: int) -> tuple[int, ...]:
+    """The trial seeds a family runs: the first ``seeds`` of the split, one if seedless."""
+    return split.trial_seeds[: min(seeds, 1) if family in SEEDLESS else seeds]
+
+
 def interleaved(families, split: Split, missions: int, seeds: int) -> list:
     """The trials of every family, mission by mission (mission k of each family before
     mission k + 1 of any), so that a run stopped early leaves a prefix of each family."""
@@ -121,7 +132,7 @@ def trials(family: str, split: Split, missions: int, seeds: int) -> list:
         text = mission_text(family, seed, family_options(family))
         text += "".join(f"policy {line}\n" for line in POLICY_LINES)
         mission = parse_mission(text, f"{family}_{seed:06d}.epi")
-        for t in split.trial_seeds[:seeds]:
+        for t in family_seeds(family, split, seeds):
             out.extend(mission_trials(mission, family_levels(family), 1, t))
     return out
 
@@ -134,14 +145,14 @@ def collect(path: Path, family: str, split: Split, missions: int, seeds: int) ->
     out: dict = {}
     for row in read_rows(path):
         name = json.loads(row["options"]).get("spec")
-        if name in names and row["seed"] in split.trial_seeds[:seeds]:
+        if name in names and row["seed"] in family_seeds(family, split, seeds):
             out.setdefault((name, row["seed"]), {})[row["reasoning"]] = (
                 int(row["success"]),
                 int(row["steps"]),
             )
     levels = set(family_levels(family))
     for name in names:
-        keys = [(name, t) for t in split.trial_seeds[:seeds]]
+        keys = [(name, t) for t in family_seeds(family, split, seeds)]
         if not all(set(out.get(k, ())) >= levels for k in keys):
             kept = set(names[: names.index(name)])
             return {k: r for k, r in out.items() if k[0] in kept}
@@ -161,8 +172,9 @@ def tables(path: Path, families, split_name: str, missions: int, seeds: int) -> 
             f"### {family}",
             "",
             f"Split `{split_name}`: generator seeds {split.first_mission}–{last}{left}, trial "
-            f"seeds {', '.join(map(str, split.trial_seeds[:seeds]))}; {len(rows)} trials per "
-            "level.",
+            f"seeds {', '.join(map(str, family_seeds(family, split, seeds)))}"
+            f"{' (its trials do not depend on the seed)' if family in SEEDLESS else ''}; "
+            f"{len(rows)} trials per level.",
             "",
             *success_table(rows, family_levels(family)),
             "",
