@@ -171,9 +171,9 @@ class ActiveParameters:
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
-    plan_blind : bool
-        Predict a teammate never seen without the robot's evidence (``Planner.plan(blind=
-        ...)``). Off: +1/-1 trial on design seeds (docs/results/planning_wrong_decision.md).
+    plan_blind, plan_resight : bool
+        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
+        read a move only between two sightings, over their gap (results/planning_wrong_decision).
     plan_meet : bool
         Planner levels, rendezvous search: a searcher that sees a teammate outside the
         group it left with has found its team and stops searching, and a robot whose
@@ -229,6 +229,7 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
+    plan_resight: bool = False
     plan_meet: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
@@ -256,7 +257,7 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind", "plan_meet")  # fmt: skip
+                    "plan_blind", "plan_meet", "plan_resight")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(

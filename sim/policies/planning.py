@@ -159,10 +159,12 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
+        self.resight = bool(p.plan_resight)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
         self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
-        self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
+        # robot -> (step, what it saw, when it last saw each robot)
+        self._last: dict[int, tuple[int, np.ndarray, np.ndarray]] = {}
         # robot -> (n, M) log-likelihood of each teammate heading for each goal, summed
         # over the moves it saw.
         self._read: dict[int, np.ndarray] = {}
@@ -187,24 +189,34 @@ class PlanningStage:
 
     def observe(self, observations: Observations, robot: int) -> np.ndarray:
         """Read the teammates' moves since the robot last planned; ``(n,)`` the fraction
-        of its speed each used (1 where it could not tell)."""
+        of its speed each used (1 where it could not tell).
+
+        With ``plan_resight`` a move is read only between two sightings of the teammate,
+        over the time between them; otherwise from where the robot's last plan placed it
+        (a sighting of any age, or the placeholder) over the time since that plan."""
         s = self.scenario
         now = observations.poses[robot, :, :2]
         step = observations.step
         seen = observations.last_seen[robot] == step
         before = self._last.get(robot)
-        self._last[robot] = (step, now.copy())
+        self._last[robot] = (step, now.copy(), observations.last_seen[robot].copy())
         read = self._read.setdefault(robot, np.zeros((s.n_robots, s.n_goals)))
         if before is None or before[0] >= step:
             return np.ones(s.n_robots)
         gap = (step - before[0]) * s.dt
+        if self.resight:  # the last plan's estimate of a teammate is its sighting then
+            seen = seen & (before[2] >= 0)
+            gap = np.where(seen, step - before[2], step - before[0]) * s.dt
         model = self.sigma * float(s.max_speed.mean()) * gap
         # A move is the difference of two sightings: their noise adds to the model's error.
         sigma = model
         if self.noise > 0:
             noise = 2 * self.noise * sighting_variance(s, np.hypot(*(now - now[robot]).T))
             sigma = np.sqrt(model**2 + noise)
-        moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
+        if self.resight:  # per-teammate gaps: each one's reach over its own time
+            moves = motion_evidence(before[1], now, s.goals, s.max_speed * gap, 1.0, sigma)
+        else:
+            moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
         read *= 1.0 - self.leak
         read[seen] += moves[seen]
         used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
