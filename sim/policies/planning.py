@@ -241,7 +241,7 @@ class PlanningStage:
         s = self.scenario
         n, m = s.n_robots, s.n_goals
         track = self._tracks.setdefault(robot, (np.zeros((n, m, 2)), np.zeros(n), np.full(n, -1)))
-        variance = sighting_variance(s, np.hypot(*(now - now[robot]).T))
+        variance = np.array(sighting_variance(s, np.hypot(*(now - now[robot]).T)), dtype=float)
         variance[robot] = 0.0  # its own pose is exact
         sighted = np.where(seen[:, None], now, np.nan)
         sigma = self.sigma * float(s.max_speed.mean()) * s.dt
