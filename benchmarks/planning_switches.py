@@ -26,14 +26,12 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import re
-from pathlib import Path
 
 import numpy as np
+from planning_trace import traced_trial, trial_options
 
 from epistemica.aif.plan_context import PlanContext
-from epistemica.mission import parse_mission
-from epistemica.sim.policies.planning import WAIT, recording_plans
+from epistemica.sim.policies.planning import WAIT
 
 
 def _capture(log: list) -> None:
@@ -112,22 +110,10 @@ def switch_lines(record, before, now, previous) -> list[str]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("mission", type=Path)
-    ap.add_argument("--seed", type=int, required=True)
-    ap.add_argument("--level", default="third")
-    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    args = ap.parse_args(argv)
-    text = args.mission.read_text()
-    text += "".join(f"\npolicy {item.replace('=', ' ', 1)}" for item in args.set) + "\n"
-    found = re.search(r"^simulate .*\bsteps (\d+)", text, re.MULTILINE)
+    trial_options(ap)
     captured: list = []
     _capture(captured)
-    with recording_plans() as plans:
-        trial = parse_mission(text, str(args.mission)).trial(
-            int(found.group(1)) if found else 60, args.seed, args.level
-        )
-    outcome = "succeeded" if trial.success else "failed"
-    print(f"# {args.mission.stem}, seed {args.seed}, `{args.level}`: {outcome} in {trial.steps}")
+    plans = traced_trial(ap.parse_args(argv))
     last: dict = {}
     margins = []
     for record, now in zip(plans, captured, strict=True):
