@@ -60,7 +60,14 @@ from epistemica.aif.likelihood import check_configurations
 from epistemica.aif.plan_context import PlanContext, quasi_uniform
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["WAIT", "PlanResult", "Planner", "motion_evidence", "places_in_square"]
+__all__ = [
+    "WAIT",
+    "PlanResult",
+    "Planner",
+    "filter_sightings",
+    "motion_evidence",
+    "places_in_square",
+]
 
 #: :attr:`PlanResult.goal` of the waiting option.
 WAIT = -1
@@ -433,3 +440,57 @@ def motion_evidence(before, after, goals, speeds, dt: float, sigma) -> np.ndarra
     residual = (after - before)[:, None] - reach[..., None] * unit
     sigma = np.broadcast_to(np.asarray(sigma, dtype=float), before.shape[:1])[:, None]
     return -(residual**2).sum(axis=2) / (2 * sigma**2)
+
+
+def filter_sightings(track, sighted, variance, goals, speeds, steps, sigma) -> np.ndarray:
+    """``(n, m)`` log-likelihood of new sightings under each goal, read by a Kalman filter
+    per robot and goal hypothesis; updates ``track`` in place.
+
+    Under "heading for goal ``g``" a robot moves ``min(v, d)`` per step straight at it
+    (random-walk error ``sigma`` m per step and axis) and is sighted with per-axis
+    ``variance``. A sighting's evidence is its innovation ``-|s - x|² / 2S`` against the
+    filtered position ``x`` of that hypothesis (``S``, predicted plus sighting variance,
+    is the same for every goal). Two consecutive moves share a sighting; read through
+    the filter, its noise counts once, not once per move.
+
+    Parameters
+    ----------
+    track : tuple of numpy.ndarray
+        ``(mean (n, m, 2), var (n,), last (n,))``: filtered positions, their per-axis
+        variance, the step of each robot's last sighting (-1: never; a first sighting
+        starts the filter and reads nothing).
+    sighted : array_like
+        ``(n, 2)`` this step's sightings, ``nan`` rows for robots not sighted.
+    variance, speeds : array_like
+        ``(n,)`` per-axis sighting variance (m²), top speed (m per step).
+    goals, steps, sigma
+        ``(m, 2)`` goal positions; the current step; the motion model's error (m per step).
+
+    Examples
+    --------
+    >>> track = (np.zeros((1, 2, 2)), np.zeros(1), np.array([-1]))
+    >>> goals, at = [[10.0, 0.0], [-10.0, 0.0]], np.array([[0.0, 0.0]])
+    >>> filter_sightings(track, at, [1.0], goals, [1.0], 0, 0.5).tolist()  # starts
+    [[0.0, 0.0]]
+    >>> filter_sightings(track, at + [1.0, 0.0], [1.0], goals, [1.0], 1, 0.5).round(2).tolist()
+    [[-0.0, -0.89]]
+    """
+    (mean, var, last), variance = track, np.asarray(variance, dtype=float)
+    sighted, out = np.asarray(sighted, dtype=float), np.zeros(mean.shape[:2])
+    new = ~np.isnan(sighted).any(axis=1)
+    first = new & (last < 0)
+    mean[first], var[first] = sighted[first][:, None, :], variance[first]
+    rows = new & (last >= 0)
+    if rows.any():
+        gap = (steps - last[rows]).astype(float)
+        to_goal = np.asarray(goals, dtype=float)[None] - mean[rows]  # (r, m, 2)
+        distance = np.hypot(to_goal[..., 0], to_goal[..., 1])
+        reach = np.minimum(np.asarray(speeds, dtype=float)[rows][:, None] * gap[:, None], distance)
+        predicted = mean[rows] + reach[..., None] * to_goal / np.maximum(distance, 1e-12)[..., None]
+        prior = var[rows] + sigma**2 * gap  # the same for every goal
+        total, innovation = prior + variance[rows], sighted[rows][:, None, :] - predicted
+        out[rows] = -(innovation**2).sum(axis=2) / (2 * total[:, None])
+        gain = prior / total
+        mean[rows], var[rows] = predicted + gain[:, None, None] * innovation, prior * (1 - gain)
+    last[new] = steps
+    return out

@@ -85,8 +85,8 @@ def decision_table(record: PlanRecord) -> list[str]:
     return lines
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def trial_options(ap: argparse.ArgumentParser) -> None:
+    """The options that choose one trial: mission file, seed, level, parameter changes."""
     ap.add_argument("mission", type=Path)
     ap.add_argument("--seed", type=int, required=True)
     ap.add_argument("--level", default="third")
@@ -94,11 +94,11 @@ def main(argv=None) -> int:
         "--set", action="append", default=[], metavar="NAME=VALUE",
         help="a policy parameter, as a mission file's `policy NAME VALUE` line",
     )  # fmt: skip
-    ap.add_argument("--robot", default="r1", help="the robot whose decisions are printed")
-    ap.add_argument("--steps", default="0:5", help="first:last step printed (inclusive)")
-    args = ap.parse_args(argv)
-    robot = int(args.robot.lstrip("r")) - 1
-    first, last = (int(part) for part in args.steps.split(":"))
+
+
+def traced_trial(args: argparse.Namespace) -> list[PlanRecord]:
+    """Run the trial ``args`` chooses (:func:`trial_options`) recording its plans; print
+    its outcome line and return the plans."""
     text = args.mission.read_text()
     text += "".join(f"\npolicy {item.replace('=', ' ', 1)}" for item in args.set) + "\n"
     mission = parse_mission(text, str(args.mission))
@@ -106,6 +106,18 @@ def main(argv=None) -> int:
         trial = mission.trial(_step_limit(args.mission), args.seed, args.level)
     outcome = "succeeded" if trial.success else "failed"
     print(f"# {args.mission.stem}, seed {args.seed}, `{args.level}`: {outcome} in {trial.steps}")
+    return plans
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    trial_options(ap)
+    ap.add_argument("--robot", default="r1", help="the robot whose decisions are printed")
+    ap.add_argument("--steps", default="0:5", help="first:last step printed (inclusive)")
+    args = ap.parse_args(argv)
+    robot = int(args.robot.lstrip("r")) - 1
+    first, last = (int(part) for part in args.steps.split(":"))
+    plans = traced_trial(args)
     changes: Counter = Counter()
     heading: dict[int, int] = {}
     for record in plans:

@@ -171,19 +171,18 @@ class ActiveParameters:
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
-    plan_blind : bool
-        Predict a teammate never seen without the robot's evidence (``Planner.plan(blind=
-        ...)``). Off: +1/-1 trial on design seeds (docs/results/planning_wrong_decision.md).
+    plan_blind, plan_resight, plan_filter : bool
+        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
+        read a move only between two sightings, over their gap; read sightings by a filter per
+        goal (aif.planning.filter_sightings). All off (results/planning_wrong_decision.md).
     plan_meet : bool
         Planner levels, rendezvous search: a searcher that sees a teammate outside the
         group it left with has found its team and stops searching, and a robot whose
         search ends plans afresh, forgetting the moves it read and the goal it headed for
         before (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
-    plan_hierarchy : float
-        In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k).
-    plan_shown : float
-        Steps a teammate that sees the robot watches it head for an option's goal (aif.md
-        §6g, the value of being seen; 0: off).
+    plan_hierarchy, plan_shown : float
+        In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
+        steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
     controller : tuple of (str, value)
         Arguments of :class:`epistemica.aif.Controller` (``progress_weight``,
         ``horizon``, ...), as name-value pairs.
@@ -229,6 +228,8 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
+    plan_resight: bool = False
+    plan_filter: bool = False
     plan_meet: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
@@ -256,7 +257,8 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind", "plan_meet")  # fmt: skip
+                    "plan_blind", "plan_meet",
+                    "plan_resight", "plan_filter")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(

@@ -29,7 +29,13 @@ from typing import NamedTuple
 import numpy as np
 
 from epistemica.aif.decision import Decision
-from epistemica.aif.planning import WAIT, Planner, motion_evidence, places_in_square
+from epistemica.aif.planning import (
+    WAIT,
+    Planner,
+    filter_sightings,
+    motion_evidence,
+    places_in_square,
+)
 from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
@@ -159,10 +165,13 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
+        self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
+        self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
         self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
-        self._last: dict[int, tuple[int, np.ndarray]] = {}  # robot -> (step, what it saw)
+        # robot -> (step, what it saw, when it last saw each robot)
+        self._last: dict[int, tuple[int, np.ndarray, np.ndarray]] = {}
         # robot -> (n, M) log-likelihood of each teammate heading for each goal, summed
         # over the moves it saw.
         self._read: dict[int, np.ndarray] = {}
@@ -187,28 +196,56 @@ class PlanningStage:
 
     def observe(self, observations: Observations, robot: int) -> np.ndarray:
         """Read the teammates' moves since the robot last planned; ``(n,)`` the fraction
-        of its speed each used (1 where it could not tell)."""
+        of its speed each used (1 where it could not tell).
+
+        With ``plan_resight`` a move is read only between two sightings of the teammate,
+        over the time between them; otherwise from where the robot's last plan placed it
+        (a sighting of any age, or the placeholder) over the time since that plan."""
         s = self.scenario
         now = observations.poses[robot, :, :2]
         step = observations.step
         seen = observations.last_seen[robot] == step
         before = self._last.get(robot)
-        self._last[robot] = (step, now.copy())
+        self._last[robot] = (step, now.copy(), observations.last_seen[robot].copy())
         read = self._read.setdefault(robot, np.zeros((s.n_robots, s.n_goals)))
-        if before is None or before[0] >= step:
+        if before is not None and before[0] >= step:
+            return np.ones(s.n_robots)
+        if self.filtering:
+            read *= 1.0 - self.leak
+            read[seen] += self._filtered(robot, now, seen, step)[seen]
+        if before is None:
             return np.ones(s.n_robots)
         gap = (step - before[0]) * s.dt
+        if self.resight:  # the last plan's estimate of a teammate is its sighting then
+            seen = seen & (before[2] >= 0)
+            gap = np.where(seen, step - before[2], step - before[0]) * s.dt
         model = self.sigma * float(s.max_speed.mean()) * gap
         # A move is the difference of two sightings: their noise adds to the model's error.
         sigma = model
         if self.noise > 0:
             noise = 2 * self.noise * sighting_variance(s, np.hypot(*(now - now[robot]).T))
             sigma = np.sqrt(model**2 + noise)
-        moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
-        read *= 1.0 - self.leak
-        read[seen] += moves[seen]
+        if self.resight:  # per-teammate gaps: each one's reach over its own time
+            moves = motion_evidence(before[1], now, s.goals, s.max_speed * gap, 1.0, sigma)
+        else:
+            moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
+        if not self.filtering:
+            read *= 1.0 - self.leak
+            read[seen] += moves[seen]
         used = np.hypot(*(now - before[1]).T) / (s.max_speed * gap)
         return np.where(seen, np.clip(used, 0.0, 1.0), 1.0)
+
+    def _filtered(self, robot: int, now: np.ndarray, seen: np.ndarray, step: int) -> np.ndarray:
+        """``(n, M)`` the evidence of this step's sightings, each robot's filtered under
+        every goal hypothesis against the noise its sensor states (``plan_filter``)."""
+        s = self.scenario
+        n, m = s.n_robots, s.n_goals
+        track = self._tracks.setdefault(robot, (np.zeros((n, m, 2)), np.zeros(n), np.full(n, -1)))
+        variance = np.array(sighting_variance(s, np.hypot(*(now - now[robot]).T)), dtype=float)
+        variance[robot] = 0.0  # its own pose is exact
+        sighted = np.where(seen[:, None], now, np.nan)
+        sigma = self.sigma * float(s.max_speed.mean()) * s.dt
+        return filter_sightings(track, sighted, variance, s.goals, s.max_speed * s.dt, step, sigma)
 
     def _progress(self, robot: int, pose) -> float:
         """Seconds (times ``plan_progress``) the robot has driven towards the goal it
@@ -223,7 +260,7 @@ class PlanningStage:
     def forget(self, robot: int) -> None:
         """Drop what the robot read of its teammates' moves and the goal it headed for:
         its next plan starts from their positions alone (after a rendezvous search)."""
-        for memory in (self._last, self._read, self._heading, self._start):
+        for memory in (self._last, self._read, self._heading, self._start, self._tracks):
             memory.pop(robot, None)
 
     def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:

@@ -124,3 +124,38 @@ def test_progress_is_the_time_driven_towards_the_goal_since_choosing_it():
     assert stage._progress(0, start + np.array([3.0, 4.0])) == 0.0  # driven away: nothing to lose
     stage.forget(0)
     assert stage._progress(0, halfway) == 0.0
+
+
+def _read_after_a_gap(resight: bool, first_seen: int) -> tuple[np.ndarray, Scenario]:
+    """What robot 0 reads of robot 1: planned at steps 4, 5 and 6; robot 1 seen at
+    ``first_seen`` (-1: never) at (10, 10), unseen at 5, seen at 6 at (12, 10)."""
+    scenario = Scenario.paper("rendezvous", 2, 2, seed=3)
+    params = ActiveParameters(planning=True, plan_leak=0.0, plan_resight=resight)
+    stage = PlanningStage(scenario, params, order=2)
+    where = [10.0, 10.0] if first_seen >= 0 else [15.0, 15.0]  # a placeholder if never
+    stage.observe(_observations(4, where, first_seen), 0)
+    stage.observe(_observations(5, where, first_seen), 0)  # not seen: the estimate stays
+    stage.observe(_observations(6, [12.0, 10.0], 6), 0)
+    return stage._read[0][1], scenario
+
+
+@pytest.mark.parametrize("resight", [False, True])
+def test_a_move_is_read_between_two_sightings_over_their_gap(resight):
+    read, scenario = _read_after_a_gap(resight, first_seen=4)
+    steps = 2 if resight else 1  # seen at 4 and 6; the robot last planned at 5
+    start, end = np.array([10.0, 10.0]), np.array([12.0, 10.0])
+    to_goal = scenario.goals - start
+    distance = np.hypot(*to_goal.T)
+    reach = np.minimum(scenario.max_speed[1] * steps * scenario.dt, distance)
+    residual = (end - start) - reach[:, None] * to_goal / distance[:, None]
+    sigma = 0.5 * float(scenario.max_speed.mean()) * steps * scenario.dt
+    assert read == pytest.approx(-(residual**2).sum(axis=1) / (2 * sigma**2))
+
+
+def test_a_first_sighting_is_no_move_from_the_placeholder_with_resight():
+    read, _ = _read_after_a_gap(True, first_seen=-1)
+    assert (read == 0).all()
+    read, _ = _read_after_a_gap(False, first_seen=-1)  # without: a move from (15, 15)
+    assert (read < 0).all()
+    with pytest.raises(EpistemicaError):
+        ActiveParameters(plan_resight=1)
