@@ -240,7 +240,17 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                         known[(i, j, h)] = k.knows_goals((i, j, h))
         sets = {c: aware & ~closed for c, aware in known.items()}
         unknown = {c: m - int(aware.sum()) for c, aware in known.items()}
+        if self.parameters.plan_rollout and self.model == "nested":
+            for j, there in enumerate(self._standing(view, i)):
+                if j != i:  # a teammate seen standing at a task it knows knows of it
+                    sets[(i, j)] = sets[(i, j)] | (there & sets[(i,)])
         return sets, unknown
+
+    def _standing(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` the teammates robot ``i`` sees standing at each task now."""
+        sees = view.last_seen[i] == view.step
+        gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
+        return sees[:, None] & (gap <= 2 * self.s.completion_radius)
 
     def fetches(self, view: View, i: int) -> list[Fetch]:
         """The teammates robot ``i`` may fetch: for each open task it knows of, each
@@ -255,6 +265,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             unaware = self.open_now[i] & ~view.aware[i, j] & ~self.gave_up[i, :, j]
             if j == i or not unaware.any():
                 continue
+            if p.plan_rollout and not self.on_sweep(view, i, j, self.open_now[i]):
+                continue  # it left its sweep (it knows of a task): the intercept misses it
             met = self.meet(view, i, j)
             if met is None:
                 continue
