@@ -77,10 +77,14 @@ def test_a_teammate_given_up_on_is_fetched_again_once_seen_with_plan_retry(retry
     assert policy.gave_up[0, 0, 1] == (not retry)
 
 
+@pytest.mark.parametrize("rollout", [0.0, 6.0])
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_a_small_mission_succeeds_at_third(seed):
+def test_a_small_mission_succeeds_at_third(seed, rollout):
+    # seed 2 with plan_rollout once chased teammates out fetching to the step limit
     s = CollaborativeScenario.drawn(robots=3, needs=(2, 2), seed=seed)
-    trial = simulate(s, "third", seed=seed)
+    parameters = CollaborativeParameters(plan_rollout=rollout)
+    trial = simulate(s, PlanningCollaborativePolicy("third", parameters), seed=seed,
+                     parameters=parameters)  # fmt: skip
     assert trial.success
     assert (trial.tasks_done >= 0).all() and trial.completion_step == trial.tasks_done.max()
 
@@ -155,3 +159,42 @@ def test_plan_rollout_gives_the_planner_its_horizon_and_the_predicted_geometry(h
         assert np.array_equal(geometry.positions, where)
         assert np.allclose(geometry.speed, np.asarray(s.max_speed) * s.dt)
         assert np.array_equal(geometry.tasks, s.tasks)
+
+
+@pytest.mark.parametrize("rollout", [0.0, 6.0])
+@pytest.mark.parametrize("x", [4.0, 6.5, 26.5])
+def test_with_plan_rollout_a_teammate_seen_standing_at_a_task_is_taken_to_know_of_it(x, rollout):
+    # r1 at (20, 15) knows of t1 at (3, 15); r2 at (x, 15), in sight, never saw t1 found.
+    # Within two completion radii of t1 (1.5 m each) it stands there: r1 counts it a knower.
+    s = CollaborativeScenario([[20, 15, 0], [x, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=30.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, False]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_rollout=rollout))
+    policy.start(s)
+    sets, _ = policy.chains(view, 0, np.zeros(1, dtype=bool))
+    standing = abs(x - 3.0) <= 2 * s.completion_radius
+    assert sets[(0,)].tolist() == [True]
+    assert sets[(0, 1)].tolist() == [bool(rollout) and standing]
+
+
+@pytest.mark.parametrize("rollout", [0.0, 6.0])
+@pytest.mark.parametrize("off", [False, True])
+def test_with_plan_rollout_a_teammate_seen_off_its_sweep_is_not_intercepted(off, rollout):
+    # The scene above, r2 not knowing of t1, placed on its sweep or as far off it as the
+    # workspace allows. Seen off it, it is busy elsewhere (a task r1 does not know of, or a
+    # fetch): with plan_rollout r1 does not offer to intercept it on its sweep.
+    s, view = _scene(together=False)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_rollout=rollout))
+    policy.start(s)
+    route = policy.routes[1]
+    grid = np.stack(np.meshgrid(np.linspace(1, 29, 29), np.linspace(1, 29, 29)), -1).reshape(-1, 2)
+    place = grid[np.argmax([route.gap(q) for q in grid])] if off else route.points[0]
+    assert (route.gap(place) > policy.parameters.off_sweep * s.sensing_range) == off
+    view.poses[1, :2] = place
+    view.estimates[:, 1] = place
+    policy.plan(view)
+    offered = [(f.task, f.helper) for f in policy.fetches(view, 0)]
+    assert policy.meet(view, 0, 1) is not None  # the intercept itself is there either way
+    assert offered == ([] if off and rollout else [(0, 1)])

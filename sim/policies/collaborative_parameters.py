@@ -249,8 +249,8 @@ class CollaborativeParameters:
         missions 0-59 (trial seed 1001) 98 -> 95 %, 89 / 119.9 -> 92.5 / 134.0 (paired
         +14.1 [+1.2, +31.0]); with ``plan_rendezvous`` 93 %, 90.5 / 140.5 (+20.5).
     plan_rollout : float
-        Horizon (crossings) of a rollout over fetch chains (0: off). 6, tuning 0-99: paired
-        -3.3 [-18.0, +12.2]; a drawn 3-robot mission fails (aif.md §6h, fifth pass).
+        Horizon (crossings) of a rollout over fetch chains (0: off). 6, tuning 0-99: 100 vs
+        98 %, paired -4.0 [-18.1, +8.2], median +3.5 steps (aif.md §6h, fifth pass).
     """
 
     lane_factor: float = 2.0

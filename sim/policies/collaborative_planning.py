@@ -228,7 +228,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
 
     def chains(self, view: View, i: int, closed: np.ndarray) -> tuple[dict, dict]:
         """Robot ``i``'s open tasks and unknown-task counts per chain, as the level models
-        its teammates' knowledge."""
+        its teammates' knowledge (with ``plan_rollout``, a teammate it sees standing at a
+        task, within two completion radii, is taken to know of it)."""
         n, m, k = self.s.n_robots, self.s.n_tasks, view.knowledge
         known = {(i,): view.aware[i, i]}
         if self.model == "nested":
@@ -240,12 +241,24 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                         known[(i, j, h)] = k.knows_goals((i, j, h))
         sets = {c: aware & ~closed for c, aware in known.items()}
         unknown = {c: m - int(aware.sum()) for c, aware in known.items()}
+        if self.parameters.plan_rollout and self.model == "nested":
+            for j, there in enumerate(self._standing(view, i)):
+                if j != i:  # a teammate seen standing at a task it knows knows of it
+                    sets[(i, j)] = sets[(i, j)] | (there & sets[(i,)])
         return sets, unknown
+
+    def _standing(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` the teammates robot ``i`` sees standing at each task now."""
+        sees = view.last_seen[i] == view.step
+        gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
+        return sees[:, None] & (gap <= 2 * self.s.completion_radius)
 
     def fetches(self, view: View, i: int) -> list[Fetch]:
         """The teammates robot ``i`` may fetch: for each open task it knows of, each
         teammate it does not know knows of it and meets on its sweep (the rules'
-        intercept), found with probability ``exp(-age / fetch_memory)``."""
+        intercept), found with probability ``exp(-age / fetch_memory)``. With
+        ``plan_rollout``, not a teammate it knows has left its sweep for a task
+        (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
         if self.model == "shared":
             return []
@@ -255,6 +268,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             unaware = self.open_now[i] & ~view.aware[i, j] & ~self.gave_up[i, :, j]
             if j == i or not unaware.any():
                 continue
+            if p.plan_rollout and not self.on_sweep(view, i, j, unaware):
+                continue  # seen off its sweep, or it passed a task: the intercept misses it
             met = self.meet(view, i, j)
             if met is None:
                 continue
