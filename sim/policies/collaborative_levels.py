@@ -247,14 +247,18 @@ class CollaborativePolicy(CoalitionRules, Policy):
             return ("explore",)
         return ("task", self._nearest(view, i, np.flatnonzero(presumed)))
 
+    def standing(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` which robots robot ``i`` sees now standing at each task (within two
+        completion radii of it, where it estimates them)."""
+        sees = view.last_seen[i] == view.step
+        gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
+        return sees[:, None] & (gap <= 2 * self.s.completion_radius)
+
     def _waiting(self, view: View, i: int) -> np.ndarray:
         """``(m,)`` teammates robot ``i`` sees standing at each task now."""
-        sees = view.last_seen[i] == view.step
-        sees[i] = False
-        gap = np.hypot(
-            *(view.estimates[i, sees][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1)
-        )
-        return (gap <= 2 * self.s.completion_radius).sum(axis=0)
+        at = self.standing(view, i)
+        at[i] = False
+        return at.sum(axis=0)
 
     def _choose(self, view: View, i: int, available: np.ndarray, aware, waiting) -> tuple:
         """``("task", t)``, ``("fetch", t, j)``, or ``("explore",)``."""

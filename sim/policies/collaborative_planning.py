@@ -242,16 +242,10 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         sets = {c: aware & ~closed for c, aware in known.items()}
         unknown = {c: m - int(aware.sum()) for c, aware in known.items()}
         if self.parameters.plan_rollout and self.model == "nested":
-            for j, there in enumerate(self._standing(view, i)):
+            for j, there in enumerate(self.standing(view, i)):
                 if j != i:  # a teammate seen standing at a task it knows knows of it
                     sets[(i, j)] = sets[(i, j)] | (there & sets[(i,)])
         return sets, unknown
-
-    def _standing(self, view: View, i: int) -> np.ndarray:
-        """``(n, m)`` the teammates robot ``i`` sees standing at each task now."""
-        sees = view.last_seen[i] == view.step
-        gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
-        return sees[:, None] & (gap <= 2 * self.s.completion_radius)
 
     def fetches(self, view: View, i: int) -> list[Fetch]:
         """The teammates robot ``i`` may fetch: for each open task it knows of, each
