@@ -173,8 +173,10 @@ class ActiveParameters:
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind, plan_resight, plan_filter : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
-        read a move only between two sightings, over their gap; read sightings by a filter per
-        goal (aif.planning.filter_sightings). All off (results/planning_wrong_decision.md).
+        read a move only between two sightings, over their gap (on: off reads a teammate
+        re-sighted after a gap as one step's move); read sightings by a filter per goal
+        (aif.planning.filter_sightings). Blind and filter off
+        (results/planning_wrong_decision.md).
     plan_meet : bool
         Planner levels, rendezvous search: a searcher that sees a teammate outside the
         group it left with has found its team and stops searching, and a robot whose
@@ -228,7 +230,7 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
-    plan_resight: bool = False
+    plan_resight: bool = True
     plan_filter: bool = False
     plan_meet: bool = True
     plan_shown: float = 0.0
