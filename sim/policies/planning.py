@@ -166,6 +166,9 @@ class PlanningStage:
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
+        # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
+        # arrival does a task, so a plan keeps no goal of its own and reads no moves.
+        self.reselected = bool(scenario.kind.tasks)
         self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
@@ -325,8 +328,11 @@ class PlanningStage:
         local = np.flatnonzero(goals == self._heading.get(robot, -1))
         progress = self._progress(robot, pose)
         typed = self.typed(ctrl, goals, robot, observations)
+        read = self._read[robot][:, goals]
+        if self.reselected:
+            read, local = np.zeros_like(read), local[:0]
         result = self.planner(ctrl).plan(
-            robot, observations.poses[robot], prior, sets, moving, self._read[robot][:, goals],
+            robot, observations.poses[robot], prior, sets, moving, read,
             int(local[0]) if local.size else None,
             self.unseen(observations, robot), typed,
             observations.last_seen[robot] < 0 if self.blind else None,

@@ -9,11 +9,13 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from epistemica.aif.planning import Planner
 from epistemica.aif.teammates import TYPES
 from epistemica.del_.errors import EpistemicaError
 from epistemica.mission import parse_mission
-from epistemica.sim import Scenario
+from epistemica.sim import Scenario, simulate
 from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.levels import make_policy
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import PlanningStage, recording_plans, sighting_variance
 
@@ -159,3 +161,30 @@ def test_a_first_sighting_is_no_move_from_the_placeholder_with_resight():
     assert (read < 0).all()
     with pytest.raises(EpistemicaError):
         ActiveParameters(plan_resight=1)
+
+
+def _plan_inputs(monkeypatch, mission: str) -> list[tuple[np.ndarray, int | None]]:
+    """The evidence and previous goal of every plan of a 25-step trial of ``third``."""
+    seen, plan = [], Planner.plan
+
+    def spy(self, robot, positions, prior=None, sets=None, moving=None, evidence=None,
+            previous=None, *rest, **options):  # fmt: skip
+        seen.append((np.array(evidence, dtype=float), previous))
+        return plan(self, robot, positions, prior, sets, moving, evidence, previous, *rest,
+                    **options)  # fmt: skip
+
+    monkeypatch.setattr(Planner, "plan", spy)
+    scenario = Scenario.paper(mission, 3, 6 if mission == "multitask" else 3, seed=2)
+    simulate(scenario.replace(max_steps=25), make_policy("third"), seed=2)
+    return seen
+
+
+def test_multitask_plans_keep_no_goal_and_read_no_moves(monkeypatch):
+    """The upper level re-chooses a multitask team's tasks every step: a plan there charges
+    nothing for leaving the task it headed for and reads no teammate's moves; a goal
+    mission's plans do both (so the check can fail)."""
+    tasks = _plan_inputs(monkeypatch, "multitask")
+    assert tasks and all(previous is None and not e.any() for e, previous in tasks)
+    goals = _plan_inputs(monkeypatch, "rendezvous")
+    assert any(previous is not None for _, previous in goals)
+    assert any(e.any() for e, _ in goals)
