@@ -138,6 +138,43 @@ def _paper_table(path: Path, quick: bool) -> str:
     return head + "\n\n" + text.getvalue()
 
 
+#: The planner on the published multitask protocol (results.md §1b, "Multitask").
+MULTITASK = ("convention", "rules-third", "third-priormode", "third")
+
+
+def _multitask_specs(quick: bool) -> list:
+    robots, goals, n = ([2], [20], 1) if quick else ([2, 3, 5, 8], [20, 30, 40], 5)
+    return plan_sweep(["multitask"], robots, goals, MULTITASK, n, SEED)
+
+
+def _multitask_table(path: Path, quick: bool) -> str:
+    """Median / mean completion per team size and level, then `rules-third` paired: each
+    (team, tasks, seed) draws its own layout, so each trial is its own cluster."""
+    rows: dict = {}
+    for row in read_rows(path):
+        key = ((f"{row['robots']}x{row['goals']}", row["seed"]), 0)
+        rows.setdefault(key, {})[row["reasoning"]] = (int(row["success"]), int(row["steps"]))
+    teams = sorted({int(k[0][0].split("x")[0]) for k in rows})
+    out = ["| robots | " + " | ".join(f"`{lv}`" for lv in MULTITASK) + " |",
+           "|---|" + "---|" * len(MULTITASK)]  # fmt: skip
+    for n in teams:
+        got = [r for k, r in rows.items() if int(k[0][0].split("x")[0]) == n]
+        cells = []
+        for level in MULTITASK:
+            done = [r[level] for r in got if level in r]
+            steps = [t for _, t in done]
+            ok = sum(s for s, _ in done)
+            cells.append(f"{np.median(steps):.0f} / {np.mean(steps):.1f} ({ok}/{len(done)})")
+        out.append(f"| {n} | " + " | ".join(cells) + " |")
+    n = 1 if quick else 5
+    head = (
+        f"The planner on the published multitask protocol, trial seeds {SEED}–{SEED + n - 1}"
+        " per (team, tasks) cell. Cells: median / mean completion step (successes)."
+    )
+    rng = np.random.default_rng(20_261_128)
+    return "\n".join([head, "", *out, "", *versus_table(rows, "rules-third", MULTITASK, rng), ""])
+
+
 #: The planning controller (issue 37) beside the rules' `rules-third` (results.md §1b).
 PLANNING_NESTED = ("rules-third", "third", "second", "third-shared")
 #: The family where third order decides by construction (results.md §1b), paired on third.
@@ -160,6 +197,9 @@ STUDIES = {
     "planning-nested": _shipped(
         "specs/nested/*.epi", ("private_goal_3",), PLANNING_NESTED, 20,
         "The planning levels beside `rules-third` on the shipped nested missions",
+    ),
+    "planning-multitask": Study(
+        "the planner on the published multitask protocol", _multitask_specs, _multitask_table
     ),
     "third-order": _shipped(
         "specs/third_order/*.epi", ("late_news_3",), THIRD_ORDER, 20,
