@@ -275,7 +275,8 @@ class CollaborativeParameters:
         A teammate in sight is met where it is seen, once the fetcher has closed to
         hailing distance, rather than on its predicted sweep (it may be off its sweep, out
         fetching itself; the fetcher heads for it in either case).
-        INSIGHT_NUMBERS
+        Off: with ``plan_lost``, 98 / 88 % success, 92 / 115.2 and 76 / 154.5 steps on
+        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it.
     plan_hail : bool
         Fetching is an option only when the mission has an event by which teammates who
         see a robot head for a task learn of it (a ``heads to`` trigger that reveals the
