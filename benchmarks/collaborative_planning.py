@@ -9,6 +9,7 @@ one decision per robot of the planning level on the split's 8-robot missions.
 
     python benchmarks/collaborative_planning.py --missions 20 --levels rules,third
     python benchmarks/collaborative_planning.py --first 100 --missions 100 --levels rules,third
+    python benchmarks/collaborative_planning.py --missions 100 --robots 3-4   # small teams
     python benchmarks/collaborative_planning.py --timing --missions 40
     python benchmarks/collaborative_planning.py --trace 39:0:17   # mission 39, robot 0, step 17
 
