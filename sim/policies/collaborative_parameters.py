@@ -300,8 +300,9 @@ class CollaborativeParameters:
         The rules' patience for the planner: a task a robot waited at ``patience`` steps
         in vain is no option for ``hold`` steps, unless its coming would complete it or a
         new knower is known (``rejoin``; :meth:`CollaborativePolicy.unheld`).
-        Off, not measured closed loop: on traced missions it turned mission 123 from a
-        success at 426 steps into a failure (with ``plan_lost`` and ``plan_hail``).
+        Off: with ``plan_lost``, 99 / 90 % success, 90 / 112.9 and 72 / 151.7 steps on
+        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it
+        (faster at 5-6 robots, slower at 3-4).
     """
 
     lane_factor: float = 2.0
