@@ -262,7 +262,9 @@ class CollaborativeParameters:
         ``found`` event fires once, when a robot first comes within sight of a task: seen
         again near a task it found earlier, a teammate never entered it.
         Off: 99 / 89 % success, median / mean 91 / 120.3 and 78 / 158.2 steps on missions
-        0-99 / 100-199, against 98 / 89 %, 90 / 119.0 and 76 / 157.6 (no gain).
+        0-99 / 100-199, against 98 / 89 %, 90 / 119.0 and 76 / 157.6 (no gain); with
+        ``plan_lost``, 99 / 90 %, 91 / 115.8 and 74 / 153.8 against 90 / 112.0 and 72 /
+        149.2 without it.
     plan_knowers : bool
         Coming to a task earns ``plan_credit`` only when at least as many robots as it
         needs know of it (as the chain's sets have it): where fewer do, nobody else can
