@@ -195,7 +195,11 @@ class TaskContext:
             coming = np.vstack([presence, np.hstack([came, came])])[order_, self.cols]
             spare = np.vstack([free, np.zeros((late.shape[0], 2 * m))])
             pooled = spare[order_, self.cols] if p.pool else None
-        both = sorted_completion(ranked, coming, self.needs2, self.fail2, p.coming, free=pooled)
+        worth = None
+        if p.knowers:  # no credit for coming to a task too few know of: waiting brings nobody
+            enough = np.tile(self.known(chain, open_) >= p.needs, 2).astype(float)
+            worth = np.broadcast_to(enough, ranked.shape)
+        both = sorted_completion(ranked, coming, self.needs2, self.fail2, p.coming, worth, pooled)
         saved = both[m:] - both[:m]
         G[:m] = np.where(open_ & np.isfinite(self.arrivals[agent]), saved, np.inf)
         G[m] = -p.explore * float(p.fail.mean()) * unknown / n
@@ -204,6 +208,16 @@ class TaskContext:
             q = np.vstack([presence[:, m:], came])
             self.options[(self.key(chain), order)] = self.own_fetches(chain, open_, both[:m], a, q)
         return G
+
+    def known(self, chain: tuple[int, ...], open_) -> np.ndarray:
+        """``(m,)`` how many robots know of each task as ``chain[:-1]`` predicts
+        ``chain[-1]`` takes it: itself (``open_``) and each teammate by its chain's set."""
+        n = self.arrivals.shape[0]
+        count = np.asarray(open_, dtype=int).copy()
+        for j in range(n):
+            if j != chain[-1]:
+                count += self._lookup(self.sets, (*chain, j))
+        return count
 
     def rows(self, chain: tuple[int, ...], order: int) -> tuple[np.ndarray, np.ndarray]:
         """``(2e, m)`` arrivals and presence of the pairs ``chain[-1]``'s teammates are
@@ -313,7 +327,11 @@ class TaskContext:
             late, base = np.vstack([late, pairs]), np.vstack([base, pairs])
             presence, free = np.vstack([presence, came]), np.vstack([free, 0 * came])
         pool = free if p.pool else None
-        without = completion_times(late, presence, p.needs, p.fail, *p.coming, free=pool)
+        worth = None
+        if p.knowers:  # without the fetch, a task too few know of earns no credit
+            short = self.known((robot,), self.sets[(robot,)]) < p.needs
+            worth = np.broadcast_to(~short, late.shape)
+        without = completion_times(late, presence, p.needs, p.fail, *p.coming, worth, pool)
         tasks = np.array([f.task for f in fetches], dtype=int)
         helpers = np.array([f.helper for f in fetches], dtype=int)
         cols = np.arange(len(fetches))

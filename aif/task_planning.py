@@ -142,6 +142,11 @@ class TaskPlanner:
         :func:`~epistemica.aif.task_rollout.rollout_values` when :meth:`plan` is given
         ``geometry`` (a fetch's value times the probability its helper is found; at order
         3 the rollouts of orders 2 and 3 averaged).
+    knowers : bool
+        Coming to a task earns ``credit`` only when at least ``needs`` robots know of it
+        (as the chain's sets have it, the robot included): where fewer do, nobody else
+        can come, and a robot waiting there alone saves nothing until it brings one (a
+        fetch still earns credit; its baseline, without the fetch, then earns none).
     """
 
     def __init__(
@@ -164,6 +169,7 @@ class TaskPlanner:
         pool: bool = False,
         fetchers: bool = False,
         rollout: float = 0.0,
+        knowers: bool = False,
     ) -> None:
         self.needs = np.asarray(needs, dtype=int)
         m = self.needs.shape[0]
@@ -186,6 +192,7 @@ class TaskPlanner:
         self.pool = bool(pool)
         self.fetchers = bool(fetchers)
         self.rollout = float(as_finite(rollout, "rollout"))
+        self.knowers = bool(knowers)
         self.later = float(later)
         if not self.later > 0:
             raise InvalidArgumentError(f"later must be > 0 (inf: never), got {later}")

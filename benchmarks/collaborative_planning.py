@@ -8,6 +8,8 @@ and mean completion step (a failure counts at its step limit). ``--timing`` inst
 one decision per robot of the planning level on the split's 8-robot missions.
 
     python benchmarks/collaborative_planning.py --missions 20 --levels rules,third
+    python benchmarks/collaborative_planning.py --first 100 --missions 100 --levels rules,third
+    python benchmarks/collaborative_planning.py --missions 100 --robots 3-4   # small teams
     python benchmarks/collaborative_planning.py --timing --missions 40
     python benchmarks/collaborative_planning.py --trace 39:0:17   # mission 39, robot 0, step 17
 
@@ -34,12 +36,14 @@ from epistemica.sim.policies.collaborative_planning import PlanningCollaborative
 BANDS = ((3, 4), (5, 6), (7, 8))
 
 
-def missions(count: int, policy: str = "") -> list:
-    """The first ``count`` collaborative missions of the tuning split (with a ``policy``
-    line setting parameters, if given)."""
+def missions(count: int, policy: str = "", first: int = 0) -> list:
+    """``count`` collaborative missions of the tuning split from its ``first`` (with a
+    ``policy`` line setting parameters, if given)."""
     split = SPLITS["tuning"]
+    if not 0 <= first <= first + count <= split.missions:
+        raise SystemExit(f"--first {first} --missions {count}: the split has {split.missions}")
     out = []
-    for k in range(count):
+    for k in range(first, first + count):
         seed = split.first_mission + k
         text = mission_text("collaborative", seed, family_options("collaborative"))
         if policy:
@@ -48,14 +52,19 @@ def missions(count: int, policy: str = "") -> list:
     return out
 
 
-def run(count: int, levels: list[str], path: Path, policy: str = "") -> list[dict]:
+def run(
+    count: int, levels: list[str], path: Path, policy: str = "", first: int = 0, robots=None
+) -> list[dict]:
     """Every level on every mission (trial seed: the split's first), kept in ``path``
-    (a level run with a ``policy`` line is named ``level[policy]``)."""
+    (a level run with a ``policy`` line is named ``level[policy]``); with ``robots``, only
+    the missions of those team sizes."""
     rows = [json.loads(line) for line in path.read_text().splitlines()] if path.exists() else []
     have = {(r["mission"], r["level"]) for r in rows}
     seed = SPLITS["tuning"].trial_seeds[0]
     with path.open("a") as out:
-        for mission in missions(count, policy):
+        for mission in missions(count, policy, first):
+            if robots and len(mission.robots) not in robots:
+                continue
             limit = mission.scenario(seed).max_steps
             for level in levels:
                 name = f"{level}[{policy}]" if policy else level
@@ -77,9 +86,9 @@ def run(count: int, levels: list[str], path: Path, policy: str = "") -> list[dic
     return rows
 
 
-def table(rows: list[dict], levels: list[str], count: int) -> list[str]:
+def table(rows: list[dict], levels: list[str], count: int, first: int = 0) -> list[str]:
     """Success, median and mean steps per level and team-size band."""
-    names = {m.filename for m in missions(count)}
+    names = {m.filename for m in missions(count, first=first)}
     rows = [r for r in rows if r["mission"] in names]
     lines = ["| level | robots | trials | success | median | mean |", "|---|---|---|---|---|---|"]
     for level in levels:
@@ -148,14 +157,15 @@ def trace(mission_seed: int, robot: int, step: int, policy: str = "") -> list[st
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--missions", type=int, default=20, help="the first N of the split")
+    ap.add_argument("--missions", type=int, default=20, help="N missions of the split")
+    ap.add_argument("--first", type=int, default=0, help="the index of the first (100: 100-)")
     ap.add_argument("--levels", default="rules,recruit,rules-first,oracle,third")
     ap.add_argument("--out", default="runs/collaborative-planning-tuning.jsonl")
     ap.add_argument("--policy", default="", help='parameters, e.g. "plan_repair 4"')
     ap.add_argument("--timing", action="store_true", help="time decisions instead")
     ap.add_argument("--level", default="third", help="--timing: the level timed")
     ap.add_argument("--steps", type=int, default=200, help="--timing: steps per trial")
-    ap.add_argument("--robots", type=int, default=8, help="--timing: the team size timed")
+    ap.add_argument("--robots", default="", help="team sizes run, e.g. 3-4 (--timing: one, 8)")
     ap.add_argument("--trace", default="", help="MISSION:ROBOT:STEP, one traced decision")
     args = ap.parse_args(argv)
     if args.trace:
@@ -163,14 +173,17 @@ def main(argv=None) -> int:
         print("\n".join(trace(mission_seed, robot, step, args.policy)))
         return 0
     if args.timing:
-        print("\n".join(timing(args.missions, args.level, args.steps, args.policy, args.robots)))
+        robots = int(args.robots or 8)
+        print("\n".join(timing(args.missions, args.level, args.steps, args.policy, robots)))
         return 0
     levels = [name.strip() for name in args.levels.split(",")]
     path = Path(args.out)
     path.parent.mkdir(parents=True, exist_ok=True)
-    rows = run(args.missions, levels, path, args.policy)
+    low, _, high = args.robots.partition("-")
+    team = set(range(int(low), int(high or low) + 1)) if low else None
+    rows = run(args.missions, levels, path, args.policy, args.first, team)
     named = [f"{level}[{args.policy}]" if args.policy else level for level in levels]
-    print("\n".join(table(rows, named, args.missions)))
+    print("\n".join(table(rows, named, args.missions, args.first)))
     return 0
 
 

@@ -4,6 +4,8 @@ beside the rules, deciding by what the robot knows its teammates know, and close
 import numpy as np
 import pytest
 
+from epistemica.generate import mission_text
+from epistemica.mission import parse_mission
 from epistemica.sim import simulate
 from epistemica.sim.engine.joint import JointView
 from epistemica.sim.engine.knowledge import TeamKnowledge
@@ -198,3 +200,152 @@ def test_with_plan_rollout_a_teammate_seen_off_its_sweep_is_not_intercepted(off,
     offered = [(f.task, f.helper) for f in policy.fetches(view, 0)]
     assert policy.meet(view, 0, 1) is not None  # the intercept itself is there either way
     assert offered == ([] if off and rollout else [(0, 1)])
+
+
+def _sighted_scene(x: float, step: int = 50):
+    """r1 at (12, 15) found t1 at (3, 15), which needs 2, alone; r2 at (x, 15), seen by r1,
+    never seen at the task's finding (the ledger has r1 alone knowing of it). Sight 10 m."""
+    s = CollaborativeScenario([[12, 15, 0], [x, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=10.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, False]))
+    return s, _view(step, np.asarray(s.starts, dtype=float), knowledge)
+
+
+@pytest.mark.parametrize("sighted", [False, True])
+@pytest.mark.parametrize("x", [10.0, 13.0, 14.0])
+def test_with_plan_sighted_a_teammate_seen_with_a_task_in_sight_knows_of_it(x, sighted):
+    # r2 is |x - 3| m from t1: 7 and 10 are within the 10 m of sight (it sees t1, so it
+    # knows of it, though no shared event says so), 11 is not. With plan_sighted r1 counts
+    # it a knower and does not offer to fetch it for t1.
+    s, view = _sighted_scene(x)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_sighted=sighted))
+    policy.start(s)
+    policy.plan(view)
+    knows = sighted and abs(x - 3.0) <= 10.0
+    assert view.aware[0, 1].tolist() == [False]
+    sets, unknown = policy.chains(view, 0, np.zeros(1, dtype=bool))
+    assert sets[(0, 1)].tolist() == [knows]
+    assert unknown[(0, 1)] == (0 if knows else 1)
+    offered = [(f.task, f.helper) for f in policy.fetches(view, 0)]
+    assert offered == ([] if knows else [(0, 1)])
+
+
+def test_with_plan_sighted_what_a_teammate_was_seen_to_see_is_remembered():
+    # r1 sees r2 7 m from t1 at step 50; at step 51 r2 is 15 m from it, still in sight:
+    # it saw t1 a step ago, so it still knows of it. Seen at 15 m only, it would not.
+    s, view = _sighted_scene(10.0)
+    far = np.array([[12.0, 15.0, 0.0], [18.0, 15.0, 0.0]])
+    estimates = np.broadcast_to(far[None, :, :2], (2, 2, 2)).copy()
+    later = view._replace(step=51, poses=far, estimates=estimates, last_seen=np.full((2, 2), 51))
+    fresh = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_sighted=True))
+    fresh.start(s)
+    fresh.plan(later)
+    assert fresh.chains(later, 0, np.zeros(1, dtype=bool))[0][(0, 1)].tolist() == [False]
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_sighted=True))
+    policy.start(s)
+    policy.plan(view)
+    policy.plan(later)
+    assert policy.chains(later, 0, np.zeros(1, dtype=bool))[0][(0, 1)].tolist() == [True]
+    assert policy.seen[:, :, 0].tolist() == [[True, True], [True, True]]
+
+
+def _events(seed: int) -> tuple:
+    """The observation events of generated collaborative mission ``seed``."""
+    return parse_mission(mission_text("collaborative", seed), "m.epi").scenario(0).events
+
+
+@pytest.mark.parametrize("hail", [False, True])
+@pytest.mark.parametrize("seed", [123, 175])
+def test_with_plan_hail_a_teammate_is_fetched_only_where_a_hail_tells_it(seed, hail):
+    # The scene of the fetch above (r2 does not know of t1), with the events of generated
+    # mission 123 (found, heading, done: a teammate that sees r1 head for t1 learns of it)
+    # or 175 (found, done: nothing r1 does on the way tells r2 of t1). With plan_hail r1
+    # offers to fetch r2 only where the heading event exists.
+    s, view = _scene(together=False)
+    s = s.replace(events=_events(seed))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hail=hail))
+    policy.start(s)
+    policy.plan(view)
+    heading = any(e.name == "heading" for e in s.events)
+    assert heading == (seed == 123)
+    offered = [(f.task, f.helper) for f in policy.fetches(view, 0)]
+    assert offered == ([(0, 1)] if heading or not hail else [])
+
+
+def _two_tasks():
+    """r1 at (20, 15) found t1 at (3, 15) and t2 at (20, 3), alone; r2 6.5 m off, in sight."""
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15], [20, 3]], (2, 2),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 2), dtype=bool))
+    knowledge.discover(0, np.array([True, False]))
+    knowledge.discover(1, np.array([True, False]))
+    return s, _view(50, np.asarray(s.starts, dtype=float), knowledge)
+
+
+@pytest.mark.parametrize("lost", [False, True])
+def test_with_plan_lost_a_teammate_given_up_for_one_task_is_not_fetched_for_another(lost):
+    # r1 gave up fetching r2 for t1 (r2 was not where its sweep put it): with plan_lost it
+    # does not offer to fetch r2 for t2 either; without, only the fetch for t1 is gone.
+    s, view = _two_tasks()
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_lost=lost))
+    policy.start(s)
+    policy.plan(view)
+    assert [(f.task, f.helper) for f in policy.fetches(view, 0)] == [(0, 1), (1, 1)]
+    policy.gave_up[0, 0, 1] = True
+    offered = [(f.task, f.helper) for f in policy.fetches(view, 0)]
+    assert offered == ([] if lost else [(1, 1)])
+
+
+@pytest.mark.parametrize("alive", [0, 1])
+@pytest.mark.parametrize("lost", [False, True])
+def test_with_plan_lost_a_never_seen_teammate_with_no_start_left_is_not_fetched(lost, alive):
+    # r2 never seen by r1; every start of its grid but ``alive`` of them ruled out (it
+    # would have been seen): with none left it left its sweep, and plan_lost offers no
+    # intercept of it on its sweep.
+    s, view = _two_tasks()
+    view.last_seen[0, 1] = -1
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_lost=lost))
+    policy.start(s)
+    policy.plan(view)
+    policy.teammates.alive[0, 1] = False
+    policy.teammates.alive[0, 1, :alive] = True
+    assert policy.lost(view, 0, 1) == (alive == 0)
+    offered = [f.helper for f in policy.fetches(view, 0)]
+    assert offered == ([] if lost and alive == 0 else [1, 1])
+
+
+@pytest.mark.parametrize("insight", [False, True])
+def test_with_plan_insight_a_teammate_in_sight_is_met_where_it_is_seen(insight):
+    # r2, 6.5 m from r1 and in sight, is met where r1 sees it once r1 is at hailing
+    # distance (sight less both robots' step), not on its sweep; then both go 23.5 m to t1.
+    s, view = _scene(together=False)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_insight=insight))
+    policy.start(s)
+    policy.plan(view)
+    (fetch,) = policy.fetches(view, 0)
+    speed = np.asarray(s.max_speed, dtype=float) * s.dt
+    hail = s.sensing_range - speed.sum()
+    swept = policy.meet(view, 0, 1)
+    when, where = ((6.5 - hail) / speed[0], (26.5, 15.0)) if insight else swept
+    assert fetch.meeting == pytest.approx(when)
+    assert fetch.place == pytest.approx(tuple(where))
+    back = np.hypot(*(np.asarray(where) - s.tasks[0]))
+    assert fetch.arrival == pytest.approx(when + back / speed[0])
+    assert (fetch.place == pytest.approx((26.5, 15.0))) == insight
+
+
+@pytest.mark.parametrize("hold", [False, True])
+def test_with_plan_hold_a_task_waited_at_in_vain_is_no_option_while_on_hold(hold):
+    # Both robots know of t1 (needs 2): r1 goes there. Had r1 waited there in vain until
+    # step 45 (on hold until 85, when the ledger had the same two knowers), with plan_hold
+    # going there is no option at step 50, as for the rules.
+    s, view = _scene(together=True)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hold=hold))
+    policy.start(s)
+    policy.hold_until[0, 0], policy.held_knowers[0, 0] = 85, 2
+    assert policy.unheld(view, 0, np.zeros(1), view.aware).tolist() == [False]
+    steer = int(policy.plan(view)[1][0])
+    assert (steer == 0) == (not hold)
+    policy.held_knowers[0, 0] = 1  # one more knower since: it may try again
+    assert int(policy.plan(view)[1][0]) == 0

@@ -229,15 +229,22 @@ class CollaborativePolicy(CoalitionRules, Policy):
             known = view.aware[i, i] & ~done
             self.open_now[i] = known
             waiting = self._waiting(view, i)
-            full = waiting >= np.asarray(self.s.needs) - 1  # it would complete them: go
-            if aware is not None and self.parameters.rejoin:  # a new knower: try again
-                full |= aware[i].sum(axis=0) > self.held_knowers[i]
-            available = known & ((self.hold_until[i] <= view.step) | full)
+            available = known & self.unheld(view, i, waiting, aware)
             choice = self._choose(view, i, available, aware, waiting)
             if choice == ("explore",) and self.parameters.verify:
                 choice = self._verify(view, i, presumed)
             targets[i], steer_to[i] = self._act(view, i, choice, waiting)
         return targets, steer_to
+
+    def unheld(self, view: View, i: int, waiting: np.ndarray, aware) -> np.ndarray:
+        """``(m,)`` the tasks robot ``i`` may go to as far as its patience goes: not on
+        hold (it waited there ``patience`` steps in vain less than ``hold`` steps ago), or
+        its coming would complete them (``waiting``: teammates it sees standing there), or
+        it learnt of a new knower since (``rejoin``, with the ledger ``aware``)."""
+        full = waiting >= np.asarray(self.s.needs) - 1  # it would complete them: go
+        if aware is not None and self.parameters.rejoin:  # a new knower: try again
+            full |= aware[i].sum(axis=0) > self.held_knowers[i]
+        return (self.hold_until[i] <= view.step) | full
 
     def _verify(self, view: View, i: int, presumed: np.ndarray) -> tuple:
         """What robot ``i``, with nothing to do, does about the tasks it presumes done

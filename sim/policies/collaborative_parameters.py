@@ -251,6 +251,60 @@ class CollaborativeParameters:
     plan_rollout : float
         Horizon (crossings) of a rollout over fetch chains (0: off). 6, tuning 0-99: 100 vs
         98 %, paired -4.0 [-18.1, +8.2], median +3.5 steps (aif.md §6h, fifth pass).
+
+    The generalisation pass (aif.md §6h, "Missions 100-199"; measured on tuning missions
+    0-99 and then 100-199, trial seed 0, against ``third`` as it was):
+
+    plan_sighted : bool
+        A teammate a robot sees with an open task within the sensing range of where it
+        sees it has seen that task: it counts as knowing of it (its chain ``(i, j)``) from
+        then on, and is not fetched for it. The ledger holds only shared events, and the
+        ``found`` event fires once, when a robot first comes within sight of a task: seen
+        again near a task it found earlier, a teammate never entered it.
+        Off: 99 / 89 % success, median / mean 91 / 120.3 and 78 / 158.2 steps on missions
+        0-99 / 100-199, against 98 / 89 %, 90 / 119.0 and 76 / 157.6 (no gain); with
+        ``plan_lost``, 99 / 90 %, 91 / 115.8 and 74 / 153.8 against 90 / 112.0 and 72 /
+        149.2 without it.
+    plan_knowers : bool
+        Coming to a task earns ``plan_credit`` only when at least as many robots as it
+        needs know of it (as the chain's sets have it): where fewer do, nobody else can
+        come, and waiting there alone saves nothing until the robot brings one
+        (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``).
+        Off, not measured closed loop: in found-only missions the ledger rarely learns
+        who knows what, and a trace of mission 175 (with ``plan_hail``) had all three
+        robots exploring to the step limit with it on.
+    plan_insight : bool
+        A teammate in sight is met where it is seen, once the fetcher has closed to
+        hailing distance, rather than on its predicted sweep (it may be off its sweep, out
+        fetching itself; the fetcher heads for it in either case).
+        Off: with ``plan_lost``, 98 / 88 % success, 92 / 115.2 and 76 / 154.5 steps on
+        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it.
+    plan_hail : bool
+        Fetching is an option only when the mission has an event by which teammates who
+        see a robot head for a task learn of it (a ``heads to`` trigger that reveals the
+        task): without one a hail itself tells the helper nothing (the ``found``-only
+        missions, 38 of tuning missions 0-199). Off: with ``plan_lost``, on missions 0-99
+        93 %, 94 / 135.6 against 99 %, 90 / 112.0 without it; six found-only missions
+        that succeeded failed (0, 7, 56, 61, 74, 84). A fetcher walking back to the task
+        with the helper in sight shows it the task when the ``found`` event fires for
+        the fetcher, so fetching does tell there too.
+    plan_lost : bool
+        A teammate a robot gave up fetching for one task (it was not where its sweep put
+        it) is not fetched for any other until seen again (``plan_retry``), and a teammate
+        never seen whose every possible start is ruled out (it would have been seen) is
+        not fetched at all: either way it has left its sweep, and an intercept there is a
+        guess. Without it two pairs of robots, each pair knowing tasks the other did not,
+        chased each other's predicted sweeps 40 steps per task and helper (mission 172).
+        On: missions 0-99 99 % (was 98), median / mean 90 / 112.0 (90 / 119.0), paired
+        -7.0 [-16.4, +1.0]; missions 100-199 90 % (89), 72 / 149.2 (76 / 157.6), paired
+        -8.4 [-18.4, -0.9] (``rules``: 96 %, 95 / 133.5 and 92 %, 72 / 144.1).
+    plan_hold : bool
+        The rules' patience for the planner: a task a robot waited at ``patience`` steps
+        in vain is no option for ``hold`` steps, unless its coming would complete it or a
+        new knower is known (``rejoin``; :meth:`CollaborativePolicy.unheld`).
+        Off: with ``plan_lost``, 99 / 90 % success, 90 / 112.9 and 72 / 151.7 steps on
+        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it
+        (faster at 5-6 robots, slower at 3-4).
     """
 
     lane_factor: float = 2.0
@@ -300,6 +354,12 @@ class CollaborativeParameters:
     plan_pool: bool = False
     plan_fetchers: bool = False
     plan_rollout: float = 0.0
+    plan_sighted: bool = False
+    plan_knowers: bool = False
+    plan_insight: bool = False
+    plan_hail: bool = False
+    plan_lost: bool = True
+    plan_hold: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):

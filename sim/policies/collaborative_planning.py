@@ -178,7 +178,13 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             pool=bool(p.plan_pool),
             fetchers=bool(p.plan_fetchers),
             rollout=p.plan_rollout * crossing,
+            knowers=bool(p.plan_knowers),
         )
+        # seen[i, j, t]: robot i saw teammate j with task t in sight (j knows of t)
+        self.seen = np.zeros((s.n_robots, s.n_robots, s.n_tasks), dtype=bool)
+        # hailing informs: teammates who see a robot head for a task learn of it
+        self.hails = any(e.trigger.kind == "heads" and e.reveals for e in s.events)
+        self.held = np.zeros(s.n_tasks, dtype=bool)  # the deciding robot's tasks on hold
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         self.last_plans: list = [None] * s.n_robots
         if self.trace is not None:
@@ -192,6 +198,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
+        if self.parameters.plan_sighted and self.model == "nested":
+            self.seen |= self.sighted(view)
         targets, steer_to = np.zeros((n, 2)), np.full(n, -1)
         self.open_now = np.zeros((n, self.s.n_tasks), dtype=bool)
         for i in range(n):
@@ -201,12 +209,31 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                 presumed = self.presumed_done(view, i) & ~done
             closed = done | presumed
             self.open_now[i] = view.aware[i, i] & ~closed
+            waiting = self._waiting(view, i)
+            self.held = np.zeros(self.s.n_tasks, dtype=bool)
+            if self.parameters.plan_hold:  # the rules' patience: no task to wait at forever
+                self.held = ~self.unheld(view, i, waiting, view.aware)
             choice = self.choose(view, i, closed)
             if choice == ("explore",) and self.parameters.verify:
                 choice = self._verify(view, i, presumed)
             self.backed[i] = False
-            targets[i], steer_to[i] = self._act(view, i, choice, self._waiting(view, i))
+            targets[i], steer_to[i] = self._act(view, i, choice, waiting)
         return targets, steer_to
+
+    def sighted(self, view: View) -> np.ndarray:
+        """``(n, n, m)``: robot ``i`` sees teammate ``j`` now with task ``t`` in ``j``'s
+        sight (within the sensing range of where ``i`` sees it), so ``j`` has seen ``t``:
+        what ``i`` may learn of ``j``'s knowledge beyond the ledger's shared events
+        (``plan_sighted``)."""
+        s = self.s
+        now = view.last_seen == view.step
+        gap = np.hypot(*(view.estimates[..., None, :] - s.tasks).transpose(3, 0, 1, 2))
+        return now[..., None] & (gap <= s.sensing_range)
+
+    def knows(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` the tasks robot ``i`` knows each teammate knows of: the ledger, and
+        with ``plan_sighted`` the tasks it saw that teammate have in sight."""
+        return view.aware[i] | self.seen[i]
 
     def arrivals(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` steps robot ``i`` expects each robot to take to each task."""
@@ -233,7 +260,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         n, m, k = self.s.n_robots, self.s.n_tasks, view.knowledge
         known = {(i,): view.aware[i, i]}
         if self.model == "nested":
-            known.update({(i, j): view.aware[i, j] for j in range(n) if j != i})
+            knows = self.knows(view, i)
+            known.update({(i, j): knows[j] for j in range(n) if j != i})
         if self.model == "nested" and self.order >= 3:
             for j in range(n):
                 for h in range(n):
@@ -254,17 +282,17 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         ``plan_rollout``, not a teammate it knows has left its sweep for a task
         (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
-        if self.model == "shared":
-            return []
+        if self.model == "shared" or (p.plan_hail and not self.hails):
+            return []  # nobody to tell, or no way to tell: a hail shows nothing
         speed = np.asarray(s.max_speed, dtype=float) * s.dt
-        out = []
+        out, knows = [], self.knows(view, i)
         for j in range(s.n_robots):
-            unaware = self.open_now[i] & ~view.aware[i, j] & ~self.gave_up[i, :, j]
-            if j == i or not unaware.any():
+            unaware = self.open_now[i] & ~knows[j] & ~self.gave_up[i, :, j]
+            if j == i or not unaware.any() or (p.plan_lost and self.lost(view, i, j)):
                 continue
             if p.plan_rollout and not self.on_sweep(view, i, j, unaware):
                 continue  # seen off its sweep, or it passed a task: the intercept misses it
-            met = self.meet(view, i, j)
+            met = self.met(view, i, j)
             if met is None:
                 continue
             age = view.step - max(int(view.last_seen[i, j]), 0)
@@ -275,10 +303,34 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                                  found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
         return out
 
+    def lost(self, view: View, i: int, j: int) -> bool:
+        """Whether robot ``i`` knows teammate ``j`` is not on its sweep (``plan_lost``):
+        it gave up fetching ``j`` for some task (``j`` was not where its sweep put it, and
+        that says where ``j`` is, whatever the task), or never saw ``j`` and every start
+        that would have kept ``j`` out of its sight is ruled out (``j`` left its sweep).
+        Until ``i`` sees ``j`` again (``plan_retry``) an intercept on the sweep is a guess."""
+        if self.gave_up[i, :, j].any():
+            return True
+        return bool(view.last_seen[i, j] < 0 and not self.teammates.alive[i, j].any())
+
+    def met(self, view: View, i: int, j: int) -> tuple[float, np.ndarray] | None:
+        """When and where robot ``i`` meets teammate ``j`` it would fetch: on ``j``'s
+        predicted sweep (:meth:`~CollaborativePolicy.meet`), or, with ``plan_insight`` and
+        ``j`` in sight now, where it is seen, once ``i`` has closed to hailing distance
+        (``j`` may be off its sweep, out fetching itself: its sweep says nothing of where
+        it goes, and what ``i`` does when fetching is to head for it and hail)."""
+        if not (self.parameters.plan_insight and view.last_seen[i, j] == view.step):
+            return self.meet(view, i, j)
+        there = view.estimates[i, j]
+        gap = float(np.hypot(*(there - view.poses[i, :2])))
+        steps = max(gap - self._hail(i, j), 0.0) / (self.s.max_speed[i] * self.s.dt)
+        return steps, there
+
     def choose(self, view: View, i: int, closed: np.ndarray) -> tuple:
         """Robot ``i``'s option: ``("task", t)``, ``("fetch", t, j)`` or ``("explore",)``."""
         m = self.s.n_tasks
         arrivals = self.arrivals(view, i)
+        arrivals[i, self.held] = np.inf  # on hold: going there is no option
         sets, unknown = self.chains(view, i, closed)
         fetches = self.fetches(view, i) if self.order >= 1 else []
         keys = [("task", t, -1) for t in range(m)] + [("explore", -1, -1)]

@@ -370,3 +370,22 @@ def test_meetings_of_the_wrong_shape_are_refused():
     with pytest.raises(InvalidArgumentError):
         TaskPlanner([2], fetchers=True).plan(0, [[1.0], [2.0]], {(0,): [True]},
                                              meetings=np.zeros((2, 2, 2)))  # fmt: skip
+
+
+@pytest.mark.parametrize("knowers", [False, True])
+def test_with_knowers_waiting_alone_at_a_task_too_few_know_of_saves_nothing(knowers):
+    # One task needing 2, robot 0 at 5 steps, robot 1 at 10; fail 100, full credit.
+    # Robot 1 does not know of it (order 2 reads the chain (0, 1)): alone, robot 0 earns
+    # half the fail cost as credit (G = -50), unless too few knowers earn none (G = 0).
+    # Fetching robot 1 (both there at 12, found with 0.9): 0.9 * 12 + 0.1 * 50 = 15.8
+    # against 100 either way (without the fetch nobody comes): -84.2.
+    planner = TaskPlanner([2], order=2, temperature=1.0, fail=[100.0], credit=1.0,
+                          knowers=knowers)  # fmt: skip
+    sets = {(0,): [True], (0, 1): [False]}
+    plan = planner.plan(0, [[5.0], [10.0]], sets, {(0, 1): 1}, [Fetch(0, 1, 12.0, 12.0, 0.9)])
+    assert plan.G[0] == pytest.approx(0.0 if knowers else -50.0)
+    assert plan.G[2] == pytest.approx(-84.2)
+    # When robot 1 knows too, two robots know and the credit counts either way:
+    # robot 1 comes alone (credit 50) unless robot 0 comes too (done at 10): 50 - 10.
+    both = planner.plan(0, [[5.0], [10.0]], {(0,): [True], (0, 1): [True]})
+    assert both.G[0] == pytest.approx(-40.0)
