@@ -157,154 +157,76 @@ class CollaborativeParameters:
 
     The planning levels (``first``, ``second``, ``third`` and their ablations,
     :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
-    crossing time, side / mean speed):
+    crossing time, side / mean speed). Each option was measured on tuning missions only;
+    the tables (success, median / mean steps, paired intervals) are in docs/aif.md §6h,
+    pass by pass, and the last pass's in its "Missions 100-199".
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
-        also scales the convention and commitment terms). 0.05 / 0.1 / 0.2 on tuning
-        missions 0-39: 98 / 100 / 60 % success, mean 118.1 / 116.8 / 313.2 steps.
+        also scales the convention and commitment terms).
     plan_repair : float
-        The cost of a task too few come to (``fail``). 2 / 3: mean 116.8 / 121.0, 100 %.
+        The cost of a task too few come to (``fail``).
     plan_explore : float
         Time saved per unknown task by one more explorer, as a fraction of ``fail``
-        shared by the team. ``third`` on tuning missions 0-39 (generator seeds, trial
-        seed 0): 0.5 / 0.25 / 0.1 succeed in 98 / 100 / 100 %, median 94 / 88 / 88 steps,
-        mean 135.6 / 116.8 / 121.0 (``rules``: 100 %, 91, 126.4).
+        shared by the team.
     plan_commitment : float
         Nats a robot pays to change the option it chose at its last plan.
     plan_convention : float
-        Weight (nats) of the shared convention's choice in the robot's own. 0 / 0.5 / 1 /
-        2 on the same missions: 90 / 100 / 100 / 60 % success, mean 156.8 / 114.9 / 116.8 /
-        294.1 steps (at 2 the convention overrides fetching).
+        Weight (nats) of the shared convention's choice in the robot's own (at 2 the
+        convention overrides fetching).
     plan_credit : float
-        Credit (0-1) for a robot that comes to a task too few robots come to. 0.5: 68 %
-        success, mean 281.9 steps, against 100 % and 116.8 at 1; with no credit (and no
-        convention yet) 15 of the first 20 missions succeeded: a task needing three was not
-        started, one helper saving nothing until a second came.
+        Credit (0-1) for a robot that comes to a task too few robots come to (without it a
+        task needing three is never started: one helper saves nothing until a second comes).
     plan_recruit : bool
-        The convention's prior gives fetching a teammate the weight it gives exploring
-        (the convention sends a robot to a task only when enough robots know of it, and
-        otherwise has it explore: its free time, which a fetch spends informing one),
-        rather than the 5 % spread of an option it never takes: without it the convention
-        term (``plan_convention``) cost a fetch ~5 nats, more than most fetches save, and
-        a knower of a task too few know of explored past the teammates it could tell
-        (docs/results/collaborative_wrong_decision.md). ``third`` on tuning missions
-        40-69 (trial seed 1000): 90 -> 97 % success, median 107 -> 94, mean 164.0 -> 144.4
-        steps (paired -19.6; ``rules``: 93 %, 102, 157.0).
+        The convention's prior gives fetching a teammate the weight it gives exploring,
+        rather than the 5 % spread of an option it never takes (which cost a fetch ~5 nats:
+        docs/results/collaborative_wrong_decision.md).
     plan_timed : bool
         The credit of a robot that comes to a short-handed task falls with its arrival
-        (``1 - a / fail`` of its share), so a fetch is worth the time by which its
-        teammate comes sooner and fetches rank by meeting time (untimed, every fetch for
-        a task needing four or more tied and the lowest index won). Off: ``third``
-        on tuning missions 0-59 (trial seed 1001, with ``plan_retry``) went from median /
-        mean 89 / 119.9 to 85 / 127.8 (paired mean +7.9 [-7.6, +25.4], median +0.0
-        [-1.0, +1.0]); without ``plan_retry``, on missions 0-29: +8.8 [-14.1, +36.4].
+        (``1 - a / fail`` of its share), so fetches rank by meeting time.
     plan_quorum : int
-        The fewest robots at a short-handed task that earn credit (1: any). 2 (``plan_timed``,
-        tuning 0-29, seed 1001): 100 -> 90 % success, paired +22.3 [-8.9, +61.2] steps.
+        The fewest robots at a short-handed task that earn credit (1: any).
     plan_later : float
-        Crossings by which a robot that chooses another option still comes to a task
-        (the baseline its option saves time against; 0: it never comes, as before). A
-        robot waiting at a task nobody else comes to then earns only the share of that
-        delay, not of the task's fail cost, which kept robots waiting apart forever.
-        Off: with ``plan_timed``, 0.5 on tuning missions 0-29 (trial seed 1001) ended
-        two such standoffs (missions 20, 30: 446 -> 170, 601 -> 450 steps) but lost
-        overall (paired mean +15.4 [+2.4, +30.4], median +1.5 [-2.0, +11.0]; 1.0: +12.5
-        [-20.8, +46.5]); with ``plan_retry`` too, on the 12 slowest missions of 0-59,
-        +69.0 [+8.2, +138.2].
+        Crossings by which a robot that chooses another option still comes to a task (the
+        baseline its option saves time against; 0: it never comes). Off.
     plan_retry : bool
-        A teammate a robot gave up fetching (it was not where its sweep put it) may be
-        fetched again once the robot sees it: the sighting says where it is. Without it a
-        robot that gave up never fetched that teammate again, and a task needing the
-        whole team waited for the last robot to find it by itself. ``third`` on tuning
-        missions 0-59 (trial seed 1001): 97 -> 98 % success, median 89 -> 89, mean 135.2
-        -> 119.9 steps (paired -15.2 [-35.3, +1.0]; 49 trials identical, 9 quicker, 2
-        slower; ``rules``: 97 %, 87.5, 140.6).
+        A teammate a robot gave up fetching may be fetched again once the robot sees it.
     plan_rendezvous : bool
-        Going to a task is valued by the completion it makes likelier under the
-        teammates' predicted choices alone (done at the ``needs``-th arrival, not at all
-        when too few are predicted to come); ``plan_credit`` goes only to the teammate a
-        fetch brings. Off: ``third`` on tuning missions 0-59 (trial seed 1001) went from
-        98 % success, median / mean 89 / 119.9 to 95 %, 99 / 128.1 (paired mean +8.1
-        [-11.9, +31.3], median +1.0 [+0.0, +8.0]); crediting the fetching robot too: 93 %,
-        100 / 149.6 (+29.7 [+4.4, +57.7]). Teammates' fetches are not in their predicted
-        choices, so a task needing four that one robot knows of is worth nothing to
-        anyone, and a fetch earns one decaying share: in mission 11 no robot fetched
-        (step 44: fetch -2.03 nats against explore -2.46) and it failed.
+        Going to a task is valued by the completion it makes likelier under the teammates'
+        predicted choices alone; ``plan_credit`` goes only to the teammate a fetch brings.
     plan_mission : bool
-        A fetch is charged what its helper's other tasks lose (brought to the fetch's
-        task, it no longer comes to those it was predicted at). Off: on the same missions
-        98 %, 94 / 121.3 (paired +1.4 [-13.7, +18.9], median +0.0 [+0.0, +0.0]); it
-        ended mission 41's standoff (a failure at 454 steps -> 189).
+        A fetch is charged what its helper's other tasks lose.
     plan_pool : bool
         Credit for the robots at a short-handed task counts only while enough of the
-        others are predicted free (exploring) to make up the number. Off: on the same
-        missions 100 %, 90 / 123.0 (paired +3.0 [-6.4, +13.0], median +0.0 [+0.0,
-        +0.0]; mission 27 294 -> 168 steps, mission 30 199 -> 296) at 2.5 times the
-        decision time; with ``plan_mission`` too, stopped after 12 missions at +15.3
-        [-0.2, +44.1] (mission 1 failed).
+        others are predicted free to make up the number (2.5 times the decision time).
     plan_fetchers : bool
         Teammates' predicted choices include fetching a robot known not to know of a task
-        (chain ``(i, l, h)``), both then at the task from the meeting. Off: on tuning
-        missions 0-59 (trial seed 1001) 98 -> 95 %, 89 / 119.9 -> 92.5 / 134.0 (paired
-        +14.1 [+1.2, +31.0]); with ``plan_rendezvous`` 93 %, 90.5 / 140.5 (+20.5).
+        (chain ``(i, l, h)``).
     plan_rollout : float
-        Horizon (crossings) of a rollout over fetch chains (0: off). 6, tuning 0-99: 100 vs
-        98 %, paired -4.0 [-18.1, +8.2], median +3.5 steps (aif.md §6h, fifth pass).
-
-    The generalisation pass (aif.md §6h, "Missions 100-199"; measured on tuning missions
-    0-99 and then 100-199, trial seed 0, against ``third`` as it was):
-
+        Horizon (crossings) of a rollout over fetch chains (0: off; aif.md §6h, fifth pass).
     plan_sighted : bool
-        A teammate a robot sees with an open task within the sensing range of where it
-        sees it has seen that task: it counts as knowing of it (its chain ``(i, j)``) from
-        then on, and is not fetched for it. The ledger holds only shared events, and the
-        ``found`` event fires once, when a robot first comes within sight of a task: seen
-        again near a task it found earlier, a teammate never entered it.
-        Off: 99 / 89 % success, median / mean 91 / 120.3 and 78 / 158.2 steps on missions
-        0-99 / 100-199, against 98 / 89 %, 90 / 119.0 and 76 / 157.6 (no gain); with
-        ``plan_lost``, 99 / 90 %, 91 / 115.8 and 74 / 153.8 against 90 / 112.0 and 72 /
-        149.2 without it.
+        A teammate seen with an open task within the sensing range of where it is seen
+        counts as knowing of it (the ``found`` event fires once, so the ledger never learns
+        it otherwise). Off: no gain.
     plan_knowers : bool
-        Coming to a task earns ``plan_credit`` only when at least as many robots as it
-        needs know of it (as the chain's sets have it): where fewer do, nobody else can
-        come, and waiting there alone saves nothing until the robot brings one
-        (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``).
-        Off, not measured closed loop: in found-only missions the ledger rarely learns
-        who knows what, and a trace of mission 175 (with ``plan_hail``) had all three
-        robots exploring to the step limit with it on.
+        Coming to a task earns ``plan_credit`` only when as many robots as it needs know
+        of it (the ``knowers`` of :class:`~epistemica.aif.task_planning.TaskPlanner`).
+        Off, only traced.
     plan_insight : bool
-        A teammate in sight is met where it is seen, once the fetcher has closed to
-        hailing distance, rather than on its predicted sweep (it may be off its sweep, out
-        fetching itself; the fetcher heads for it in either case).
-        Off: with ``plan_lost``, 98 / 88 % success, 92 / 115.2 and 76 / 154.5 steps on
-        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it.
+        A teammate in sight is met where it is seen, once within hailing distance, rather
+        than on its predicted sweep. Off: worse on both halves of the tuning split.
     plan_hail : bool
-        Fetching is an option only when the mission has an event by which teammates who
-        see a robot head for a task learn of it (a ``heads to`` trigger that reveals the
-        task): without one a hail itself tells the helper nothing (the ``found``-only
-        missions, 38 of tuning missions 0-199). Off: with ``plan_lost``, on missions 0-99
-        93 %, 94 / 135.6 against 99 %, 90 / 112.0 without it; six found-only missions
-        that succeeded failed (0, 7, 56, 61, 74, 84). A fetcher walking back to the task
-        with the helper in sight shows it the task when the ``found`` event fires for
-        the fetcher, so fetching does tell there too.
+        Fetching is an option only when a ``heads to`` event tells watching teammates of
+        the task. Off: it broke six found-only missions (a fetcher walking back with the
+        helper in sight still shows it the task).
     plan_lost : bool
-        A teammate a robot gave up fetching for one task (it was not where its sweep put
-        it) is not fetched for any other until seen again (``plan_retry``), and a teammate
-        never seen whose every possible start is ruled out (it would have been seen) is
-        not fetched at all: either way it has left its sweep, and an intercept there is a
-        guess. Without it two pairs of robots, each pair knowing tasks the other did not,
-        chased each other's predicted sweeps 40 steps per task and helper (mission 172).
-        On: missions 0-99 99 % (was 98), median / mean 90 / 112.0 (90 / 119.0), paired
-        -7.0 [-16.4, +1.0]; missions 100-199 90 % (89), 72 / 149.2 (76 / 157.6), paired
-        -8.4 [-18.4, -0.9] (``rules``: 96 %, 95 / 133.5 and 92 %, 72 / 144.1).
+        A teammate a robot gave up fetching for one task is not fetched for any other until
+        seen again (``plan_retry``), nor one never seen whose every possible start is ruled
+        out: it has left its sweep, and an intercept there is a guess (two pairs chased each
+        other's sweeps in mission 172). On: tuning 100-199 paired -8.4 [-18.4, -0.9] steps.
     plan_hold : bool
-        The rules' patience for the planner: a task a robot waited at ``patience`` steps
-        in vain is no option for ``hold`` steps, unless its coming would complete it or a
-        new knower is known (``rejoin``; :meth:`CollaborativePolicy.unheld`).
-        Off: with ``plan_lost``, 99 / 90 % success, 90 / 112.9 and 72 / 151.7 steps on
-        missions 0-99 / 100-199, against 99 / 90 %, 90 / 112.0 and 72 / 149.2 without it
-        (faster at 5-6 robots, slower at 3-4).
+        The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). Off:
+        faster at 5-6 robots, slower at 3-4.
     """
 
     lane_factor: float = 2.0

@@ -173,10 +173,8 @@ class ActiveParameters:
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind, plan_resight, plan_filter : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
-        read a move only between two sightings, over their gap (on: off reads a teammate
-        re-sighted after a gap as one step's move); read sightings by a filter per goal
-        (aif.planning.filter_sightings). Blind and filter off
-        (results/planning_wrong_decision.md).
+        read a move only between two sightings, over their gap (on); read sightings by a
+        filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
     plan_meet : bool
         Planner levels, rendezvous search: a searcher that sees a teammate outside the
         group it left with has found its team and stops searching, and a robot whose
