@@ -329,11 +329,11 @@ class PlanningStage:
         progress = self._progress(robot, pose)
         typed = self.typed(ctrl, goals, robot, observations)
         read = self._read[robot][:, goals]
+        previous = int(local[0]) if local.size else None
         if self.reselected:
-            read, local = np.zeros_like(read), local[:0]
+            read, previous = np.zeros_like(read), None
         result = self.planner(ctrl).plan(
-            robot, observations.poses[robot], prior, sets, moving, read,
-            int(local[0]) if local.size else None,
+            robot, observations.poses[robot], prior, sets, moving, read, previous,
             self.unseen(observations, robot), typed,
             observations.last_seen[robot] < 0 if self.blind else None,
             observations.last_seen[robot] == observations.step,  # who sees it: sight is mutual
