@@ -56,8 +56,10 @@ class RendezvousSearch:
         not know of its goal (default ``lone_wait``: a level that does not reason about
         what teammates know).
     meet : bool, optional
-        A searcher stops when it sees a teammate outside the group it left with
-        (default False: only a teammate settled elsewhere, or newly at the goal it left).
+        A searcher stops when it sees a teammate outside the group it left with, and a
+        teammate it saw leave a goal it had settled at is no anchor (default False: only a
+        teammate settled elsewhere, or newly at the goal it left, ends a search, and any
+        member still seen settling is an anchor).
     """
 
     def __init__(
@@ -87,6 +89,9 @@ class RendezvousSearch:
         self.checked = np.zeros((n, scenario.n_goals), dtype=bool)
         self.last = np.full((n, 2), np.nan)  # each robot's own position a step before
         self.meeting = np.full(n, -1)  # the goal two groups that met head for (-1: none)
+        self.leader = np.full(n, -1)  # whom a searcher that met teammates follows
+        self.spot = np.full((n, n), -1)  # where it last saw each teammate settle, in sight
+        self.roamed = np.zeros((n, n), dtype=bool)  # saw it leave that spot: it searches
 
     def applies(self) -> bool:
         """Whether the scenario calls for searching (rendezvous with a sensing range)."""
@@ -135,6 +140,9 @@ class RendezvousSearch:
             self.mark[robots[start]] = count[start]
         self.left[robots] = np.where(start, own, np.where(searching, left, -1))
         self.meeting[robots] = np.where(searching, self.meeting[robots], -1)
+        self.leader[robots] = np.where(searching, self.leader[robots], -1)
+        if self.meet:
+            self._roam(observations, robots, own < 0)
         self._watch(observations, robots, start)
         return (self.left[robots] >= 0) | (self.anchor[robots] >= 0)
 
@@ -142,21 +150,51 @@ class RendezvousSearch:
         """``(len(robots),)`` which searchers end their search where they met other
         teammates (in sight, ``seen``, outside the ``group`` each left with).
 
-        From the step a searcher first sees such a teammate it heads, every step, for the
-        goal nearest the lowest-numbered robot in its sight (itself included): robots in
-        sight of one another follow the same one, who heads for its own nearest goal, so
-        groups that see each other converge on one goal. Its search ends once it stands
-        still on that goal, where its settle and theirs are the newest each has seen."""
+        From the step a searcher first sees such a teammate it follows, every step, the
+        lowest-numbered robot in its sight (itself included): that *leader* heads for the
+        goal nearest its own position among those it knows; the others steer for where
+        they see it and, once they see it settle, for that goal. Robots that know
+        different goals, or see the leader where it is not (noisy sensing), would each
+        compute a different "goal nearest the leader"; a settle is seen as it is. A
+        follower that loses sight of its leader keeps what it last saw. Its search ends
+        once it stands still on the goal, where its settle and theirs are the newest each
+        has seen."""
         goals, meeting = self.scenario.goals, self.meeting[robots]
-        met = (self.left[robots] >= 0) & ((meeting >= 0) | (seen & ~group).any(axis=1))
+        leaders = self.leader[robots]
+        met = (self.left[robots] >= 0) & ((leaders >= 0) | (seen & ~group).any(axis=1))
         for row in np.flatnonzero(met):
             robot = int(robots[row])
-            leader = min(robot, int(np.argmax(seen[row]))) if seen[row].any() else robot
-            d = np.hypot(*(goals - observations.poses[robot, leader, :2]).T)
-            d[~observations.known_goals[robot]] = np.inf
-            meeting[row] = int(np.argmin(d))
-        self.meeting[robots] = meeting
+            if seen[row].any():
+                leaders[row] = min(robot, int(np.argmax(seen[row])))
+            elif leaders[row] < 0:
+                leaders[row] = robot
+            leader = int(leaders[row])
+            if leader == robot:
+                d = np.hypot(*(goals - observations.poses[robot, robot, :2]).T)
+                d[~observations.known_goals[robot]] = np.inf
+                meeting[row] = int(np.argmin(d))
+            elif seen[row, leader]:
+                settle = -1 if observations.settles is None else observations.settles[robot, leader]
+                meeting[row] = settle  # -1 while it moves: follow it
+        self.meeting[robots], self.leader[robots] = meeting, leaders
         return (meeting >= 0) & (meeting == own) & still
+
+    def _roam(self, observations: Observations, robots, travelling) -> None:
+        """Who each robot has seen leave a goal it had seen them settle at, since it last
+        stood at a goal or searched (``travelling`` robots forget). A teammate that never
+        searches never leaves its goal; one seen to leave is a searcher, no anchor: groups
+        merged by a meeting leave at different steps (their waits doubled a different
+        number of times), and would otherwise hold one another back for good."""
+        if observations.settles is None:
+            return
+        robots = np.asarray(robots)
+        settles = observations.settles[robots]
+        seen = observations.seen[robots]
+        spot = self.spot[robots]
+        left = seen & (spot >= 0) & (settles != spot)
+        idle = travelling & (self.left[robots] < 0) & (self.anchor[robots] < 0)
+        self.roamed[robots] = (self.roamed[robots] | left) & ~idle[:, None]
+        self.spot[robots] = np.where(seen, settles, spot)
 
     def _unaware(self, observations: Observations, robots, own, seen, waiting) -> np.ndarray:
         """``(len(robots),)`` which waiting robots know that a teammate they do not see
@@ -190,7 +228,8 @@ class RendezvousSearch:
             if goal >= 0:
                 pose = observations.poses[robot, robot, :2]
                 back = np.hypot(*(pose - self.scenario.goals[goal])) <= self.scenario.success_radius
-                seen = (settles[self.anchors[robot]] == goal).any()
+                anchors = self.anchors[robot] & ~self.roamed[robot]
+                seen = (settles[anchors] == goal).any()
                 self.unseen[robot] = self.unseen[robot] + 1 if back and not seen else 0
                 if self.unseen[robot] >= k:
                     self.left[robot], self.anchor[robot] = goal, -1
@@ -198,7 +237,7 @@ class RendezvousSearch:
             goal = self.left[robot]
             if goal < 0 or not k <= self.since[robot] <= self.lone_wait:
                 continue
-            stayed = self.group[robot] & (settles == goal)
+            stayed = self.group[robot] & (settles == goal) & ~self.roamed[robot]
             if stayed.any():
                 self.anchor[robot], self.anchors[robot], self.unseen[robot] = goal, stayed, 0
 
@@ -228,6 +267,8 @@ class RendezvousSearch:
         s, pose = self.scenario, observations.poses[robot, robot]
         if self.meeting[robot] >= 0:
             return s.goals[self.meeting[robot]]
+        if self.leader[robot] >= 0:  # following a leader not yet settled (a leader
+            return observations.poses[robot, self.leader[robot], :2]  # has a meeting)
         if self.anchor[robot] >= 0:
             return s.goals[self.anchor[robot]]
         self.sweep.visit(pose[None, :2], [robot])

@@ -12,6 +12,7 @@ from epistemica.sim import Scenario, simulate
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import PlanningStage
+from epistemica.sim.policies.search import RendezvousSearch
 
 # Two pairs 28 m apart, out of sight (10 m). Both know both goals; r3 and r4 set off for
 # g1 (the planner's convention), while r1 and r2 wait at g1 unseen and, after their wait,
@@ -86,3 +87,80 @@ def test_a_robot_whose_search_ended_reads_no_moves_across_it():
     # Forgotten: no earlier sighting to compare with, so nothing is read (1: cannot tell).
     assert stage.observe(_observations(6, [15.0, 15.0]), 0).tolist() == [1.0, 1.0]
     assert stage.observe(_observations(7, [15.0, 15.0]), 0)[1] == 0.0
+
+
+# Three goals; r1 and r2 have met while searching. r2 knows only g2 and g3, and sees r1
+# (the lowest-numbered robot in its sight: the leader) 4 m off, noisily, nearer g3 than g1.
+MET = """\
+mission rendezvous
+workspace 30
+robot r1: range at (5, 5)
+robot r2: range at (12, 12)
+goal g1 at (5, 5)
+goal g2 at (25, 25)
+goal g3 at (12, 5)
+sensing model paper noise 0.5 range 10
+event settle seen by nearby
+"""
+
+
+def _met(settles: np.ndarray, estimate=(10.0, 6.0)) -> tuple[RendezvousSearch, Observations]:
+    scenario = parse_mission(MET).scenario(0)
+    search = RendezvousSearch(scenario, 10.0, 15, 0.8, 2, meet=True)
+    poses = np.zeros((2, 2, 3))
+    poses[0, 0, :2], poses[1, 1, :2] = (5.0, 5.0), (12.0, 12.0)
+    poses[1, 0, :2], poses[0, 1, :2] = estimate, (12.0, 12.0)
+    known = np.array([[True, False, False], [False, True, True]])
+    seen = np.ones((2, 2), dtype=bool)
+    observations = Observations(9, poses, seen, np.full((2, 2), 9), known, ~known, None, settles)
+    search.left[:] = [0, 1]  # both search, each from a goal of its own
+    return search, observations
+
+
+def _meet_once(search, observations):
+    robots, seen = np.arange(2), observations.seen & ~np.eye(2, dtype=bool)
+    own, still = np.array([0, -1]), np.array([True, False])
+    return search._meet(observations, robots, own, still, seen, np.zeros((2, 2), dtype=bool))
+
+
+def test_a_follower_steers_for_its_leader_until_it_sees_where_it_settles():
+    search, observations = _met(np.full((2, 2), -1))  # r1 seen moving
+    ended = _meet_once(search, observations)
+    assert search.leader.tolist() == [0, 0]
+    # r1 leads to the goal nearest its own position that it knows: g1, where it stands
+    # still, so its search ends. r2 does not know g1: "the goal nearest the leader" it
+    # could compute is g3 (nearest its noisy view of r1); it follows r1 instead.
+    assert search.meeting.tolist() == [0, -1] and ended.tolist() == [True, False]
+    assert np.allclose(search.target(observations, 1), (10.0, 6.0))
+    settles = np.array([[-1, -1], [0, -1]])  # r2 sees r1 settle at g1
+    search, observations = _met(settles)
+    _meet_once(search, observations)
+    assert search.meeting[1] == 0
+    assert np.allclose(search.target(observations, 1), (5.0, 5.0))
+
+
+def _roaming(settle_steps: list[int]) -> RendezvousSearch:
+    """r1 waits at g1; r2 is seen there, settled at the ``settle_steps`` of 0-4 only."""
+    search, _ = _met(np.full((2, 2), -1))
+    search.left[:] = -1
+    robots, travelling = np.array([0]), np.array([False])
+    for step in range(5):
+        settles = np.full((2, 2), -1)
+        if step in settle_steps:
+            settles[0, 1] = 0
+        _, observations = _met(settles)
+        search._roam(observations, robots, travelling)
+    return search
+
+
+def test_a_teammate_seen_to_leave_its_goal_is_no_anchor():
+    # Seen settled at g1, then seen away from it: it searches, so it is no anchor.
+    assert _roaming([0, 1, 3, 4]).roamed[0, 1]
+    # Seen settled at every step, or only from when it arrived: it may never leave.
+    assert not _roaming([0, 1, 2, 3, 4]).roamed[0, 1]
+    assert not _roaming([2, 3, 4]).roamed[0, 1]
+    # A robot that stands at no goal and searches no more forgets what it saw.
+    search = _roaming([0, 2])
+    _, observations = _met(np.full((2, 2), -1))
+    search._roam(observations, np.array([0]), np.array([True]))
+    assert not search.roamed[0, 1]
