@@ -176,10 +176,10 @@ class ActiveParameters:
         read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
     plan_meet : bool
-        Planner levels, rendezvous search: a searcher that sees a teammate outside the
-        group it left with has found its team and stops searching, and a robot whose
-        search ends plans afresh, forgetting the moves it read and the goal it headed for
-        before (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
+        Planner levels, rendezvous search: searchers that see a teammate outside their group
+        follow the lowest-numbered robot in sight to the goal they see it settle at, then
+        plan afresh; a teammate seen to leave its goal is no anchor
+        (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).

@@ -22,6 +22,12 @@ only left later than the rest), it searches on.
 
 A group that knows that a teammate it does not see has never heard of its goal knows that
 teammate is not on its way: it waits ``unaware_wait`` steps instead of ``lone_wait``.
+
+With ``meet`` (the planner's levels), searchers that see teammates outside the group they
+left with have found them: all follow the lowest-numbered robot in sight to the goal they
+see it settle at. Groups merged so leave their goal at different steps (each had doubled
+its wait a different number of times); a teammate seen to leave a goal it had settled at
+searches, so it is no anchor, or the group would hold itself back for good.
 """
 
 from __future__ import annotations
