@@ -24,6 +24,7 @@ from epistemica.sim.engine.events import STILL, World, firings, observer_indices
 from epistemica.sim.engine.joint import JointRun
 from epistemica.sim.engine.knowledge import assignment, initial_knowledge
 from epistemica.sim.engine.missions import distances, realises
+from epistemica.sim.engine.navigation import MARGIN, Roadmap
 from epistemica.sim.engine.obstacles import resolve_contacts
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Sensing
@@ -32,7 +33,7 @@ from epistemica.sim.kinds.base import MissionKind
 from epistemica.sim.kinds.collaborative import CollaborativeScenario
 from epistemica.sim.policies.levels import make_level
 from epistemica.sim.policies.parameters import ActiveParameters
-from epistemica.sim.policies.policy import Policy
+from epistemica.sim.policies.policy import Policy, steer
 
 __all__ = ["TrialRun", "policy_groups", "simulate"]
 
@@ -74,6 +75,7 @@ def simulate(
     *,
     policies: Mapping | None = None,
     parameters: ActiveParameters | None = None,
+    navigate: bool = True,
 ) -> Trial:
     """Simulate one trial of ``scenario``.
 
@@ -96,6 +98,10 @@ def simulate(
     parameters : ActiveParameters or CollaborativeParameters, optional
         Rules and constants of the levels named (default: the kind's,
         :func:`~epistemica.sim.policies.levels.parameters_for`; a mission's ``policy`` line).
+    navigate : bool, optional
+        With obstacles, a robot that moves towards the goal it heads for and whose straight
+        way is blocked drives round the walls (:mod:`~epistemica.sim.engine.navigation`);
+        False drives every control as the policy gave it (default True).
 
     Returns
     -------
@@ -114,7 +120,11 @@ def simulate(
         policy.start(s, robots, [streams.policy[r] for r in robots])
         for r in robots:
             names[r] = policy.name
-    run = _run(s, streams, groups)
+    if not isinstance(navigate, bool):
+        raise InvalidArgumentError(
+            f"navigate must be true or false, got {navigate!r}", hint="navigate=False"
+        )
+    run = _run(s, streams, groups, navigate)
     for step in range(s.max_steps):
         obs = run.perceive(step)
         controls = np.empty((n, 2))
@@ -126,11 +136,11 @@ def simulate(
     return run.trial(tuple(names), seed)
 
 
-def _run(s, streams, groups) -> TrialRun | JointRun:
+def _run(s, streams, groups, navigate: bool = True) -> TrialRun | JointRun:
     """The run state of the scenario's kind: a joint mission's world is the joint run's,
     with what the team's levels share (full communication: ``oracle``)."""
     if not s.kind.joint:
-        return TrialRun(s, streams)
+        return TrialRun(s, streams, navigate)
     shares = {getattr(policy, "shares", "") for policy, _ in groups}
     if len(shares) > 1:
         raise InvalidArgumentError(
@@ -168,7 +178,7 @@ class TrialRun:
     :meth:`advance`; :meth:`trial` is the record so far.
     """
 
-    def __init__(self, s: Scenario, streams) -> None:
+    def __init__(self, s: Scenario, streams, navigate: bool = True) -> None:
         n, steps = s.n_robots, s.max_steps
         self.s, self.streams = s, streams
         self.sensing = Sensing(s, streams.observation)
@@ -198,6 +208,10 @@ class TrialRun:
         self.known = np.ones((steps, n, n, s.n_goals), dtype=bool) if tracked else None
         self.closed = np.zeros((steps, s.n_goals), dtype=bool)
         self.noted = -1  # the number of observations the knowledge had when last noted
+        self.roadmap = None  # the way round known walls (navigation), if any
+        if s.obstacles and navigate:
+            radius = 0.0 if s.robot_radius is None else float(np.max(s.robot_radius))
+            self.roadmap = Roadmap(s.obstacles, radius + MARGIN, s.workspace)
 
     def decide(self, step: int, obs, groups, controls: np.ndarray) -> None:
         """Each group's controls at ``step`` into ``controls`` (rows of its robots), its
@@ -206,6 +220,9 @@ class TrialRun:
         for policy, robots in groups:
             decisions = policy.decide(obs, robots)
             controls[robots] = _checked(decisions.controls, policy, len(robots))
+            if self.roadmap is not None:
+                own = decisions.focal[np.arange(len(robots)), robots]
+                controls[robots] = self.around_walls(robots, own, controls[robots])
             self.focal[step, robots] = decisions.focal
             self.entropy[step, robots] = decisions.entropy
             self.considered[step, robots] = decisions.considered
@@ -221,6 +238,22 @@ class TrialRun:
                     shape = (len(self.focal), n, *np.shape(decisions.teammate_types)[1:])
                     self.teammate_types = np.full(shape, np.nan)
                 self.teammate_types[step, robots] = decisions.teammate_types
+
+    def around_walls(self, robots: np.ndarray, goals: np.ndarray, controls: np.ndarray):
+        """The controls of ``robots`` heading for ``goals`` (-1: none), each that moves
+        and whose straight way to its goal is blocked turned for the roadmap's way round
+        (:mod:`~epistemica.sim.engine.navigation`)."""
+        s, out = self.s, controls.copy()
+        for row, (robot, goal) in enumerate(zip(robots, goals, strict=True)):
+            if goal < 0 or controls[row, 0] <= 0:
+                continue
+            pose = self.poses[robot]
+            radius = 0.0 if s.robot_radius is None else float(s.robot_radius[robot])
+            target = self.roadmap.waypoint(pose[:2], s.goals[goal], radius)
+            if target is not None and target is not s.goals[goal]:
+                limits = s.max_speed[[robot]], s.max_turn[[robot]]
+                out[row] = steer(pose[None], target[None], *limits, s.dt)[0]
+        return out
 
     def record_goal_belief(self, step: int, robots: np.ndarray, decisions) -> None:
         if decisions.goal_belief is not None:

@@ -1,0 +1,116 @@
+"""Driving around known walls: a robot whose straight way to the goal it heads for is
+blocked takes the shortest way around the obstacles instead.
+
+A policy decides *where* a robot goes (the goal of the configuration it acts on, its
+``Decisions.focal``) and a control towards it; most steer straight. With polygonal
+obstacles (a mission's ``obstacle`` lines, known to every robot) a straight control can
+push a robot into a wall for the rest of the trial, whatever it decided. The
+:class:`Roadmap` is the visibility graph of the obstacles' convex corners, each moved
+out along its edges' normals by a ``margin`` (the robots' largest radius plus
+:data:`MARGIN`); where a robot moves and its segment to its goal comes closer to an
+obstacle than it may (:func:`clear`), :meth:`Roadmap.waypoint` gives the first corner of
+the shortest way through the graph and the robot steers for it instead. Decisions are
+never changed, only the control that carries them out, and only for a robot that moves:
+a policy that waits still waits.
+
+Examples
+--------
+A wall between a robot and its goal, from the floor up: the way round goes over its top.
+
+>>> from epistemica.sim.engine.obstacles import polygon
+>>> wall = polygon([[4, 0], [5, 0], [5, 8], [4, 8]])
+>>> roadmap = Roadmap((wall,), margin=0.5, workspace=10.0)
+>>> clear(np.array([2.0, 4.0]), np.array([8.0, 4.0]), (wall,), 0.0)
+False
+>>> roadmap.waypoint(np.array([2.0, 4.0]), np.array([8.0, 4.0])).round(2).tolist()
+[3.5, 8.5]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse.csgraph import shortest_path
+
+from epistemica.sim.engine.obstacles import CLEARANCE, polygon_distance
+
+__all__ = ["MARGIN", "Roadmap", "clear"]
+
+#: Distance (m) beyond a robot's radius at which the roadmap passes obstacles' corners.
+MARGIN = 0.5
+
+
+def clear(start: np.ndarray, end: np.ndarray, obstacles, radius: float) -> bool:
+    """Whether a robot of ``radius`` may drive straight from ``start`` to ``end``: the
+    segment comes no closer to any obstacle than ``radius`` (and the contacts' clearance),
+    or than its ends already are (a robot pressed against a wall may drive away from it)."""
+    for poly in obstacles:
+        ends = min(polygon_distance(start, start, poly), polygon_distance(end, end, poly))
+        if polygon_distance(start, end, poly) < min(radius + CLEARANCE, ends) - 1e-9:
+            return False
+    return True
+
+
+def _corners(poly: np.ndarray, margin: float) -> np.ndarray:
+    """The convex corners of ``poly``, each moved out by ``margin`` from both its edges
+    (a mitre, capped at three margins for sharp corners)."""
+    area = np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1])
+    orientation = 1.0 if area > 0 else -1.0  # counter-clockwise: outward is to the right
+    before, after = np.roll(poly, 1, axis=0), np.roll(poly, -1, axis=0)
+    out = []
+    for p, a, b in zip(poly, before, after, strict=True):
+        e1, e2 = p - a, b - p
+        if orientation * (e1[0] * e2[1] - e1[1] * e2[0]) <= 0:
+            continue  # a reflex (or straight) corner: never on a shortest way round
+        n1 = orientation * np.array([e1[1], -e1[0]]) / np.hypot(*e1)
+        n2 = orientation * np.array([e2[1], -e2[0]]) / np.hypot(*e2)
+        mitre = (n1 + n2) / max(1.0 + float(n1 @ n2), 1.0 / 9.0)
+        out.append(p + margin * mitre)
+    return np.array(out).reshape(-1, 2)
+
+
+class Roadmap:
+    """The visibility graph of the obstacles' corners, moved out by ``margin``.
+
+    Parameters
+    ----------
+    obstacles : sequence of (k, 2) arrays
+        Validated polygons (:func:`~epistemica.sim.engine.obstacles.polygon`).
+    margin : float
+        How far from each edge the corners lie (more than any robot's radius).
+    workspace : float
+        Side of the square workspace: corners outside it are left out.
+    """
+
+    def __init__(self, obstacles, margin: float, workspace: float) -> None:
+        self.obstacles = tuple(obstacles)
+        self.margin = float(margin)
+        found = [_corners(poly, self.margin) for poly in self.obstacles]
+        nodes = np.concatenate(found) if found else np.zeros((0, 2))
+        inside = ((nodes >= 0) & (nodes <= workspace)).all(axis=1)
+        free = [clear(p, p, self.obstacles, self.margin * 0.99) for p in nodes]
+        self.nodes = nodes[inside & np.array(free, dtype=bool)]
+        k = len(self.nodes)
+        graph = np.zeros((k, k))
+        for i in range(k):
+            for j in range(i + 1, k):
+                if clear(self.nodes[i], self.nodes[j], self.obstacles, 0.0):
+                    graph[i, j] = graph[j, i] = np.hypot(*(self.nodes[i] - self.nodes[j]))
+        self.distance = shortest_path(graph, directed=False) if k else np.zeros((0, 0))
+
+    def waypoint(self, start: np.ndarray, goal: np.ndarray, radius: float = 0.0):
+        """Where a robot of ``radius`` at ``start`` steers for ``goal``: ``goal`` itself
+        when the way is clear, else the first corner of the shortest way round (a corner
+        it stands on does not count), or None when no way round is known."""
+        if clear(start, goal, self.obstacles, radius):
+            return goal
+        near = np.hypot(*(self.nodes - start).T) < 1e-3
+        first = np.array([not n and clear(start, p, self.obstacles, radius)
+                          for p, n in zip(self.nodes, near, strict=True)], dtype=bool)  # fmt: skip
+        last = np.array([clear(p, goal, self.obstacles, radius) for p in self.nodes], dtype=bool)
+        if not first.any() or not last.any():
+            return None
+        to_node = np.where(first, np.hypot(*(self.nodes - start).T), np.inf)
+        from_node = np.where(last, np.hypot(*(self.nodes - goal).T), np.inf)
+        total = to_node[:, None] + self.distance + from_node[None, :]
+        i, j = np.unravel_index(np.argmin(total), total.shape)
+        return None if not np.isfinite(total[i, j]) else self.nodes[i]
