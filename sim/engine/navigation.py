@@ -96,6 +96,17 @@ class Roadmap:
                 if clear(self.nodes[i], self.nodes[j], self.obstacles, 0.0):
                     graph[i, j] = graph[j, i] = np.hypot(*(self.nodes[i] - self.nodes[j]))
         self.distance = shortest_path(graph, directed=False) if k else np.zeros((0, 0))
+        self._sight: dict[tuple, np.ndarray] = {}  # the corners that see a goal
+
+    def _seen_from(self, goal: np.ndarray, radius: float) -> np.ndarray:
+        """``(k,)`` which corners a robot of ``radius`` drives straight from to ``goal``
+        (goals do not move: kept)."""
+        key = (float(goal[0]), float(goal[1]), float(radius))
+        if key not in self._sight:
+            self._sight[key] = np.array(
+                [clear(p, goal, self.obstacles, radius) for p in self.nodes], dtype=bool
+            )
+        return self._sight[key]
 
     def waypoint(self, start: np.ndarray, goal: np.ndarray, radius: float = 0.0):
         """Where a robot of ``radius`` at ``start`` steers for ``goal``: ``goal`` itself
@@ -106,7 +117,7 @@ class Roadmap:
         near = np.hypot(*(self.nodes - start).T) < 1e-3
         first = np.array([not n and clear(start, p, self.obstacles, radius)
                           for p, n in zip(self.nodes, near, strict=True)], dtype=bool)  # fmt: skip
-        last = np.array([clear(p, goal, self.obstacles, radius) for p in self.nodes], dtype=bool)
+        last = self._seen_from(goal, radius)
         if not first.any() or not last.any():
             return None
         to_node = np.where(first, np.hypot(*(self.nodes - start).T), np.inf)
