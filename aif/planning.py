@@ -421,6 +421,8 @@ def motion_evidence(before, after, goals, speeds, dt: float, sigma) -> np.ndarra
     A robot heading for goal ``g`` moves ``min(v dt, d)`` straight at it (and stands once
     there); the observed move is that with Gaussian error ``sigma`` (m) per axis, one
     value or ``(n,)`` (a robot seen through noisier sightings moves the reading less).
+    ``goals`` is ``(m, 2)``, or ``(n, m, 2)``: per robot, the point it steers for when
+    heading for each goal (round a wall: the corner it drives to first).
     Summed over steps, this is how a teammate's goal is read from what it does, standing
     still on a goal included.
 
@@ -433,7 +435,7 @@ def motion_evidence(before, after, goals, speeds, dt: float, sigma) -> np.ndarra
     before = np.asarray(before, dtype=float)[:, :2]
     after = np.asarray(after, dtype=float)[:, :2]
     goals = np.asarray(goals, dtype=float)
-    to_goal = goals[None] - before[:, None]  # (n, m, 2)
+    to_goal = (goals if goals.ndim == 3 else goals[None]) - before[:, None]  # (n, m, 2)
     distance = np.hypot(to_goal[..., 0], to_goal[..., 1])
     reach = np.minimum(np.asarray(speeds, dtype=float)[:, None] * dt, distance)
     unit = to_goal / np.where(distance > 0, distance, 1.0)[..., None]

@@ -31,9 +31,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse.csgraph import shortest_path
 
-from epistemica.sim.engine.obstacles import CLEARANCE, polygon_distance
+from epistemica.sim.engine.obstacles import CLEARANCE, segment_distances
 
-__all__ = ["MARGIN", "Roadmap", "clear"]
+__all__ = ["MARGIN", "Roadmap", "clear", "clear_all", "roadmap_for"]
 
 #: Distance (m) beyond a robot's radius at which the roadmap passes obstacles' corners.
 MARGIN = 0.5
@@ -43,11 +43,20 @@ def clear(start: np.ndarray, end: np.ndarray, obstacles, radius: float) -> bool:
     """Whether a robot of ``radius`` may drive straight from ``start`` to ``end``: the
     segment comes no closer to any obstacle than ``radius`` (and the contacts' clearance),
     or than its ends already are (a robot pressed against a wall may drive away from it)."""
+    return bool(clear_all(np.asarray(start)[None], np.asarray(end)[None], obstacles, radius)[0])
+
+
+def clear_all(starts: np.ndarray, ends: np.ndarray, obstacles, radius: float) -> np.ndarray:
+    """``(p,)``: :func:`clear` of each segment ``starts[i] -> ends[i]`` (``(p, 2)`` each)."""
+    starts, ends = np.asarray(starts, dtype=float), np.asarray(ends, dtype=float)
+    out = np.ones(len(starts), dtype=bool)
     for poly in obstacles:
-        ends = min(polygon_distance(start, start, poly), polygon_distance(end, end, poly))
-        if polygon_distance(start, end, poly) < min(radius + CLEARANCE, ends) - 1e-9:
-            return False
-    return True
+        at_ends = np.minimum(
+            segment_distances(starts, starts, poly), segment_distances(ends, ends, poly)
+        )
+        allowed = np.minimum(radius + CLEARANCE, at_ends) - 1e-9
+        out &= segment_distances(starts, ends, poly) >= allowed
+    return out
 
 
 def _corners(poly: np.ndarray, margin: float) -> np.ndarray:
@@ -103,9 +112,8 @@ class Roadmap:
         (goals do not move: kept)."""
         key = (float(goal[0]), float(goal[1]), float(radius))
         if key not in self._sight:
-            self._sight[key] = np.array(
-                [clear(p, goal, self.obstacles, radius) for p in self.nodes], dtype=bool
-            )
+            ends = np.broadcast_to(goal, self.nodes.shape)
+            self._sight[key] = clear_all(self.nodes, ends, self.obstacles, radius)
         return self._sight[key]
 
     def waypoint(self, start: np.ndarray, goal: np.ndarray, radius: float = 0.0):
@@ -115,8 +123,8 @@ class Roadmap:
         if clear(start, goal, self.obstacles, radius):
             return goal
         near = np.hypot(*(self.nodes - start).T) < 1e-3
-        first = np.array([not n and clear(start, p, self.obstacles, radius)
-                          for p, n in zip(self.nodes, near, strict=True)], dtype=bool)  # fmt: skip
+        starts = np.broadcast_to(start, self.nodes.shape)
+        first = ~near & clear_all(starts, self.nodes, self.obstacles, radius)
         last = self._seen_from(goal, radius)
         if not first.any() or not last.any():
             return None
@@ -125,3 +133,27 @@ class Roadmap:
         total = to_node[:, None] + self.distance + from_node[None, :]
         i, j = np.unravel_index(np.argmin(total), total.shape)
         return None if not np.isfinite(total[i, j]) else self.nodes[i]
+
+    def aims(self, points: np.ndarray, goals: np.ndarray, radius: float = 0.0) -> np.ndarray:
+        """``(n, m, 2)``: where a robot at each of ``points (n, 2)`` heading for each of
+        ``goals (m, 2)`` steers (:meth:`waypoint`; the goal itself where no way round is
+        known). A teammate's move is read against these, not against straight lines."""
+        points, goals = np.asarray(points, dtype=float), np.asarray(goals, dtype=float)
+        out = np.broadcast_to(goals[None], (len(points), *goals.shape)).copy()
+        n, m = len(points), len(goals)
+        starts, ends = np.repeat(points, m, axis=0), np.tile(goals, (n, 1))
+        straight = clear_all(starts, ends, self.obstacles, radius).reshape(n, m)
+        for i, g in zip(*np.nonzero(~straight), strict=True):
+            aim = self.waypoint(points[i], goals[g], radius)
+            if aim is not None:
+                out[i, g] = aim
+        return out
+
+
+def roadmap_for(scenario) -> Roadmap | None:
+    """The roadmap of a scenario's obstacles, for robots of its largest radius (None
+    without obstacles)."""
+    if not scenario.obstacles:
+        return None
+    radius = 0.0 if scenario.robot_radius is None else float(np.max(scenario.robot_radius))
+    return Roadmap(scenario.obstacles, radius + MARGIN, scenario.workspace)

@@ -36,7 +36,14 @@ import numpy as np
 
 from epistemica.del_.errors import InvalidArgumentError
 
-__all__ = ["inside", "line_of_sight", "polygon", "polygon_distance", "resolve_contacts"]
+__all__ = [
+    "inside",
+    "line_of_sight",
+    "polygon",
+    "polygon_distance",
+    "resolve_contacts",
+    "segment_distances",
+]
 
 #: Clearance (m) a point robot keeps from obstacles, so that it never sits on an edge.
 CLEARANCE = 1e-6
@@ -113,6 +120,17 @@ def _intersect(p0, p1, a, b) -> np.ndarray:
     d1, d2 = _cross(a, b, p0), _cross(a, b, p1)
     d3, d4 = _cross(p0, p1, a), _cross(p0, p1, b)
     return (d1 * d2 <= 0) & (d3 * d4 <= 0) & ~((d1 == 0) & (d2 == 0) & (d3 == 0) & (d4 == 0))
+
+
+def segment_distances(p0: np.ndarray, p1: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """``(p,)`` distances from the segments ``p0 p1`` (each ``(p, 2)``) to the polygon:
+    :func:`polygon_distance` of each, at once."""
+    a, b = _edges(poly)
+    e0, e1 = p0[:, None], p1[:, None]
+    touch = _intersect(e0, e1, a[None], b[None]).any(axis=1) | inside(p1, poly)
+    near = np.minimum(_point_segment(e0, a[None], b[None]), _point_segment(e1, a[None], b[None]))
+    near = np.minimum(near, _point_segment(a[None], e0, e1)).min(axis=1)
+    return np.where(touch, 0.0, near)
 
 
 def polygon_distance(p0: np.ndarray, p1: np.ndarray, poly: np.ndarray) -> float:

@@ -24,7 +24,7 @@ from epistemica.sim.engine.events import STILL, World, firings, observer_indices
 from epistemica.sim.engine.joint import JointRun
 from epistemica.sim.engine.knowledge import assignment, initial_knowledge
 from epistemica.sim.engine.missions import distances, realises
-from epistemica.sim.engine.navigation import MARGIN, Roadmap
+from epistemica.sim.engine.navigation import roadmap_for
 from epistemica.sim.engine.obstacles import resolve_contacts
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Sensing
@@ -208,10 +208,7 @@ class TrialRun:
         self.known = np.ones((steps, n, n, s.n_goals), dtype=bool) if tracked else None
         self.closed = np.zeros((steps, s.n_goals), dtype=bool)
         self.noted = -1  # the number of observations the knowledge had when last noted
-        self.roadmap = None  # the way round known walls (navigation), if any
-        if s.obstacles and navigate:
-            radius = 0.0 if s.robot_radius is None else float(np.max(s.robot_radius))
-            self.roadmap = Roadmap(s.obstacles, radius + MARGIN, s.workspace)
+        self.roadmap = roadmap_for(s) if navigate else None  # the way round known walls
 
     def decide(self, step: int, obs, groups, controls: np.ndarray) -> None:
         """Each group's controls at ``step`` into ``controls`` (rows of its robots), its

@@ -47,6 +47,7 @@ from epistemica.aif.teammates import (
     typed_predictions,
     update_types,
 )
+from epistemica.sim.engine.navigation import roadmap_for
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -169,6 +170,7 @@ class PlanningStage:
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
         self.reselected = bool(scenario.kind.tasks)
+        self._roadmap = roadmap_for(scenario)  # teammates drive round walls: read them so
         self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
         # Where a teammate never seen may be: draws over the workspace (none: ablation).
@@ -228,10 +230,11 @@ class PlanningStage:
         if self.noise > 0:
             noise = 2 * self.noise * sighting_variance(s, np.hypot(*(now - now[robot]).T))
             sigma = np.sqrt(model**2 + noise)
+        aims = s.goals if self._roadmap is None else self._roadmap.aims(before[1], s.goals)
         if self.resight:  # per-teammate gaps: each one's reach over its own time
-            moves = motion_evidence(before[1], now, s.goals, s.max_speed * gap, 1.0, sigma)
+            moves = motion_evidence(before[1], now, aims, s.max_speed * gap, 1.0, sigma)
         else:
-            moves = motion_evidence(before[1], now, s.goals, s.max_speed, gap, sigma)
+            moves = motion_evidence(before[1], now, aims, s.max_speed, gap, sigma)
         if not self.filtering:
             read *= 1.0 - self.leak
             read[seen] += moves[seen]
