@@ -315,6 +315,32 @@ def test_with_plan_lost_a_never_seen_teammate_with_no_start_left_is_not_fetched(
     assert offered == ([] if lost and alive == 0 else [1, 1])
 
 
+@pytest.mark.parametrize("hailed", [False, True])
+def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_again(hailed):
+    # r1 knows t1 and t2 alone; r2 is 3 m off, in sight, within hailing distance (sight
+    # less both robots' step), in a mission with no heading event (generated mission 175:
+    # found, done). r1 fetches r2, so it turns for the task at once: the hail. Nothing
+    # tells r2 of it, so the ledger still has r2 unaware; with plan_hailed r1 no longer
+    # offers that fetch (the other task's still stands), and seeing r2 does not lift it.
+    s, view = _two_tasks()
+    s = s.replace(events=_events(175))
+    poses = view.poses.copy()
+    poses[1, 0] = 23.0
+    view = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
+    speed = np.asarray(s.max_speed, dtype=float) * s.dt
+    assert 3.0 <= s.sensing_range - speed.sum()
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hailed=hailed))
+    policy.start(s)
+    targets, steer_to = policy.plan(view)
+    kind, task, helper = policy.previous[0]
+    assert (kind, helper) == ("fetch", 1) and steer_to[0] == task
+    assert targets[0].tolist() == s.tasks[task].tolist()
+    assert policy.hailed[0, :, 1].tolist() == [t == task for t in range(2)]
+    later = view._replace(step=51, last_seen=np.full((2, 2), 51))
+    offered = [(f.task, f.helper) for f in policy.fetches(later, 0)]
+    assert offered == [(t, 1) for t in range(2) if not (hailed and t == task)]
+
+
 @pytest.mark.parametrize("insight", [False, True])
 def test_with_plan_insight_a_teammate_in_sight_is_met_where_it_is_seen(insight):
     # r2, 6.5 m from r1 and in sight, is met where r1 sees it once r1 is at hailing

@@ -224,6 +224,10 @@ class CollaborativeParameters:
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
         out: it has left its sweep, and an intercept there is a guess (two pairs chased each
         other's sweeps in mission 172). On: tuning 100-199 paired -8.4 [-18.4, -0.9] steps.
+    plan_hailed : bool
+        A teammate hailed for a task (within hailing distance, in sight) that is still not
+        known to know of it is not fetched for it again: without a ``heads to`` event the
+        hail tells nothing, and fetchers chased each other to the step limit.
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). Off:
         faster at 5-6 robots, slower at 3-4.
@@ -281,6 +285,7 @@ class CollaborativeParameters:
     plan_insight: bool = False
     plan_hail: bool = False
     plan_lost: bool = True
+    plan_hailed: bool = False
     plan_hold: bool = False
 
     def __post_init__(self) -> None:

@@ -186,6 +186,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         self.hails = any(e.trigger.kind == "heads" and e.reveals for e in s.events)
         self.held = np.zeros(s.n_tasks, dtype=bool)  # the deciding robot's tasks on hold
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
+        # hailed[i, t, j]: robot i came within hailing distance of j, in sight, fetching it for t
+        self.hailed = np.zeros((s.n_robots, s.n_tasks, s.n_robots), dtype=bool)
         self.last_plans: list = [None] * s.n_robots
         if self.trace is not None:
             self.trace = []  # this trial's decisions
@@ -218,6 +220,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                 choice = self._verify(view, i, presumed)
             self.backed[i] = False
             targets[i], steer_to[i] = self._act(view, i, choice, waiting)
+            if choice[0] == "fetch" and steer_to[i] == choice[1]:  # the hail: it turns back
+                self.hailed[i, choice[1], choice[2]] = True
         return targets, steer_to
 
     def sighted(self, view: View) -> np.ndarray:
@@ -279,6 +283,9 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         """The teammates robot ``i`` may fetch: for each open task it knows of, each
         teammate it does not know knows of it and meets on its sweep (the rules'
         intercept), found with probability ``exp(-age / fetch_memory)``. With
+        ``plan_hailed``, not for a task it has hailed that teammate for already (it
+        came within hailing distance, in sight, and turned for the task): if the hail had
+        told it, the ledger would say so; a second hail tells it no more. With
         ``plan_rollout``, not a teammate it knows has left its sweep for a task
         (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
@@ -288,6 +295,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         out, knows = [], self.knows(view, i)
         for j in range(s.n_robots):
             unaware = self.open_now[i] & ~knows[j] & ~self.gave_up[i, :, j]
+            if p.plan_hailed:  # hailed and still not known to know: hailing again tells no more
+                unaware &= ~self.hailed[i, :, j]
             if j == i or not unaware.any() or (p.plan_lost and self.lost(view, i, j)):
                 continue
             if p.plan_rollout and not self.on_sweep(view, i, j, unaware):
