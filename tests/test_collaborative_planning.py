@@ -341,6 +341,50 @@ def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_aga
     assert offered == [(t, 1) for t in range(2) if not (hailed and t == task)]
 
 
+@pytest.mark.parametrize("back", [False, True])
+def test_with_plan_back_a_fetcher_that_hailed_goes_on_to_the_task(back):
+    # The hail of the test above (no heading event): r1, 3 m from r2, turns for the task.
+    # A step later r2 is 6.5 m off, out of hailing distance (7 m less both robots' step);
+    # r1 still fetches r2 for that task. Without plan_back it turns for r2 again (the chase
+    # of found-only missions); with it, it goes on to the task, where r2 may see it.
+    s, view = _two_tasks()
+    s = s.replace(events=_events(175))
+    poses = view.poses.copy()
+    poses[1, 0] = 23.0
+    near = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_back=back))
+    policy.start(s)
+    _, steer_to = policy.plan(near)
+    hail = policy.previous[0]
+    assert hail[0] == "fetch" and steer_to[0] == hail[1] and policy.back[0] == hail
+    later = view._replace(step=51, last_seen=np.full((2, 2), 51))
+    targets, steer_to = policy.plan(later)
+    assert policy.previous[0] == hail
+    assert steer_to[0] == (hail[1] if back else FETCHING)
+    if back:
+        assert targets[0].tolist() == s.tasks[hail[1]].tolist()
+    assert policy._leg(0, ("explore",)) == ("explore",) and policy.back[0] is None
+
+
+@pytest.mark.parametrize("waiting", [False, True])
+def test_plan_told_a_fetch_tells_a_task_only_where_the_helper_sees_it_found_or_waited_at(waiting):
+    # No heading event (generated mission 201: found within 5 m, waiting, done; without
+    # waiting, found-only): r2 (held at (26.5, 15), sight 7 m) learns of a task only if it
+    # sees r1, met at r2's place, re-enter 5 m of the task on the way back, or (waiting)
+    # stand at it. Task (26.5, 3.5): re-entered at (26.5, 8.5), 6.5 m off, seen; (26.5, 2):
+    # at (26.5, 7), 8 m, not; (26.5, 10): within 5 m at the meeting (no re-entry), stood at
+    # 5 m off: seen only where waiting tells.
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[26.5, 3.5], [26.5, 2], [26.5, 10]],
+                              (2, 2, 2), workspace=30.0, sensing_range=7.0)  # fmt: skip
+    s = s.replace(events=tuple(e for e in _events(201) if waiting or e.name != "waiting"))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_told=True))
+    policy.start(s)
+    policy.predicted = lambda view, i, j, ahead=0: np.array([26.5, 15.0])
+    assert (policy.hails, policy.reach, policy.settle) == (False, 5.0, waiting)
+    told = policy.told(None, 0, 1, (4.0, (26.5, 15.0)))
+    assert told.tolist() == [True, False, waiting]
+
+
 @pytest.mark.parametrize("insight", [False, True])
 def test_with_plan_insight_a_teammate_in_sight_is_met_where_it_is_seen(insight):
     # r2, 6.5 m from r1 and in sight, is met where r1 sees it once r1 is at hailing

@@ -228,6 +228,13 @@ class CollaborativeParameters:
         A teammate hailed for a task (within hailing distance, in sight) that is still not
         known to know of it is not fetched for it again: without a ``heads to`` event the
         hail tells nothing, and fetchers chased each other to the step limit.
+    plan_told : bool
+        Without a ``heads to`` event, a teammate is fetched for a task only if it is
+        predicted in sight where the fetcher re-enters the found event's reach of the task
+        or stands at it: the only ways the fetch can tell it.
+    plan_back : bool
+        Without a ``heads to`` event, a fetcher that has hailed its helper goes on to the
+        task (where it can tell it), not back to the helper once out of hailing distance.
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). Off:
         faster at 5-6 robots, slower at 3-4.
@@ -286,6 +293,8 @@ class CollaborativeParameters:
     plan_hail: bool = False
     plan_lost: bool = True
     plan_hailed: bool = False
+    plan_told: bool = False
+    plan_back: bool = False
     plan_hold: bool = False
 
     def __post_init__(self) -> None:
