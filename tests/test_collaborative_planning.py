@@ -261,10 +261,12 @@ def test_with_plan_hail_a_teammate_is_fetched_only_where_a_hail_tells_it(seed, h
     # The scene of the fetch above (r2 does not know of t1), with the events of generated
     # mission 123 (found, heading, done: a teammate that sees r1 head for t1 learns of it)
     # or 175 (found, done: nothing r1 does on the way tells r2 of t1). With plan_hail r1
-    # offers to fetch r2 only where the heading event exists.
+    # offers to fetch r2 only where the heading event exists (plan_told off: it would drop
+    # the fetch of mission 175 too, r2 not being in sight where r1 finds t1 again).
     s, view = _scene(together=False)
     s = s.replace(events=_events(seed))
-    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hail=hail))
+    parameters = CollaborativeParameters(plan_hail=hail, plan_told=False)
+    policy = PlanningCollaborativePolicy("third", parameters)
     policy.start(s)
     policy.plan(view)
     heading = any(e.name == "heading" for e in s.events)
@@ -329,7 +331,8 @@ def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_aga
     view = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
     speed = np.asarray(s.max_speed, dtype=float) * s.dt
     assert 3.0 <= s.sensing_range - speed.sum()
-    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hailed=hailed))
+    parameters = CollaborativeParameters(plan_hailed=hailed, plan_told=False)  # told: below
+    policy = PlanningCollaborativePolicy("third", parameters)
     policy.start(s)
     targets, steer_to = policy.plan(view)
     kind, task, helper = policy.previous[0]
@@ -352,7 +355,8 @@ def test_with_plan_back_a_fetcher_that_hailed_goes_on_to_the_task(back):
     poses = view.poses.copy()
     poses[1, 0] = 23.0
     near = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
-    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_back=back))
+    parameters = CollaborativeParameters(plan_back=back, plan_told=False)  # told: below
+    policy = PlanningCollaborativePolicy("third", parameters)
     policy.start(s)
     _, steer_to = policy.plan(near)
     hail = policy.previous[0]

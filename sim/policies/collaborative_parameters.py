@@ -231,7 +231,7 @@ class CollaborativeParameters:
     plan_told : bool
         Without a ``heads to`` event, a teammate is fetched for a task only if it is
         predicted in sight where the fetcher re-enters the found event's reach of the task
-        or stands at it: the only ways the fetch can tell it.
+        or stands at it: the only ways the fetch can tell it. On (fresh missions 300-399).
     plan_back : bool
         Without a ``heads to`` event, a fetcher that has hailed its helper goes on to the
         task (where it can tell it), not back to the helper once out of hailing distance.
@@ -293,7 +293,7 @@ class CollaborativeParameters:
     plan_hail: bool = False
     plan_lost: bool = True
     plan_hailed: bool = False
-    plan_told: bool = False
+    plan_told: bool = True
     plan_back: bool = False
     plan_hold: bool = False
 

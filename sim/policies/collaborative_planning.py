@@ -189,6 +189,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         reach = [e.trigger.value for e in s.events if e.trigger.kind == "within" and e.reveals]
         self.reach = max(reach) if reach else None
         self.settle = any(e.trigger.kind == "settles" and e.reveals for e in s.events)
+        # events, none of them a hail (a world without events keeps the hail model: tests)
+        self.silent = bool(s.events) and not self.hails
         self.held = np.zeros(s.n_tasks, dtype=bool)  # the deciding robot's tasks on hold
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
         # hailed[i, t, j]: robot i came within hailing distance of j, in sight, fetching it for t
@@ -239,7 +241,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         if choice != self.back[i]:
             self.back[i] = None
             return choice
-        return ("task", choice[1]) if self.parameters.plan_back and not self.hails else choice
+        return ("task", choice[1]) if self.parameters.plan_back and self.silent else choice
 
     def sighted(self, view: View) -> np.ndarray:
         """``(n, n, m)``: robot ``i`` sees teammate ``j`` now with task ``t`` in ``j``'s
@@ -303,8 +305,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         ``plan_hailed``, not for a task it has hailed that teammate for already (it
         came within hailing distance, in sight, and turned for the task): if the hail had
         told it, the ledger would say so; a second hail tells it no more. With
-        ``plan_told``, in a mission with no ``heads to`` event, only for the tasks
-        :meth:`told` says the fetch shows the teammate. With
+        ``plan_told``, in a mission with events but no ``heads to`` event, only for the
+        tasks :meth:`told` says the fetch shows the teammate. With
         ``plan_rollout``, not a teammate it knows has left its sweep for a task
         (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
@@ -323,7 +325,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             met = self.met(view, i, j)
             if met is None:
                 continue
-            if p.plan_told and not self.hails:  # the hail tells nothing: the task may
+            if p.plan_told and self.silent:  # the hail tells nothing: the task may
                 unaware = unaware & self.told(view, i, j, met)
             age = view.step - max(int(view.last_seen[i, j]), 0)
             found = float(np.exp(-age / max(p.fetch_memory, 1)))
