@@ -325,7 +325,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             met = self.met(view, i, j)
             if met is None:
                 continue
-            if p.plan_told and self.silent:  # the hail tells nothing: the task may
+            if p.plan_told and self.silent:  # a hail tells nothing: only what j sees after
                 unaware = unaware & self.told(view, i, j, met)
             age = view.step - max(int(view.last_seen[i, j]), 0)
             found = float(np.exp(-age / max(p.fetch_memory, 1)))
