@@ -236,8 +236,8 @@ class CollaborativeParameters:
         Without a ``heads to`` event, a fetcher that has hailed its helper goes on to the
         task (where it can tell it), not back to the helper once out of hailing distance.
     plan_hold : bool
-        The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). Off:
-        faster at 5-6 robots, slower at 3-4.
+        The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
+        ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
     """
 
     lane_factor: float = 2.0
@@ -295,7 +295,7 @@ class CollaborativeParameters:
     plan_hailed: bool = False
     plan_told: bool = True
     plan_back: bool = False
-    plan_hold: bool = False
+    plan_hold: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):
