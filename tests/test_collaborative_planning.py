@@ -317,24 +317,32 @@ def test_with_plan_lost_a_never_seen_teammate_with_no_start_left_is_not_fetched(
     assert offered == ([] if lost and alive == 0 else [1, 1])
 
 
-@pytest.mark.parametrize("hailed", [False, True])
-def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_again(hailed):
-    # r1 knows t1 and t2 alone; r2 is 3 m off, in sight, within hailing distance (sight
-    # less both robots' step), in a mission with no heading event (generated mission 175:
-    # found, done). r1 fetches r2, so it turns for the task at once: the hail. Nothing
-    # tells r2 of it, so the ledger still has r2 unaware; with plan_hailed r1 no longer
-    # offers that fetch (the other task's still stands), and seeing r2 does not lift it.
+def _hail(**options):
+    """The two-task scene with no heading event (generated mission 175: found, done) and r2
+    3 m from r1, in sight, within hailing distance (sight less both robots' step): the
+    scenario, the view before r2 moved, and the step's targets and steering of a policy
+    with ``options`` (plan_told off: it is tested below) that planned there."""
     s, view = _two_tasks()
     s = s.replace(events=_events(175))
     poses = view.poses.copy()
     poses[1, 0] = 23.0
-    view = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
+    near = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
     speed = np.asarray(s.max_speed, dtype=float) * s.dt
     assert 3.0 <= s.sensing_range - speed.sum()
-    parameters = CollaborativeParameters(plan_hailed=hailed, plan_told=False)  # told: below
-    policy = PlanningCollaborativePolicy("third", parameters)
+    policy = PlanningCollaborativePolicy(
+        "third", CollaborativeParameters(plan_told=False, **options)
+    )
     policy.start(s)
-    targets, steer_to = policy.plan(view)
+    return s, view, policy, *policy.plan(near)
+
+
+@pytest.mark.parametrize("hailed", [False, True])
+def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_again(hailed):
+    # r1 knows t1 and t2 alone; r2 is within hailing distance (_hail). r1 fetches r2, so it
+    # turns for the task at once: the hail. Nothing tells r2 of it, so the ledger still
+    # has r2 unaware; with plan_hailed r1 no longer offers that fetch (the other task's
+    # still stands), and seeing r2 again does not lift it.
+    s, view, policy, targets, steer_to = _hail(plan_hailed=hailed)
     kind, task, helper = policy.previous[0]
     assert (kind, helper) == ("fetch", 1) and steer_to[0] == task
     assert targets[0].tolist() == s.tasks[task].tolist()
@@ -350,15 +358,7 @@ def test_with_plan_back_a_fetcher_that_hailed_goes_on_to_the_task(back):
     # A step later r2 is 6.5 m off, out of hailing distance (7 m less both robots' step);
     # r1 still fetches r2 for that task. Without plan_back it turns for r2 again (the chase
     # of found-only missions); with it, it goes on to the task, where r2 may see it.
-    s, view = _two_tasks()
-    s = s.replace(events=_events(175))
-    poses = view.poses.copy()
-    poses[1, 0] = 23.0
-    near = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
-    parameters = CollaborativeParameters(plan_back=back, plan_told=False)  # told: below
-    policy = PlanningCollaborativePolicy("third", parameters)
-    policy.start(s)
-    _, steer_to = policy.plan(near)
+    s, view, policy, _, steer_to = _hail(plan_back=back)
     hail = policy.previous[0]
     assert hail[0] == "fetch" and steer_to[0] == hail[1] and policy.back[0] == hail
     later = view._replace(step=51, last_seen=np.full((2, 2), 51))
