@@ -13,6 +13,14 @@ one decision per robot of the planning level on the split's 8-robot missions.
     python benchmarks/collaborative_planning.py --timing --missions 40
     python benchmarks/collaborative_planning.py --trace 39:0:17   # mission 39, robot 0, step 17
 
+**Fresh missions.** ``--first`` may go past the split's 200 missions, on along the same
+tuning stream of generator seeds up to (never into) the locked split's first seed 1000000:
+``--first 200 --missions 100`` runs generator seeds 200-299, missions no earlier pass has
+looked at (issue 37 chose on 200-299 and confirmed on 300-399). The trial seed stays the
+tuning split's first, and the output rows are the same.
+
+    python benchmarks/collaborative_planning.py --first 200 --missions 100 --levels rules,third
+
 ``--trace`` prints one decision of a traced ``third`` trial (the split's trial seed):
 the robot's particles of each teammate, the arrivals and predictions it scored with, and
 every option's expected free energy (docs/results/collaborative_wrong_decision.md).
@@ -37,11 +45,13 @@ BANDS = ((3, 4), (5, 6), (7, 8))
 
 
 def missions(count: int, policy: str = "", first: int = 0) -> list:
-    """``count`` collaborative missions of the tuning split from its ``first`` (with a
-    ``policy`` line setting parameters, if given)."""
+    """``count`` collaborative missions of the tuning stream from its ``first`` (with a
+    ``policy`` line setting parameters, if given): the split's 200, or fresh ones past it,
+    never reaching the locked split's generator seeds."""
     split = SPLITS["tuning"]
-    if not 0 <= first <= first + count <= split.missions:
-        raise SystemExit(f"--first {first} --missions {count}: the split has {split.missions}")
+    locked = SPLITS["locked"].first_mission - split.first_mission
+    if not 0 <= first <= first + count <= locked:
+        raise SystemExit(f"--first {first} --missions {count}: must end before {locked}")
     out = []
     for k in range(first, first + count):
         seed = split.first_mission + k
@@ -126,7 +136,9 @@ def timing(count: int, level: str, steps: int, policy: str = "", robots: int = 8
 
 
 def trace(mission_seed: int, robot: int, step: int, policy: str = "") -> list[str]:
-    """One decision of a traced ``third`` trial of tuning mission ``mission_seed``."""
+    """One decision of a traced ``third`` trial of tuning-stream mission ``mission_seed``."""
+    if not 0 <= mission_seed < SPLITS["locked"].first_mission:
+        raise SystemExit(f"--trace {mission_seed}: the locked split is never traced")
     text = mission_text("collaborative", mission_seed, family_options("collaborative"))
     mission = parse_mission(text + (f"\npolicy {policy}\n" if policy else ""), "m.epi")
     seed = SPLITS["tuning"].trial_seeds[0]

@@ -261,10 +261,12 @@ def test_with_plan_hail_a_teammate_is_fetched_only_where_a_hail_tells_it(seed, h
     # The scene of the fetch above (r2 does not know of t1), with the events of generated
     # mission 123 (found, heading, done: a teammate that sees r1 head for t1 learns of it)
     # or 175 (found, done: nothing r1 does on the way tells r2 of t1). With plan_hail r1
-    # offers to fetch r2 only where the heading event exists.
+    # offers to fetch r2 only where the heading event exists (plan_told off: it would drop
+    # the fetch of mission 175 too, r2 not being in sight where r1 finds t1 again).
     s, view = _scene(together=False)
     s = s.replace(events=_events(seed))
-    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_hail=hail))
+    parameters = CollaborativeParameters(plan_hail=hail, plan_told=False)
+    policy = PlanningCollaborativePolicy("third", parameters)
     policy.start(s)
     policy.plan(view)
     heading = any(e.name == "heading" for e in s.events)
@@ -313,6 +315,78 @@ def test_with_plan_lost_a_never_seen_teammate_with_no_start_left_is_not_fetched(
     assert policy.lost(view, 0, 1) == (alive == 0)
     offered = [f.helper for f in policy.fetches(view, 0)]
     assert offered == ([] if lost and alive == 0 else [1, 1])
+
+
+def _hail(**options):
+    """The two-task scene with no heading event (generated mission 175: found, done) and r2
+    3 m from r1, in sight, within hailing distance (sight less both robots' step): the
+    scenario, the view before r2 moved, and the step's targets and steering of a policy
+    with ``options`` (plan_told off: it is tested below) that planned there."""
+    s, view = _two_tasks()
+    s = s.replace(events=_events(175))
+    poses = view.poses.copy()
+    poses[1, 0] = 23.0
+    near = view._replace(poses=poses, estimates=np.broadcast_to(poses[None, :, :2], (2, 2, 2)))
+    speed = np.asarray(s.max_speed, dtype=float) * s.dt
+    assert 3.0 <= s.sensing_range - speed.sum()
+    policy = PlanningCollaborativePolicy(
+        "third", CollaborativeParameters(plan_told=False, **options)
+    )
+    policy.start(s)
+    return s, view, policy, *policy.plan(near)
+
+
+@pytest.mark.parametrize("hailed", [False, True])
+def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_again(hailed):
+    # r1 knows t1 and t2 alone; r2 is within hailing distance (_hail). r1 fetches r2, so it
+    # turns for the task at once: the hail. Nothing tells r2 of it, so the ledger still
+    # has r2 unaware; with plan_hailed r1 no longer offers that fetch (the other task's
+    # still stands), and seeing r2 again does not lift it.
+    s, view, policy, targets, steer_to = _hail(plan_hailed=hailed)
+    kind, task, helper = policy.previous[0]
+    assert (kind, helper) == ("fetch", 1) and steer_to[0] == task
+    assert targets[0].tolist() == s.tasks[task].tolist()
+    assert policy.hailed[0, :, 1].tolist() == [t == task for t in range(2)]
+    later = view._replace(step=51, last_seen=np.full((2, 2), 51))
+    offered = [(f.task, f.helper) for f in policy.fetches(later, 0)]
+    assert offered == [(t, 1) for t in range(2) if not (hailed and t == task)]
+
+
+@pytest.mark.parametrize("back", [False, True])
+def test_with_plan_back_a_fetcher_that_hailed_goes_on_to_the_task(back):
+    # The hail of the test above (no heading event): r1, 3 m from r2, turns for the task.
+    # A step later r2 is 6.5 m off, out of hailing distance (7 m less both robots' step);
+    # r1 still fetches r2 for that task. Without plan_back it turns for r2 again (the chase
+    # of found-only missions); with it, it goes on to the task, where r2 may see it.
+    s, view, policy, _, steer_to = _hail(plan_back=back)
+    hail = policy.previous[0]
+    assert hail[0] == "fetch" and steer_to[0] == hail[1] and policy.back[0] == hail
+    later = view._replace(step=51, last_seen=np.full((2, 2), 51))
+    targets, steer_to = policy.plan(later)
+    assert policy.previous[0] == hail
+    assert steer_to[0] == (hail[1] if back else FETCHING)
+    if back:
+        assert targets[0].tolist() == s.tasks[hail[1]].tolist()
+    assert policy._leg(0, ("explore",)) == ("explore",) and policy.back[0] is None
+
+
+@pytest.mark.parametrize("waiting", [False, True])
+def test_plan_told_a_fetch_tells_a_task_only_where_the_helper_sees_it_found_or_waited_at(waiting):
+    # No heading event (generated mission 201: found within 5 m, waiting, done; without
+    # waiting, found-only): r2 (held at (26.5, 15), sight 7 m) learns of a task only if it
+    # sees r1, met at r2's place, re-enter 5 m of the task on the way back, or (waiting)
+    # stand at it. Task (26.5, 3.5): re-entered at (26.5, 8.5), 6.5 m off, seen; (26.5, 2):
+    # at (26.5, 7), 8 m, not; (26.5, 10): within 5 m at the meeting (no re-entry), stood at
+    # 5 m off: seen only where waiting tells.
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[26.5, 3.5], [26.5, 2], [26.5, 10]],
+                              (2, 2, 2), workspace=30.0, sensing_range=7.0)  # fmt: skip
+    s = s.replace(events=tuple(e for e in _events(201) if waiting or e.name != "waiting"))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_told=True))
+    policy.start(s)
+    policy.predicted = lambda view, i, j, ahead=0: np.array([26.5, 15.0])
+    assert (policy.hails, policy.reach, policy.settle) == (False, 5.0, waiting)
+    told = policy.told(None, 0, 1, (4.0, (26.5, 15.0)))
+    assert told.tolist() == [True, False, waiting]
 
 
 @pytest.mark.parametrize("insight", [False, True])

@@ -159,7 +159,7 @@ class CollaborativeParameters:
     :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
     crossing time, side / mean speed). Each option was measured on tuning missions only;
     the tables (success, median / mean steps, paired intervals) are in docs/aif.md §6h,
-    pass by pass, and the last pass's in its "Missions 100-199".
+    pass by pass, the last in "Fresh missions 200-399" (tuning-stream seeds 200-399).
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
@@ -224,9 +224,20 @@ class CollaborativeParameters:
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
         out: it has left its sweep, and an intercept there is a guess (two pairs chased each
         other's sweeps in mission 172). On: tuning 100-199 paired -8.4 [-18.4, -0.9] steps.
+    plan_hailed : bool
+        A teammate hailed for a task (within hailing distance, in sight) that is still not
+        known to know of it is not fetched for it again: without a ``heads to`` event the
+        hail tells nothing, and fetchers chased each other to the step limit.
+    plan_told : bool
+        Without a ``heads to`` event, a teammate is fetched for a task only if it is
+        predicted in sight where the fetcher re-enters the found event's reach of the task
+        or stands at it: the only ways the fetch can tell it. On (fresh missions 300-399).
+    plan_back : bool
+        Without a ``heads to`` event, a fetcher that has hailed its helper goes on to the
+        task (where it can tell it), not back to the helper once out of hailing distance.
     plan_hold : bool
-        The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). Off:
-        faster at 5-6 robots, slower at 3-4.
+        The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
+        ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
     """
 
     lane_factor: float = 2.0
@@ -281,7 +292,10 @@ class CollaborativeParameters:
     plan_insight: bool = False
     plan_hail: bool = False
     plan_lost: bool = True
-    plan_hold: bool = False
+    plan_hailed: bool = False
+    plan_told: bool = True
+    plan_back: bool = False
+    plan_hold: bool = True
 
     def __post_init__(self) -> None:
         for f in fields(self):

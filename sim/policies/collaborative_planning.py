@@ -184,8 +184,18 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         self.seen = np.zeros((s.n_robots, s.n_robots, s.n_tasks), dtype=bool)
         # hailing informs: teammates who see a robot head for a task learn of it
         self.hails = any(e.trigger.kind == "heads" and e.reveals for e in s.events)
+        # without one, a teammate learns of a task when it sees a robot come within ``reach``
+        # of it (the found event: None if none) or stand there (``settle``)
+        reach = [e.trigger.value for e in s.events if e.trigger.kind == "within" and e.reveals]
+        self.reach = max(reach) if reach else None
+        self.settle = any(e.trigger.kind == "settles" and e.reveals for e in s.events)
+        # events, none of them a hail (a world without events keeps the hail model: tests)
+        self.silent = bool(s.events) and not self.hails
         self.held = np.zeros(s.n_tasks, dtype=bool)  # the deciding robot's tasks on hold
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
+        # hailed[i, t, j]: robot i came within hailing distance of j, in sight, fetching it for t
+        self.hailed = np.zeros((s.n_robots, s.n_tasks, s.n_robots), dtype=bool)
+        self.back: list = [None] * s.n_robots  # the fetch each robot hailed in, if on it
         self.last_plans: list = [None] * s.n_robots
         if self.trace is not None:
             self.trace = []  # this trial's decisions
@@ -217,8 +227,21 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             if choice == ("explore",) and self.parameters.verify:
                 choice = self._verify(view, i, presumed)
             self.backed[i] = False
-            targets[i], steer_to[i] = self._act(view, i, choice, waiting)
+            targets[i], steer_to[i] = self._act(view, i, self._leg(i, choice), waiting)
+            if choice[0] == "fetch" and steer_to[i] == choice[1]:  # the hail: it turns back
+                self.hailed[i, choice[1], choice[2]] = True
+                self.back[i] = choice
         return targets, steer_to
+
+    def _leg(self, i: int, choice: tuple) -> tuple:
+        """What robot ``i`` does of ``choice``: with ``plan_back``, in a mission with no
+        ``heads to`` event, a fetch whose hail it has made goes on to its task (the trip
+        back, where the helper may see it find the task or stand at it: :meth:`told`),
+        rather than turning for the helper again once out of hailing distance."""
+        if choice != self.back[i]:
+            self.back[i] = None
+            return choice
+        return ("task", choice[1]) if self.parameters.plan_back and self.silent else choice
 
     def sighted(self, view: View) -> np.ndarray:
         """``(n, n, m)``: robot ``i`` sees teammate ``j`` now with task ``t`` in ``j``'s
@@ -279,6 +302,11 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         """The teammates robot ``i`` may fetch: for each open task it knows of, each
         teammate it does not know knows of it and meets on its sweep (the rules'
         intercept), found with probability ``exp(-age / fetch_memory)``. With
+        ``plan_hailed``, not for a task it has hailed that teammate for already (it
+        came within hailing distance, in sight, and turned for the task): if the hail had
+        told it, the ledger would say so; a second hail tells it no more. With
+        ``plan_told``, in a mission with events but no ``heads to`` event, only for the
+        tasks :meth:`told` says the fetch shows the teammate. With
         ``plan_rollout``, not a teammate it knows has left its sweep for a task
         (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
@@ -288,6 +316,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         out, knows = [], self.knows(view, i)
         for j in range(s.n_robots):
             unaware = self.open_now[i] & ~knows[j] & ~self.gave_up[i, :, j]
+            if p.plan_hailed:  # hailed and still not known to know: hailing again tells no more
+                unaware &= ~self.hailed[i, :, j]
             if j == i or not unaware.any() or (p.plan_lost and self.lost(view, i, j)):
                 continue
             if p.plan_rollout and not self.on_sweep(view, i, j, unaware):
@@ -295,12 +325,37 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             met = self.met(view, i, j)
             if met is None:
                 continue
+            if p.plan_told and self.silent:  # a hail tells nothing: only what j sees after
+                unaware = unaware & self.told(view, i, j, met)
             age = view.step - max(int(view.last_seen[i, j]), 0)
             found = float(np.exp(-age / max(p.fetch_memory, 1)))
             for t in np.flatnonzero(unaware):
                 back = float(np.hypot(*(met[1] - s.tasks[t])))
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
                                  found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
+        return out
+
+    def told(self, view: View, i: int, j: int, met: tuple) -> np.ndarray:
+        """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
+        (steps, place) and then going to the task, is in ``j``'s sight (``j`` where
+        :meth:`predicted` puts it) when it comes within the found event's reach of the
+        task or stands at it: where no ``heads to`` event tells a teammate what a robot
+        heads for, that is how a fetch tells it (``plan_told``)."""
+        s = self.s
+        speed, place = float(s.max_speed[i] * s.dt), np.asarray(met[1], dtype=float)
+        gap = np.hypot(*(place - s.tasks).T)  # (m,) from the meeting
+        out = np.zeros(s.n_tasks, dtype=bool)
+        for t in range(s.n_tasks):
+            moments = []  # (steps ahead, where i is)
+            if self.reach is not None and gap[t] > self.reach:
+                cut = (gap[t] - self.reach) / gap[t]
+                moments.append((met[0] + (gap[t] - self.reach) / speed,
+                                place + cut * (s.tasks[t] - place)))  # fmt: skip
+            if self.settle:
+                moments.append((met[0] + gap[t] / speed, s.tasks[t]))
+            for ahead, there in moments:
+                seen = self.predicted(view, i, j, int(np.rint(ahead)))
+                out[t] |= bool(np.hypot(*(seen - there)) <= s.sensing_range)
         return out
 
     def lost(self, view: View, i: int, j: int) -> bool:
