@@ -122,9 +122,17 @@ class Roadmap:
         it stands on does not count), or None when no way round is known."""
         if clear(start, goal, self.obstacles, radius):
             return goal
+        return self._round(start, goal, radius, self._seen_by(start, radius))
+
+    def _seen_by(self, start: np.ndarray, radius: float) -> np.ndarray:
+        """``(k,)`` the corners a robot at ``start`` drives straight to (not one it is on)."""
         near = np.hypot(*(self.nodes - start).T) < 1e-3
         starts = np.broadcast_to(start, self.nodes.shape)
-        first = ~near & clear_all(starts, self.nodes, self.obstacles, radius)
+        return ~near & clear_all(starts, self.nodes, self.obstacles, radius)
+
+    def _round(self, start: np.ndarray, goal: np.ndarray, radius: float, first: np.ndarray):
+        """The first corner of the shortest way round from ``start`` (seeing the corners
+        ``first``) to ``goal``, or None."""
         last = self._seen_from(goal, radius)
         if not first.any() or not last.any():
             return None
@@ -143,10 +151,12 @@ class Roadmap:
         n, m = len(points), len(goals)
         starts, ends = np.repeat(points, m, axis=0), np.tile(goals, (n, 1))
         straight = clear_all(starts, ends, self.obstacles, radius).reshape(n, m)
-        for i, g in zip(*np.nonzero(~straight), strict=True):
-            aim = self.waypoint(points[i], goals[g], radius)
-            if aim is not None:
-                out[i, g] = aim
+        for i in np.flatnonzero(~straight.all(axis=1)):  # the corners it sees, once
+            first = self._seen_by(points[i], radius)
+            for g in np.flatnonzero(~straight[i]):
+                aim = self._round(points[i], goals[g], radius, first)
+                if aim is not None:
+                    out[i, g] = aim
         return out
 
 
