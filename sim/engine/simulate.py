@@ -112,6 +112,10 @@ def simulate(
             f"expected a Scenario, got {type(scenario).__name__}",
             hint="build one with Scenario(...) or Scenario.paper(...)",
         )
+    if not isinstance(navigate, bool):
+        raise InvalidArgumentError(
+            f"navigate must be true or false, got {navigate!r}", hint="navigate=False"
+        )
     s, n = scenario, scenario.n_robots
     streams = trial_streams(seed, n)
     groups = policy_groups(n, reasoning, policies, parameters, s.kind)
@@ -120,10 +124,6 @@ def simulate(
         policy.start(s, robots, [streams.policy[r] for r in robots])
         for r in robots:
             names[r] = policy.name
-    if not isinstance(navigate, bool):
-        raise InvalidArgumentError(
-            f"navigate must be true or false, got {navigate!r}", hint="navigate=False"
-        )
     run = _run(s, streams, groups, navigate)
     for step in range(s.max_steps):
         obs = run.perceive(step)
@@ -246,8 +246,9 @@ class TrialRun:
                 continue
             pose = self.poses[robot]
             radius = 0.0 if s.robot_radius is None else float(s.robot_radius[robot])
-            target = self.roadmap.waypoint(pose[:2], s.goals[goal], radius)
-            if target is not None and target is not s.goals[goal]:
+            place = s.goals[goal]
+            target = self.roadmap.waypoint(pose[:2], place, radius)
+            if target is not None and target is not place:  # blocked: the way round
                 limits = s.max_speed[[robot]], s.max_turn[[robot]]
                 out[row] = steer(pose[None], target[None], *limits, s.dt)[0]
         return out

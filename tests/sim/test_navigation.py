@@ -148,3 +148,13 @@ def test_a_teammate_driving_round_a_wall_is_read_as_heading_for_its_goal():
     expected = -np.sum((step[0] - here[0] - unit) ** 2) / (2 * 0.5**2)
     assert straight[0] == pytest.approx(expected) and straight[0] < -0.28
     assert routed[1] == pytest.approx(straight[1])  # g2: the same straight line
+
+
+def test_a_robot_with_a_clear_way_keeps_its_policys_control():
+    # The goal on r1's side of the wall: the rules' controller's own moves, untouched.
+    text = BEHIND.replace("goal g1 at (25, 10)", "goal g1 at (10, 14)")
+    scenario = parse_mission(text).scenario(0)
+    routed = simulate(scenario, "rules-third", seed=0)
+    straight = simulate(scenario, "rules-third", seed=0, navigate=False)
+    assert routed.success
+    assert np.array_equal(routed.trajectory, straight.trajectory)
