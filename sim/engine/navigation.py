@@ -142,6 +142,35 @@ class Roadmap:
         i, j = np.unravel_index(np.argmin(total), total.shape)
         return None if not np.isfinite(total[i, j]) else self.nodes[i]
 
+    def lengths(self, points: np.ndarray, goals: np.ndarray, radius: float = 0.0) -> np.ndarray:
+        """``(n, m)``: the length of the shortest way from each of ``points (n, 2)`` to each
+        of ``goals (m, 2)`` for a robot of ``radius``: the straight distance where the way
+        is clear, round the corners where not, ``inf`` where no way is known.
+
+        Examples
+        --------
+        >>> from epistemica.sim.engine.obstacles import polygon
+        >>> wall = polygon([[4, 0], [5, 0], [5, 8], [4, 8]])
+        >>> roadmap = Roadmap((wall,), margin=0.5, workspace=10.0)
+        >>> roadmap.lengths(np.array([[2.0, 4.0], [2.0, 9.0]]), np.array([[8.0, 9.0]])).round(2)
+        array([[9.27],
+               [6.  ]])
+        """
+        points, goals = np.asarray(points, dtype=float), np.asarray(goals, dtype=float)
+        n, m = len(points), len(goals)
+        out = np.hypot(*(points[:, None] - goals[None]).transpose(2, 0, 1))
+        starts, ends = np.repeat(points, m, axis=0), np.tile(goals, (n, 1))
+        straight = clear_all(starts, ends, self.obstacles, radius).reshape(n, m)
+        for i in np.flatnonzero(~straight.all(axis=1)):
+            first = self._seen_by(points[i], radius)
+            to_node = np.where(first, np.hypot(*(self.nodes - points[i]).T), np.inf)
+            via = (to_node[:, None] + self.distance).min(axis=0) if len(self.nodes) else to_node
+            for g in np.flatnonzero(~straight[i]):
+                last = self._seen_from(goals[g], radius)
+                from_node = np.where(last, np.hypot(*(self.nodes - goals[g]).T), np.inf)
+                out[i, g] = (via + from_node).min() if len(self.nodes) else np.inf
+        return out
+
     def aims(self, points: np.ndarray, goals: np.ndarray, radius: float = 0.0) -> np.ndarray:
         """``(n, m, 2)``: where a robot at each of ``points (n, 2)`` heading for each of
         ``goals (m, 2)`` steers (:meth:`waypoint`; the goal itself where no way round is

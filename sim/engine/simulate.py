@@ -215,7 +215,8 @@ class TrialRun:
         decisions into the record."""
         n = self.s.n_robots
         for policy, robots in groups:
-            decisions = policy.decide(obs, robots)
+            view = self.everything(obs) if getattr(policy, "shares", "") else obs
+            decisions = policy.decide(view, robots)
             controls[robots] = _checked(decisions.controls, policy, len(robots))
             if self.roadmap is not None:
                 own = decisions.focal[np.arange(len(robots)), robots]
@@ -235,6 +236,18 @@ class TrialRun:
                     shape = (len(self.focal), n, *np.shape(decisions.teammate_types)[1:])
                     self.teammate_types = np.full(shape, np.nan)
                 self.teammate_types[step, robots] = decisions.teammate_types
+
+    def everything(self, obs):
+        """``obs`` as a level with full communication sees it (``oracle``): every pose
+        exact, every goal known, the closed ones known closed."""
+        n, m = self.s.n_robots, self.s.n_goals
+        return obs._replace(
+            poses=np.broadcast_to(self.poses, (n, *self.poses.shape)).copy(),
+            seen=np.ones((n, n), dtype=bool),
+            last_seen=np.full((n, n), obs.step),
+            known_goals=np.ones((n, m), dtype=bool),
+            known_done=np.broadcast_to(~self.open, (n, m)).copy(),
+        )
 
     def around_walls(self, robots: np.ndarray, goals: np.ndarray, controls: np.ndarray):
         """The controls of ``robots`` heading for ``goals`` (-1: none), each that moves

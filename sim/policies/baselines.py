@@ -32,7 +32,7 @@ from epistemica.sim.kinds.base import MissionKind
 from epistemica.sim.kinds.goal import ALLOCATION
 from epistemica.sim.policies.policy import Decisions, Policy, steer
 
-__all__ = ["Convention", "Greedy", "Stationary", "open_goals"]
+__all__ = ["Convention", "Greedy", "Stationary", "Straight", "open_goals"]
 
 
 def open_goals(scenario, observations: Observations, robot: int) -> np.ndarray:
@@ -40,8 +40,9 @@ def open_goals(scenario, observations: Observations, robot: int) -> np.ndarray:
     return np.flatnonzero(observations.known_goals[robot] & ~observations.known_done[robot])
 
 
-class _Straight(Policy):
-    """Shared machinery: pick a configuration per robot, steer straight to its part."""
+class Straight(Policy):
+    """A level that picks a configuration per robot and steers straight to its part: a
+    subclass gives :meth:`configuration` (the baselines here, the oracle)."""
 
     def decide(self, observations: Observations, robots: np.ndarray) -> Decisions:
         s = self.scenario
@@ -65,7 +66,7 @@ class _Straight(Policy):
         raise NotImplementedError
 
 
-class Greedy(_Straight):
+class Greedy(Straight):
     """Level ``"zero"``: the nearest known goal; the others are not modelled."""
 
     name = "zero"
@@ -78,7 +79,7 @@ class Greedy(_Straight):
         return row
 
 
-class Stationary(_Straight):
+class Stationary(Straight):
     """Level ``"stationary"``: one goal, drawn from the robot's policy stream among those it
     knows at its first step, driven to and never left (a teammate that stopped on a goal,
     whatever the team does).
@@ -106,7 +107,7 @@ class Stationary(_Straight):
         return row
 
 
-class Convention(_Straight):
+class Convention(Straight):
     """Least total distance over the valid configurations, from the robot's own view.
 
     Parameters

@@ -47,6 +47,7 @@ from epistemica.sim.policies.collaborative_planning import (
     PLANNING_LEVELS,
     PlanningCollaborativePolicy,
 )
+from epistemica.sim.policies.oracle import Oracle
 from epistemica.sim.policies.paper import PAPER_LEVELS, PaperPolicy
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import Policy
@@ -148,6 +149,11 @@ def _table() -> dict[str, Level]:
     levels["convention-reverse"] = Level(
         "the convention with the opposite tie-break (an ad hoc teammate)",
         lambda p: Convention(tie_break="reverse"),
+    )
+    levels["oracle"] = Level(
+        "full communication: every pose exact, every goal and closure known, the "
+        "configuration of least makespan (a reference for completion time, not a teammate)",
+        lambda p: Oracle(),
     )
     levels["stationary"] = Level(
         "stops on a goal drawn at random at its first step and never leaves it (an ad hoc "

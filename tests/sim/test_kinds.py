@@ -37,7 +37,12 @@ def test_every_kind_has_levels_and_studies_only_levels_it_has():
         assert set(kind.study_levels) <= set(level_names(kind)) == set(KIND_LEVELS[name])
         for level in kind.study_levels:
             assert make_level(kind, level, parameters_for(kind)()) is not None
-    assert "oracle" in level_names(COLLABORATIVE) and "oracle" not in level_names(ALLOCATION)
+    # Each kind's levels are its own: the joint oracle is the rules' level with full
+    # communication, the goal missions' a least-makespan team with the same full view.
+    assert "rules" in level_names(COLLABORATIVE) and "rules" not in level_names(ALLOCATION)
+    joint = make_level(COLLABORATIVE, "oracle", parameters_for(COLLABORATIVE)())
+    goal = make_level(ALLOCATION, "oracle", parameters_for(ALLOCATION)())
+    assert type(joint) is not type(goal) and joint.shares == goal.shares == "everything"
 
 
 def test_task_kinds_have_no_configuration_set_and_say_why():
