@@ -13,6 +13,11 @@ was that keeps it
   new places, the ones after it at their old places). Two robots that start closer than
   that may not come closer still; they may separate.
 
+A disc stopped by a teammate it touches slides along it (frictionless discs): the rest of
+its move, less the part that presses into that teammate, is cut again the same way. Without
+the slide two discs that graze each other on their way to one goal push into each other for
+good (a generated rendezvous did so to the step limit at every level).
+
 The cut is found by bisection on the fraction of the move (the swept path only grows with
 it, so "blocked" is monotone), to 2⁻³⁰ of the move. The heading is the one the dynamics
 gave. :func:`line_of_sight` says which robots see each other past the obstacles: the
@@ -177,11 +182,48 @@ def _blocked(i, start, end, placed, radii, obstacles, gaps) -> bool:
     return bool(np.any(d < gaps[others]))
 
 
+def _cut(i, start, end, placed, radii, obstacles, discs: bool) -> np.ndarray:
+    """The last point of robot ``i``'s straight move ``start -> end`` that touches
+    nothing (bisected: the swept path only grows with the fraction)."""
+    gaps = None
+    if discs:
+        gaps = np.minimum(radii[i] + radii, np.hypot(*(placed - start).T))
+        gaps[i] = 0.0
+    if not _blocked(i, start, end, placed, radii, obstacles, gaps):
+        return end
+    low, high = 0.0, 1.0
+    for _ in range(_BISECTIONS):
+        middle = 0.5 * (low + high)
+        if _blocked(i, start, start + middle * (end - start), placed, radii, obstacles, gaps):
+            high = middle
+        else:
+            low = middle
+    return start + low * (end - start)
+
+
+def _slide(i, point, end, placed, radii) -> np.ndarray:
+    """Where robot ``i``, stopped at ``point`` short of ``end``, goes instead: the rest of
+    its move without the part that presses into the teammate it touches (the nearest
+    within its contact distance), as frictionless discs slide; ``point`` if none."""
+    rest = end - point
+    away = point - placed
+    distance = np.hypot(*away.T)
+    touching = distance <= (radii[i] + radii) * (1 + 1e-6) + 1e-9
+    touching[i] = False
+    if not touching.any():
+        return point
+    j = np.flatnonzero(touching)[np.argmin(distance[touching])]
+    normal = away[j] / max(distance[j], 1e-12)
+    into = float(rest @ normal)
+    return point + (rest - into * normal if into < 0 else rest)
+
+
 def resolve_contacts(
     before: np.ndarray, after: np.ndarray, radii: np.ndarray, obstacles=()
 ) -> np.ndarray:
     """The ``(n, 3)`` poses after contacts: each robot's move ``before -> after`` cut short
-    where it would touch an obstacle or a teammate (see the module notes).
+    where it would touch an obstacle or a teammate, a disc that touches a teammate sliding
+    along it for the rest (see the module notes).
 
     Parameters
     ----------
@@ -198,19 +240,10 @@ def resolve_contacts(
     placed = np.array(before[:, :2], dtype=float)
     for i in range(out.shape[0]):
         start, end = before[i, :2], out[i, :2]
-        gaps = None
-        if discs:
-            gaps = np.minimum(radii[i] + radii, np.hypot(*(placed - start).T))
-            gaps[i] = 0.0
-        if _blocked(i, start, end, placed, radii, obstacles, gaps):
-            low, high = 0.0, 1.0
-            for _ in range(_BISECTIONS):
-                middle = 0.5 * (low + high)
-                point = start + middle * (end - start)
-                if _blocked(i, start, point, placed, radii, obstacles, gaps):
-                    high = middle
-                else:
-                    low = middle
-            out[i, :2] = start + low * (end - start)
+        point = _cut(i, start, end, placed, radii, obstacles, discs)
+        if discs and not np.allclose(point, end):  # slide along the teammate it touches
+            point = _cut(i, point, _slide(i, point, end, placed, radii), placed, radii,
+                         obstacles, discs)  # fmt: skip
+        out[i, :2] = point
         placed[i] = out[i, :2]
     return out

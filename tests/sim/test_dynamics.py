@@ -119,6 +119,35 @@ def test_two_discs_stop_at_contact():
     assert out[0, 0] == pytest.approx(2.5, abs=1e-6)
 
 
+def test_a_disc_that_touches_a_teammate_slides_along_it():
+    # Touching discs (radii 0.5, centres 1 m apart); the first drives 1 m at 45 degrees,
+    # into the second. Its move towards the second, (0.707, 0), is dropped; the rest,
+    # (0, 0.707), is kept: it slides up past its teammate instead of stopping.
+    before = np.array([[0.0, 0.0, np.pi / 4], [1.0, 0.0, 0.0]])
+    after = before.copy()
+    after[0, :2] = [np.sqrt(0.5), np.sqrt(0.5)]
+    out = resolve_contacts(before, after, np.array([0.5, 0.5]), ())
+    assert out[0, :2] == pytest.approx([0.0, np.sqrt(0.5)], abs=1e-6)
+    # Head on there is nothing to slide along: it stays.
+    after[0, :2] = [0.5, 0.0]
+    assert resolve_contacts(before, after, np.array([0.5, 0.5]), ())[0, :2] == pytest.approx(
+        [0.0, 0.0], abs=1e-6
+    )
+
+
+def test_two_grazing_discs_on_the_way_to_one_goal_do_not_lock():
+    # A generated rendezvous (asymmetry family, tuning mission 74) had two 0.3 m discs
+    # 0.58 m apart, each heading for the goal past the other: each move came closer to the
+    # other first, so each was cut to nothing, every step to the limit.
+    before = np.array([[20.9, 17.4, 0.95], [21.4, 17.1, 1.23]])
+    after = before.copy()
+    after[:, :2] += np.column_stack([np.cos(before[:, 2]), np.sin(before[:, 2])])
+    out = resolve_contacts(before, after, np.array([0.3, 0.3]), ())
+    moved = np.hypot(*(out[:, :2] - before[:, :2]).T)
+    assert np.all(moved > 0.5)  # most of each 1 m step is kept
+    assert np.hypot(*(out[0, :2] - out[1, :2])) >= np.hypot(*(before[0, :2] - before[1, :2]))
+
+
 # -- properties: nobody enters an obstacle, discs never overlap ---------------------------
 
 _moves = st.lists(st.tuples(st.floats(0, 1.5), st.floats(-np.pi, np.pi)), min_size=3, max_size=3)
