@@ -34,6 +34,8 @@ levels (a mission file writes - as _, e.g. rules_third):
     first/second/third-priormode  no expected free energy: the prior's mode
     third-wait                the planner with a 3-step waiting option
     zero, convention, convention+rules, convention-reverse, stationary, paper-*  baselines
+    oracle                    full view of poses, goals and closures; least makespan (a
+                              reference for completion time)
   collaborative missions
     first, second, third, third-shared, third-priormode   the planning controller
     rules, rules-first, rules-shared   the rules (third, first, third-shared before)
