@@ -238,6 +238,9 @@ class CollaborativeParameters:
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
         ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
+    plan_spread : bool
+        A never-seen teammate is found only with the share of its possible starts that put
+        it in sight of the meeting (fresh missions 400-599).
     """
 
     lane_factor: float = 2.0
@@ -296,6 +299,7 @@ class CollaborativeParameters:
     plan_told: bool = True
     plan_back: bool = False
     plan_hold: bool = True
+    plan_spread: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
