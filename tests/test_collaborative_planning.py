@@ -465,3 +465,28 @@ def test_with_plan_spread_a_never_seen_teammate_is_found_as_often_as_its_starts_
         assert fetch.found == pytest.approx(np.exp(-50 / 40) * (share if spread else 1.0))
         shares.add(float(share))
     assert len(shares) > 1  # the share differs across the grid
+
+
+@pytest.mark.parametrize("watched", [False, True])
+@pytest.mark.parametrize("seen", [50, 10])
+def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reached_the_task(
+    watched, seen
+):
+    # Task t1 at (3, 15) needs 2; r2 and r3 have been known to know of it since step 0,
+    # r1 last saw it open at step 0, step 50, stale_after 20: both knowers count and r1
+    # presumes it done. With plan_watched, r2 and r3 were seen at (20, 16) and (21, 14) at
+    # step ``seen``, 17.03 and 18.03 m off (speed 1 m a step, completion radius 1.5):
+    # seen now, they can reach it at 65.5 and 66.5, too late to count; seen at step 10,
+    # at 25.5 and 26.5 <= 30, they count.
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    view = view._replace(last_seen=np.full((3, 3), seen), open_seen=np.zeros((3, 1), int))
+    parameters = CollaborativeParameters(plan_watched=watched)
+    policy = PlanningCollaborativePolicy("third", parameters)
+    policy.start(s)
+    gap = np.hypot(*(s.starts[1:, :2] - s.tasks[0]).T) - s.completion_radius
+    assert policy.earliest(view, 0)[1:, 0] == pytest.approx(seen + gap)
+    assert policy.presumed_done(view, 0, watched).tolist() == [not watched or seen == 10]

@@ -216,7 +216,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             done = k.knows_done((i,))
             presumed = np.zeros_like(done)
             if self.parameters.stale_after:
-                presumed = self.presumed_done(view, i) & ~done
+                presumed = self.presumed_done(view, i, bool(self.parameters.plan_watched)) & ~done
             closed = done | presumed
             self.open_now[i] = view.aware[i, i] & ~closed
             waiting = self._waiting(view, i)
