@@ -239,7 +239,7 @@ class CollaborativeParameters:
         sight of the meeting. Off: worse at 3-4 robots (fresh missions 500-599).
     plan_watched : bool
         ``stale_after`` counts a knower from the earliest step it can have reached the
-        task since last seen away from it. Off: +0.5 steps at 3-4 robots (missions 500-599).
+        task since last seen away from it. Off: worse at 3-4 and 7-8 robots (500-599).
     """
 
     lane_factor: float = 2.0
