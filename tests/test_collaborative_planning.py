@@ -423,3 +423,70 @@ def test_with_plan_hold_a_task_waited_at_in_vain_is_no_option_while_on_hold(hold
     assert (steer == 0) == (not hold)
     policy.held_knowers[0, 0] = 1  # one more knower since: it may try again
     assert int(policy.plan(view)[1][0]) == 0
+
+
+def test_spread_is_the_share_of_a_never_seen_teammates_starts_in_sight_of_a_place():
+    # A 30 m workspace, sight 7 m, a 2 x 2 grid of starts: (7.5, 7.5), (22.5, 7.5),
+    # (7.5, 22.5), (22.5, 22.5). At step 0 r2 is still at its start. From (12, 12) only
+    # (7.5, 7.5) is in sight (6.4 m; (22.5, 7.5) is 11.4 m off); from (15, 15) none (10.6
+    # m each); from (15, 7.5) none (7.5 m both ways); from (16, 7.5) only (22.5, 7.5)
+    # (6.5 m, and 8.5 m to (7.5, 7.5)). With (7.5, 7.5) ruled out, none of the three
+    # left is in sight of (12, 12); with every start ruled out, the plain guess: 1.
+    s = CollaborativeScenario([[20, 15, 0], [26.5, 15, 0]], [[3, 15]], (2,), workspace=30.0,
+                              sensing_range=7.0)  # fmt: skip
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(particles=2))
+    policy.start(s)
+    places = [(12, 12), (15, 15), (15, 7.5), (16, 7.5)]
+    assert [policy.teammates.spread(0, 0, 1, p) for p in places] == [0.25, 0.0, 0.0, 0.25]
+    policy.teammates.alive[0, 1, 0] = False
+    assert policy.teammates.spread(0, 0, 1, (12.0, 12.0)) == 0.0
+    policy.teammates.alive[0, 1] = False
+    assert policy.teammates.spread(0, 0, 1, (12.0, 12.0)) == 1.0
+
+
+@pytest.mark.parametrize("spread", [False, True])
+def test_with_plan_spread_a_never_seen_teammate_is_found_as_often_as_its_starts_allow(spread):
+    # The two-task scene at step 50, r2 never seen by r1 (fetch_memory 40: found
+    # exp(-50 / 40) = 0.287 on its sweep). Leave two starts of the grid: the intercept
+    # aims at the median of their arcs, and with plan_spread found is 0.287 times the
+    # share of their two places in sight of the meeting (0, 1/2 or 1); off, 0.287.
+    s, view = _two_tasks()
+    view.last_seen[0, 1] = -1
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_spread=spread))
+    policy.start(s)
+    policy.plan(view)
+    grid, left = policy.teammates.alive.shape[-1], np.flatnonzero(policy.teammates.alive[0, 1])
+    shares = set()
+    for k in left[1:]:
+        policy.teammates.alive[0, 1] = np.isin(np.arange(grid), [left[0], k])
+        fetch = policy.fetches(view, 0)[0]
+        there = policy.teammates.possible(view.step + fetch.meeting, 0, 1)
+        share = np.mean(np.hypot(*(there - np.asarray(fetch.place)).T) <= s.sensing_range)
+        assert fetch.found == pytest.approx(np.exp(-50 / 40) * (share if spread else 1.0))
+        shares.add(float(share))
+    assert len(shares) > 1  # the share differs across the grid
+
+
+@pytest.mark.parametrize("watched", [False, True])
+@pytest.mark.parametrize("seen", [50, 10])
+def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reached_the_task(
+    watched, seen
+):
+    # Task t1 at (3, 15) needs 2; r2 and r3 have been known to know of it since step 0,
+    # r1 last saw it open at step 0, step 50, stale_after 20: both knowers count and r1
+    # presumes it done. With plan_watched, r2 and r3 were seen at (20, 16) and (21, 14) at
+    # step ``seen``, 17.03 and 18.03 m off (speed 1 m a step, completion radius 1.5):
+    # seen now, they can reach it at 65.5 and 66.5, too late to count; seen at step 10,
+    # at 25.5 and 26.5 <= 30, they count.
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    view = view._replace(last_seen=np.full((3, 3), seen), open_seen=np.zeros((3, 1), int))
+    parameters = CollaborativeParameters(plan_watched=watched)
+    policy = PlanningCollaborativePolicy("third", parameters)
+    policy.start(s)
+    gap = np.hypot(*(s.starts[1:, :2] - s.tasks[0]).T) - s.completion_radius
+    assert policy.earliest(view, 0)[1:, 0] == pytest.approx(seen + gap)
+    assert policy.presumed_done(view, 0, watched).tolist() == [not watched or seen == 10]

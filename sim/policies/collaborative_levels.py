@@ -184,14 +184,43 @@ class CollaborativePolicy(CoalitionRules, Policy):
             self.parameters.intercept_limit,
         )
 
-    def presumed_done(self, view: View, i: int) -> np.ndarray:
+    def presumed_done(self, view: View, i: int, watched: bool = False) -> np.ndarray:
         """``(m,)`` the tasks robot ``i`` presumes done (``stale_after``): at least as many
         teammates as a task needs have been known to know of it that long, and ``i`` has
-        not seen it open for as long."""
+        not seen it open for as long. With ``watched`` (``plan_watched``) a knower counts
+        from its :meth:`earliest` arrival at the task, if later."""
         old = view.step - self.parameters.stale_after
-        knew = (view.since[i] >= 0) & (view.since[i] <= old)
+        since = np.maximum(view.since[i], self.earliest(view, i)) if watched else view.since[i]
+        knew = (view.since[i] >= 0) & (since <= old)
         knew[i] = False
         return (knew.sum(axis=0) >= np.asarray(self.s.needs)) & (view.open_seen[i] < old)
+
+    def earliest(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` the earliest step each teammate can have been at each task, as robot
+        ``i`` last saw it (-1: never seen, or seen at the task): the step it was seen plus
+        its walk from there to within the completion radius of the task.
+
+        Examples
+        --------
+        Robot 0 (speed 1) seen at step 7 at task 0, 12 m walk from task 1's radius; robot
+        1 (speed 2) seen at step 10, 2 m walk from task 0's radius and 9 m from task 1's:
+
+        >>> from types import SimpleNamespace
+        >>> policy = CollaborativePolicy("rules", CollaborativeParameters())
+        >>> policy.s = SimpleNamespace(tasks=np.array([[0.0, 0.0], [13.0, 0.0]]),
+        ...     completion_radius=1.0, max_speed=np.array([1.0, 2.0]), dt=1.0)
+        >>> view = SimpleNamespace(last_seen=np.array([[7, 10]]),
+        ...                        estimates=np.array([[[0.0, 0.0], [3.0, 0.0]]]))
+        >>> policy.earliest(view, 0).tolist()
+        [[-1.0, 19.0], [11.0, 14.5]]
+        """
+        s, seen = self.s, view.last_seen[i].astype(float)
+        gap = np.hypot(*(view.estimates[i][:, None, :] - s.tasks[None]).transpose(2, 0, 1))
+        walk = (
+            np.maximum(gap - s.completion_radius, 0.0) / (np.asarray(s.max_speed) * s.dt)[:, None]
+        )
+        away = (seen[:, None] >= 0) & (gap > 2 * s.completion_radius)
+        return np.where(away, seen[:, None] + walk, -1.0)
 
     # -- decisions --------------------------------------------------------------------------
 

@@ -159,7 +159,7 @@ class CollaborativeParameters:
     :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
     crossing time, side / mean speed). Each option was measured on tuning missions only;
     the tables (success, median / mean steps, paired intervals) are in docs/aif.md §6h,
-    pass by pass, the last in "Fresh missions 200-399" (tuning-stream seeds 200-399).
+    pass by pass, the last in "Fresh missions 400-599" (tuning-stream seeds 400-599).
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
@@ -200,25 +200,21 @@ class CollaborativeParameters:
         Credit for the robots at a short-handed task counts only while enough of the
         others are predicted free to make up the number (2.5 times the decision time).
     plan_fetchers : bool
-        Teammates' predicted choices include fetching a robot known not to know of a task
-        (chain ``(i, l, h)``).
+        Teammates' predicted choices include fetching (chain ``(i, l, h)``).
     plan_rollout : float
         Horizon (crossings) of a rollout over fetch chains (0: off; aif.md §6h, fifth pass).
     plan_sighted : bool
-        A teammate seen with an open task within the sensing range of where it is seen
-        counts as knowing of it (the ``found`` event fires once, so the ledger never learns
-        it otherwise). Off: no gain.
+        A teammate seen with an open task within sensing range counts as knowing of it
+        (the ``found`` event fires once, so the ledger never learns it otherwise). Off.
     plan_knowers : bool
         Coming to a task earns ``plan_credit`` only when as many robots as it needs know
-        of it (the ``knowers`` of :class:`~epistemica.aif.task_planning.TaskPlanner`).
-        Off, only traced.
+        of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
     plan_insight : bool
         A teammate in sight is met where it is seen, once within hailing distance, rather
         than on its predicted sweep. Off: worse on both halves of the tuning split.
     plan_hail : bool
         Fetching is an option only when a ``heads to`` event tells watching teammates of
-        the task. Off: it broke six found-only missions (a fetcher walking back with the
-        helper in sight still shows it the task).
+        the task. Off: it broke six found-only missions.
     plan_lost : bool
         A teammate a robot gave up fetching for one task is not fetched for any other until
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
@@ -238,6 +234,12 @@ class CollaborativeParameters:
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
         ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
+    plan_spread : bool
+        A never-seen teammate is found only with the share of its possible starts in
+        sight of the meeting. Off: worse at 3-4 robots (fresh missions 500-599).
+    plan_watched : bool
+        ``stale_after`` counts a knower from the earliest step it can have reached the
+        task since last seen away from it. Off: worse at 3-4 and 7-8 robots (500-599).
     """
 
     lane_factor: float = 2.0
@@ -296,6 +298,8 @@ class CollaborativeParameters:
     plan_told: bool = True
     plan_back: bool = False
     plan_hold: bool = True
+    plan_spread: bool = False
+    plan_watched: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -216,7 +216,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             done = k.knows_done((i,))
             presumed = np.zeros_like(done)
             if self.parameters.stale_after:
-                presumed = self.presumed_done(view, i) & ~done
+                presumed = self.presumed_done(view, i, bool(self.parameters.plan_watched)) & ~done
             closed = done | presumed
             self.open_now[i] = view.aware[i, i] & ~closed
             waiting = self._waiting(view, i)
@@ -307,6 +307,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         told it, the ledger would say so; a second hail tells it no more. With
         ``plan_told``, in a mission with events but no ``heads to`` event, only for the
         tasks :meth:`told` says the fetch shows the teammate. With
+        ``plan_spread``, a teammate never seen is found only as often as its possible
+        starts put it in sight of the meeting (:meth:`TeammateModel.spread`). With
         ``plan_rollout``, not a teammate it knows has left its sweep for a task
         (:meth:`~CollaborativePolicy.on_sweep` over the tasks it would be fetched for)."""
         s, p = self.s, self.parameters
@@ -329,6 +331,8 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                 unaware = unaware & self.told(view, i, j, met)
             age = view.step - max(int(view.last_seen[i, j]), 0)
             found = float(np.exp(-age / max(p.fetch_memory, 1)))
+            if p.plan_spread and view.last_seen[i, j] < 0:
+                found *= self.teammates.spread(view.step + met[0], i, j, met[1])
             for t in np.flatnonzero(unaware):
                 back = float(np.hypot(*(met[1] - s.tasks[t])))
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],

@@ -107,6 +107,38 @@ class TeammateModel:
         swept = route.along(np.maximum(travel - legs, 0.0))
         return np.where(on_leg[:, None], self.starts + frac * heading, swept)
 
+    def possible(self, step: float, i: int, j: int) -> np.ndarray:
+        """``(g, 2)`` where never-seen teammate ``j`` is at ``step`` from each start robot
+        ``i`` has not ruled out (empty without particles, or with none left)."""
+        if not len(self.starts):
+            return np.zeros((0, 2))
+        return self._unseen_places(j, step)[self.alive[i, j]]
+
+    def spread(self, step: float, i: int, j: int, place) -> float:
+        """The share of never-seen teammate ``j``'s starts robot ``i`` has not ruled out
+        that put ``j`` in sight of ``place`` at ``step``: the chance an intercept there
+        finds it, if it is on its sweep (1 with no start left: the plain guess).
+
+        Examples
+        --------
+        A 40 m workspace, 10 m sight, a 2 x 2 grid of starts; at step 0 robot 1 is still
+        at its start, and only (10, 10) is in sight of (12, 12):
+
+        >>> from types import SimpleNamespace
+        >>> s = SimpleNamespace(workspace=40.0, sensing_range=10.0, n_robots=2,
+        ...                     max_steps=100, max_speed=np.array([1.0, 1.0]))
+        >>> model = TeammateModel(s, lane_factor=2.0, particles=2, resume=True)
+        >>> model.possible(0, 0, 1).tolist()
+        [[10.0, 10.0], [30.0, 10.0], [10.0, 30.0], [30.0, 30.0]]
+        >>> model.spread(0, 0, 1, (12.0, 12.0))
+        0.25
+        """
+        places = self.possible(step, i, j)
+        if not len(places):
+            return 1.0
+        gap = np.hypot(*(places - np.asarray(place, dtype=float)).T)
+        return float(np.mean(gap <= self.s.sensing_range))
+
     def observe(self, step: int, poses: np.ndarray, estimates, last_seen) -> None:
         """Update from what each robot sees at ``step`` (its own row of ``estimates``
         and ``last_seen``; ``poses`` read for a robot's own place only)."""
