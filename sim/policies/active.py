@@ -126,6 +126,7 @@ class ActiveInference(Policy):
             p.anchor_check,
             p.unaware_wait if aware_of_others else p.lone_wait,
             meet=p.plan_meet and self._plans is not None,
+            hold=p.plan_anchor and self._plans is not None,
         )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)

@@ -175,11 +175,10 @@ class ActiveParameters:
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
         read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
-    plan_meet : bool
-        Planner levels, rendezvous search: searchers that see a teammate outside their group
-        follow the lowest-numbered robot in sight to the goal they see it settle at, then
-        plan afresh; a teammate seen to leave its goal is no anchor
-        (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
+    plan_meet, plan_anchor : bool
+        Planner levels, rendezvous search (:mod:`epistemica.sim.policies.search`, aif.md §6g;
+        the rules' levels never do): searchers that meet follow one leader (``meet``); an
+        anchor outranks a find (``hold``).
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
@@ -231,6 +230,7 @@ class ActiveParameters:
     plan_resight: bool = True
     plan_filter: bool = False
     plan_meet: bool = True
+    plan_anchor: bool = False
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
@@ -257,7 +257,7 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind", "plan_meet",
+                    "plan_blind", "plan_meet", "plan_anchor",
                     "plan_resight", "plan_filter")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
