@@ -165,9 +165,10 @@ class ActiveParameters:
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
         expected completion time (0: a mismatch costs ``plan_repair`` s). Nested missions,
         seeds 1000-1009: 82 % at 0, 98 % at 1, 99 % at 3 (no tuning family lost at 3).
-    plan_unseen : int
+    plan_unseen, plan_settled : int
         Places drawn over the workspace for a teammate never seen, predicted as the mean
-        from them; 0: from its placeholder (the draws measured no help, cost a plan each).
+        from them (0: its placeholder); plans in a row a teammate seen settled away from the
+        robot's goal must stay to be held there, an anchor (PlanningStage.anchors; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
@@ -225,6 +226,7 @@ class ActiveParameters:
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
     plan_unseen: int = 0
+    plan_settled: int = 0
     plan_types: float = 0.97
     plan_blind: bool = False
     plan_resight: bool = True
@@ -304,11 +306,12 @@ class ActiveParameters:
 
     def _check_planner(self) -> None:
         """The planner's parameters (``plan_*``) beyond their types."""
-        unseen = self.plan_unseen
-        if isinstance(unseen, bool) or not isinstance(unseen, int) or unseen < 0:
-            raise InvalidArgumentError(
-                f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
-            )
+        for name in ("plan_unseen", "plan_settled"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise InvalidArgumentError(
+                    f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
+                )
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):
