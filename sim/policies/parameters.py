@@ -86,8 +86,7 @@ class ActiveParameters:
         With ``common_view``: while a teammate is out of sight, take the team prior from the
         poses estimated at the last step the robot saw the whole team within sight of each
         other, rather than from the workspace centre, so the configuration chosen in sight
-        is kept out of sight. Tuning seeds 1000-1029: no success rate moves, steps fall by
-        up to 3.2 % (docs/results.md §6, "Remembered sight"); ``False``: the centre.
+        is kept out of sight (docs/results.md §6, "Remembered sight"); ``False``: the centre.
     sight_hysteresis : int
         Steps a change of sight must last before the common view follows it (1: at once;
         3 and 6 changed no success rate of the stress suite, docs/results.md §6).
@@ -107,8 +106,7 @@ class ActiveParameters:
         ``False`` is the ablation.
     teammate_sigma : float
         Metres of motion-model error in the teammate models (added in quadrature to the
-        observation noise of a step). Chosen on tuning seeds 1000-1029 of the silent ad hoc
-        cells among 0.25, 0.5 and 1 (every one 100 %; 0.25 the fastest, docs/results.md).
+        observation noise of a step; chosen on tuning seeds, docs/results.md).
     teammate_leak : float
         Rate in ``[0, 1]`` at which each type posterior returns to the type prior every
         step (lets a teammate that changes its behaviour be re-read); 0 was as successful on
@@ -146,8 +144,7 @@ class ActiveParameters:
         controller over controls. The anticipation rule (``anticipate``) is then not
         applied: the planner's nested predictions subsume it.
     plan_horizon : int
-        Steps of the planner's waiting option (``third-wait``: 3); 1, no waiting: each
-        option is already a multi-step policy. The myopic ablation is ``rules-third``.
+        Steps of the planner's waiting option (``third-wait``: 3; 1: none).
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_particles : int
@@ -163,8 +160,7 @@ class ActiveParameters:
         Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
-        expected completion time (0: a mismatch costs ``plan_repair`` s). Nested missions,
-        seeds 1000-1009: 82 % at 0, 98 % at 1, 99 % at 3 (no tuning family lost at 3).
+        expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
     plan_unseen, plan_settled : int
         Places drawn over the workspace for a teammate never seen, predicted as the mean
         from them (0: its placeholder); plans in a row a teammate seen settled away from the
