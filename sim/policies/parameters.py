@@ -169,13 +169,13 @@ class ActiveParameters:
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind, plan_resight, plan_filter : bool
-        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
-        read a move only between two sightings, over their gap (on); read sightings by a
+        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
+        on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
     plan_meet, plan_anchor : bool
         Planner levels, rendezvous search (:mod:`epistemica.sim.policies.search`, aif.md §6g;
-        the rules' levels never do): searchers that meet follow one leader (``meet``); an
-        anchor outranks a find (``hold``).
+        the rules' levels never do; both on): searchers that meet follow one leader
+        (``meet``); an anchor outranks a find (``hold``).
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
@@ -224,11 +224,11 @@ class ActiveParameters:
     plan_unseen: int = 0
     plan_settled: int = 0
     plan_types: float = 0.97
-    plan_blind: bool = False
+    plan_blind: bool = True
     plan_resight: bool = True
     plan_filter: bool = False
     plan_meet: bool = True
-    plan_anchor: bool = False
+    plan_anchor: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 

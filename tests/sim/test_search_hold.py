@@ -82,7 +82,7 @@ def test_hold_needs_an_anchor_seen_in_time(since, r2_settles):
     assert not searching and search.anchor[0] == -1
 
 
-def test_plan_anchor_is_a_switch_and_off_by_default():
-    assert ActiveParameters().plan_anchor is False
+def test_plan_anchor_is_a_switch_and_on_by_default():
+    assert ActiveParameters().plan_anchor is True
     with pytest.raises(EpistemicaError, match="plan_anchor must be true or false"):
         ActiveParameters(plan_anchor=1)
