@@ -163,8 +163,8 @@ class ActiveParameters:
         expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
     plan_unseen, plan_settled : int
         Places drawn over the workspace for a teammate never seen, predicted as the mean
-        from them (0: its placeholder); plans in a row a teammate seen settled away from the
-        robot's goal must stay to be held there, an anchor (PlanningStage.anchors; 0: off).
+        from them (0: its placeholder); plans at which a teammate seen settled away from the
+        robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.

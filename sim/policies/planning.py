@@ -188,8 +188,8 @@ class PlanningStage:
         self.type_leak = float(p.teammate_leak)
         self._types: dict[int, np.ndarray] = {}
         self._typing: dict[int, tuple] = {}  # robot -> (step, goals, positions, seen, (n, T, m))
-        # Anchors (plan_settled): robot -> (goal each teammate was seen to settle at, for
-        # how many plans in a row, away from the robot's own goal).
+        # Anchors (plan_settled): robot -> (the goal each teammate was last seen to settle
+        # at, at how many plans since, away from the robot's own goal).
         self.settled = int(p.plan_settled)
         self._settles: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
