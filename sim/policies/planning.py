@@ -317,7 +317,12 @@ class PlanningStage:
         count[:] = np.where(again & (count > 0), count + 1, count)
         count[moved] = ~np.isin(now[moved], list(mine))
         goal[moved] = now[moved]
-        return {int(j): int(goal[j]) for j in np.flatnonzero(count >= self.settled)}
+        if count.max() < self.settled:
+            return {}
+        # Groups waiting at two goals in sight would each take the other for anchors: the
+        # goal of the teammate seen settled there longest (the one that never left) wins.
+        held = goal[int(np.argmax(count))]
+        return {int(j): int(held) for j in np.flatnonzero((count >= self.settled) & (goal == held))}
 
     def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
         """The planner's draws of where the robot's never-seen teammates may be."""

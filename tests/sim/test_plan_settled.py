@@ -62,6 +62,15 @@ def test_an_anchor_stays_one_when_the_robot_turns_to_its_goal():
     assert stage.anchors(_seen(scenario, 3, [-1, 2, -1]), 0) == {1: 2}
 
 
+def test_of_teammates_held_at_two_goals_the_one_seen_there_longest_wins():
+    stage, scenario = _stage()
+    # r3 settles at goal 1 from plan 0, r2 at goal 2 from plan 1: at plan 3 r3 has 4
+    # plans, r2 3. Both pass the count; only r3's goal holds (groups in sight of each
+    # other would otherwise hold each other, and no configuration holds both).
+    out = _run(stage, scenario, [[-1, -1, 1], [-1, 2, 1], [-1, 2, 1], [-1, 2, 1]])
+    assert out == [{}, {}, {2: 1}, {2: 1}]
+
+
 @pytest.mark.parametrize(("kind", "settled"), [("allocation", 3), ("rendezvous", 0)])
 def test_no_anchors_off_rendezvous_or_when_off(kind, settled):
     stage, scenario = _stage(kind, settled)
