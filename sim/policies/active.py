@@ -34,7 +34,7 @@ from epistemica.sim.policies.active_stages import ControllerStage
 from epistemica.sim.policies.anticipation import anticipated_prior
 from epistemica.sim.policies.baselines import Convention
 from epistemica.sim.policies.common_view import CommonView
-from epistemica.sim.policies.configuration_sets import ConfigurationSets, nested_sets
+from epistemica.sim.policies.configuration_sets import ConfigurationSets, held_to, nested_sets
 from epistemica.sim.policies.explore import Explorer
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import chains_of
@@ -126,6 +126,7 @@ class ActiveInference(Policy):
             p.anchor_check,
             p.unaware_wait if aware_of_others else p.lone_wait,
             meet=p.plan_meet and self._plans is not None,
+            hold=p.plan_anchor and self._plans is not None,
         )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
@@ -237,6 +238,8 @@ class ActiveInference(Policy):
             self.parameters.nested,
             self.parameters.revision,
         )
+        if self._plans is not None:  # anchors outrank the newest settles (plan_settled)
+            sets = held_to(sets, choice.goals[rows], self._plans.anchors(observations, robot))
         keep = sets.union
         ctrl = self._stage.controller(robot, choice.goals, lambda: rows[keep], shared=False)
         base = self._stage.priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]

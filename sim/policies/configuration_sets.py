@@ -31,7 +31,7 @@ from epistemica.sim.policies.baselines import open_goals
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.tasking import select_tasks, task_slots
 
-__all__ = ["Choice", "ConfigurationSets", "NestedSets", "nested_sets"]
+__all__ = ["Choice", "ConfigurationSets", "NestedSets", "held_to", "nested_sets"]
 
 
 class Choice(NamedTuple):
@@ -159,4 +159,37 @@ def nested_sets(
         modelled,
         {j: kept[(robot, j)] for _, j in pairs},
         {(j, k): kept[(robot, j, k)] for _, j, k in triples},
+    )
+
+
+def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> NestedSets:
+    """``sets`` with every chain's set held to the configurations that put each anchor
+    (teammate -> goal, scenario indices of ``table``, ``(k, n)``) at its goal: its set's
+    part there, or all of them where its set has none (an anchor never leaves, so a set
+    that excludes its goal cannot form). Unchanged when no configuration holds them all.
+
+    Examples
+    --------
+    >>> table = np.array([[0, 0, 0], [1, 1, 1]])       # rendezvous at goal 0 or goal 1
+    >>> newest = np.array([False, True])               # the newest settles: goal 1
+    >>> sets = NestedSets(newest, [newest], {1: newest}, {})
+    >>> held = held_to(sets, table, {2: 0})            # robot 2 stands at goal 0 for good
+    >>> held.own.tolist(), held.pairs[1].tolist(), held.union.tolist()
+    ([True, False], [True, False], [True, True])
+    """
+    there = np.ones(len(table), dtype=bool)
+    for teammate, goal in anchors.items():
+        there &= table[:, teammate] == goal
+    if not anchors or not there.any():
+        return sets
+
+    def hold(mask: np.ndarray) -> np.ndarray:
+        both = mask & there
+        return both if both.any() else there
+
+    return NestedSets(
+        hold(sets.own),
+        sets.modelled,  # the table keeps every configuration some perspective keeps
+        {j: hold(mask) for j, mask in sets.pairs.items()},
+        {chain: hold(mask) for chain, mask in sets.triples.items()},
     )

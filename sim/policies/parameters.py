@@ -86,8 +86,7 @@ class ActiveParameters:
         With ``common_view``: while a teammate is out of sight, take the team prior from the
         poses estimated at the last step the robot saw the whole team within sight of each
         other, rather than from the workspace centre, so the configuration chosen in sight
-        is kept out of sight. Tuning seeds 1000-1029: no success rate moves, steps fall by
-        up to 3.2 % (docs/results.md §6, "Remembered sight"); ``False``: the centre.
+        is kept out of sight (docs/results.md §6, "Remembered sight"); ``False``: the centre.
     sight_hysteresis : int
         Steps a change of sight must last before the common view follows it (1: at once;
         3 and 6 changed no success rate of the stress suite, docs/results.md §6).
@@ -107,8 +106,7 @@ class ActiveParameters:
         ``False`` is the ablation.
     teammate_sigma : float
         Metres of motion-model error in the teammate models (added in quadrature to the
-        observation noise of a step). Chosen on tuning seeds 1000-1029 of the silent ad hoc
-        cells among 0.25, 0.5 and 1 (every one 100 %; 0.25 the fastest, docs/results.md).
+        observation noise of a step; chosen on tuning seeds, docs/results.md).
     teammate_leak : float
         Rate in ``[0, 1]`` at which each type posterior returns to the type prior every
         step (lets a teammate that changes its behaviour be re-read); 0 was as successful on
@@ -146,8 +144,7 @@ class ActiveParameters:
         controller over controls. The anticipation rule (``anticipate``) is then not
         applied: the planner's nested predictions subsume it.
     plan_horizon : int
-        Steps of the planner's waiting option (``third-wait``: 3); 1, no waiting: each
-        option is already a multi-step policy. The myopic ablation is ``rules-third``.
+        Steps of the planner's waiting option (``third-wait``: 3; 1: none).
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_particles : int
@@ -163,23 +160,22 @@ class ActiveParameters:
         Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
-        expected completion time (0: a mismatch costs ``plan_repair`` s). Nested missions,
-        seeds 1000-1009: 82 % at 0, 98 % at 1, 99 % at 3 (no tuning family lost at 3).
-    plan_unseen : int
+        expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
+    plan_unseen, plan_settled : int
         Places drawn over the workspace for a teammate never seen, predicted as the mean
-        from them; 0: from its placeholder (the draws measured no help, cost a plan each).
+        from them (0: its placeholder); plans at which a teammate seen settled away from the
+        robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
     plan_blind, plan_resight, plan_filter : bool
-        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``);
-        read a move only between two sightings, over their gap (on); read sightings by a
+        Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
+        on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
-    plan_meet : bool
-        Planner levels, rendezvous search: searchers that see a teammate outside their group
-        follow the lowest-numbered robot in sight to the goal they see it settle at, then
-        plan afresh; a teammate seen to leave its goal is no anchor
-        (:mod:`epistemica.sim.policies.search`). The rules' levels never do.
+    plan_meet, plan_anchor : bool
+        Planner levels, rendezvous search (:mod:`epistemica.sim.policies.search`, aif.md §6g;
+        the rules' levels never do; both on): searchers that meet follow one leader
+        (``meet``); an anchor outranks a find (``hold``).
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
@@ -226,11 +222,13 @@ class ActiveParameters:
     plan_hierarchy: float = 0.0
     plan_success: float = 3.0
     plan_unseen: int = 0
+    plan_settled: int = 0
     plan_types: float = 0.97
-    plan_blind: bool = False
+    plan_blind: bool = True
     plan_resight: bool = True
     plan_filter: bool = False
     plan_meet: bool = True
+    plan_anchor: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
@@ -257,7 +255,7 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind", "plan_meet",
+                    "plan_blind", "plan_meet", "plan_anchor",
                     "plan_resight", "plan_filter")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
@@ -304,11 +302,12 @@ class ActiveParameters:
 
     def _check_planner(self) -> None:
         """The planner's parameters (``plan_*``) beyond their types."""
-        unseen = self.plan_unseen
-        if isinstance(unseen, bool) or not isinstance(unseen, int) or unseen < 0:
-            raise InvalidArgumentError(
-                f"plan_unseen must be an integer >= 0, got {unseen!r}", hint="e.g. 8; 0: ablation"
-            )
+        for name in ("plan_unseen", "plan_settled"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise InvalidArgumentError(
+                    f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
+                )
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):

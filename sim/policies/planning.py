@@ -188,6 +188,10 @@ class PlanningStage:
         self.type_leak = float(p.teammate_leak)
         self._types: dict[int, np.ndarray] = {}
         self._typing: dict[int, tuple] = {}  # robot -> (step, goals, positions, seen, (n, T, m))
+        # Anchors (plan_settled): robot -> (the goal each teammate was last seen to settle
+        # at, at how many plans since, away from the robot's own goal).
+        self.settled = int(p.plan_settled)
+        self._settles: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def planner(self, ctrl) -> Planner:
         """The planner over a controller's goals and configurations (one per table)."""
@@ -268,6 +272,57 @@ class PlanningStage:
         its next plan starts from their positions alone (after a rendezvous search)."""
         for memory in (self._last, self._read, self._heading, self._start, self._tracks):
             memory.pop(robot, None)
+
+    def anchors(self, observations: Observations, robot: int) -> dict[int, int]:
+        """Rendezvous: the teammates the robot has seen settle at one goal, away from the
+        one it heads for or stands at, at ``plan_settled`` of its plans and at no other
+        goal since (teammate -> goal, scenario indices; none with ``plan_settled = 0``;
+        a plan that does not see it settle counts nothing: sightings of settles come and
+        go). A planner that saw where the team meets would have left; one that stays
+        holds to its goal for good.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from epistemica.sim.engine.sensing import Observations
+        >>> scenario = Scenario.paper("rendezvous", 2, 2, seed=0)
+        >>> stage = PlanningStage(scenario, ActiveParameters(plan_settled=2), order=3)
+        >>> poses = np.zeros((2, 2, 3))
+        >>> poses[0, 0, :2] = scenario.goals[1]               # r1 stands at goal 1
+        >>> settles = np.array([[-1, 0], [-1, -1]])           # and sees r2 settle at goal 0
+        >>> seen = np.ones((2, 2), bool)
+        >>> def step(k):
+        ...     return Observations(k, poses, seen, np.full((2, 2), k), seen, ~seen, None, settles)
+        >>> stage._heading[0] = 1                             # r1 heads for goal 1
+        >>> stage.anchors(step(0), 0), stage.anchors(step(1), 0)
+        ({}, {1: 0})
+        """
+        s = self.scenario
+        if self.settled <= 0 or not s.kind.gathers or observations.settles is None:
+            return {}
+        n = s.n_robots
+        goal, count = self._settles.setdefault(robot, (np.full(n, -1), np.zeros(n, dtype=int)))
+        now = observations.settles[robot].copy()
+        now[robot] = -1
+        pose = observations.poses[robot, robot, :2]
+        near = np.hypot(*(s.goals - pose).T)
+        mine = {
+            self._heading.get(robot, -1),
+            int(near.argmin()) if near.min() <= s.success_radius else -1,
+        }
+        # A settle at the goal last seen counts on (its goal may have become the robot's
+        # own since); one at another goal starts anew, unless at the robot's own goal.
+        again = (now >= 0) & (now == goal)
+        moved = (now >= 0) & (now != goal)
+        count[:] = np.where(again & (count > 0), count + 1, count)
+        count[moved] = ~np.isin(now[moved], list(mine))
+        goal[moved] = now[moved]
+        if count.max() < self.settled:
+            return {}
+        # Groups waiting at two goals in sight would each take the other for anchors: the
+        # goal of the teammate seen settled there longest (the one that never left) wins.
+        held = goal[int(np.argmax(count))]
+        return {int(j): int(held) for j in np.flatnonzero((count >= self.settled) & (goal == held))}
 
     def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
         """The planner's draws of where the robot's never-seen teammates may be."""

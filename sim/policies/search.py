@@ -28,6 +28,11 @@ left with have found them: all follow the lowest-numbered robot in sight to the 
 see it settle at. Groups merged so leave their goal at different steps (each had doubled
 its wait a different number of times); a teammate seen to leave a goal it had settled at
 searches, so it is no anchor, or the group would hold itself back for good.
+
+With ``hold`` (the planner's levels) an anchor outranks a find: a searcher that sees a
+member of the group it left still settled at that goal ``anchor_check`` steps on goes back
+to it even when it also sees teammates settled elsewhere. The anchor never moves, so the
+team can only form at its goal; the others come there when they search.
 """
 
 from __future__ import annotations
@@ -66,6 +71,10 @@ class RendezvousSearch:
         teammate it saw leave a goal it had settled at is no anchor (default False: only a
         teammate settled elsewhere, or newly at the goal it left, ends a search, and any
         member still seen settling is an anchor).
+    hold : bool, optional
+        An anchor outranks a find: a searcher that sees an anchor (above) goes back to it
+        although it also sees teammates settled elsewhere (default False: the find ends
+        the search).
     """
 
     def __init__(
@@ -77,11 +86,12 @@ class RendezvousSearch:
         anchor_check: int,
         unaware_wait: int | None = None,
         meet: bool = False,
+        hold: bool = False,
     ) -> None:
         n = scenario.n_robots
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
         self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
-        self.anchor_check, self.meet = int(anchor_check), bool(meet)
+        self.anchor_check, self.meet, self.hold = int(anchor_check), bool(meet), bool(hold)
         self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
         self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
         self.since = np.zeros(n, dtype=int)  # steps since the search started
@@ -129,6 +139,10 @@ class RendezvousSearch:
         found = (elsewhere | newcomer).any(axis=1)
         if self.meet:
             found |= self._meet(observations, robots, own, still, seen, group)
+        if self.hold:  # an anchor outranks any find or meeting (``_watch`` takes it)
+            held = self._anchored(observations, robots) | (self.anchor[robots] >= 0)
+            found &= ~held
+            self.meeting[robots[held]], self.leader[robots[held]] = -1, -1
         searching = (left >= 0) & ~found
         waiting = (own >= 0) & ~everyone & together & ~searching
         self.waiting[robots] = np.where(waiting, self.waiting[robots] + still, 0)
@@ -201,6 +215,21 @@ class RendezvousSearch:
         idle = travelling & (self.left[robots] < 0) & (self.anchor[robots] < 0)
         self.roamed[robots] = (self.roamed[robots] | left) & ~idle[:, None]
         self.spot[robots] = np.where(seen, settles, spot)
+
+    def _anchored(self, observations: Observations, robots) -> np.ndarray:
+        """``(len(robots),)`` which searchers ``_watch`` makes wait with an anchor this
+        step: a member of the group each left, seen settled at that goal (and never seen
+        to leave it) ``anchor_check`` to ``lone_wait`` steps after it left."""
+        out = np.zeros(len(robots), dtype=bool)
+        if self.anchor_check == 0 or observations.settles is None:
+            return out
+        robots = np.asarray(robots)
+        left, since = self.left[robots], self.since[robots] + 1  # ``_watch`` counts it next
+        timely = (left >= 0) & (self.anchor[robots] < 0)
+        timely &= (since >= self.anchor_check) & (since <= self.lone_wait)
+        settles = observations.settles[robots]
+        stayed = self.group[robots] & (settles == left[:, None]) & ~self.roamed[robots]
+        return timely & stayed.any(axis=1)
 
     def _unaware(self, observations: Observations, robots, own, seen, waiting) -> np.ndarray:
         """``(len(robots),)`` which waiting robots know that a teammate they do not see
