@@ -151,8 +151,9 @@ class ActiveParameters:
         Particles of the teammates' choices that score the waiting option.
     plan_sigma, plan_noise, plan_progress : float
         Error of the planner's motion model in steps of the mean top speed (motion_evidence);
-        weight of the two sightings' variance added to its square; weight of the seconds
-        driven towards its goal charged for changing it (both 0, off: no gain measured).
+        weight of the two sightings' variance (as the sensor states it) added to its square
+        (1: the stated noise, on since session 48; 0: ablation); weight of the seconds
+        driven towards its goal charged for changing it (0, off: no gain measured).
     plan_leak, plan_commitment : float
         Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the
         planner charges for changing the goal a robot headed for.
@@ -214,7 +215,7 @@ class ActiveParameters:
     plan_evidence: float = 5.0
     plan_particles: int = 32
     plan_sigma: float = 0.5
-    plan_noise: float = 0.0
+    plan_noise: float = 1.0
     plan_progress: float = 0.0
     plan_leak: float = 0.1
     plan_commitment: float = 1.0

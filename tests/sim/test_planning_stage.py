@@ -52,11 +52,13 @@ def test_plan_types_is_checked_and_zero_turns_the_types_off():
 
 
 def _stationary_trial(plan_types: float):
-    """Design seed 1004 of the 3-robot stress cell where one silent teammate stops on a
-    random goal (the planner without types waited for it elsewhere)."""
+    """Design seed 1004 of the 5-robot stress cell where one silent teammate stops on a
+    random goal (the planner without types waited for it elsewhere). The 3-robot cell's
+    seed 1004 was used before the planner read sightings against their stated noise
+    (``plan_noise``); with it, that cell no longer needs the types."""
     path = (
         Path(__file__).resolve().parents[2]
-        / "specs/stress/rendezvous_adhoc_stationary_silent_3.epi"
+        / "specs/stress/rendezvous_adhoc_stationary_silent_5.epi"
     )
     text = path.read_text() + f"\npolicy plan_types {plan_types}\n"
     mission = parse_mission(text, str(path))
@@ -132,7 +134,9 @@ def _read_after_a_gap(resight: bool, first_seen: int) -> tuple[np.ndarray, Scena
     """What robot 0 reads of robot 1: planned at steps 4, 5 and 6; robot 1 seen at
     ``first_seen`` (-1: never) at (10, 10), unseen at 5, seen at 6 at (12, 10)."""
     scenario = Scenario.paper("rendezvous", 2, 2, seed=3)
-    params = ActiveParameters(planning=True, plan_leak=0.0, plan_resight=resight)
+    # The sightings' noise is left out (``plan_noise=0``) so that sigma is the motion
+    # model's alone; test_a_move_between_noisy_sightings_weighs_by_their_variance adds it.
+    params = ActiveParameters(planning=True, plan_leak=0.0, plan_resight=resight, plan_noise=0.0)
     stage = PlanningStage(scenario, params, order=2)
     where = [10.0, 10.0] if first_seen >= 0 else [15.0, 15.0]  # a placeholder if never
     stage.observe(_observations(4, where, first_seen), 0)
