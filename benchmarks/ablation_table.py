@@ -46,6 +46,9 @@ MECHANISMS = {
 PLANNER_MECHANISMS = {
     "planner's evidence of teammates' goals": "plan_evidence=1e12;plan_sigma=1e12",
     "meeting of searching groups": "plan_meet=false",
+    "an anchor outranks a find": "plan_anchor=false",
+    "never-seen teammates predicted blind": "plan_blind=false",
+    "sightings' stated noise": "plan_noise=0",
     "teammate types": "plan_types=0",
     "success weight": "plan_success=0",
     "commitment": "plan_commitment=0",
