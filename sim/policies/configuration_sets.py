@@ -177,10 +177,12 @@ def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> Nes
     >>> held.own.tolist(), held.pairs[1].tolist(), held.union.tolist()
     ([True, False], [True, False], [True, True])
     """
+    if not anchors:  # every plan of every robot passes here: nothing to build
+        return sets
     there = np.ones(len(table), dtype=bool)
     for teammate, goal in anchors.items():
         there &= table[:, teammate] == goal
-    if not anchors or not there.any():
+    if not there.any():
         return sets
 
     def hold(mask: np.ndarray) -> np.ndarray:
