@@ -96,8 +96,12 @@ class Roadmap:
         found = [_corners(poly, self.margin) for poly in self.obstacles]
         nodes = np.concatenate(found) if found else np.zeros((0, 2))
         inside = ((nodes >= 0) & (nodes <= workspace)).all(axis=1)
-        free = [clear(p, p, self.obstacles, self.margin * 0.99) for p in nodes]
-        self.nodes = nodes[inside & np.array(free, dtype=bool)]
+        # A corner moved out of one obstacle may land in (or next to) another: no robot
+        # stands there. (``clear`` exempts a segment's own ends, so it cannot tell.)
+        free = np.ones(len(nodes), dtype=bool)
+        for poly in self.obstacles:
+            free &= segment_distances(nodes, nodes, poly) >= self.margin * 0.99
+        self.nodes = nodes[inside & free]
         k = len(self.nodes)
         graph = np.zeros((k, k))
         for i in range(k):

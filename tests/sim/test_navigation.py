@@ -61,6 +61,39 @@ def test_corners_outside_the_workspace_are_left_out():
     assert closed.waypoint(np.array([2.0, 5.0]), np.array([8.0, 5.0])) is None
 
 
+# Two blocks nearly touching at a corner, 0.3 m apart (generated allocation mission 22 of
+# the tuning split): BLOCK's lower-left corner moved out by 0.5 m lands inside NEXT.
+NEXT = polygon([[7.0, 7.0], [8.7, 7.0], [8.7, 8.8], [7.0, 8.8]])
+
+
+def test_a_corner_moved_into_another_obstacle_is_left_out():
+    roadmap = Roadmap((BLOCK, NEXT), margin=0.5, workspace=20.0)
+    # BLOCK's (8.5, 8.5) lies in NEXT, NEXT's (9.2, 9.3) in BLOCK: 8 corners less those 2.
+    corners = {tuple(p) for p in roadmap.nodes.round(6).tolist()}
+    assert len(corners) == 6 and (8.5, 8.5) not in corners and (9.2, 9.3) not in corners
+    for poly in (BLOCK, NEXT):
+        assert not inside(roadmap.nodes, poly).any()
+
+
+# The walls of generated allocation mission 22 (tuning split), 0.3 m apart at a corner.
+NEAR_CORNERS = """\
+mission rendezvous
+workspace 22
+robot r1: range at (10.0, 5.5)
+goal g1 at (16.1, 9.7)
+obstacle (11.8, 3.5) (13.6, 3.5) (13.6, 7.4) (11.8, 7.4)
+obstacle (9.2, 7.2) (11.5, 7.2) (11.5, 13.1) (9.2, 13.1)
+simulate trials 1 seed 0 steps 60 levels convention
+"""
+
+
+def test_a_robot_between_two_walls_near_a_corner_reaches_its_goal():
+    # Before the fix the way round began at a corner inside the other wall: r1 drove
+    # into the first wall (x = 11.8) and stood there to the step limit.
+    trial = simulate(parse_mission(NEAR_CORNERS).scenario(0), "convention", seed=0)
+    assert trial.success and trial.steps < 30
+
+
 @settings(max_examples=80, deadline=None)
 @given(
     x=st.floats(2.0, 8.0),
