@@ -16,6 +16,10 @@ outcome, every other agent is *oblivious* and believes nothing happened. What it
   standing at a goal suggests that the goal is its; it may still leave.
 - ``aware`` (atoms): full observers become aware of the atoms (they now conceive of worlds
   where those atoms are true: a goal discovered, a door that may be closed).
+- ``withdraws`` (facts): an ontic change. The event may have made these facts false (a
+  closed goal opens), so every observer, full or partial, drops what it learnt of them
+  before as hard evidence; what it learns of them afterwards stands. Oblivious agents
+  keep the old facts: they believe nothing changed.
 
 Observers know who else observed (the observer sets are common knowledge among them).
 :meth:`Observation.action_model` gives the hard part as an ordinary
@@ -96,6 +100,9 @@ class Observation:
         Whether ``senses`` holds where the event happened (required with ``senses``).
     aware : iterable of str
         Atoms the full observers become aware of.
+    withdraws : iterable of formula or str
+        Facts the event may have changed: earlier hard evidence of exactly these facts no
+        longer binds its observers (a goal seen closed that this event opens).
     args : tuple
         The event's arguments, kept for the caller (which robot settled where, ...).
     """
@@ -109,6 +116,7 @@ class Observation:
     suggests: Formula | None = None
     aware: frozenset[str] = frozenset()
     args: tuple = field(default=())
+    withdraws: tuple[Formula, ...] = ()
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -129,6 +137,12 @@ class Observation:
         if self.outcome is not None:
             set_(self, "outcome", bool(self.outcome))
         set_(self, "args", tuple(self.args))
+        if isinstance(self.withdraws, (str, Formula)):
+            raise InvalidArgumentError(
+                f"observation {self.name!r}: 'withdraws' takes a sequence of facts",
+                hint="e.g. withdraws=['closed_g1']",
+            )
+        set_(self, "withdraws", tuple(_formula(f, "withdraws") for f in self.withdraws))
 
     @property
     def observers(self) -> frozenset[str]:
@@ -140,7 +154,7 @@ class Observation:
         """What the event is, without who observed it: two observations with the same
         content are the same event seen by possibly different agents."""
         return (self.name, self.args, self.pre, self.senses, self.outcome, self.suggests,
-                self.aware)  # fmt: skip
+                self.aware, self.withdraws)  # fmt: skip
 
     def hard_fact(self, full: bool) -> Formula | None:
         """What an observer learns for certain: the precondition, and the sensed fact's
@@ -157,7 +171,8 @@ class Observation:
 
     def action_model(self, agents: Iterable[str]) -> ActionModel:
         """The hard part of the event as an action model over ``agents``: its precondition
-        and sensed fact with their observers (the reference of the product update).
+        and sensed fact with their observers (the reference of the product update; a
+        withdrawal, being an ontic change, is not part of it).
 
         Examples
         --------

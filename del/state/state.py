@@ -17,6 +17,8 @@ fully:
 
 - ``K(S)``: the worlds where every fact announced in ``H(S)`` holds, and every fact sensed
   in ``F(S)`` has its outcome. Hard evidence only; never empty at the actual world.
+  A fact an observation in ``H(S)`` *withdraws* (an ontic change: a closed goal opens)
+  no longer counts when it was learnt before that observation.
 - ``B(S)``: of those, the *conceivable* ones (every tracked atom true there is one the
   group is aware of, through an ``aware`` observation in ``F(S)``), then the soft facts of
   ``F(S)`` applied newest first, each kept only if some world is left (a lexicographic
@@ -104,6 +106,7 @@ class EpistemicState:
         self._by_content: dict[tuple, list[int]] = {}
         self._groups: dict[int, _Group] = {}  # per group bitmask, until the next observation
         self._soft: list[int] = []  # indices of the observations with a soft fact
+        self._withdrawing: list[int] = []  # indices of the observations that withdraw facts
 
     # -- the record --------------------------------------------------------------------
 
@@ -162,11 +165,14 @@ class EpistemicState:
                 self._full[i] & full == full
                 and self._observed[i] & seen == seen
                 and not self._soft_since(i, observation, full)
+                and not self._withdrawn_since(i, observation)
             ):
                 return False
         earlier.append(len(self._observations))
         if observation.suggests is not None:
             self._soft.append(len(self._observations))
+        if observation.withdraws:
+            self._withdrawing.append(len(self._observations))
         self._groups.clear()
         self._observations.append(observation)
         self._observed.append(seen)
@@ -185,6 +191,14 @@ class EpistemicState:
                 return True
         return False
 
+    def _withdrawn_since(self, i: int, observation: Observation) -> bool:
+        """Whether an observation after ``i`` withdrew one of ``observation``'s hard
+        facts: then the same evidence again is news (the goal closed again)."""
+        facts = {observation.hard_fact(True), observation.hard_fact(False)} - {None}
+        return any(
+            j > i and facts.intersection(self._observations[j].withdraws) for j in self._withdrawing
+        )
+
     # -- groups ------------------------------------------------------------------------
 
     def _group(self, chain: Chain) -> _Group:
@@ -200,9 +214,12 @@ class EpistemicState:
 
     def _history(self, seen: tuple[int, ...], full: tuple[int, ...]) -> History:
         fully = set(full)
-        hard = []
+        hard: list[Formula] = []
         for i in seen:
-            fact = self._observations[i].hard_fact(i in fully)
+            observation = self._observations[i]
+            if observation.withdraws:  # an ontic change: earlier evidence of these is void
+                hard = [fact for fact in hard if fact not in observation.withdraws]
+            fact = observation.hard_fact(i in fully)
             if fact is not None:
                 hard.append(fact)
         soft = tuple(

@@ -332,6 +332,7 @@ def fire(rule: EventRule, world: World) -> list[Firing]:
         if rule.announces is not None:
             sensed, outcome = bind(rule.announces, env), True
         revealed = [goal_atoms(robots, env.get(g, g)) for g in rule.reveals]
+        opened = [env.get(g, g) for g in rule.opens]
         observation = Observation(
             rule.name,
             full={robots[i] for i in np.flatnonzero(full)},
@@ -342,6 +343,7 @@ def fire(rule: EventRule, world: World) -> list[Firing]:
             suggests=expand(bind(rule.suggests, env), robots),
             aware=frozenset().union(*revealed),
             args=tuple(env.get(p, "") for p, _ in rule.parameters),
+            withdraws=tuple(closed_fact(robots, g) for g in opened),  # seen closed before
         )
         closes = tuple(world.goal_names.index(env.get(g, g)) for g in rule.closes)
         opens = tuple(world.goal_names.index(env.get(g, g)) for g in rule.opens)

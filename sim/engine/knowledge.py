@@ -89,7 +89,6 @@ class TeamKnowledge:
         #: ``closed[g]``: the fact "no robot goes to goal ``g``" (a task done, a goal closed).
         self.closed = tuple(closed_fact(self.robots, g) for g in self.goals)
         self._closed_goal = {fact: g for g, fact in enumerate(self.closed)}
-        self._closed_by: dict[tuple[int, bool], int] = {}  # (observation, fully) -> goal
         # chain -> knows_done / knows_goals, kept until the next observation is recorded
         self._done: dict[tuple, np.ndarray] = {}
         self._goals_known: dict[tuple, np.ndarray] = {}
@@ -121,9 +120,28 @@ class TeamKnowledge:
         if any(full <= f and seen <= s for f, s in earlier):
             return False
         earlier.append((full, seen))
+        if observation.withdraws:
+            self._forget(observation)
         self._done.clear()  # what each chain knows may change
         self._goals_known.clear()
         return self.state.observe(observation)
+
+    def _forget(self, observation: Observation) -> None:
+        """After an ontic change, evidence of the facts it withdraws is news again: the
+        sightings and reports of them are forgotten (a goal reopened may close again)."""
+        void = set(observation.withdraws)
+        for content in [c for c in self._sightings if void & {c[2], c[3]}]:
+            del self._sightings[content]
+        goals = {g for g, fact in enumerate(self.closed) if fact in void}
+        self._unreport("notice", goals)
+
+    def _unreport(self, what: str, goals: set[int]) -> None:
+        """Forget the reports ``what`` of ``goals`` and their sightings: the next one is
+        news."""
+        self._reported = {r for r in self._reported if r[0] != what or r[1] not in goals}
+        names = {(self.goals[g],) for g in goals}
+        for content in [c for c in self._sightings if c[0] == what and c[1] in names]:
+            del self._sightings[content]
 
     def discover(self, goal: int, observers) -> bool:
         """The observers (``n`` booleans) learn that ``goal`` exists, and who else did."""
@@ -144,6 +162,17 @@ class TeamKnowledge:
         if names is None:
             return False
         seen = Observation("notice", full=names, pre=self.closed[goal], args=(self.goals[goal],))
+        self._unreport("reopen", {goal})  # it may be seen reopened again
+        return self.observe(seen)
+
+    def notice_open(self, goal: int, observers) -> bool:
+        """The observers (``n`` booleans) see that ``goal``, once known closed, is open:
+        what they learnt of its closing no longer binds them."""
+        names = self._first_report("reopen", goal, observers)
+        if names is None:
+            return False
+        seen = Observation("reopen", full=names, args=(self.goals[goal],),
+                           withdraws=(self.closed[goal],))  # fmt: skip
         return self.observe(seen)
 
     def _first_report(self, what: str, goal: int, observers) -> frozenset | None:
@@ -201,32 +230,19 @@ class TeamKnowledge:
         return known.copy()
 
     def knows_done(self, chain: Chain) -> np.ndarray:
-        """``(m,)`` the goals (tasks) the chain knows closed (done): the hard facts of the
-        observations its group saw, read by observation index (each observation's fact is
-        compared with the ``closed`` facts once, not at every query; the answer is kept
-        per chain until the next observation is recorded)."""
+        """``(m,)`` the goals (tasks) the chain knows closed (done): the ``closed`` facts
+        among the hard facts its group still holds (a goal seen reopened no longer
+        counts), kept per chain until the next observation is recorded."""
         chain = tuple(chain)
         known = self._done.get(chain)
         if known is None:
             known = np.zeros(self.m, dtype=bool)
-            fully = set(self.state.observed(chain, fully=True))
-            for i in self.state.observed(chain):
-                g = self._closes(i, i in fully)
+            for fact in self.state.hard(chain):
+                g = self._closed_goal.get(fact, -1)
                 if g >= 0:
                     known[g] = True
             self._done[chain] = known
         return known.copy()
-
-    def _closes(self, index: int, fully: bool) -> int:
-        """The goal whose ``closed`` fact observation ``index`` teaches (seen ``fully`` or
-        not), -1 for none; computed once per observation."""
-        key = (index, fully)
-        goal = self._closed_by.get(key)
-        if goal is None:
-            fact = self.state.observations[index].hard_fact(fully)
-            goal = self._closed_goal.get(fact, -1) if fact is not None else -1
-            self._closed_by[key] = goal
-        return goal
 
     def private_goals(self, robot: int) -> bool:
         """Whether ``robot`` knows of a goal that it does not know every teammate knows."""

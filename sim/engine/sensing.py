@@ -134,7 +134,9 @@ class Sensing:
             at = distances(poses[:, :2], s.goals) <= s.success_radius  # (n, m)
             shown = at & np.asarray(settled)[:, None]
             self.known_goals |= (seen.astype(int) @ shown.astype(int)) > 0
-        self.known_done |= near_goal & closed[None, :]
+        # What a robot near a goal sees of it is its news: closed, or open again (an
+        # event may reopen a goal, :mod:`~epistemica.sim.engine.events`).
+        self.known_done = (self.known_done & ~near_goal) | (near_goal & closed[None, :])
         return Observations(
             step,
             self.estimates.copy(),

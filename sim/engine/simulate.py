@@ -287,11 +287,13 @@ class TrialRun:
             self.knowledge.discover(g, alone[i])
         for i, g in zip(*np.nonzero(obs.known_done & ~before_closed), strict=True):
             self.knowledge.notice_closed(g, alone[i])
+        for i, g in zip(*np.nonzero(before_closed & ~obs.known_done), strict=True):
+            self.knowledge.notice_open(g, alone[i])  # only events reopen goals
         known_goals, known_done = obs.known_goals, obs.known_done
-        if self.s.events:  # what the events taught: goals revealed, tasks seen done
+        if self.s.events:  # what the events taught: goals revealed, closed, reopened
             for i in range(self.s.n_robots):
                 known_goals[i] |= self.knowledge.knows_goals((i,))
-                known_done[i] |= self.knowledge.knows_done((i,))
+                known_done[i] = self.knowledge.knows_done((i,))
         self.estimates[step] = obs.poses[..., :2]
         self.closed[step] = ~self.open
         self._note_known(step)
