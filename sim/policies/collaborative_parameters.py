@@ -210,11 +210,9 @@ class CollaborativeParameters:
         Coming to a task earns ``plan_credit`` only when as many robots as it needs know
         of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
     plan_insight : bool
-        A teammate in sight is met where it is seen, once within hailing distance, rather
-        than on its predicted sweep. Off: worse on both halves of the tuning split.
+        A teammate in sight is met where it is seen, not on its sweep. Off (tuning split).
     plan_hail : bool
-        Fetching is an option only when a ``heads to`` event tells watching teammates of
-        the task. Off: it broke six found-only missions.
+        Fetch only where a ``heads to`` event tells. Off: it broke six found-only missions.
     plan_lost : bool
         A teammate a robot gave up fetching for one task is not fetched for any other until
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
@@ -234,12 +232,13 @@ class CollaborativeParameters:
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
         ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
-    plan_spread : bool
-        A never-seen teammate is found only with the share of its possible starts in
-        sight of the meeting. Off: worse at 3-4 robots (fresh missions 500-599).
-    plan_watched : bool
-        ``stale_after`` counts a knower from the earliest step it can have reached the
-        task since last seen away from it. Off: worse at 3-4 and 7-8 robots (500-599).
+    plan_spread, plan_watched : bool
+        A never-seen teammate is found only with the share of its starts in sight of the
+        meeting; ``stale_after`` counts a knower from the earliest step it can have reached
+        the task since last seen away from it. Off: worse at 3-4 robots (500-599).
+    plan_waiters : bool
+        A teammate seen standing still at an open task is predicted to wait there (and
+        to know of it), and a fetch meets it where it stands (aif.md §6h, 600-799).
     """
 
     lane_factor: float = 2.0
@@ -300,6 +299,7 @@ class CollaborativeParameters:
     plan_hold: bool = True
     plan_spread: bool = False
     plan_watched: bool = False
+    plan_waiters: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
