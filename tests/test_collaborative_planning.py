@@ -4,6 +4,7 @@ beside the rules, deciding by what the robot knows its teammates know, and close
 import numpy as np
 import pytest
 
+from epistemica import InvalidArgumentError
 from epistemica.generate import mission_text
 from epistemica.mission import parse_mission
 from epistemica.sim import simulate
@@ -506,7 +507,7 @@ def _waiter(moved: float):
     return s, before, _view(50, poses, knowledge)
 
 
-@pytest.mark.parametrize("waiters", [False, True])
+@pytest.mark.parametrize("waiters", [0, 1, 2])
 @pytest.mark.parametrize("moved", [0.0, 0.5])
 def test_with_plan_waiters_a_teammate_standing_at_a_task_waits_there(waiters, moved):
     # With plan_waiters, r2, seen standing still at t2 (within two completion radii, 3 m;
@@ -514,14 +515,16 @@ def test_with_plan_waiters_a_teammate_standing_at_a_task_waits_there(waiters, mo
     # t2) and meets it where it stands, 11 m off, once within hailing distance, 7 - 2 = 5
     # m: 6 steps; the trip to t1 is then 17^2 + 11^2 = 410, 20.25 m. Moving 0.5 m a step
     # it is not waiting, and without plan_waiters nobody is: the intercept on r2's sweep.
+    # Only plan_waiters 1 hands the waiter to the planner to be predicted at its task.
     s, before, view = _waiter(moved)
     policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_waiters=waiters))
     policy.start(s)
     policy.plan(before)
     policy.plan(view)
-    waits = waiters and moved == 0.0
+    waits = waiters > 0 and moved == 0.0
     policy.waiting_now = policy.waiters(view, 0)  # r1's decision, as choose sets it
     assert policy.waiting_now == ({1: 1} if waits else {})
+    assert policy.staying() == ({1: 1} if waits and waiters == 1 else {})
     fetches = policy.fetches(view, 0)
     assert [(f.task, f.helper) for f in fetches] == ([(0, 1)] if waits else [(0, 1), (1, 1)])
     if waits:
@@ -530,3 +533,8 @@ def test_with_plan_waiters_a_teammate_standing_at_a_task_waits_there(waiters, mo
         assert fetches[0].arrival == pytest.approx(6.0 + np.sqrt(410.0))
     else:
         assert fetches[0].place != (20.0, 4.0)
+
+
+def test_plan_waiters_is_0_1_or_2():
+    with pytest.raises(InvalidArgumentError, match="plan_waiters"):
+        CollaborativeParameters(plan_waiters=3)

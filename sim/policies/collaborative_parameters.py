@@ -204,8 +204,7 @@ class CollaborativeParameters:
     plan_rollout : float
         Horizon (crossings) of a rollout over fetch chains (0: off; aif.md §6h, fifth pass).
     plan_sighted : bool
-        A teammate seen with an open task within sensing range counts as knowing of it
-        (the ``found`` event fires once, so the ledger never learns it otherwise). Off.
+        A teammate seen with an open task in its sensing range knows of it. Off.
     plan_knowers : bool
         Coming to a task earns ``plan_credit`` only when as many robots as it needs know
         of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
@@ -236,9 +235,9 @@ class CollaborativeParameters:
         A never-seen teammate is found only with the share of its starts in sight of the
         meeting; ``stale_after`` counts a knower from the earliest step it can have reached
         the task since last seen away from it. Off: worse at 3-4 robots (500-599).
-    plan_waiters : bool
-        A teammate seen standing still at an open task is predicted to wait there (and
-        to know of it), and a fetch meets it where it stands (aif.md §6h, 600-799).
+    plan_waiters : int
+        A teammate seen standing still at an open task knows of it and is met where it
+        stands; with 1, not 2, also predicted to wait there (0: off; aif.md §6h, 600-799).
     """
 
     lane_factor: float = 2.0
@@ -299,7 +298,7 @@ class CollaborativeParameters:
     plan_hold: bool = True
     plan_spread: bool = False
     plan_watched: bool = False
-    plan_waiters: bool = False
+    plan_waiters: int = 0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -313,8 +312,9 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
-        if self.plan_quorum < 1:
-            raise InvalidArgumentError("plan_quorum must be >= 1", hint="2")
+        if self.plan_quorum < 1 or self.plan_waiters not in (0, 1, 2):
+            raise InvalidArgumentError(f"plan_quorum must be >= 1, plan_waiters 0, 1 or 2, got "
+                                       f"{self.plan_quorum} and {self.plan_waiters}")  # fmt: skip
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}

@@ -42,6 +42,7 @@ from epistemica.aif.task_planning import Fetch, Geometry, TaskPlanner
 from epistemica.sim.engine.joint import JointView as View
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy, first_order
 from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
+from epistemica.sim.policies.collaborative_sightings import Sightings
 
 __all__ = [
     "PLANNING_LEVELS",
@@ -123,7 +124,7 @@ def explain(decision: Decision) -> str:
     return "\n".join(lines)
 
 
-class PlanningCollaborativePolicy(CollaborativePolicy):
+class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
     """One level of :data:`PLANNING_LEVELS`.
 
     Parameters
@@ -245,35 +246,6 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             return choice
         return ("task", choice[1]) if self.parameters.plan_back and self.silent else choice
 
-    def sighted(self, view: View) -> np.ndarray:
-        """``(n, n, m)``: robot ``i`` sees teammate ``j`` now with task ``t`` in ``j``'s
-        sight (within the sensing range of where ``i`` sees it), so ``j`` has seen ``t``:
-        what ``i`` may learn of ``j``'s knowledge beyond the ledger's shared events
-        (``plan_sighted``)."""
-        s = self.s
-        now = view.last_seen == view.step
-        gap = np.hypot(*(view.estimates[..., None, :] - s.tasks).transpose(3, 0, 1, 2))
-        return now[..., None] & (gap <= s.sensing_range)
-
-    def standing_still(self, view: View) -> np.ndarray:
-        """``(n, n)``: robot ``i`` sees teammate ``j`` now and saw it last step, and it
-        moved less than ``still_fraction`` of its top speed in between (it stands)."""
-        model, s = self.teammates, self.s
-        seen = (view.last_seen == view.step) & (model.prev_seen == view.step - 1)
-        moved = np.hypot(*(view.estimates - model.prev_estimates).transpose(2, 0, 1))
-        return seen & (moved < self.parameters.still_fraction * np.asarray(s.max_speed) * s.dt)
-
-    def waiters(self, view: View, i: int) -> dict[int, int]:
-        """Teammate -> the open task (of those robot ``i`` knows) it stands still at,
-        within two completion radii, as ``i`` sees it now (``plan_waiters``: it waits
-        there; nearest task if several)."""
-        if not (self.parameters.plan_waiters and self.model == "nested"):
-            return {}
-        at = self.standing(view, i) & self.still[i][:, None] & self.open_now[i][None]
-        gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
-        return {j: int(np.argmin(np.where(at[j], gap[j], np.inf)))
-                for j in np.flatnonzero(at.any(axis=1)) if j != i}  # fmt: skip
-
     def knows(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` the tasks robot ``i`` knows each teammate knows of: the ledger, and
         with ``plan_sighted`` the tasks it saw that teammate have in sight, and with
@@ -364,31 +336,6 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                                  found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
         return out
 
-    def told(self, view: View, i: int, j: int, met: tuple, stays: bool = False) -> np.ndarray:
-        """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
-        (steps, place) and then going to the task, is in ``j``'s sight (``j`` where
-        :meth:`predicted` puts it) when it comes within the found event's reach of the
-        task or stands at it: where no ``heads to`` event tells a teammate what a robot
-        heads for, that is how a fetch tells it (``plan_told``). With ``stays``, ``j``
-        waits where it is seen (``plan_waiters``)."""
-        s = self.s
-        speed, place = float(s.max_speed[i] * s.dt), np.asarray(met[1], dtype=float)
-        gap = np.hypot(*(place - s.tasks).T)  # (m,) from the meeting
-        out = np.zeros(s.n_tasks, dtype=bool)
-        for t in range(s.n_tasks):
-            moments = []  # (steps ahead, where i is)
-            if self.reach is not None and gap[t] > self.reach:
-                cut = (gap[t] - self.reach) / gap[t]
-                moments.append((met[0] + (gap[t] - self.reach) / speed,
-                                place + cut * (s.tasks[t] - place)))  # fmt: skip
-            if self.settle:
-                moments.append((met[0] + gap[t] / speed, s.tasks[t]))
-            for ahead, there in moments:
-                later = int(np.rint(ahead))
-                seen = view.estimates[i, j] if stays else self.predicted(view, i, j, later)
-                out[t] |= bool(np.hypot(*(seen - there)) <= s.sensing_range)
-        return out
-
     def lost(self, view: View, i: int, j: int) -> bool:
         """Whether robot ``i`` knows teammate ``j`` is not on its sweep (``plan_lost``):
         it gave up fetching ``j`` for some task (``j`` was not where its sweep put it, and
@@ -430,7 +377,15 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         speed = np.asarray(s.max_speed, dtype=float) * s.dt
         geometry = Geometry(self.where, s.tasks, speed) if p.plan_rollout else None
         plan = self.planner.plan(
-            i, arrivals, sets, unknown, fetches, previous, meetings, geometry, self.waiting_now
+            i,
+            arrivals,
+            sets,
+            unknown,
+            fetches,
+            previous,
+            meetings,
+            geometry,
+            waiting=self.staying(),
         )
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]
