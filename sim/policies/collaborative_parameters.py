@@ -159,7 +159,7 @@ class CollaborativeParameters:
     :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
     crossing time, side / mean speed). Each option was measured on tuning missions only;
     the tables (success, median / mean steps, paired intervals) are in docs/aif.md §6h,
-    pass by pass, the last in "Fresh missions 400-599" (tuning-stream seeds 400-599).
+    pass by pass, the last in "Fresh missions 600-799" (tuning-stream seeds 600-799).
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
