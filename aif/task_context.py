@@ -116,8 +116,9 @@ class TaskContext:
     [-97.0, -0.0]
     """
 
-    def __init__(self, planner, arrivals, sets, unknown, meetings=None) -> None:
+    def __init__(self, planner, arrivals, sets, unknown, meetings=None, waiting=None) -> None:
         self.p = planner
+        self.waiting = dict(waiting or {})  # teammate -> the task it is seen waiting at
         self.meetings = meetings  # None: teammates are not predicted to fetch
         self.options: dict = {}  # (key, order) -> the agent's fetches: tasks, helpers, G, when
         self.fetched: dict = {}  # (key, order) -> its fetch probability and time per task
@@ -267,6 +268,9 @@ class TaskContext:
         orders ``0 .. order``."""
         key = (self.key(chain), order)
         found = self.memo.get(key)
+        if found is None and len(chain) > 1 and chain[-1] in self.waiting:
+            found = self.memo[key] = self.waits(chain[-1])  # it is seen waiting: it stays
+            self.fetched[key] = (np.zeros(found.size - 1), np.full(found.size - 1, np.inf))
         if found is None:
             m = self.arrivals.shape[1]
             mix, q, when = [], np.zeros(m), np.zeros(m)
@@ -286,6 +290,21 @@ class TaskContext:
             when = np.where(some, when / np.where(some, q, 1.0), np.inf)
             self.fetched[key] = (q / len(mix), when)
         return found
+
+    def waits(self, robot: int) -> np.ndarray:
+        """``(m + 1,)`` the choice of a teammate seen waiting at a task: that task.
+
+        Examples
+        --------
+        >>> from epistemica.aif.task_planning import TaskPlanner
+        >>> planner = TaskPlanner([2, 2], order=1)
+        >>> context = TaskContext(planner, np.ones((2, 2)), {(0,): [True, True]}, {}, None, {1: 1})
+        >>> context.choice((0, 1), 0).tolist()
+        [0.0, 1.0, 0.0]
+        """
+        pick = np.zeros(self.arrivals.shape[1] + 1)
+        pick[self.waiting[robot]] = 1.0
+        return pick
 
     def fetching(self, chain: tuple[int, ...], order: int) -> tuple[np.ndarray, np.ndarray]:
         """``(m,)`` the probability that ``chain[-1]`` fetches a teammate for each task

@@ -211,6 +211,7 @@ class TaskPlanner:
         previous: int | None = None,
         meetings=None,
         geometry: Geometry | None = None,
+        waiting: Mapping[int, int] | None = None,
     ) -> TaskPlan:
         """Robot ``robot``'s plan.
 
@@ -234,6 +235,9 @@ class TaskPlanner:
             ``(n, n, m)``: when ``l`` and ``h`` reach task ``t`` if ``l`` fetches ``h``.
         geometry : Geometry, optional
             Where robots and tasks are, for ``rollout`` (without it: one-step values).
+        waiting : mapping, optional
+            Teammate -> the task it is seen waiting at: predicted there, at every order
+            and in every chain, rather than choosing (it has chosen).
 
         Examples
         --------
@@ -249,7 +253,8 @@ class TaskPlanner:
         """
         a, robot = self._checked(arrivals, robot, sets)
         n, m = a.shape[0], self.needs.shape[0]
-        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n))
+        waiting = self._waiters(waiting, robot, n)
+        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n), waiting)
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
         if self.rollout > 0 and geometry is not None and fetching:
@@ -314,6 +319,14 @@ class TaskPlanner:
         value = dict(zip(legs, fetched, strict=True))
         return own, np.array([f.found * value[Leg("fetch", int(f.helper), f.meeting, f.place)]
                               for f in fetches])  # fmt: skip
+
+    def _waiters(self, waiting, robot: int, n: int) -> dict:
+        """The checked ``waiting``: teammates (not ``robot``) -> tasks."""
+        out = {int(j): int(t) for j, t in (waiting or {}).items()}
+        m = self.needs.shape[0]
+        if any(not (0 <= j < n and j != robot and 0 <= t < m) for j, t in out.items()):
+            raise InvalidArgumentError(f"waiting must map teammates to tasks, got {waiting}")
+        return out
 
     def _meetings(self, meetings, n: int) -> np.ndarray | None:
         """The checked ``(n, n, m)`` meeting times, or None without ``fetchers``."""

@@ -4,6 +4,7 @@ beside the rules, deciding by what the robot knows its teammates know, and close
 import numpy as np
 import pytest
 
+from epistemica import InvalidArgumentError
 from epistemica.generate import mission_text
 from epistemica.mission import parse_mission
 from epistemica.sim import simulate
@@ -490,3 +491,50 @@ def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reach
     gap = np.hypot(*(s.starts[1:, :2] - s.tasks[0]).T) - s.completion_radius
     assert policy.earliest(view, 0)[1:, 0] == pytest.approx(seen + gap)
     assert policy.presumed_done(view, 0, watched).tolist() == [not watched or seen == 10]
+
+
+def _waiter(moved: float):
+    """r1 at (20, 15) knows t1 at (3, 15) and t2 at (20, 3), each needing 2; r2 stands 1 m
+    off t2 at (20, 4) at steps 49 and 50 (moved ``moved`` m in between), knowing neither
+    by the ledger. The scenario and the views of both steps."""
+    s = CollaborativeScenario([[20, 15, 0], [20, 4 - moved, 0]], [[3, 15], [20, 3]], (2, 2),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 2), dtype=bool))
+    knowledge.discover(0, np.array([True, False]))
+    knowledge.discover(1, np.array([True, False]))
+    before = _view(49, np.asarray(s.starts, dtype=float), knowledge)
+    poses = np.array([[20.0, 15.0, 0.0], [20.0, 4.0, 0.0]])
+    return s, before, _view(50, poses, knowledge)
+
+
+@pytest.mark.parametrize("waiters", [0, 1, 2])
+@pytest.mark.parametrize("moved", [0.0, 0.5])
+def test_with_plan_waiters_a_teammate_standing_at_a_task_waits_there(waiters, moved):
+    # With plan_waiters, r2, seen standing still at t2 (within two completion radii, 3 m;
+    # moved less than 0.3 m a step), waits there: r1 takes it to know of t2 (no fetch for
+    # t2) and meets it where it stands, 11 m off, once within hailing distance, 7 - 2 = 5
+    # m: 6 steps; the trip to t1 is then 17^2 + 11^2 = 410, 20.25 m. Moving 0.5 m a step
+    # it is not waiting, and without plan_waiters nobody is: the intercept on r2's sweep.
+    # Only plan_waiters 1 hands the waiter to the planner to be predicted at its task.
+    s, before, view = _waiter(moved)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_waiters=waiters))
+    policy.start(s)
+    policy.plan(before)
+    policy.plan(view)
+    waits = waiters > 0 and moved == 0.0
+    policy.waiting_now = policy.waiters(view, 0)  # r1's decision, as choose sets it
+    assert policy.waiting_now == ({1: 1} if waits else {})
+    assert policy.staying() == ({1: 1} if waits and waiters == 1 else {})
+    fetches = policy.fetches(view, 0)
+    assert [(f.task, f.helper) for f in fetches] == ([(0, 1)] if waits else [(0, 1), (1, 1)])
+    if waits:
+        assert fetches[0].meeting == pytest.approx(6.0)
+        assert fetches[0].place == (20.0, 4.0)
+        assert fetches[0].arrival == pytest.approx(6.0 + np.sqrt(410.0))
+    else:
+        assert fetches[0].place != (20.0, 4.0)
+
+
+def test_plan_waiters_is_0_1_or_2():
+    with pytest.raises(InvalidArgumentError, match="plan_waiters"):
+        CollaborativeParameters(plan_waiters=3)

@@ -159,7 +159,7 @@ class CollaborativeParameters:
     :mod:`epistemica.sim.policies.collaborative_planning`; times in units of the workspace's
     crossing time, side / mean speed). Each option was measured on tuning missions only;
     the tables (success, median / mean steps, paired intervals) are in docs/aif.md §6h,
-    pass by pass, the last in "Fresh missions 400-599" (tuning-stream seeds 400-599).
+    pass by pass, the last in "Fresh missions 600-799" (tuning-stream seeds 600-799).
 
     plan_temperature : float
         The precision ``tau`` of :class:`~epistemica.aif.task_planning.TaskPlanner` (it
@@ -204,17 +204,14 @@ class CollaborativeParameters:
     plan_rollout : float
         Horizon (crossings) of a rollout over fetch chains (0: off; aif.md §6h, fifth pass).
     plan_sighted : bool
-        A teammate seen with an open task within sensing range counts as knowing of it
-        (the ``found`` event fires once, so the ledger never learns it otherwise). Off.
+        A teammate seen with an open task in its sensing range knows of it. Off.
     plan_knowers : bool
         Coming to a task earns ``plan_credit`` only when as many robots as it needs know
         of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
     plan_insight : bool
-        A teammate in sight is met where it is seen, once within hailing distance, rather
-        than on its predicted sweep. Off: worse on both halves of the tuning split.
+        A teammate in sight is met where it is seen, not on its sweep. Off (tuning split).
     plan_hail : bool
-        Fetching is an option only when a ``heads to`` event tells watching teammates of
-        the task. Off: it broke six found-only missions.
+        Fetch only where a ``heads to`` event tells. Off: it broke six found-only missions.
     plan_lost : bool
         A teammate a robot gave up fetching for one task is not fetched for any other until
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
@@ -234,12 +231,13 @@ class CollaborativeParameters:
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
         ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
-    plan_spread : bool
-        A never-seen teammate is found only with the share of its possible starts in
-        sight of the meeting. Off: worse at 3-4 robots (fresh missions 500-599).
-    plan_watched : bool
-        ``stale_after`` counts a knower from the earliest step it can have reached the
-        task since last seen away from it. Off: worse at 3-4 and 7-8 robots (500-599).
+    plan_spread, plan_watched : bool
+        A never-seen teammate is found only with the share of its starts in sight of the
+        meeting; ``stale_after`` counts a knower from the earliest step it can have reached
+        the task since last seen away from it. Off: worse at 3-4 robots (500-599).
+    plan_waiters : int
+        A teammate seen standing still at an open task knows of it and is met where it
+        stands; with 1, not 2, also predicted to wait there (0: off; aif.md §6h, 600-799).
     """
 
     lane_factor: float = 2.0
@@ -300,6 +298,7 @@ class CollaborativeParameters:
     plan_hold: bool = True
     plan_spread: bool = False
     plan_watched: bool = False
+    plan_waiters: int = 0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -313,8 +312,9 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
-        if self.plan_quorum < 1:
-            raise InvalidArgumentError("plan_quorum must be >= 1", hint="2")
+        if self.plan_quorum < 1 or self.plan_waiters not in (0, 1, 2):
+            raise InvalidArgumentError(f"plan_quorum must be >= 1, plan_waiters 0, 1 or 2, got "
+                                       f"{self.plan_quorum} and {self.plan_waiters}")  # fmt: skip
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}

@@ -42,6 +42,7 @@ from epistemica.aif.task_planning import Fetch, Geometry, TaskPlanner
 from epistemica.sim.engine.joint import JointView as View
 from epistemica.sim.policies.collaborative_levels import CollaborativePolicy, first_order
 from epistemica.sim.policies.collaborative_parameters import CollaborativeParameters
+from epistemica.sim.policies.collaborative_sightings import Sightings
 
 __all__ = [
     "PLANNING_LEVELS",
@@ -123,7 +124,7 @@ def explain(decision: Decision) -> str:
     return "\n".join(lines)
 
 
-class PlanningCollaborativePolicy(CollaborativePolicy):
+class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
     """One level of :data:`PLANNING_LEVELS`.
 
     Parameters
@@ -197,6 +198,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         self.hailed = np.zeros((s.n_robots, s.n_tasks, s.n_robots), dtype=bool)
         self.back: list = [None] * s.n_robots  # the fetch each robot hailed in, if on it
         self.last_plans: list = [None] * s.n_robots
+        self.waiting_now: dict[int, int] = {}  # the deciding robot's waiters (plan_waiters)
         if self.trace is not None:
             self.trace = []  # this trial's decisions
 
@@ -205,6 +207,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         n, k = self.s.n_robots, view.knowledge
         if self.model == "first":
             view = first_order(view)
+        self.still = self.standing_still(view)
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
@@ -243,20 +246,14 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             return choice
         return ("task", choice[1]) if self.parameters.plan_back and self.silent else choice
 
-    def sighted(self, view: View) -> np.ndarray:
-        """``(n, n, m)``: robot ``i`` sees teammate ``j`` now with task ``t`` in ``j``'s
-        sight (within the sensing range of where ``i`` sees it), so ``j`` has seen ``t``:
-        what ``i`` may learn of ``j``'s knowledge beyond the ledger's shared events
-        (``plan_sighted``)."""
-        s = self.s
-        now = view.last_seen == view.step
-        gap = np.hypot(*(view.estimates[..., None, :] - s.tasks).transpose(3, 0, 1, 2))
-        return now[..., None] & (gap <= s.sensing_range)
-
     def knows(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` the tasks robot ``i`` knows each teammate knows of: the ledger, and
-        with ``plan_sighted`` the tasks it saw that teammate have in sight."""
-        return view.aware[i] | self.seen[i]
+        with ``plan_sighted`` the tasks it saw that teammate have in sight, and with
+        ``plan_waiters`` the task each teammate waits at (:meth:`waiters`)."""
+        knows = view.aware[i] | self.seen[i]
+        for j, task in self.waiting_now.items():
+            knows[j, task] = True
+        return knows
 
     def arrivals(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` steps robot ``i`` expects each robot to take to each task."""
@@ -328,7 +325,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
             if met is None:
                 continue
             if p.plan_told and self.silent:  # a hail tells nothing: only what j sees after
-                unaware = unaware & self.told(view, i, j, met)
+                unaware = unaware & self.told(view, i, j, met, j in self.waiting_now)
             age = view.step - max(int(view.last_seen[i, j]), 0)
             found = float(np.exp(-age / max(p.fetch_memory, 1)))
             if p.plan_spread and view.last_seen[i, j] < 0:
@@ -337,29 +334,6 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
                 back = float(np.hypot(*(met[1] - s.tasks[t])))
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
                                  found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
-        return out
-
-    def told(self, view: View, i: int, j: int, met: tuple) -> np.ndarray:
-        """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
-        (steps, place) and then going to the task, is in ``j``'s sight (``j`` where
-        :meth:`predicted` puts it) when it comes within the found event's reach of the
-        task or stands at it: where no ``heads to`` event tells a teammate what a robot
-        heads for, that is how a fetch tells it (``plan_told``)."""
-        s = self.s
-        speed, place = float(s.max_speed[i] * s.dt), np.asarray(met[1], dtype=float)
-        gap = np.hypot(*(place - s.tasks).T)  # (m,) from the meeting
-        out = np.zeros(s.n_tasks, dtype=bool)
-        for t in range(s.n_tasks):
-            moments = []  # (steps ahead, where i is)
-            if self.reach is not None and gap[t] > self.reach:
-                cut = (gap[t] - self.reach) / gap[t]
-                moments.append((met[0] + (gap[t] - self.reach) / speed,
-                                place + cut * (s.tasks[t] - place)))  # fmt: skip
-            if self.settle:
-                moments.append((met[0] + gap[t] / speed, s.tasks[t]))
-            for ahead, there in moments:
-                seen = self.predicted(view, i, j, int(np.rint(ahead)))
-                out[t] |= bool(np.hypot(*(seen - there)) <= s.sensing_range)
         return out
 
     def lost(self, view: View, i: int, j: int) -> bool:
@@ -377,8 +351,10 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         predicted sweep (:meth:`~CollaborativePolicy.meet`), or, with ``plan_insight`` and
         ``j`` in sight now, where it is seen, once ``i`` has closed to hailing distance
         (``j`` may be off its sweep, out fetching itself: its sweep says nothing of where
-        it goes, and what ``i`` does when fetching is to head for it and hail)."""
-        if not (self.parameters.plan_insight and view.last_seen[i, j] == view.step):
+        it goes, and what ``i`` does when fetching is to head for it and hail); with
+        ``plan_waiters``, a teammate it sees waiting at a task likewise (:meth:`waiters`)."""
+        insight = self.parameters.plan_insight and view.last_seen[i, j] == view.step
+        if not (insight or j in self.waiting_now):  # plan_waiters: it waits where it is seen
             return self.meet(view, i, j)
         there = view.estimates[i, j]
         gap = float(np.hypot(*(there - view.poses[i, :2])))
@@ -388,6 +364,7 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
     def choose(self, view: View, i: int, closed: np.ndarray) -> tuple:
         """Robot ``i``'s option: ``("task", t)``, ``("fetch", t, j)`` or ``("explore",)``."""
         m = self.s.n_tasks
+        self.waiting_now = self.waiters(view, i)
         arrivals = self.arrivals(view, i)
         arrivals[i, self.held] = np.inf  # on hold: going there is no option
         sets, unknown = self.chains(view, i, closed)
@@ -399,7 +376,17 @@ class PlanningCollaborativePolicy(CollaborativePolicy):
         meetings = self.meetings() if p.plan_fetchers else None
         speed = np.asarray(s.max_speed, dtype=float) * s.dt
         geometry = Geometry(self.where, s.tasks, speed) if p.plan_rollout else None
-        plan = self.planner.plan(i, arrivals, sets, unknown, fetches, previous, meetings, geometry)
+        plan = self.planner.plan(
+            i,
+            arrivals,
+            sets,
+            unknown,
+            fetches,
+            previous,
+            meetings,
+            geometry,
+            waiting=self.staying(),
+        )
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]
         if self.trace is not None:

@@ -389,3 +389,25 @@ def test_with_knowers_waiting_alone_at_a_task_too_few_know_of_saves_nothing(know
     # robot 1 comes alone (credit 50) unless robot 0 comes too (done at 10): 50 - 10.
     both = planner.plan(0, [[5.0], [10.0]], {(0,): [True], (0, 1): [True]})
     assert both.G[0] == pytest.approx(-40.0)
+
+
+@pytest.mark.parametrize("waits", [False, True])
+def test_a_teammate_seen_waiting_is_predicted_at_its_task(waits):
+    # Tasks 0 and 1 each need 2, both robots know both; robot 0 is 4 and 9 steps away,
+    # robot 1 3 and 0 (it stands at task 1). The convention sends both to task 0 (ready at
+    # step 4, against 9), so robot 1 is predicted there: task 0 saves 100 - 4 = 96 and task
+    # 1 nothing. Seen waiting at task 1, robot 1 is predicted there: task 1 saves
+    # 100 - 9 = 91, task 0 nothing (robot 0 alone there fails either way).
+    planner = TaskPlanner([2, 2], order=1, temperature=1.0, fail=[100.0, 100.0])
+    sets = {(0,): [True, True], (0, 1): [True, True]}
+    plan = planner.plan(0, [[4.0, 9.0], [3.0, 0.0]], sets, waiting={1: 1} if waits else None)
+    assert plan.G.tolist() == ([0.0, -91.0, 0.0] if waits else [-96.0, 0.0, 0.0])
+    assert (plan.kind, plan.task) == (("task", 1) if waits else ("task", 0))
+    assert plan.predictions[1].tolist() == ([0.0, 1.0, 0.0] if waits else [1.0, 0.0, 0.0])
+
+
+def test_waiting_must_name_teammates_and_tasks():
+    planner = TaskPlanner([2], order=1)
+    for bad in ({0: 0}, {2: 0}, {1: 1}, {-1: 0}):
+        with pytest.raises(InvalidArgumentError, match="waiting"):
+            planner.plan(0, [[1.0], [2.0]], {(0,): [True]}, waiting=bad)
