@@ -103,7 +103,8 @@ class RendezvousSearch:
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
         self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
         self.anchor_check, self.meet, self.hold = int(anchor_check), bool(meet), bool(hold)
-        self.sightings = LastSightings(scenario, look) if sighted else None
+        # Without a sensing range nobody searches (``applies``): no sightings to keep.
+        self.sightings = LastSightings(scenario, look) if sighted and self.applies() else None
         self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
         self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
         self.since = np.zeros(n, dtype=int)  # steps since the search started

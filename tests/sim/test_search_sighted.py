@@ -102,3 +102,10 @@ def test_not_the_group_it_left_with_nor_a_sighting_at_the_goal_it_left():
     observations.poses[0, 1, :2] = (9.0, 9.0)
     assert search.target(observations, 0).tolist() == [25.0, 5.0]
     assert search.sightings.looked[0].tolist() == [-1, 4, -1]
+
+
+def test_sighted_without_a_sensing_range_keeps_no_sightings():
+    # Unlimited sensing: nobody searches (``applies`` is False), so nothing to look for.
+    scenario = parse_mission(THREE.replace(" range 10", "")).scenario(0)
+    assert scenario.sensing_range is None
+    assert RendezvousSearch(scenario, 10.0, 15, 0.8, 2, sighted=True).sightings is None
