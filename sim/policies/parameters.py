@@ -174,8 +174,8 @@ class ActiveParameters:
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
-        follow one leader (on); an anchor outranks a find (on); look where missing teammates
-        were last seen before the other goals (:mod:`epistemica.sim.policies.search`).
+        follow one leader; an anchor outranks a find; look where missing teammates were last
+        seen before the other goals (all on; :mod:`epistemica.sim.policies.search`).
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
@@ -229,7 +229,7 @@ class ActiveParameters:
     plan_filter: bool = False
     plan_meet: bool = True
     plan_anchor: bool = True
-    plan_sighted: bool = False
+    plan_sighted: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 

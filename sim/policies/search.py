@@ -39,7 +39,10 @@ missing teammates settle and before the other goals it knows, where it last saw 
 it does not see now, outside the group it left with (the newest sighting first): a
 stationary teammate stands where it was seen, and a group that went elsewhere was last
 seen on its way there. A sighting it has come within ``look`` of the sensing range of (or
-that lies so near the goal it left) is looked at until the teammate is seen anew.
+that lies so near the goal it left) is looked at until the teammate is seen anew. A
+meeting's leader that no longer sees any teammate outside its group has no one following
+(those it met held to an anchor, or were heading for a goal they had found): it drops the
+meeting and searches on, first where it last saw them.
 """
 
 from __future__ import annotations
@@ -84,7 +87,8 @@ class RendezvousSearch:
         the search).
     sighted : bool, optional
         Look where missing teammates were last seen before the other goals the robot
-        knows (default False: goals only, then the sweep).
+        knows, and drop a meeting nobody follows (default False: goals only, then the
+        sweep; a leader leads a meeting to its end).
     """
 
     def __init__(
@@ -191,7 +195,8 @@ class RendezvousSearch:
         compute a different "goal nearest the leader"; a settle is seen as it is. A
         follower that loses sight of its leader keeps what it last saw. Its search ends
         once it stands still on the goal, where its settle and theirs are the newest each
-        has seen."""
+        has seen. With ``sighted`` a leader that sees none of the teammates outside its group
+        (nobody follows it) drops the meeting and searches on."""
         goals, meeting = self.scenario.goals, self.meeting[robots]
         leaders = self.leader[robots]
         met = (self.left[robots] >= 0) & ((leaders >= 0) | (seen & ~group).any(axis=1))
@@ -202,6 +207,10 @@ class RendezvousSearch:
             elif leaders[row] < 0:
                 leaders[row] = robot
             leader = int(leaders[row])
+            alone = not (seen[row] & ~group[row]).any()  # none of those it met in sight
+            if leader == robot and alone and self.sightings is not None:
+                leaders[row], meeting[row] = -1, -1  # a meeting nobody follows: search on
+                continue
             if leader == robot:
                 d = np.hypot(*(goals - observations.poses[robot, robot, :2]).T)
                 d[~observations.known_goals[robot]] = np.inf

@@ -85,10 +85,10 @@ def test_settles_first_and_goals_only_without_sighted():
     assert _search(sighted=False).target(_observe(), 0).tolist() == [25.0, 5.0]
 
 
-def test_plan_sighted_is_a_switch_and_reaches_the_search():
+def test_plan_sighted_is_a_switch_and_on_by_default():
     with pytest.raises(EpistemicaError, match="plan_sighted must be true or false"):
         ActiveParameters(plan_sighted=1)
-    assert isinstance(ActiveParameters().plan_sighted, bool)
+    assert ActiveParameters().plan_sighted is True
 
 
 def test_not_the_group_it_left_with_nor_a_sighting_at_the_goal_it_left():
@@ -109,3 +109,33 @@ def test_sighted_without_a_sensing_range_keeps_no_sightings():
     scenario = parse_mission(THREE.replace(" range 10", "")).scenario(0)
     assert scenario.sensing_range is None
     assert RendezvousSearch(scenario, 10.0, 15, 0.8, 2, sighted=True).sightings is None
+
+
+def _meet_step(search: RendezvousSearch, r2_in_sight: bool) -> None:
+    """One search step of r1 at (10, 10), off any goal; r2 at (14, 10) in sight or not."""
+    poses = np.zeros((3, 3, 3))
+    poses[0, :, :2] = [(10.0, 10.0), (14.0, 10.0), (25.0, 25.0)]
+    seen = np.zeros((3, 3), dtype=bool)
+    seen[0, 1] = r2_in_sight
+    last = np.array([[9, 9, -1], [-1, 9, -1], [-1, -1, 9]])
+    known = np.ones((3, 2), dtype=bool)
+    settles = np.full((3, 3), -1)
+    observations = Observations(9, poses, seen, last, known, ~known, _Settled(False), settles)
+    search.searchers(observations, np.array([0]))
+
+
+@pytest.mark.parametrize("sighted", [False, True])
+def test_a_meeting_nobody_follows_is_dropped_with_sighted(sighted):
+    scenario = parse_mission(THREE).scenario(0)
+    search = RendezvousSearch(scenario, 10.0, 15, 0.8, 2, meet=True, sighted=sighted)
+    search.left[0] = 0  # r1 searches, having left g1 alone (no group)
+    _meet_step(search, r2_in_sight=True)
+    # r2, outside its group, in sight: r1 (lower-numbered) leads a meeting to the goal
+    # nearest itself, g1 (7.1 m against g2's 15.8 m).
+    assert search.leader[0] == 0 and search.meeting[0] == 0
+    _meet_step(search, r2_in_sight=False)
+    # r2 did not follow. Without ``sighted`` r1 still leads the meeting; with it the
+    # meeting is dropped and r1 searches on (it will look where it last saw r2).
+    expected = (-1, -1) if sighted else (0, 0)
+    assert (search.leader[0], search.meeting[0]) == expected
+    assert search.left[0] == 0
