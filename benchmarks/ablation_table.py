@@ -47,6 +47,7 @@ PLANNER_MECHANISMS = {
     "planner's evidence of teammates' goals": "plan_evidence=1e12;plan_sigma=1e12",
     "meeting of searching groups": "plan_meet=false",
     "an anchor outranks a find": "plan_anchor=false",
+    "searchers look where teammates were last seen": "plan_sighted=false",
     "never-seen teammates predicted blind": "plan_blind=false",
     "sightings' stated noise": "plan_noise=0",
     "teammate types": "plan_types=0",

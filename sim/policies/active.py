@@ -127,6 +127,7 @@ class ActiveInference(Policy):
             p.unaware_wait if aware_of_others else p.lone_wait,
             meet=p.plan_meet and self._plans is not None,
             hold=p.plan_anchor and self._plans is not None,
+            sighted=p.plan_sighted and self._plans is not None,
         )
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)

@@ -109,8 +109,7 @@ class ActiveParameters:
         observation noise of a step; chosen on tuning seeds, docs/results.md).
     teammate_leak : float
         Rate in ``[0, 1]`` at which each type posterior returns to the type prior every
-        step (lets a teammate that changes its behaviour be re-read); 0 was as successful on
-        the tuning seeds, and slower where a teammate stops (docs/results.md).
+        step (lets a teammate that changes its behaviour be re-read; docs/results.md).
     search : bool
         Rendezvous with a sensing range: a group that has waited ``lone_wait`` steps at a
         goal without the rest of the team searches for it.
@@ -168,15 +167,15 @@ class ActiveParameters:
         robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
-        (aif.md §6g; 0: off); 0.9 and 0.95 changed specs/third_order/ design trials.
+        (aif.md §6g; 0: off).
     plan_blind, plan_resight, plan_filter : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
-    plan_meet, plan_anchor : bool
-        Planner levels, rendezvous search (:mod:`epistemica.sim.policies.search`, aif.md §6g;
-        the rules' levels never do; both on): searchers that meet follow one leader
-        (``meet``); an anchor outranks a find (``hold``).
+    plan_meet, plan_anchor, plan_sighted : bool
+        Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
+        follow one leader; an anchor outranks a find; look where missing teammates were last
+        seen before the other goals (all on; :mod:`epistemica.sim.policies.search`).
     plan_hierarchy, plan_shown : float
         In ``[0, 1]``: weight decay of lower orders in the planner's predictions (0: level-k);
         steps a watching teammate sees the robot head for an option's goal (aif.md §6g; 0: off).
@@ -230,6 +229,7 @@ class ActiveParameters:
     plan_filter: bool = False
     plan_meet: bool = True
     plan_anchor: bool = True
+    plan_sighted: bool = True
     plan_shown: float = 0.0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
@@ -256,7 +256,7 @@ class ActiveParameters:
             )
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
-                    "plan_blind", "plan_meet", "plan_anchor",
+                    "plan_blind", "plan_meet", "plan_anchor", "plan_sighted",
                     "plan_resight", "plan_filter")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):

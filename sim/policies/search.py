@@ -33,6 +33,16 @@ With ``hold`` (the planner's levels) an anchor outranks a find: a searcher that 
 member of the group it left still settled at that goal ``anchor_check`` steps on goes back
 to it even when it also sees teammates settled elsewhere. The anchor never moves, so the
 team can only form at its goal; the others come there when they search.
+
+With ``sighted`` (the planner's levels) a searcher looks, after the goals where it saw
+missing teammates settle and before the other goals it knows, where it last saw a teammate
+it does not see now, outside the group it left with (the newest sighting first): a
+stationary teammate stands where it was seen, and a group that went elsewhere was last
+seen on its way there. A sighting it has come within ``look`` of the sensing range of (or
+that lies so near the goal it left) is looked at until the teammate is seen anew. A
+meeting's leader that no longer sees any teammate outside its group has no one following
+(those it met held to an anchor, or were heading for a goal they had found): it drops the
+meeting and searches on, first where it last saw them.
 """
 
 from __future__ import annotations
@@ -44,7 +54,7 @@ from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.explore import Explorer
 
-__all__ = ["RendezvousSearch"]
+__all__ = ["LastSightings", "RendezvousSearch"]
 
 
 class RendezvousSearch:
@@ -75,6 +85,10 @@ class RendezvousSearch:
         An anchor outranks a find: a searcher that sees an anchor (above) goes back to it
         although it also sees teammates settled elsewhere (default False: the find ends
         the search).
+    sighted : bool, optional
+        Look where missing teammates were last seen before the other goals the robot
+        knows, and drop a meeting nobody follows (default False: goals only, then the
+        sweep; a leader leads a meeting to its end).
     """
 
     def __init__(
@@ -87,11 +101,14 @@ class RendezvousSearch:
         unaware_wait: int | None = None,
         meet: bool = False,
         hold: bool = False,
+        sighted: bool = False,
     ) -> None:
         n = scenario.n_robots
         self.scenario, self.lone_wait, self.look = scenario, int(lone_wait), float(look)
         self.unaware_wait = self.lone_wait if unaware_wait is None else int(unaware_wait)
         self.anchor_check, self.meet, self.hold = int(anchor_check), bool(meet), bool(hold)
+        # Without a sensing range nobody searches (``applies``): no sightings to keep.
+        self.sightings = LastSightings(scenario, look) if sighted and self.applies() else None
         self.anchor = np.full(n, -1)  # the goal a robot waits at with anchors (-1: none)
         self.anchors = np.zeros((n, n), dtype=bool)  # who it waits with
         self.since = np.zeros(n, dtype=int)  # steps since the search started
@@ -178,7 +195,8 @@ class RendezvousSearch:
         compute a different "goal nearest the leader"; a settle is seen as it is. A
         follower that loses sight of its leader keeps what it last saw. Its search ends
         once it stands still on the goal, where its settle and theirs are the newest each
-        has seen."""
+        has seen. With ``sighted`` a leader that sees none of the teammates outside its group
+        (nobody follows it) drops the meeting and searches on."""
         goals, meeting = self.scenario.goals, self.meeting[robots]
         leaders = self.leader[robots]
         met = (self.left[robots] >= 0) & ((leaders >= 0) | (seen & ~group).any(axis=1))
@@ -189,6 +207,10 @@ class RendezvousSearch:
             elif leaders[row] < 0:
                 leaders[row] = robot
             leader = int(leaders[row])
+            alone = not (seen[row] & ~group[row]).any()  # none of those it met in sight
+            if leader == robot and alone and self.sightings is not None:
+                leaders[row], meeting[row] = -1, -1  # a meeting nobody follows: search on
+                continue
             if leader == robot:
                 d = np.hypot(*(goals - observations.poses[robot, robot, :2]).T)
                 d[~observations.known_goals[robot]] = np.inf
@@ -315,10 +337,75 @@ class RendezvousSearch:
                 if teammate != robot and not self.group[robot, teammate]:
                     clues[goal] = True
         # The team can only be waiting at a goal: first where missing teammates were
-        # seen to settle, then the other goals the robot knows, then the whole workspace.
+        # seen to settle, (``sighted``) where they were last seen, then the other goals
+        # the robot knows, then the whole workspace.
         unchecked = ~self.checked[robot]
-        for candidates in (clues & unchecked, observations.known_goals[robot] & unchecked):
-            if candidates.any():
+        for candidates in (clues & unchecked, None, observations.known_goals[robot] & unchecked):
+            if candidates is None:
+                where = self.sightings and self.sightings.next(
+                    observations, robot, self.group[robot], self.left[robot]
+                )
+                if where is not None:
+                    return where
+            elif candidates.any():
                 goals = np.flatnonzero(candidates)
                 return s.goals[goals[np.argmin(distance[goals])]]
         return self.sweep.target(robot, pose)
+
+
+class LastSightings:
+    """Where each searcher last saw the teammates it misses, and which of those sightings
+    it has looked at (``RendezvousSearch(sighted=True)``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    look : float
+        A sighting counts as looked at from this fraction of the sensing range.
+    """
+
+    def __init__(self, scenario: Scenario, look: float) -> None:
+        n = scenario.n_robots
+        self.scenario, self.reach = scenario, float(look) * float(scenario.sensing_range)
+        self.looked = np.full((n, n), -1)  # the sighting of each teammate looked at (its step)
+
+    def next(
+        self, observations: Observations, robot: int, group: np.ndarray, left: int = -1
+    ) -> np.ndarray | None:
+        """Where ``robot`` last saw a teammate it does not see now, outside its ``group``
+        (those it left goal ``left`` with), the newest such sighting it has not looked at
+        (the nearest among equally new ones); None when there is none. A sighting within
+        ``look`` of the sensing range of the robot, or of the goal it left, is looked at.
+
+        Examples
+        --------
+        >>> from epistemica.sim.engine.sensing import Observations
+        >>> scenario = Scenario.paper("rendezvous", 3, 3, seed=0, sensing_range=4.0)
+        >>> sightings = LastSightings(scenario, 0.5)
+        >>> poses = np.zeros((3, 3, 3))
+        >>> poses[0, 1, :2], poses[0, 2, :2] = (20.0, 0.0), (0.0, 30.0)  # r1's last sightings
+        >>> seen, group = np.zeros((3, 3), bool), np.zeros(3, bool)
+        >>> last = np.array([[5, 3, 7], [-1, 5, -1], [-1, -1, 5]])    # r3 seen later than r2
+        >>> def at(step):
+        ...     return Observations(step, poses, seen, last, seen, seen)
+        >>> sightings.next(at(8), 0, group).tolist()       # r3's sighting, the newer one
+        [0.0, 30.0]
+        >>> poses[0, 0, :2] = (0.0, 28.5)                  # r1 comes within 0.5 x 4 m of it
+        >>> sightings.next(at(9), 0, group).tolist()       # looked at: r2's sighting next
+        [20.0, 0.0]
+        """
+        s = self.scenario
+        where = observations.poses[robot, :, :2]
+        last = observations.last_seen[robot]
+        missing = (last > self.looked[robot]) & ~observations.seen[robot] & ~group
+        missing[robot] = False
+        near = np.hypot(*(where - where[robot]).T) <= self.reach
+        if left >= 0:  # the goal it left was looked at as it waited there
+            near |= np.hypot(*(where - s.goals[left]).T) <= self.reach
+        self.looked[robot] = np.where(missing & near, last, self.looked[robot])
+        missing &= ~near
+        if not missing.any():
+            return None
+        newest = np.flatnonzero(missing & (last == last[missing].max()))
+        distance = np.hypot(*(where[newest] - where[robot]).T)
+        return where[newest[np.argmin(distance)]]

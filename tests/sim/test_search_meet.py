@@ -34,7 +34,9 @@ simulate trials 1 seed 0 steps 120 levels third
 
 def _trial(level: str, meet: bool):
     mission = parse_mission(SPLIT)
-    parameters = mission.parameters.replace(plan_meet=meet)
+    # Without the meeting, the search as it was before it: goals, then the sweep (with
+    # ``plan_sighted`` r1 and r2 would chase their last sightings of r3 and r4 instead).
+    parameters = mission.parameters.replace(plan_meet=meet, plan_sighted=meet)
     return simulate(mission.scenario(0), level, seed=0, parameters=parameters)
 
 
