@@ -212,6 +212,7 @@ class TaskPlanner:
         meetings=None,
         geometry: Geometry | None = None,
         waiting: Mapping[int, int] | None = None,
+        stands: Mapping[int, int] | None = None,
     ) -> TaskPlan:
         """Robot ``robot``'s plan.
 
@@ -238,6 +239,10 @@ class TaskPlanner:
         waiting : mapping, optional
             Teammate -> the task it is seen waiting at: predicted there, at every order
             and in every chain, rather than choosing (it has chosen).
+        stands : mapping, optional
+            Teammate -> the task it is seen standing at: a fetch of it for another task
+            takes it from there and is charged what that task loses (``mission``'s
+            charge, for that task alone; not with ``rollout``).
 
         Examples
         --------
@@ -253,8 +258,9 @@ class TaskPlanner:
         """
         a, robot = self._checked(arrivals, robot, sets)
         n, m = a.shape[0], self.needs.shape[0]
-        waiting = self._waiters(waiting, robot, n)
-        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n), waiting)
+        waiting, stands = self._waiters(waiting, robot, n), self._waiters(stands, robot, n)
+        meet = self._meetings(meetings, n)
+        context = TaskContext(self, a, sets, unknown or {}, meet, waiting, stands)
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
         if self.rollout > 0 and geometry is not None and fetching:
@@ -325,7 +331,7 @@ class TaskPlanner:
         out = {int(j): int(t) for j, t in (waiting or {}).items()}
         m = self.needs.shape[0]
         if any(not (0 <= j < n and j != robot and 0 <= t < m) for j, t in out.items()):
-            raise InvalidArgumentError(f"waiting must map teammates to tasks, got {waiting}")
+            raise InvalidArgumentError(f"waiting and stands map teammates to tasks: {waiting}")
         return out
 
     def _meetings(self, meetings, n: int) -> np.ndarray | None:
