@@ -236,13 +236,9 @@ class TaskPlanner:
             ``(n, n, m)``: when ``l`` and ``h`` reach task ``t`` if ``l`` fetches ``h``.
         geometry : Geometry, optional
             Where robots and tasks are, for ``rollout`` (without it: one-step values).
-        waiting : mapping, optional
-            Teammate -> the task it is seen waiting at: predicted there, at every order
-            and in every chain, rather than choosing (it has chosen).
-        stands : mapping, optional
-            Teammate -> the task it is seen standing at: a fetch of it for another task
-            takes it from there and is charged what that task loses (``mission``'s
-            charge, for that task alone; not with ``rollout``).
+        waiting, stands : mapping, optional
+            Teammate -> the task it is seen waiting at: ``waiting`` predicts it there (it has
+            chosen); a fetch of a ``stands`` one elsewhere is charged what that task loses.
 
         Examples
         --------
@@ -258,9 +254,8 @@ class TaskPlanner:
         """
         a, robot = self._checked(arrivals, robot, sets)
         n, m = a.shape[0], self.needs.shape[0]
-        waiting, stands = self._waiters(waiting, robot, n), self._waiters(stands, robot, n)
-        meet = self._meetings(meetings, n)
-        context = TaskContext(self, a, sets, unknown or {}, meet, waiting, stands)
+        waits = [self._waiters(w, robot, n) for w in (waiting, stands)]
+        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n), *waits)
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
         if self.rollout > 0 and geometry is not None and fetching:
