@@ -116,9 +116,12 @@ class TaskContext:
     [-97.0, -0.0]
     """
 
-    def __init__(self, planner, arrivals, sets, unknown, meetings=None, waiting=None) -> None:
+    def __init__(
+        self, planner, arrivals, sets, unknown, meetings=None, waiting=None, stands=None
+    ) -> None:
         self.p = planner
         self.waiting = dict(waiting or {})  # teammate -> the task it is seen waiting at
+        self.stands = dict(stands or {})  # teammate -> the task a fetch takes it from
         self.meetings = meetings  # None: teammates are not predicted to fetch
         self.options: dict = {}  # (key, order) -> the agent's fetches: tasks, helpers, G, when
         self.fetched: dict = {}  # (key, order) -> its fetch probability and time per task
@@ -371,16 +374,21 @@ class TaskContext:
 
     def taken(self, late, presence, without, fetches: Sequence[Fetch]) -> np.ndarray:
         """What each fetch costs the other tasks (time units): its helper, brought to the
-        fetch's task, no longer comes to those it was predicted to (``mission``; else 0)."""
+        fetch's task, no longer comes to those it was predicted to (``mission``), or, a
+        helper seen standing at a task (``stands``), to that one; else 0."""
         cost = np.zeros(len(fetches))
-        if not self.p.mission:
+        if not (self.p.mission or self.stands):
             return cost
         lost = {}
         for k, f in enumerate(fetches):
+            there = self.stands.get(f.helper, f.task)
+            if not self.p.mission and there == f.task:
+                continue
             if f.helper not in lost:
                 q = presence.copy()
                 q[f.helper] = 0.0
                 p = self.p
                 lost[f.helper] = completion_times(late, q, p.needs, p.fail, *p.coming) - without
-            cost[k] = f.found * (lost[f.helper].sum() - lost[f.helper][f.task])
+            gone = lost[f.helper]
+            cost[k] = f.found * (gone.sum() - gone[f.task] if self.p.mission else gone[there])
         return cost

@@ -212,6 +212,7 @@ class TaskPlanner:
         meetings=None,
         geometry: Geometry | None = None,
         waiting: Mapping[int, int] | None = None,
+        stands: Mapping[int, int] | None = None,
     ) -> TaskPlan:
         """Robot ``robot``'s plan.
 
@@ -235,9 +236,9 @@ class TaskPlanner:
             ``(n, n, m)``: when ``l`` and ``h`` reach task ``t`` if ``l`` fetches ``h``.
         geometry : Geometry, optional
             Where robots and tasks are, for ``rollout`` (without it: one-step values).
-        waiting : mapping, optional
-            Teammate -> the task it is seen waiting at: predicted there, at every order
-            and in every chain, rather than choosing (it has chosen).
+        waiting, stands : mapping, optional
+            Teammate -> the task it is seen waiting at: ``waiting`` predicts it there (it has
+            chosen); a fetch of a ``stands`` one elsewhere is charged what that task loses.
 
         Examples
         --------
@@ -253,8 +254,8 @@ class TaskPlanner:
         """
         a, robot = self._checked(arrivals, robot, sets)
         n, m = a.shape[0], self.needs.shape[0]
-        waiting = self._waiters(waiting, robot, n)
-        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n), waiting)
+        waits = [self._waiters(w, robot, n) for w in (waiting, stands)]
+        context = TaskContext(self, a, sets, unknown or {}, self._meetings(meetings, n), *waits)
         own = context.costs((robot,), self.order)
         fetching = self.order >= 1 and n > 1
         if self.rollout > 0 and geometry is not None and fetching:
@@ -325,7 +326,7 @@ class TaskPlanner:
         out = {int(j): int(t) for j, t in (waiting or {}).items()}
         m = self.needs.shape[0]
         if any(not (0 <= j < n and j != robot and 0 <= t < m) for j, t in out.items()):
-            raise InvalidArgumentError(f"waiting must map teammates to tasks, got {waiting}")
+            raise InvalidArgumentError(f"waiting and stands map teammates to tasks: {waiting}")
         return out
 
     def _meetings(self, meetings, n: int) -> np.ndarray | None:

@@ -538,3 +538,34 @@ def test_with_plan_waiters_a_teammate_standing_at_a_task_waits_there(waiters, mo
 def test_plan_waiters_is_0_1_or_2():
     with pytest.raises(InvalidArgumentError, match="plan_waiters"):
         CollaborativeParameters(plan_waiters=3)
+
+
+@pytest.mark.parametrize("standing", [True, False])
+def test_with_plan_presumed_a_teammate_away_from_a_task_found_open_presumes_it_done(standing):
+    # r1 presumed t1 (index 0) done and found it open (doubted). r2, which the ledger says
+    # knows of t1, is then taken to presume it done, for r1 does not see it stand there:
+    # t1 leaves what r2 knows, and r1 may fetch it for t1 (as for t2, which r2 does not
+    # know of). Doubting t2 instead, where r2 stands, changes nothing: r2 is fetched for
+    # t2 alone.
+    s, before, view = _waiter(0.0)
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((2, 2), dtype=bool))
+    knowledge.discover(0, np.array([True, True]))  # both know of t1, only r1 of t2
+    knowledge.discover(1, np.array([True, False]))
+    before, view = _view(49, before.poses, knowledge), _view(50, view.poses, knowledge)
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_presumed=True))
+    policy.start(s)
+    policy.plan(before)
+    policy.plan(view)
+    policy.doubted[0] = [True, False] if not standing else [False, True]
+    assert policy.presuming(view, 0).tolist() == (
+        [[False, False], [False, False]] if standing else [[False, False], [True, False]]
+    )
+    knows = policy.knows(view, 0)
+    assert knows[1, 0] == standing
+    helpers = [(f.task, f.helper) for f in policy.fetches(view, 0)]
+    assert helpers == ([(1, 1)] if standing else [(0, 1), (1, 1)])
+
+
+def test_plan_presumed_is_0_or_1():
+    with pytest.raises(InvalidArgumentError, match="plan_presumed"):
+        CollaborativeParameters(plan_presumed=2)

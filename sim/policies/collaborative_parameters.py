@@ -97,14 +97,9 @@ class CollaborativeParameters:
         another knower fetches a teammate, goes for that teammate too when no other
         teammate that does not know of the task is near enough to see it wait
         (``watch_range``; with three robots, two knowers and the one fetched, none is).
-        On tuning seeds 1000-1199 at 3 robots 76.4 -> 71.0 steps (paired -5.4 +- 1.5,
-        faster in 72 trials, slower in 26); at 5 and 8 robots 85.5 -> 85.9, 74.0 -> 74.1.
     watch_range : float
         ``fetch_together``: a teammate counts as one that may see the knower wait only if
-        predicted within this many sensing ranges of the task. 1 / 2 / 3 / unbounded:
-        71.0 at 3 robots for each, 83.5 / 83.3 / 83.6 / 85.9 at 5, 75.6 / 75.3 / 74.2 /
-        74.1 at 8 (tuning seeds 1000-1199; 3 against unbounded at 5 robots, paired:
-        -2.2 +- 1.1, faster in 26 trials, slower in 19).
+        predicted within this many sensing ranges of the task (measured: aif.md §6h).
     join_busy : bool
         ``rules``: a knower of a task too few know of, with no free teammate it knows where
         to find, goes to the nearest task it expects teammates at (sent there by its own
@@ -211,12 +206,11 @@ class CollaborativeParameters:
     plan_insight : bool
         A teammate in sight is met where it is seen, not on its sweep. Off (tuning split).
     plan_hail : bool
-        Fetch only where a ``heads to`` event tells. Off: it broke six found-only missions.
+        Fetch only where a ``heads to`` event tells.
     plan_lost : bool
         A teammate a robot gave up fetching for one task is not fetched for any other until
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
-        out: it has left its sweep, and an intercept there is a guess (two pairs chased each
-        other's sweeps in mission 172). On: tuning 100-199 paired -8.4 [-18.4, -0.9] steps.
+        out: it has left its sweep, and an intercept there is a guess.
     plan_hailed : bool
         A teammate hailed for a task (within hailing distance, in sight) that is still not
         known to know of it is not fetched for it again: without a ``heads to`` event the
@@ -236,8 +230,12 @@ class CollaborativeParameters:
         meeting; ``stale_after`` counts a knower from the earliest step it can have reached
         the task since last seen away from it. Off: worse at 3-4 robots (500-599).
     plan_waiters : int
-        A teammate seen standing still at an open task knows of it and is met where it
-        stands; with 1, not 2, also predicted to wait there (0: off; aif.md §6h, 600-799).
+        A teammate seen standing still at an open task knows of it, is met where it stands,
+        and a fetch of it for another task is charged what that task loses; with 1, not 2,
+        it is also predicted to wait there (0: off).
+    plan_presumed : bool
+        A task a robot presumed done (``stale_after``) and then found open is taken to be
+        presumed done by every teammate not seen standing at it: not predicted to come.
     """
 
     lane_factor: float = 2.0
@@ -299,6 +297,7 @@ class CollaborativeParameters:
     plan_spread: bool = False
     plan_watched: bool = False
     plan_waiters: int = 0
+    plan_presumed: bool = False
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -312,9 +311,10 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
-        if self.plan_quorum < 1 or self.plan_waiters not in (0, 1, 2):
-            raise InvalidArgumentError(f"plan_quorum must be >= 1, plan_waiters 0, 1 or 2, got "
-                                       f"{self.plan_quorum} and {self.plan_waiters}")  # fmt: skip
+        if self.plan_quorum < 1 or self.plan_waiters not in (0, 1, 2) or self.plan_presumed > 1:
+            raise InvalidArgumentError(f"plan_quorum must be >= 1, plan_waiters 0, 1 or 2, "
+                                       f"plan_presumed 0 or 1, got {self.plan_quorum}, "
+                                       f"{self.plan_waiters} and {self.plan_presumed}")  # fmt: skip
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}

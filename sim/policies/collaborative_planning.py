@@ -183,6 +183,9 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         )
         # seen[i, j, t]: robot i saw teammate j with task t in sight (j knows of t)
         self.seen = np.zeros((s.n_robots, s.n_robots, s.n_tasks), dtype=bool)
+        # ever[i, t]: robot i has presumed t done; doubted[i, t]: and then found it open
+        self.ever = np.zeros((s.n_robots, s.n_tasks), dtype=bool)
+        self.doubted = np.zeros((s.n_robots, s.n_tasks), dtype=bool)
         # hailing informs: teammates who see a robot head for a task learn of it
         self.hails = any(e.trigger.kind == "heads" and e.reveals for e in s.events)
         # without one, a teammate learns of a task when it sees a robot come within ``reach``
@@ -222,6 +225,8 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
                 presumed = self.presumed_done(view, i, bool(self.parameters.plan_watched)) & ~done
             closed = done | presumed
             self.open_now[i] = view.aware[i, i] & ~closed
+            self.ever[i] |= presumed
+            self.doubted[i] = self.ever[i] & self.open_now[i] & bool(self.parameters.plan_presumed)
             waiting = self._waiting(view, i)
             self.held = np.zeros(self.s.n_tasks, dtype=bool)
             if self.parameters.plan_hold:  # the rules' patience: no task to wait at forever
@@ -249,8 +254,10 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
     def knows(self, view: View, i: int) -> np.ndarray:
         """``(n, m)`` the tasks robot ``i`` knows each teammate knows of: the ledger, and
         with ``plan_sighted`` the tasks it saw that teammate have in sight, and with
-        ``plan_waiters`` the task each teammate waits at (:meth:`waiters`)."""
-        knows = view.aware[i] | self.seen[i]
+        ``plan_waiters`` the task each teammate waits at (:meth:`waiters`); with
+        ``plan_presumed`` not a task ``i`` presumed done and then found open, where ``i``
+        does not see the teammate stand (:meth:`presuming`)."""
+        knows = (view.aware[i] | self.seen[i]) & ~self.presuming(view, i)
         for j, task in self.waiting_now.items():
             knows[j, task] = True
         return knows
@@ -282,11 +289,12 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         if self.model == "nested":
             knows = self.knows(view, i)
             known.update({(i, j): knows[j] for j in range(n) if j != i})
+        gone = self.presuming(view, i)
         if self.model == "nested" and self.order >= 3:
             for j in range(n):
                 for h in range(n):
                     if j != i and h != j:
-                        known[(i, j, h)] = k.knows_goals((i, j, h))
+                        known[(i, j, h)] = k.knows_goals((i, j, h)) & ~gone[h]
         sets = {c: aware & ~closed for c, aware in known.items()}
         unknown = {c: m - int(aware.sum()) for c, aware in known.items()}
         if self.parameters.plan_rollout and self.model == "nested":
@@ -386,6 +394,7 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
             meetings,
             geometry,
             waiting=self.staying(),
+            stands=self.waiting_now,
         )
         self.last_plans[i] = plan
         self.previous[i] = keys[plan.option]

@@ -45,13 +45,23 @@ class Sightings:
     def waiters(self, view: View, i: int) -> dict[int, int]:
         """Teammate -> the open task (of those robot ``i`` knows) it stands still at,
         within two completion radii, as ``i`` sees it now (``plan_waiters``: it waits
-        there; nearest task if several)."""
+        there, and a fetch of it for another task is charged what that task loses;
+        nearest task if several)."""
         if not (self.parameters.plan_waiters and self.model == "nested"):
             return {}
         at = self.standing(view, i) & self.still[i][:, None] & self.open_now[i][None]
         gap = np.hypot(*(view.estimates[i][:, None, :] - self.s.tasks[None]).transpose(2, 0, 1))
         return {j: int(np.argmin(np.where(at[j], gap[j], np.inf)))
                 for j in np.flatnonzero(at.any(axis=1)) if j != i}  # fmt: skip
+
+    def presuming(self, view: View, i: int) -> np.ndarray:
+        """``(n, m)`` the tasks robot ``i`` takes each teammate to presume done
+        (``plan_presumed``): those ``i`` presumed done itself (``stale_after``) and then
+        found open, for every teammate ``i`` does not see standing at them now. Such a
+        teammate is not predicted to come back, and may be fetched."""
+        gone = self.doubted[i][None] & ~self.standing(view, i)
+        gone[i] = False
+        return gone
 
     def staying(self) -> dict[int, int]:
         """The waiters the planner predicts at their tasks: all with ``plan_waiters`` 1;

@@ -411,3 +411,24 @@ def test_waiting_must_name_teammates_and_tasks():
     for bad in ({0: 0}, {2: 0}, {1: 1}, {-1: 0}):
         with pytest.raises(InvalidArgumentError, match="waiting"):
             planner.plan(0, [[1.0], [2.0]], {(0,): [True]}, waiting=bad)
+
+
+@pytest.mark.parametrize("stands", [None, {1: 0}, {1: 1}])
+def test_a_fetch_of_a_teammate_standing_at_a_task_is_charged_what_that_task_loses(stands):
+    # Tasks 0 and 1 each need 2 (fail 100, credit 1). Robot 1 is seen waiting at task 0
+    # (predicted there) and knows nothing of task 1; fetching it, both reach task 1 at step
+    # 10: 10 against 100 with nobody there, -90. Robot 1 alone at task 0 earns half the
+    # cost back (100 - 50); taken from it, task 0 loses those 50: the fetch is charged 50
+    # when robot 1 is seen standing at task 0, and nothing when at task 1, the fetch's own.
+    planner = TaskPlanner([2, 2], order=1, temperature=1.0, fail=[100.0, 100.0], credit=1.0)
+    sets = {(0,): [True, True], (0, 1): [True, False]}
+    plan = planner.plan(0, [[4.0, 9.0], [0.0, 20.0]], sets, fetches=[Fetch(1, 1, 10.0, 10.0, 1.0)],
+                        waiting={1: 0}, stands=stands)  # fmt: skip
+    assert plan.G[3] == pytest.approx(-40.0 if stands == {1: 0} else -90.0)
+
+
+def test_stands_must_name_teammates_and_tasks():
+    planner = TaskPlanner([2], order=1)
+    for bad in ({0: 0}, {2: 0}, {1: 1}):
+        with pytest.raises(InvalidArgumentError, match="stands"):
+            planner.plan(0, [[1.0], [2.0]], {(0,): [True]}, stands=bad)
