@@ -210,7 +210,8 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         n, k = self.s.n_robots, view.knowledge
         if self.model == "first":
             view = first_order(view)
-        self.still = self.standing_still(view)
+        # who stands still, read only by plan_waiters (off by default): not on every step
+        self.still = self.standing_still(view) if self.parameters.plan_waiters else None
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]

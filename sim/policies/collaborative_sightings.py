@@ -59,6 +59,8 @@ class Sightings:
         (``plan_presumed``): those ``i`` presumed done itself (``stale_after``) and then
         found open, for every teammate ``i`` does not see standing at them now. Such a
         teammate is not predicted to come back, and may be fetched."""
+        if not self.doubted[i].any():  # always so with plan_presumed off: no sighting to read
+            return np.zeros((self.s.n_robots, self.s.n_tasks), dtype=bool)
         gone = self.doubted[i][None] & ~self.standing(view, i)
         gone[i] = False
         return gone
