@@ -179,7 +179,7 @@ class Planner:
         commitment: float = 0.0,
         convention: float = 0.0,
         hierarchy: float = 0.0,
-        success_weight: float = 3.0,
+        success_weight: float = 1.0,
         shown: float = 0.0,
         sigma: float = 0.5,
     ) -> None:

@@ -220,7 +220,7 @@ class ActiveParameters:
     plan_commitment: float = 1.0
     plan_convention: float = 1.0
     plan_hierarchy: float = 0.0
-    plan_success: float = 3.0
+    plan_success: float = 1.0
     plan_unseen: int = 0
     plan_settled: int = 0
     plan_types: float = 0.97
