@@ -23,13 +23,15 @@ def _step_evidence(here, goal: int, shown: float, sigma: float) -> np.ndarray:
 
 
 def test_each_option_is_scored_with_the_watcher_predicted_from_the_sight():
-    # Order 2, unit speeds, dt 1, tau = 10 s (temperature 1, goals 10 m apart), sigma 0.5 m.
+    # Order 2, unit speeds, dt 1, tau = 10 s (temperature 1, goals 10 m apart), sigma 0.5 m,
+    # success weight 3 (the value this example was worked at).
     # For robot 0's goal g the allocation forms iff robot 1 takes the other goal, so
     # G(g) = T / tau - 3 ln pi_1(1 - g), T the later arrival; pi_1 is robot 1's prediction
     # when robot 0's row carries the evidence of two steps towards g.
-    planner = Planner(GOALS, SWAP, [1.0, 1.0], order=2, temperature=1.0, shown=2.0)
+    weighed = dict(order=2, temperature=1.0, success_weight=3.0)
+    planner = Planner(GOALS, SWAP, [1.0, 1.0], shown=2.0, **weighed)
     result = planner.plan(0, AT, evidence=READ, watching=[False, True])
-    plain = Planner(GOALS, SWAP, [1.0, 1.0], order=2, temperature=1.0)
+    plain = Planner(GOALS, SWAP, [1.0, 1.0], **weighed)
     times = np.hypot(*(GOALS[None] - AT[:, None]).transpose(2, 0, 1))  # (robot, goal) s
     for g in (0, 1):
         seen = READ.copy()
