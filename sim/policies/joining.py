@@ -2,14 +2,17 @@
 
 A robot reasons over the goals it knows. In rendezvous with private goals the team can
 split between goals whose knowers do not overlap: traced on tuning mission asymmetry 97
-(docs/aif.md §6g), r1 knew g2 and g3 and waited at g3 while the three others, none of whom
-knew g3, waited at g4, which r1 did not know, in sight of each other until the step
-limit. Nobody searched (the search is for teammates out of sight) and no plan had an
-option to go to g4. Yet r1 saw them settle there: the settle names the goal, and the
-sighting places it. So a robot standing on a goal that sees more teammates settled at one
-goal it does not know than stand with it (ties: the group with the lowest-numbered
-robot stays) goes, after ``patience`` steps of seeing it, to where it saw them; within
-discovery range it learns the goal, and its plan takes over from there.
+(docs/aif.md §6g), r1 knew g2 and g3 and waited at g3 while r2 and r4, who did not know
+g3, waited at g4 (r3 joined them), which r1 did not know, behind a wall, to the step
+limit. Nobody searched (the search is for teams with a sensing range) and no plan had an
+option to go to g4. Yet r1 observed them settle there (an event's ``sees`` is the sensing
+range; the sensor, which would have shown it the goal, needs the line of sight): the settle
+names the goal, and the sighting places them. So a robot standing on a goal that sees more
+teammates settle at one goal it does not know than itself and those it sees settle with it
+(equal groups: the one with the lowest-numbered robot stays) goes, after ``patience``
+steps of seeing it, to where it places them, with that goal as its focal one (the simulator
+drives round walls to it); within discovery range it learns the goal, and its plan takes
+over from there.
 """
 
 from __future__ import annotations

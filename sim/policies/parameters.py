@@ -166,7 +166,9 @@ class ActiveParameters:
         from them (0: its placeholder); plans at which a teammate seen settled away from the
         robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off); steps
         a robot outnumbered by teammates seen settled at a goal it does not know waits before
-        it joins them (rendezvous; :mod:`epistemica.sim.policies.joining`; 0: off).
+        it joins them (rendezvous; :mod:`epistemica.sim.policies.joining`; 3, on since
+        session 50: it wins tuning asymmetry 97 and changes no other tuning or design
+        trial; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off).
@@ -225,7 +227,7 @@ class ActiveParameters:
     plan_success: float = 3.0
     plan_unseen: int = 0
     plan_settled: int = 0
-    plan_join: int = 0
+    plan_join: int = 3
     plan_types: float = 0.97
     plan_blind: bool = True
     plan_resight: bool = True

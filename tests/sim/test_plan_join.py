@@ -12,6 +12,7 @@ from epistemica.mission import parse_mission
 from epistemica.sim import Scenario
 from epistemica.sim.engine.sensing import Observations
 from epistemica.sim.policies.joining import Joining
+from epistemica.sim.policies.parameters import ActiveParameters
 
 
 def _scene(n: int = 4, kind: str = "rendezvous", goals: int = 2) -> Scenario:
@@ -117,3 +118,9 @@ def test_a_split_team_behind_a_wall_meets_only_by_joining(join, success):
     mission = parse_mission(SPLIT + f"policy plan_join {join}\n", "split.epi")
     trial = mission.trial(40, 0, "third")
     assert trial.success is success
+
+
+def test_on_by_default_and_a_count():
+    assert ActiveParameters().plan_join == 3
+    with pytest.raises(ValueError, match="plan_join must be an integer >= 0"):
+        ActiveParameters(plan_join=-1)
