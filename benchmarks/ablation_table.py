@@ -48,6 +48,7 @@ PLANNER_MECHANISMS = {
     "meeting of searching groups": "plan_meet=false",
     "an anchor outranks a find": "plan_anchor=false",
     "searchers look where teammates were last seen": "plan_sighted=false",
+    "joining teammates settled at a goal not known": "plan_join=0",
     "never-seen teammates predicted blind": "plan_blind=false",
     "sightings' stated noise": "plan_noise=0",
     "teammate types": "plan_types=0",

@@ -36,6 +36,7 @@ from epistemica.sim.policies.baselines import Convention
 from epistemica.sim.policies.common_view import CommonView
 from epistemica.sim.policies.configuration_sets import ConfigurationSets, held_to, nested_sets
 from epistemica.sim.policies.explore import Explorer
+from epistemica.sim.policies.joining import Joining
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import chains_of
 from epistemica.sim.policies.policy import Decisions, Policy, steer
@@ -129,6 +130,8 @@ class ActiveInference(Policy):
             hold=p.plan_anchor and self._plans is not None,
             sighted=p.plan_sighted and self._plans is not None,
         )
+        # Teammates settled at a goal the robot does not know (plan_join; the planner's).
+        self._join = Joining(scenario, p.plan_join if self._plans is not None else 0)
         self._teammates = (
             TeammateModels(scenario, p.teammate_sigma, p.teammate_leak)
             if p.teammate_models and p.free_energy and self.order >= 2
@@ -164,6 +167,11 @@ class ActiveInference(Policy):
                 if target is not None:
                     self._steer(out, row, robot, observations.poses[robot, robot], target)
                     continue
+            target = self._join.target(observations, robot)
+            if target is not None:  # its goal is the one they settled at: round walls to it
+                self._steer(out, row, robot, observations.poses[robot, robot], target)
+                out.focal[row, robot] = self._join.goal[robot]
+                continue
             choice = self._sets.choose(observations, robot)
             if choice.goals.size == 0:
                 self._explore(out, row, observations, robot)
