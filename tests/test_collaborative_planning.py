@@ -347,10 +347,27 @@ def test_with_plan_hailed_a_teammate_hailed_for_a_task_is_not_fetched_for_it_aga
     kind, task, helper = policy.previous[0]
     assert (kind, helper) == ("fetch", 1) and steer_to[0] == task
     assert targets[0].tolist() == s.tasks[task].tolist()
-    assert policy.hailed[0, :, 1].tolist() == [t == task for t in range(2)]
+    assert policy.hailed[0, :, 1].tolist() == [50 if t == task else -1 for t in range(2)]
     later = view._replace(step=51, last_seen=np.full((2, 2), 51))
     offered = [(f.task, f.helper) for f in policy.fetches(later, 0)]
     assert offered == [(t, 1) for t in range(2) if not (hailed and t == task)]
+
+
+@pytest.mark.parametrize("chase", [0, 40])
+def test_with_plan_chase_a_teammate_hailed_that_long_ago_is_not_fetched_for_that_task(chase):
+    # The hail above at step 50 (no heading event, so it told r2 nothing). With plan_chase
+    # 40, r1 still offers that fetch at steps 51 and 89 (r2 may yet see it find the task)
+    # and no longer from step 90, 40 steps after the first hail, though r2 is in sight; the
+    # other task's fetch stands. A second hail does not move the first hail's step.
+    _, view, policy, _, steer_to = _hail(plan_chase=chase)
+    kind, task, helper = policy.previous[0]
+    assert (kind, helper) == ("fetch", 1) and steer_to[0] == task and policy.silent
+    for step, banned in ((51, False), (89, False), (90, True), (200, True)):
+        later = view._replace(step=step, last_seen=np.full((2, 2), step))
+        offered = [(f.task, f.helper) for f in policy.fetches(later, 0)]
+        assert offered == [(t, 1) for t in range(2) if not (chase and banned and t == task)]
+    policy.plan(view._replace(step=60, last_seen=np.full((2, 2), 60)))
+    assert policy.hailed[0, task, 1] == 50
 
 
 @pytest.mark.parametrize("back", [False, True])

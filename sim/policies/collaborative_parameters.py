@@ -205,16 +205,15 @@ class CollaborativeParameters:
         of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
     plan_insight : bool
         A teammate in sight is met where it is seen, not on its sweep. Off (tuning split).
-    plan_hail : bool
-        Fetch only where a ``heads to`` event tells.
     plan_lost : bool
         A teammate a robot gave up fetching for one task is not fetched for any other until
         seen again (``plan_retry``), nor one never seen whose every possible start is ruled
         out: it has left its sweep, and an intercept there is a guess.
-    plan_hailed : bool
-        A teammate hailed for a task (within hailing distance, in sight) that is still not
-        known to know of it is not fetched for it again: without a ``heads to`` event the
-        hail tells nothing, and fetchers chased each other to the step limit.
+    plan_hail, plan_hailed, plan_chase : bool, bool, int
+        Fetch only where a ``heads to`` event tells (``plan_hail``). A teammate hailed for
+        a task (in sight, within hailing distance) still not known to know of it is not
+        fetched for it again: at once (``plan_hailed``), or, with no ``heads to`` event,
+        ``plan_chase`` steps after the first hail (0: off; aif.md §6h, missions 1000-1199).
     plan_told : bool
         Without a ``heads to`` event, a teammate is fetched for a task only if it is
         predicted in sight where the fetcher re-enters the found event's reach of the task
@@ -291,6 +290,7 @@ class CollaborativeParameters:
     plan_hail: bool = False
     plan_lost: bool = True
     plan_hailed: bool = False
+    plan_chase: int = 0
     plan_told: bool = True
     plan_back: bool = False
     plan_hold: bool = True

@@ -197,8 +197,9 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         self.silent = bool(s.events) and not self.hails
         self.held = np.zeros(s.n_tasks, dtype=bool)  # the deciding robot's tasks on hold
         self.previous = [None] * s.n_robots  # (kind, task, helper) of each robot's last plan
-        # hailed[i, t, j]: robot i came within hailing distance of j, in sight, fetching it for t
-        self.hailed = np.zeros((s.n_robots, s.n_tasks, s.n_robots), dtype=bool)
+        # hailed[i, t, j]: the step robot i first came within hailing distance of j, in
+        # sight, fetching it for t (-1: never)
+        self.hailed = np.full((s.n_robots, s.n_tasks, s.n_robots), -1)
         self.back: list = [None] * s.n_robots  # the fetch each robot hailed in, if on it
         self.last_plans: list = [None] * s.n_robots
         self.waiting_now: dict[int, int] = {}  # the deciding robot's waiters (plan_waiters)
@@ -238,7 +239,8 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
             self.backed[i] = False
             targets[i], steer_to[i] = self._act(view, i, self._leg(i, choice), waiting)
             if choice[0] == "fetch" and steer_to[i] == choice[1]:  # the hail: it turns back
-                self.hailed[i, choice[1], choice[2]] = True
+                if self.hailed[i, choice[1], choice[2]] < 0:
+                    self.hailed[i, choice[1], choice[2]] = view.step
                 self.back[i] = choice
         return targets, steer_to
 
@@ -325,7 +327,9 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         for j in range(s.n_robots):
             unaware = self.open_now[i] & ~knows[j] & ~self.gave_up[i, :, j]
             if p.plan_hailed:  # hailed and still not known to know: hailing again tells no more
-                unaware &= ~self.hailed[i, :, j]
+                unaware &= self.hailed[i, :, j] < 0
+            if p.plan_chase and self.silent:  # chased that long since the hail, and untold
+                unaware &= ~self.chased(view, i, j)
             if j == i or not unaware.any() or (p.plan_lost and self.lost(view, i, j)):
                 continue
             if p.plan_rollout and not self.on_sweep(view, i, j, unaware):
@@ -344,6 +348,15 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
                 out.append(Fetch(int(t), j, met[0] + back / speed[i], met[0] + back / speed[j],
                                  found, float(met[0]), tuple(map(float, met[1]))))  # fmt: skip
         return out
+
+    def chased(self, view: View, i: int, j: int) -> np.ndarray:
+        """``(m,)`` the tasks robot ``i`` first hailed teammate ``j`` for at least
+        ``plan_chase`` steps ago (``j`` still not known to know of them): in a mission with
+        no ``heads to`` event a hail tells nothing, and a teammate that has not seen the
+        fetcher find or wait at the task in that time is most likely out fetching itself
+        (mission 165: two fetchers chased each other to the step limit)."""
+        first = self.hailed[i, :, j]
+        return (first >= 0) & (view.step - first >= self.parameters.plan_chase)
 
     def lost(self, view: View, i: int, j: int) -> bool:
         """Whether robot ``i`` knows teammate ``j`` is not on its sweep (``plan_lost``):
