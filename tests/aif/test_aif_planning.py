@@ -33,8 +33,9 @@ def test_expected_completion_time_by_hand():
 
 
 def test_success_risk_by_hand():
-    # The default risk: E[T | the meeting forms] / tau - 3 ln P(it forms), tau = 10 s.
-    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1, temperature=1.0)
+    # The risk: E[T | the meeting forms] / tau - 3 ln P(it forms), tau = 10 s (worked at
+    # success weight 3, the default until session 50, explicitly).
+    planner = Planner(GOALS, MEET, [1.0, 1.0], order=1, temperature=1.0, success_weight=3.0)
     result = planner.plan(0, [[4.0, 0.0], [10.0, 0.0]])
     pi1 = np.exp(-np.array([10.0, 0.0]) / 50.0)
     pi1 /= pi1.sum()
