@@ -193,9 +193,27 @@ class PlanContext:
         finish = (self.row_times if mask is None else self.row_times[mask]).max(axis=1)
         valid = np.bincount(own, weights=w, minlength=m)
         timed = np.bincount(own, weights=w * finish, minlength=m)
+        if p.claim:  # a later teammate finds the goal taken and goes elsewhere
+            share = self.claimed(agent, rows, preds)
+            valid, timed = valid / share, timed / share
         expected = p.risk(valid, timed, self.times[agent])
         options = np.bincount(own, minlength=m) > 0
         return np.where(options, expected, np.inf)
+
+    def claimed(self, agent: int, rows: np.ndarray, preds: np.ndarray) -> np.ndarray:
+        """``(m,)`` for each goal ``g`` of ``agent``, the product over the teammates that
+        reach ``g`` after it and share it with it in no configuration of ``rows`` of their
+        predicted probability of another goal (``Planner.claim``): conditioning them on
+        not taking ``g``, since they would find ``agent`` settled there."""
+        m = preds.shape[1]
+        share = np.ones(m)
+        for g in np.unique(rows[:, agent]):
+            mine = rows[rows[:, agent] == g]
+            later = self.times[:, g] > self.times[agent, g]
+            later &= ~(mine == g).any(axis=0)  # shared in some configuration: no contest
+            later[agent] = False
+            share[g] = np.prod(np.maximum(1.0 - preds[later, g], 1e-3))
+        return share
 
     def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` the goal distribution of ``chain[-1]`` as ``chain[:-1]`` predicts it:

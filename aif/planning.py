@@ -153,14 +153,13 @@ class Planner:
         In ``[0, 1]``: a teammate predicted at order ``k`` is the mixture of orders
         ``0..k`` with weights ``hierarchy ** (k - j)`` (a cognitive hierarchy); 0 predicts
         it at order ``k`` alone (level-k).
-    shown : float
-        Steps a teammate watching the robot (``plan(watching=...)``) sees it head for the
-        goal of an option before the option is scored: at order 2 and above, each option
-        is scored with the watchers predicted from that sight (the value of being seen);
-        0 scores every option under one prediction.
-    sigma : float
-        Error of the watchers' motion model, in steps of the mean top speed
-        (:func:`motion_evidence`): what one step of the robot's shows.
+    shown, sigma : float
+        Steps a watching teammate (``plan(watching=...)``) sees the robot head for an
+        option's goal before it is scored, at order >= 2 (0: one prediction for every
+        option); the watchers' motion error in steps of the mean top speed.
+    claim : bool
+        A goal is held by who reaches it first: teammates that would reach it later, and
+        share it in no configuration, are predicted elsewhere (``PlanContext.claimed``).
     """
 
     def __init__(
@@ -182,6 +181,7 @@ class Planner:
         success_weight: float = 1.0,
         shown: float = 0.0,
         sigma: float = 0.5,
+        claim: bool = False,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -201,6 +201,7 @@ class Planner:
         self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
         self.success_weight = float(as_finite(success_weight, "success_weight"))
         self.shown = float(as_finite(shown, "shown"))
+        self.claim = bool(claim)
         if self.shown < 0:
             raise InvalidArgumentError("shown must be >= 0", hint="steps; 0 leaves it out")
         if self.success_weight < 0:

@@ -162,6 +162,7 @@ class PlanningStage:
             "success_weight": p.plan_success,
             "shown": p.plan_shown,
             "sigma": p.plan_sigma,
+            "claim": p.plan_claim,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)

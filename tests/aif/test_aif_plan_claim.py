@@ -1,0 +1,59 @@
+"""Contested goals priced by arrival (``Planner(claim=...)``, ``plan_claim``): a teammate
+that would reach the robot's goal after it, and shares that goal with it in no
+configuration, is predicted as going elsewhere (it finds the robot settled there)."""
+
+import numpy as np
+import pytest
+
+from epistemica.aif.planning import Planner
+from epistemica.sim.policies.parameters import ActiveParameters
+
+GOALS = [[0.0, 0.0], [10.0, 0.0]]
+SWAP = [[0, 1], [1, 0]]  # allocation of two robots to two goals
+MEET = [[0, 0], [1, 1]]  # rendezvous of two robots at one of two goals
+AT = [[2.0, 0.0], [4.0, 0.0]]  # robot 0 2 m from goal 0, robot 1 4 m from it
+# Unit speeds, tau = 10 s (temperature 1, goals 10 m apart), eta = 5 m (evidence 0.5).
+WORKED = dict(order=1, temperature=1.0, evidence=0.5)
+
+
+def test_a_later_teammate_on_the_robots_goal_is_predicted_elsewhere():
+    # Robot 1 at order 0: the uniform prior times exp(-d / 5):
+    # pi_1 = (e^-0.8, e^-1.2) / sum = (0.5987, 0.4013).
+    pi1 = np.exp([-0.8, -1.2]) / np.exp([-0.8, -1.2]).sum()
+    # Without claims, goal 0 forms only if robot 1 takes goal 1, at max(2, 6) = 6 s:
+    # G(0) = 6 / 10 - ln 0.4013 = 1.513; goal 1 at max(8, 4) = 8 s: G(1) = 0.8 - ln 0.5987
+    # = 1.313. The robot leaves its near goal for the far one.
+    plain = Planner(GOALS, SWAP, [1.0, 1.0], **WORKED).plan(0, AT)
+    assert plain.goal == 1
+    np.testing.assert_allclose(plain.G, [0.6 - np.log(pi1[1]), 0.8 - np.log(pi1[0])])
+    # With claims robot 1, 4 s from goal 0 against robot 0's 2 s, finds goal 0 taken:
+    # conditioned on not taking it, it takes goal 1 with probability 1, so G(0) = 0.6.
+    # At goal 1 robot 1 (6 s) is earlier than robot 0 (8 s): G(1) is unchanged.
+    claimed = Planner(GOALS, SWAP, [1.0, 1.0], claim=True, **WORKED).plan(0, AT)
+    assert claimed.goal == 0
+    np.testing.assert_allclose(claimed.G, [0.6, 0.8 - np.log(pi1[0])])
+
+
+def test_only_the_goals_the_robot_reaches_first_are_claimed():
+    # Mirror: robot 0 at 4 m from goal 0, robot 1 at 2 m; pi_1 = (e^-0.4, e^-1.6) / sum.
+    there = [[4.0, 0.0], [2.0, 0.0]]
+    pi1 = np.exp([-0.4, -1.6]) / np.exp([-0.4, -1.6]).sum()
+    claimed = Planner(GOALS, SWAP, [1.0, 1.0], claim=True, **WORKED).plan(0, there)
+    # Goal 0: robot 1 is there first (2 s against 4 s), its prediction stands:
+    # G(0) = max(4, 8) / 10 - ln pi_1(1). Goal 1: robot 0 is first (6 s against 8 s), so
+    # robot 1 is predicted at goal 0: G(1) = max(6, 2) / 10 = 0.6.
+    np.testing.assert_allclose(claimed.G, [0.8 - np.log(pi1[1]), 0.6])
+
+
+def test_a_goal_shared_in_a_configuration_is_not_contested():
+    # Rendezvous: robot 1 at goal 0 is the meeting, not a conflict.
+    plain = Planner(GOALS, MEET, [1.0, 1.0], **WORKED).plan(0, AT)
+    claimed = Planner(GOALS, MEET, [1.0, 1.0], claim=True, **WORKED).plan(0, AT)
+    np.testing.assert_allclose(claimed.G, plain.G)
+
+
+def test_plan_claim_is_a_switch_off_by_default():
+    assert ActiveParameters().plan_claim is False
+    assert ActiveParameters(plan_claim=True).plan_claim is True
+    with pytest.raises(Exception, match="plan_claim"):
+        ActiveParameters(plan_claim=1)
