@@ -34,7 +34,12 @@ from epistemica.sim.policies.active_stages import ControllerStage
 from epistemica.sim.policies.anticipation import anticipated_prior
 from epistemica.sim.policies.baselines import Convention
 from epistemica.sim.policies.common_view import CommonView
-from epistemica.sim.policies.configuration_sets import ConfigurationSets, held_to, nested_sets
+from epistemica.sim.policies.configuration_sets import (
+    ConfigurationSets,
+    held_to,
+    known_slots,
+    nested_sets,
+)
 from epistemica.sim.policies.explore import Explorer
 from epistemica.sim.policies.joining import Joining
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -249,6 +254,8 @@ class ActiveInference(Policy):
         )
         if self._plans is not None:  # anchors outrank the newest settles (plan_settled)
             sets = held_to(sets, choice.goals[rows], self._plans.anchors(observations, robot))
+            if self.parameters.plan_few:  # a teammate heads only for goals it knows
+                sets = known_slots(sets, observations.knowledge, robot, choice.goals[rows])
         keep = sets.union
         ctrl = self._stage.controller(robot, choice.goals, lambda: rows[keep], shared=False)
         base = self._stage.priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]

@@ -31,7 +31,7 @@ from epistemica.sim.policies.baselines import open_goals
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.tasking import select_tasks, task_slots
 
-__all__ = ["Choice", "ConfigurationSets", "NestedSets", "held_to", "nested_sets"]
+__all__ = ["Choice", "ConfigurationSets", "NestedSets", "held_to", "known_slots", "nested_sets"]
 
 
 class Choice(NamedTuple):
@@ -194,4 +194,37 @@ def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> Nes
         sets.modelled,  # the table keeps every configuration some perspective keeps
         {j: hold(mask) for j, mask in sets.pairs.items()},
         {chain: hold(mask) for chain, mask in sets.triples.items()},
+    )
+
+
+def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: np.ndarray
+                ) -> NestedSets:  # fmt: skip
+    """``sets`` with each teammate's chain that keeps no configuration because the teammate
+    knows too few open goals (as the chain knows it) held to the configurations that put it
+    at a goal it knows (``plan_few``): it cannot head for a goal it was never shown, while
+    an empty set restricts nothing. Other chains, and chains whose teammate knows every goal
+    of ``table`` (``(k, n)``, scenario indices) or none, are unchanged.
+
+    Examples
+    --------
+    >>> from epistemica.sim.engine.knowledge import TeamKnowledge
+    >>> knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2"], [[True, False], [True, True]])
+    >>> table = np.array([[0, 1], [1, 0]])                # an allocation of two
+    >>> sets = NestedSets(np.array([True, True]), [], {0: np.zeros(2, bool)}, {})
+    >>> known_slots(sets, knowledge, 1, table).pairs[0].tolist()  # r1 knows only g1
+    [True, False]
+    """
+
+    def fill(chain: tuple[int, ...], mask: np.ndarray) -> np.ndarray:
+        if mask.any():
+            return mask
+        known = knowledge.knows_goals(chain) & ~knowledge.knows_done(chain)
+        slot = known[table[:, chain[-1]]]
+        return slot if slot.any() and not slot.all() else mask
+
+    return NestedSets(
+        sets.own,
+        sets.modelled,
+        {j: fill((robot, j), mask) for j, mask in sets.pairs.items()},
+        {(j, k): fill((robot, j, k), mask) for (j, k), mask in sets.triples.items()},
     )

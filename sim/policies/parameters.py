@@ -172,11 +172,12 @@ class ActiveParameters:
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off).
-    plan_blind, plan_resight, plan_filter, plan_claim : bool
+    plan_blind, plan_resight, plan_filter, plan_claim, plan_few : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
-        price a contested goal by who reaches it first (``Planner(claim=)``; aif.md §6g).
+        price a contested goal by who reaches it first (``Planner(claim=)``; aif.md §6g);
+        hold a teammate that knows too few goals to those it knows (``known_slots``; §6g).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
@@ -238,6 +239,7 @@ class ActiveParameters:
     plan_sighted: bool = True
     plan_shown: float = 0.0
     plan_claim: bool = False
+    plan_few: bool = False
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -264,7 +266,7 @@ class ActiveParameters:
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
                     "plan_blind", "plan_meet", "plan_anchor", "plan_sighted",
-                    "plan_resight", "plan_filter", "plan_claim")  # fmt: skip
+                    "plan_resight", "plan_filter", "plan_claim", "plan_few")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
