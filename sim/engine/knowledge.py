@@ -244,6 +244,33 @@ class TeamKnowledge:
             self._done[chain] = known
         return known.copy()
 
+    def unshown(self, chain: Chain) -> np.ndarray:
+        """``(m,)`` the goals the chain knows its last robot was not shown: opened and
+        revealed by an event the rest of the chain saw fully and that robot did not (a goal
+        closed before it opened could not be discovered; only coming near it shows it).
+
+        Examples
+        --------
+        >>> k = TeamKnowledge(["a", "b"], ["x", "y"], [[True, False], [True, False]])
+        >>> k.observe(Observation("opens", full={"a"}, aware=k._goal_atoms[1],
+        ...                       withdraws=(k.closed[1],)))
+        True
+        >>> k.unshown((0, 1)).tolist(), k.unshown((1, 0)).tolist()
+        ([False, True], [False, False])
+        """
+        out = np.zeros(self.m, dtype=bool)
+        if len(chain) < 2:
+            return out
+        agent, events = self.robots[chain[-1]], self.state.observations
+        for i in self.state.observed(tuple(chain[:-1]), fully=True):
+            if agent in events[i].full:
+                continue
+            for fact in events[i].withdraws:
+                g = self._closed_goal.get(fact, -1)
+                if g >= 0 and self._goal_atoms[g] <= events[i].aware:
+                    out[g] = True
+        return out & ~self.knows_goals(chain)
+
     def private_goals(self, robot: int) -> bool:
         """Whether ``robot`` knows of a goal that it does not know every teammate knows."""
         own = self.knows_goals((robot,))

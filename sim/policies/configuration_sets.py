@@ -199,27 +199,31 @@ def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> Nes
 
 def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: np.ndarray
                 ) -> NestedSets:  # fmt: skip
-    """``sets`` with each teammate's chain that keeps no configuration because the teammate
-    knows too few open goals (as the chain knows it) held to the configurations that put it
-    at a goal it knows (``plan_few``): it cannot head for a goal it was never shown, while
-    an empty set restricts nothing. Other chains, and chains whose teammate knows every goal
-    of ``table`` (``(k, n)``, scenario indices) or none, are unchanged.
+    """``sets`` with each chain that keeps no configuration held to the configurations that
+    put its last robot at a goal it may know (``plan_few``): not at one the chain knows it
+    was not shown (:meth:`TeamKnowledge.unshown`), which an empty set, restricting nothing,
+    allows. Other chains, and chains with no such goal in ``table`` (``(k, n)``, scenario
+    indices) or only such goals, are unchanged.
 
     Examples
     --------
+    >>> from epistemica.del_.state import Observation
     >>> from epistemica.sim.engine.knowledge import TeamKnowledge
-    >>> knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2"], [[True, False], [True, True]])
-    >>> table = np.array([[0, 1], [1, 0]])                # an allocation of two
+    >>> knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2"], [[True, False], [True, False]])
+    >>> opened = Observation("opens", full={"r2"}, aware=knowledge._goal_atoms[1],
+    ...                      withdraws=(knowledge.closed[1],))
+    >>> knowledge.observe(opened)                      # g2 opens, shown to r2 alone
+    True
+    >>> table = np.array([[0, 1], [1, 0]])             # an allocation of two
     >>> sets = NestedSets(np.array([True, True]), [], {0: np.zeros(2, bool)}, {})
-    >>> known_slots(sets, knowledge, 1, table).pairs[0].tolist()  # r1 knows only g1
+    >>> known_slots(sets, knowledge, 1, table).pairs[0].tolist()  # r1 at g1
     [True, False]
     """
 
     def fill(chain: tuple[int, ...], mask: np.ndarray) -> np.ndarray:
         if mask.any():
             return mask
-        known = knowledge.knows_goals(chain) & ~knowledge.knows_done(chain)
-        slot = known[table[:, chain[-1]]]
+        slot = ~knowledge.unshown(chain)[table[:, chain[-1]]]
         return slot if slot.any() and not slot.all() else mask
 
     return NestedSets(

@@ -1,8 +1,9 @@
-"""A teammate that knows too few goals heads only for goals it knows (``plan_few``,
-:func:`~epistemica.sim.policies.configuration_sets.known_slots`): its empty set is held to
-the configurations that put it at a goal it knows, and, end to end, tuning mission
-asymmetry 2, where the robot shown the new goal now takes it and leaves the old one to the
-teammate that knows only that."""
+"""A teammate that knows too few goals is not predicted at a goal it was not shown
+(``plan_few``, :func:`~epistemica.sim.policies.configuration_sets.known_slots`,
+:meth:`~epistemica.sim.engine.knowledge.TeamKnowledge.unshown`): its empty set is held off
+goals opened by an event it did not see, and, end to end, tuning mission asymmetry 2, where
+the robot shown the new goal now takes it and leaves the old one to the teammate that knows
+only that."""
 
 from __future__ import annotations
 
@@ -10,8 +11,10 @@ import numpy as np
 import pytest
 
 from epistemica.aif.planning import Planner
+from epistemica.del_.state import Observation
 from epistemica.mission import parse_mission
 from epistemica.sim.engine.knowledge import TeamKnowledge
+from epistemica.sim.engine.worlds import goal_atoms
 from epistemica.sim.policies.configuration_sets import NestedSets, known_slots
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import recording_plans
@@ -28,43 +31,54 @@ def _sets(knowledge: TeamKnowledge, robot: int) -> NestedSets:
     return NestedSets(own, [pair], {teammate: pair}, {(teammate, robot): triple})
 
 
-def test_a_teammate_shown_one_goal_is_held_to_it():
-    # r1 was shown g1 alone; r2 was shown g1 and g2 (and knows r1 was not shown g2).
+def _opens(knowledge: TeamKnowledge, goal: int, full: set[str]) -> None:
+    """``goal`` opens and is revealed to ``full`` (as a mission event's ``reveals``)."""
+    atoms = goal_atoms(knowledge.robots, knowledge.goals[goal])
+    knowledge.observe(Observation("change", full=full, aware=atoms,
+                                  withdraws=(knowledge.closed[goal],)))  # fmt: skip
+
+
+def test_a_teammate_not_shown_an_opened_goal_is_held_off_it():
+    # r1 was shown g1; r2 g1 and g2 (privately); g3 opens, revealed to r2 alone.
     knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
                               [[True, False, False], [True, True, False]])  # fmt: skip
+    _opens(knowledge, 2, {"r2"})
+    assert knowledge.unshown((1, 0)).tolist() == [False, False, True]
     sets = _sets(knowledge, 1)
-    assert sets.own.tolist() == [True, True, False, False, False, False]
+    assert sets.own.tolist() == [True] * 6
     assert not sets.pairs[0].any()  # r1 conceives of no allocation: restricts nothing
     held = known_slots(sets, knowledge, 1, TABLE)
-    # The rows with r1 (column 0) at g1, the one goal it knows, whoever is elsewhere.
-    assert held.pairs[0].tolist() == [True, False, True, False, False, False]
-    # What r1 thinks r2 does: r1 knows r2 knows g1 only (g2 is private to r2).
-    assert held.triples[0, 1].tolist() == [False, True, False, True, False, False]
+    # Rows with r1 (column 0) off g3; g2 stays: r1 may have been shown it too.
+    assert held.pairs[0].tolist() == [True, True, True, False, True, False]
+    # What r1 thinks r2 does: r1 did not see the event, so it knows of nothing unshown.
+    assert held.triples[0, 1] is sets.triples[0, 1]
     assert held.own is sets.own
 
 
-def test_goals_known_closed_do_not_count_and_full_sets_are_kept():
+def test_goals_private_from_the_start_or_shown_later_hold_nothing():
+    # Private from the start (generated missions' knows lines): a teammate may have been
+    # shown them too, so nothing says it was not.
     knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
-                              [[True, True, False], [True, True, True]])  # fmt: skip
+                              [[True, False, False], [True, True, True]])  # fmt: skip
+    sets = _sets(knowledge, 1)
+    assert not sets.pairs[0].any()
+    assert not knowledge.unshown((1, 0)).any()
+    assert known_slots(sets, knowledge, 1, TABLE).pairs[0] is sets.pairs[0]
+    # An opened goal the teammate has since been seen to learn (a discovery both saw).
+    knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
+                              [[True, False, False], [True, True, False]])  # fmt: skip
+    _opens(knowledge, 2, {"r2"})
+    knowledge.discover(2, np.ones(2, dtype=bool))
+    assert not knowledge.unshown((1, 0)).any()
+
+
+def test_a_chain_with_configurations_is_left_alone():
+    knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
+                              [[True, True, False], [True, True, False]])  # fmt: skip
+    _opens(knowledge, 2, {"r2"})
     sets = _sets(knowledge, 1)
     assert sets.pairs[0].tolist() == [True, True, False, False, False, False]
     assert known_slots(sets, knowledge, 1, TABLE).pairs[0] is sets.pairs[0]
-    knowledge.notice_closed(1, np.ones(2, dtype=bool))  # g2 closes, seen by both
-    sets = _sets(knowledge, 1)
-    assert not sets.pairs[0].any()  # r1 knows one open goal, g1
-    held = known_slots(sets, knowledge, 1, TABLE).pairs[0]
-    assert held.tolist() == [True, False, True, False, False, False]
-
-
-def test_a_teammate_that_knows_every_goal_or_none_is_left_alone():
-    empty = np.zeros(len(TABLE), dtype=bool)
-    knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
-                              [[False, False, False], [True, True, True]])  # fmt: skip
-    sets = NestedSets(np.ones(len(TABLE), bool), [], {0: empty}, {(0, 1): empty})
-    held = known_slots(sets, knowledge, 1, TABLE)  # r1 knows no goal: nothing to hold it to
-    assert not held.pairs[0].any() and not held.triples[0, 1].any()
-    every = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"])
-    assert not known_slots(sets, every, 1, TABLE).pairs[0].any()
 
 
 def test_the_held_teammate_leaves_the_robot_the_goal_it_alone_knows():
