@@ -254,8 +254,9 @@ class ActiveInference(Policy):
         )
         if self._plans is not None:  # anchors outrank the newest settles (plan_settled)
             sets = held_to(sets, choice.goals[rows], self._plans.anchors(observations, robot))
-            if self.parameters.plan_few:  # a teammate heads only for goals it knows
-                sets = known_slots(sets, observations.knowledge, robot, choice.goals[rows])
+            if self.parameters.plan_few:  # nor for goals it was not shown
+                sets = known_slots(sets, observations.knowledge, robot, choice.goals[rows],
+                                   self._near(observations, robot))  # fmt: skip
         keep = sets.union
         ctrl = self._stage.controller(robot, choice.goals, lambda: rows[keep], shared=False)
         base = self._stage.priors(ctrl, self.common_view.views(observations, (robot,)), (robot,))[0]
@@ -306,6 +307,17 @@ class ActiveInference(Policy):
         else:
             d = self._stage.prior_mode(ctrl, robot, observations.poses[robot, robot], own)
         self._record_nested(out, row, robot, ctrl, choice, rows, sets, d)
+
+    def _near(self, observations: Observations, robot: int) -> np.ndarray:
+        """``(n, m)`` whether the robot sees each robot within discovery range of each goal
+        (the sensor's range, as :class:`~epistemica.sim.engine.sensing.Sensing` sets it):
+        it may have discovered it (``plan_few``)."""
+        s = self.scenario
+        sensing = np.inf if s.sensing_range is None else s.sensing_range
+        reach = s.discovery_range if s.discovery_range is not None else min(sensing, 10.0)
+        at = observations.poses[robot, :, None, :2] - s.goals[None]
+        seen = observations.last_seen[robot] >= 0  # a placeholder is nowhere
+        return (np.hypot(at[..., 0], at[..., 1]) <= reach) & seen[:, None]
 
     def _record_nested(self, out, row, robot, ctrl, choice, rows, sets, d) -> None:
         out.unpruned[row] = rows.shape[0]

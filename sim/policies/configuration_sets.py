@@ -197,13 +197,14 @@ def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> Nes
     )
 
 
-def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: np.ndarray
-                ) -> NestedSets:  # fmt: skip
+def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: np.ndarray,
+                near: np.ndarray | None = None) -> NestedSets:  # fmt: skip
     """``sets`` with each chain that keeps no configuration held to the configurations that
     put its last robot at a goal it may know (``plan_few``): not at one the chain knows it
     was not shown (:meth:`TeamKnowledge.unshown`), which an empty set, restricting nothing,
     allows. Other chains, and chains with no such goal in ``table`` (``(k, n)``, scenario
-    indices) or only such goals, are unchanged.
+    indices) or only such goals, are unchanged. ``near`` (``(n, m)`` booleans): where the
+    robot places a teammate within discovery range of a goal, it may have been shown it.
 
     Examples
     --------
@@ -223,7 +224,10 @@ def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: n
     def fill(chain: tuple[int, ...], mask: np.ndarray) -> np.ndarray:
         if mask.any():
             return mask
-        slot = ~knowledge.unshown(chain)[table[:, chain[-1]]]
+        unshown = knowledge.unshown(chain)
+        if near is not None:
+            unshown &= ~near[chain[-1]]
+        slot = ~unshown[table[:, chain[-1]]]
         return slot if slot.any() and not slot.all() else mask
 
     return NestedSets(

@@ -53,6 +53,13 @@ def test_a_teammate_not_shown_an_opened_goal_is_held_off_it():
     # What r1 thinks r2 does: r1 did not see the event, so it knows of nothing unshown.
     assert held.triples[0, 1] is sets.triples[0, 1]
     assert held.own is sets.own
+    # Seen within discovery range of g3, r1 may have discovered it: nothing held.
+    near = np.zeros((2, 3), dtype=bool)
+    near[0, 2] = True
+    assert known_slots(sets, knowledge, 1, TABLE, near).pairs[0] is sets.pairs[0]
+    assert known_slots(sets, knowledge, 1, TABLE, near[::-1]).pairs[0].tolist() == (
+        held.pairs[0].tolist()
+    )
 
 
 def test_goals_private_from_the_start_or_shown_later_hold_nothing():
