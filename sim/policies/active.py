@@ -254,7 +254,7 @@ class ActiveInference(Policy):
         )
         if self._plans is not None:  # anchors outrank the newest settles (plan_settled)
             sets = held_to(sets, choice.goals[rows], self._plans.anchors(observations, robot))
-            if self.parameters.plan_few:  # nor for goals it was not shown
+            if self.parameters.plan_few and self.parameters.free_energy:  # the plan's chains
                 sets = known_slots(sets, observations.knowledge, robot, choice.goals[rows],
                                    self._near(observations, robot))  # fmt: skip
         keep = sets.union

@@ -7,7 +7,8 @@ total distance, :func:`epistemica.aif.prior.plausible_configurations`) beyond; f
 multitask, the allocations of the tasks the team works on now
 (:mod:`~epistemica.sim.policies.tasking`). :func:`nested_sets` restricts that table to what the
 robot believes possible and, per modelled teammate, to what the robot knows that teammate
-keeps (docs/aif.md, "Nested configuration sets").
+keeps (docs/aif.md, "Nested configuration sets"); :func:`held_to` and :func:`known_slots`
+adjust those sets for the planner (anchors, goals a teammate was not shown).
 """
 
 from __future__ import annotations

@@ -146,5 +146,5 @@ def test_mission_asymmetry_2_r2_takes_the_goal_only_it_was_shown(few, goal):
     assert len(after) == 2 and set(after) == {goal}  # g3 without the option, g4 with it
 
 
-def test_off_by_default():
-    assert ActiveParameters().plan_few is False
+def test_on_by_default():
+    assert ActiveParameters().plan_few is True
