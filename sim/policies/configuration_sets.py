@@ -200,9 +200,10 @@ def held_to(sets: NestedSets, table: np.ndarray, anchors: dict[int, int]) -> Nes
 
 def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: np.ndarray,
                 near: np.ndarray | None = None) -> NestedSets:  # fmt: skip
-    """``sets`` with each chain that keeps no configuration held to the configurations that
-    put its last robot at a goal it may know (``plan_few``): not at one the chain knows it
-    was not shown (:meth:`TeamKnowledge.unshown`), which an empty set, restricting nothing,
+    """``sets`` with each chain that keeps no configuration, although its last robot knows
+    an open goal of ``table`` (too few for a configuration), held to the configurations that
+    put that robot at a goal it may know (``plan_few``): not at one the chain knows it was
+    not shown (:meth:`TeamKnowledge.unshown`), which an empty set, restricting nothing,
     allows. Other chains, and chains with no such goal in ``table`` (``(k, n)``, scenario
     indices) or only such goals, are unchanged. ``near`` (``(n, m)`` booleans): where the
     robot places a teammate within discovery range of a goal, it may have been shown it.
@@ -223,8 +224,9 @@ def known_slots(sets: NestedSets, knowledge: TeamKnowledge, robot: int, table: n
     """
 
     def fill(chain: tuple[int, ...], mask: np.ndarray) -> np.ndarray:
-        if mask.any():
-            return mask
+        known = knowledge.knows_goals(chain) & ~knowledge.knows_done(chain)
+        if mask.any() or not known[table[:, chain[-1]]].any():
+            return mask  # one that knows no open goal sweeps: it ends where it finds the team
         unshown = knowledge.unshown(chain)
         if near is not None:
             unshown &= ~near[chain[-1]]

@@ -79,6 +79,19 @@ def test_goals_private_from_the_start_or_shown_later_hold_nothing():
     assert not knowledge.unshown((1, 0)).any()
 
 
+def test_a_teammate_that_knows_no_open_goal_is_left_alone():
+    # r1 knew g1 only, and saw it close; g3 opens, shown to r2 alone. r1 sweeps and ends
+    # where it finds the team (tuning asymmetry 121, a rendezvous, lost a trial with it held).
+    knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
+                              [[True, False, False], [True, True, False]])  # fmt: skip
+    knowledge.notice_closed(0, np.ones(2, dtype=bool))
+    _opens(knowledge, 2, {"r2"})
+    assert knowledge.unshown((1, 0)).tolist() == [False, False, True]
+    sets = _sets(knowledge, 1)
+    assert not sets.pairs[0].any()
+    assert known_slots(sets, knowledge, 1, TABLE).pairs[0] is sets.pairs[0]
+
+
 def test_a_chain_with_configurations_is_left_alone():
     knowledge = TeamKnowledge(["r1", "r2"], ["g1", "g2", "g3"],
                               [[True, True, False], [True, True, False]])  # fmt: skip
