@@ -177,7 +177,7 @@ class ActiveParameters:
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
         price a contested goal by who reaches it first (``Planner(claim=)``; aif.md §6g);
-        predict a teammate with no configuration off goals it was not shown (known_slots; on).
+        predict a teammate that knows too few goals off those it was not shown (known_slots; on).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
