@@ -167,16 +167,17 @@ class ActiveParameters:
         robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off); steps
         a robot outnumbered by teammates seen settled at a goal it does not know waits before
         it joins them (rendezvous; :mod:`epistemica.sim.policies.joining`; 3, on since
-        session 50: it wins tuning asymmetry 97 and changes no other tuning or design
-        trial; 0: off).
+        session 50, aif.md §6g: it wins tuning asymmetry 97 and nothing else moves; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off).
-    plan_blind, plan_resight, plan_filter, plan_claim : bool
+    plan_blind, plan_resight, plan_filter : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
-        filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
-        price a contested goal by who reaches it first (``Planner(claim=)``; aif.md §6g).
+        filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md).
+    plan_claim : {0, 1, 2}
+        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 every later
+        teammate yields; 2 each with its type posterior on team (``Planner.plan(yields=)``).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
@@ -237,7 +238,7 @@ class ActiveParameters:
     plan_anchor: bool = True
     plan_sighted: bool = True
     plan_shown: float = 0.0
-    plan_claim: bool = False
+    plan_claim: int = 0
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -264,7 +265,7 @@ class ActiveParameters:
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
                     "plan_blind", "plan_meet", "plan_anchor", "plan_sighted",
-                    "plan_resight", "plan_filter", "plan_claim")  # fmt: skip
+                    "plan_resight", "plan_filter")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
@@ -307,6 +308,7 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
+        _check_choice("plan_claim", self.plan_claim, (0, 1, 2), "0 off, 1 all yield, 2 by type")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):
@@ -347,6 +349,12 @@ def names() -> list[str]:
     return [f.name for f in fields(ActiveParameters) if f.name != "controller"] + list(
         CONTROLLER_OPTIONS
     )
+
+
+def _check_choice(name: str, value, choices: tuple, hint: str) -> None:
+    """Raise unless ``value`` is one of the integers ``choices`` (a bool is not one)."""
+    if isinstance(value, bool) or value not in choices:
+        raise InvalidArgumentError(f"{name} must be one of {choices}, got {value!r}", hint=hint)
 
 
 def _unknown(name: str) -> InvalidArgumentError:
