@@ -17,7 +17,7 @@ from epistemica.del_.errors import InvalidArgumentError
 if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
     from epistemica.aif.planning import Planner
 
-__all__ = ["PlanContext", "quasi_uniform"]
+__all__ = ["PlanContext", "places_in_square", "quasi_uniform"]
 
 
 class PlanContext:
@@ -42,6 +42,7 @@ class PlanContext:
         self.typed: dict[int, np.ndarray] = {}  # teammate -> its ad hoc type's goals
         self.held: np.ndarray | None = None  # the configurations the typed teammates allow
         self.blind = np.zeros(pos.shape[0], dtype=bool)  # robots never seen (see ``hide``)
+        self.yields: np.ndarray | None = None  # P(a teammate yields a goal it finds taken)
 
     def hide(self, robot: int, never: np.ndarray) -> None:
         """Mark the teammates in ``never`` (``(n,)`` booleans) as never seen: the
@@ -55,6 +56,18 @@ class PlanContext:
             )
         self.blind = never.copy()
         self.blind[robot] = False
+
+    def give_way(self, robot: int, yields) -> None:
+        """Set ``yields`` (``(n,)`` in ``[0, 1]``): the probability that each teammate gives
+        up a goal it finds taken (``claimed``); the robot's own entry is 1 (a planner)."""
+        yields = np.array(yields, dtype=float)
+        if yields.shape != self.blind.shape or not np.all((yields >= 0) & (yields <= 1)):
+            raise InvalidArgumentError(
+                f"yields must be {self.blind.shape} numbers in [0, 1], got {yields!r}",
+                hint="per robot, P(it is a planner), e.g. its type posterior on team",
+            )
+        yields[robot] = 1.0
+        self.yields = yields
 
     def type_rows(self, robot: int, typed: np.ndarray) -> None:
         """Predict each teammate with a row in ``typed`` (``(n, m)``, ``nan`` rows for
@@ -106,7 +119,7 @@ class PlanContext:
             moved[hidden] = draw[hidden]
             there = PlanContext(self.p, moved, self.prior, self.sets, self.masks)
             there.evidence = there.evidence + self.extra
-            there.typed, there.held = self.typed, self.held
+            there.typed, there.held, there.yields = self.typed, self.held, self.yields
             for key, (chain, order) in keys.items():
                 total[key] = total[key] + there.choice(chain, order)
         for key, value in total.items():
@@ -201,10 +214,18 @@ class PlanContext:
         return np.where(options, expected, np.inf)
 
     def claimed(self, agent: int, rows: np.ndarray, preds: np.ndarray) -> np.ndarray:
-        """``(m,)`` for each goal ``g`` of ``agent``, the product over the teammates that
-        reach ``g`` after it and share it with it in no configuration of ``rows`` of their
-        predicted probability of another goal (``Planner.claim``): conditioning them on
-        not taking ``g``, since they would find ``agent`` settled there."""
+        """``(m,)`` for each goal ``g`` of ``agent``, the factor that conditions the
+        teammates reaching ``g`` after it (and sharing it with it in no configuration of
+        ``rows``) on finding ``agent`` settled there (``Planner.claim``).
+
+        Teammate ``l`` yields with probability ``y_l`` (``self.yields``; 1 for all when
+        unset): a planner finds ``g`` taken and goes elsewhere, ``pi_l(h) / (1 - pi_l(g))``
+        for ``h != g``; an ad hoc teammate keeps ``pi_l``. In the configurations with
+        ``agent`` at ``g``, ``l`` is not at ``g``, so the mixture multiplies their weight
+        by ``y_l / (1 - pi_l(g)) + 1 - y_l``: the factor (a divisor of ``P(g)`` and
+        ``E[T | g]``'s numerator) is ``prod_l (1 - pi_l(g)) / (1 - pi_l(g) + y_l pi_l(g))``,
+        ``1 - pi_l(g)`` for a planner and 1 for a teammate that never yields.
+        """
         m = preds.shape[1]
         share = np.ones(m)
         for g in np.unique(rows[:, agent]):
@@ -212,7 +233,10 @@ class PlanContext:
             later = self.times[:, g] > self.times[agent, g]
             later &= ~(mine == g).any(axis=0)  # shared in some configuration: no contest
             later[agent] = False
-            share[g] = np.prod(np.maximum(1.0 - preds[later, g], 1e-3))
+            kept = np.maximum(1.0 - preds[later, g], 1e-3)
+            if self.yields is not None:  # only who yields is conditioned (the mixture)
+                kept = kept / (kept + self.yields[later] * preds[later, g])
+            share[g] = np.prod(kept)
         return share
 
     def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
@@ -298,3 +322,17 @@ def quasi_uniform(count: int, dims: int) -> np.ndarray:
     primes = np.array([2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53])
     steps = np.sqrt(primes[np.arange(dims) % primes.size] + dims // primes.size * 100)
     return np.mod((np.arange(count)[:, None] + 0.5) * steps[None], 1.0)
+
+
+def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
+    """``(count, robots, 2)`` places spread evenly over the square ``[0, side]²``: the
+    draws of where a robot never seen may be (a low-discrepancy sequence, so a plan stays
+    a deterministic function of what the robot observes).
+
+    Examples
+    --------
+    >>> places = places_in_square(8, 3, 30.0)
+    >>> places.shape, bool((places >= 0).all() and (places <= 30).all())
+    ((8, 3, 2), True)
+    """
+    return quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)

@@ -57,7 +57,7 @@ import numpy as np
 from epistemica.aif._validate import as_finite, positive, positive_int
 from epistemica.aif.evidence import check_order, check_robot
 from epistemica.aif.likelihood import check_configurations
-from epistemica.aif.plan_context import PlanContext, quasi_uniform
+from epistemica.aif.plan_context import PlanContext, places_in_square
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
@@ -159,7 +159,8 @@ class Planner:
         option); the watchers' motion error in steps of the mean top speed.
     claim : bool
         A goal is held by who reaches it first: teammates that would reach it later, and
-        share it in no configuration, are predicted elsewhere (``PlanContext.claimed``).
+        share it in no configuration, are predicted elsewhere (``PlanContext.claimed``),
+        each with the probability that it yields (``plan(yields=)``; default: all do).
     """
 
     def __init__(
@@ -241,6 +242,7 @@ class Planner:
         blind=None,
         watching=None,
         progress: float = 0.0,
+        yields=None,
     ) -> PlanResult:
         """Robot ``robot``'s plan from the positions it observes.
 
@@ -253,9 +255,8 @@ class Planner:
         prior : array_like, optional
             ``(k,)`` configuration weights (default uniform), read by order 0.
         sets : mapping, optional
-            Chain ``(robot, l, ...)`` -> ``(k,)`` booleans: the configurations ``robot``
-            knows the chain's last robot keeps, as its middle robots see it (default: the
-            longest prefix with an entry; an empty set restricts nothing).
+            Chain ``(robot, l, ...)`` -> ``(k,)`` booleans: what ``robot`` knows the last one
+            keeps, as the middle ones see it (default: the longest prefix's; empty: all).
         moving : array_like, optional
             ``(n,)`` in ``[0, 1]``: the share of its speed each teammate was seen to use.
         evidence : array_like, optional
@@ -264,15 +265,15 @@ class Planner:
         previous : int, optional
             The goal it headed for at its last plan: changing it costs ``commitment``
             nats and the ``progress`` seconds it has driven towards it.
-        unseen : array_like, optional
-            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan``: seen).
-        typed : array_like, optional
+        unseen, typed : array_like, optional
+            ``(P, n, 2)`` draws of where each teammate never seen may be (``nan``: seen);
             ``(n, m)`` goal distributions of ad hoc teammates (``nan`` rows: planners;
             :func:`epistemica.aif.teammates.typed_predictions`).
-        blind, watching : array_like, optional
-            ``(n,)`` booleans. ``blind``: the teammates never seen (a placeholder is no
-            evidence of one's goal, nor of others they predict); ``watching``: those that
-            see the robot now (``shown``).
+        blind, watching, yields : array_like, optional
+            ``(n,)``. ``blind``: the teammates never seen (a placeholder is no evidence of
+            one's goal, nor of others they predict); ``watching``: those that see the robot
+            now (``shown``); ``yields``, in ``[0, 1]``: the probability that each gives up a
+            goal it finds taken, as a planner does (``claim``; default 1).
 
         Examples
         --------
@@ -288,7 +289,7 @@ class Planner:
         n, k = self.speeds.shape[0], self.configurations.shape[0]
         pos = as_finite(positions, "positions", ndim=2, shape=(n, None))[:, :2]
         weights, moving, evidence, unseen = self._inputs(k, prior, moving, evidence, unseen)
-        inputs = (pos, weights, sets, evidence, unseen, blind)
+        inputs = (pos, weights, sets, evidence, unseen, blind, yields)
         context = self._context(robot, *inputs, typed)
         G = self._shown(context, robot, inputs, typed, watching)
         G = self._own_costs(G, robot, weights, previous, progress)
@@ -321,8 +322,8 @@ class Planner:
 
     def _as_planners(self, context, robot: int, preds: np.ndarray, inputs) -> np.ndarray:
         """``preds`` with each typed teammate's row its prediction as a planner: the same
-        plan's ``inputs`` (positions, prior, sets, evidence, draws, blind) without the
-        types."""
+        plan's ``inputs`` (positions, prior, sets, evidence, draws, blind, yields) without
+        the types."""
         planned = preds.copy()
         if context.typed:
             plain = self._context(robot, *inputs, None)
@@ -330,12 +331,14 @@ class Planner:
                 planned[j] = plain.choice((robot, j), max(self.order - 1, 0))
         return planned
 
-    def _context(self, robot: int, pos, weights, sets, evidence, unseen, blind, typed
-                 ) -> PlanContext:  # fmt: skip
-        """One plan's predictions: the moves' evidence and who was never seen first
-        (every prediction below reads them), then the typed teammates and the unseen
-        teammates' draws."""
+    def _context(self, robot: int, pos, weights, sets, evidence, unseen, blind, yields,
+                 typed) -> PlanContext:  # fmt: skip
+        """One plan's predictions: the moves' evidence, who was never seen and who yields
+        first (every prediction below reads them), then the typed teammates and the
+        unseen teammates' draws."""
         context = PlanContext(self, pos, weights, dict(sets or {}))
+        if yields is not None:
+            context.give_way(robot, yields)
         if blind is not None:
             context.hide(robot, blind)
         if evidence is not None:
@@ -400,20 +403,6 @@ class Planner:
             G = G + switch
             G[previous] -= switch
         return G
-
-
-def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
-    """``(count, robots, 2)`` places spread evenly over the square ``[0, side]²``: the
-    draws of where a robot never seen may be (a low-discrepancy sequence, so a plan stays
-    a deterministic function of what the robot observes).
-
-    Examples
-    --------
-    >>> places = places_in_square(8, 3, 30.0)
-    >>> places.shape, bool((places >= 0).all() and (places <= 30).all())
-    ((8, 3, 2), True)
-    """
-    return quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)
 
 
 def motion_evidence(before, after, goals, speeds, dt: float, sigma) -> np.ndarray:

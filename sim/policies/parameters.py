@@ -142,12 +142,11 @@ class ActiveParameters:
         one order down over the sets the robot knows they keep, instead of the one-step
         controller over controls. The anticipation rule (``anticipate``) is then not
         applied: the planner's nested predictions subsume it.
-    plan_horizon : int
-        Steps of the planner's waiting option (``third-wait``: 3; 1: none).
+    plan_horizon, plan_particles : int
+        Steps of the planner's waiting option (``third-wait``: 3; 1: none); particles of the
+        teammates' choices that score it.
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
-    plan_particles : int
-        Particles of the teammates' choices that score the waiting option.
     plan_sigma, plan_noise, plan_progress : float
         Error of the planner's motion model in steps of the mean top speed (motion_evidence);
         weight of the two sightings' variance (as the sensor states it) added to its square
@@ -166,18 +165,18 @@ class ActiveParameters:
         from them (0: its placeholder); plans at which a teammate seen settled away from the
         robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off); steps
         a robot outnumbered by teammates seen settled at a goal it does not know waits before
-        it joins them (rendezvous; :mod:`epistemica.sim.policies.joining`; 3, on since
-        session 50: it wins tuning asymmetry 97 and changes no other tuning or design
-        trial; 0: off).
+        it joins them (:mod:`epistemica.sim.policies.joining`; 3 since session 50; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
         (aif.md §6g; 0: off).
-    plan_blind, plan_resight, plan_filter, plan_claim, plan_few : bool
+    plan_blind, plan_resight, plan_filter, plan_few : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
-        price a contested goal by who reaches it first (``Planner(claim=)``; aif.md §6g);
         predict a teammate that knows too few goals off those it was not shown (known_slots; on).
+    plan_claim : {0, 1, 2}
+        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 a later teammate
+        yields; 2 with its posterior on the team type (``Planner.plan(yields=)``).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
@@ -238,7 +237,7 @@ class ActiveParameters:
     plan_anchor: bool = True
     plan_sighted: bool = True
     plan_shown: float = 0.0
-    plan_claim: bool = False
+    plan_claim: int = 0
     plan_few: bool = True
     controller: tuple[tuple[str, object], ...] = field(default=())
 
@@ -266,7 +265,7 @@ class ActiveParameters:
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
                     "plan_blind", "plan_meet", "plan_anchor", "plan_sighted",
-                    "plan_resight", "plan_filter", "plan_claim", "plan_few")  # fmt: skip
+                    "plan_resight", "plan_filter", "plan_few")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(
@@ -309,6 +308,7 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
+        _check_choice("plan_claim", self.plan_claim, (0, 1, 2), "0 off, 1 all yield, 2 by type")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):
@@ -349,6 +349,12 @@ def names() -> list[str]:
     return [f.name for f in fields(ActiveParameters) if f.name != "controller"] + list(
         CONTROLLER_OPTIONS
     )
+
+
+def _check_choice(name: str, value, choices: tuple, hint: str) -> None:
+    """Raise unless ``value`` is one of the integers ``choices`` (a bool is not one)."""
+    if isinstance(value, bool) or value not in choices:
+        raise InvalidArgumentError(f"{name} must be one of {choices}, got {value!r}", hint=hint)
 
 
 def _unknown(name: str) -> InvalidArgumentError:

@@ -162,11 +162,12 @@ class PlanningStage:
             "success_weight": p.plan_success,
             "shown": p.plan_shown,
             "sigma": p.plan_sigma,
-            "claim": p.plan_claim,
+            "claim": p.plan_claim > 0,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
+        self.by_type = p.plan_claim == 2  # a claim binds a teammate as it is a planner
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
@@ -368,6 +369,16 @@ class PlanningStage:
         rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
         return rows
 
+    def yields(self, robot: int) -> np.ndarray | None:
+        """``(n,)`` the robot's posterior that each teammate is of the team type, i.e. a
+        planner that gives up a goal it finds taken (``plan_claim = 2``); ``None`` (every
+        teammate yields) with ``plan_claim`` 1 or the types off (``plan_types = 0``)."""
+        log_types = self._types.get(robot)
+        if not self.by_type or log_types is None:
+            return None
+        posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
+        return posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
+
     def _type_record(self, robot: int, typed) -> tuple:
         """The robot's type posteriors of every robot and which are typed, for a record."""
         log_types = self._types.get(robot)
@@ -396,7 +407,7 @@ class PlanningStage:
             self.unseen(observations, robot), typed,
             observations.last_seen[robot] < 0 if self.blind else None,
             observations.last_seen[robot] == observations.step,  # who sees it: sight is mutual
-            progress,
+            progress, self.yields(robot),
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
             self._typing[robot][4][:, TYPES.index("team")] = result.planned

@@ -1,12 +1,15 @@
 """Contested goals priced by arrival (``Planner(claim=...)``, ``plan_claim``): a teammate
 that would reach the robot's goal after it, and shares that goal with it in no
-configuration, is predicted as going elsewhere (it finds the robot settled there)."""
+configuration, is predicted as going elsewhere (it finds the robot settled there), with
+the probability that it yields, a planner (``plan(yields=...)``, ``plan_claim = 2``)."""
 
 import numpy as np
 import pytest
 
 from epistemica.aif.planning import Planner
+from epistemica.sim import Scenario
 from epistemica.sim.policies.parameters import ActiveParameters
+from epistemica.sim.policies.planning import PlanningStage
 
 GOALS = [[0.0, 0.0], [10.0, 0.0]]
 SWAP = [[0, 1], [1, 0]]  # allocation of two robots to two goals
@@ -52,8 +55,42 @@ def test_a_goal_shared_in_a_configuration_is_not_contested():
     np.testing.assert_allclose(claimed.G, plain.G)
 
 
-def test_plan_claim_is_a_switch_off_by_default():
-    assert ActiveParameters().plan_claim is False
-    assert ActiveParameters(plan_claim=True).plan_claim is True
-    with pytest.raises(Exception, match="plan_claim"):
-        ActiveParameters(plan_claim=1)
+def test_a_teammate_that_never_yields_keeps_its_prediction():
+    # Robot 1 yields with probability y (a planner) or keeps pi_1 (an ad hoc teammate):
+    # goal 0 forms if robot 1 takes goal 1 anyway, or would have taken goal 0 and yields,
+    # P(0) = pi_1(1) + y pi_1(0), at 6 s: G(0) = 0.6 - ln(pi_1(1) + y pi_1(0)).
+    pi1 = np.exp([-0.8, -1.2]) / np.exp([-0.8, -1.2]).sum()
+    planner = Planner(GOALS, SWAP, [1.0, 1.0], claim=True, **WORKED)
+    far = 0.8 - np.log(pi1[0])  # goal 1: robot 1 is earlier there, nothing conditioned
+    for y, goal in ((0.0, 1), (0.5, 0), (1.0, 0)):
+        result = planner.plan(0, AT, yields=[0.3, y])  # the robot's own entry is ignored
+        np.testing.assert_allclose(result.G, [0.6 - np.log(pi1[1] + y * pi1[0]), far])
+        assert result.goal == goal
+    # y = 0 is the plan without claims; y = 1 the claim of every later teammate.
+    plain = Planner(GOALS, SWAP, [1.0, 1.0], **WORKED).plan(0, AT)
+    np.testing.assert_allclose(planner.plan(0, AT, yields=[1.0, 0.0]).G, plain.G)
+    np.testing.assert_allclose(planner.plan(0, AT, yields=[1.0, 1.0]).G, planner.plan(0, AT).G)
+    with pytest.raises(Exception, match="yields"):
+        planner.plan(0, AT, yields=[1.0, 1.5])
+
+
+def test_the_stage_reads_yields_from_the_type_posterior():
+    # Types (team, greedy, convention, stationary) with log weights: robot 1 at the prior
+    # (1/2, 1/6, 1/6, 1/6), robot 2 at (1, 4, 1, 2) / 8, so P(team) = 1/2 and 1/8.
+    scenario = Scenario.paper("allocation", 3, 3, seed=0)
+    log_types = np.log([[0.5, 1 / 6, 1 / 6, 1 / 6]] * 2 + [[1.0, 4.0, 1.0, 2.0]])
+    for claim, expected in ((1, None), (2, [0.5, 0.5, 0.125])):
+        stage = PlanningStage(scenario, ActiveParameters(plan_claim=claim), order=3)
+        stage._types[0] = log_types
+        got = stage.yields(0)
+        assert got is expected if expected is None else np.allclose(got, expected)
+    stage = PlanningStage(scenario, ActiveParameters(plan_claim=2, plan_types=0.0), order=3)
+    assert stage.yields(0) is None  # types off: everyone is a planner
+
+
+def test_plan_claim_is_off_by_default_and_takes_three_values():
+    assert ActiveParameters().plan_claim == 0
+    assert ActiveParameters(plan_claim=2).plan_claim == 2
+    for bad in (True, 3, -1, 1.5):
+        with pytest.raises(Exception, match="plan_claim"):
+            ActiveParameters(plan_claim=bad)
