@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+from importlib import import_module
 from pathlib import Path
 
 import numpy as np
@@ -348,12 +349,15 @@ def _help(argv) -> str:
     return proc.stdout
 
 
-def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys):
+def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys, monkeypatch):
     from epistemica.mission import load_mission
 
     spec = str(SPECS / "rendezvous.epi")
     argv = ["run", spec, "--trials", "4", "--levels", "zero,rules-third", "--workers", "1"]
-    assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
+    animated = []
+    with monkeypatch.context() as m:  # the trial chosen is checked here, its GIF below
+        m.setattr(import_module("epistemica.cli.run"), "_animate", lambda _, *a: animated.append(a))
+        assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
     printed = capsys.readouterr().out
     mission = load_mission(spec)
     outcomes = {
@@ -369,6 +373,7 @@ def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys
     disputed = decided or [seed for seed, o in outcomes.items() if len(set(o.values())) > 1]
     expected = f"seed {disputed[0]}: the first where" if disputed else "the levels agree"
     assert f"animation (rules-third, {expected}" in printed
+    assert [a[:2] for a in animated] == [("rules-third", disputed[0] if disputed else 0)]
     assert main([*argv, "--out", str(tmp_path / "s.sqlite"), "--trial", "2"]) == 0
     assert "animation (rules-third, seed 2)" in capsys.readouterr().out
     with PIL.open(tmp_path / "s.gif") as gif:
