@@ -54,13 +54,14 @@ def trial_scenario_sensors(seed):
     return Scenario.paper("rendezvous", 3, seed=seed).sensors
 
 
-def test_bad_input_exits_2_without_traceback():
+def test_bad_input_exits_2_without_traceback(capsys):
+    # In this process (main, what the script calls); the script's own exit status:
+    # tests/test_cli_check.py::test_python_dash_m_runs_the_main_job.
     for argv in (["--robots", "0"], ["--reasoning", "telepathy"], ["--mission", "juggle"]):
-        proc = subprocess.run(
-            [sys.executable, "-m", "epistemica", "simulate", *argv], capture_output=True, text=True
-        )
-        assert proc.returncode == 2 and "Traceback" not in proc.stderr
-        assert "hint:" in proc.stderr
+        status = main(["simulate", *argv])
+        err = capsys.readouterr().err
+        assert status == 2 and "Traceback" not in err
+        assert "hint:" in err
 
 
 def test_png_has_the_map(tmp_path):
