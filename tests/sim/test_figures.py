@@ -326,7 +326,7 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
-def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys):
+def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys, few_frames):
     from epistemica.sim.study.store import ResultStore
 
     db = tmp_path / "r.sqlite"
@@ -350,7 +350,9 @@ def _help(argv) -> str:
     return proc.stdout
 
 
-def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys, monkeypatch):
+def test_run_animates_the_first_trial_where_the_levels_disagree(
+    tmp_path, capsys, monkeypatch, few_frames
+):
     from epistemica.mission import load_mission
 
     spec = str(SPECS / "rendezvous.epi")
