@@ -25,3 +25,12 @@ def browser():
     b = Browser()
     yield b
     b.close()
+
+
+@pytest.fixture
+def few_frames(monkeypatch):
+    """Animations of at most 3 frames (the first, middle and last steps), each drawn and
+    written by the real code: for tests of a command that writes a GIF, not of what its
+    frames show (those: test_gif_frames_follow_the_trial and
+    test_the_animation_has_one_frame_a_step_up_to_sixty, at the full 60)."""
+    monkeypatch.setattr("epistemica.sim.study.figure_parts._MAX_FRAMES", 3)

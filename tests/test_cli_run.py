@@ -37,7 +37,7 @@ def tiny(tmp_path, monkeypatch):
     return path
 
 
-def test_run_writes_rows_table_figure_and_animation(tiny, capsys):
+def test_run_writes_rows_table_figure_and_animation(tiny, capsys, few_frames):
     assert main(["run", str(tiny)]) == 0
     out = capsys.readouterr().out
     for level in ("zero", "convention", "rules-third"):

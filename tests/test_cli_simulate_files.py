@@ -27,7 +27,7 @@ def test_text_names_robots_and_goals_as_the_pictures_do(capsys):
         assert words[5] == (s.goal_names[goal] if goal >= 0 else "-")
 
 
-def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys):
+def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys, few_frames):
     gif = tmp_path / "t.gif"
     argv = ["simulate", "--mission", str(PRIVATE), "--seed", "4", "--reasoning", "rules-first"]
     status = main([*argv, "--gif", str(gif)])
@@ -43,7 +43,7 @@ def test_a_mission_file_is_simulated_as_run_simulates_it(tmp_path, capsys):
     assert " third " in capsys.readouterr().out
 
 
-def test_a_collaborative_mission_file_is_simulated_and_drawn(tmp_path, capsys):
+def test_a_collaborative_mission_file_is_simulated_and_drawn(tmp_path, capsys, few_frames):
     path = ROOT / "specs" / "collaborative" / "tasks_3.epi"
     png, gif = tmp_path / "t.png", tmp_path / "t.gif"
     argv = ["simulate", "--mission", str(path), "--seed", "1", "--reasoning", "rules"]

@@ -107,7 +107,7 @@ def test_the_animation_has_one_frame_a_step_up_to_sixty(tmp_path):
     assert Image.open(path).n_frames == count
 
 
-def test_run_animates_the_trial_the_rules_gain_most_on(tmp_path, capsys, monkeypatch):
+def test_run_animates_the_trial_the_rules_gain_most_on(tmp_path, capsys, monkeypatch, few_frames):
     monkeypatch.chdir(tmp_path)
     text = Path(SPEC).read_text().replace("steps 400", "steps 150")
     (tmp_path / "small.epi").write_text(text)

@@ -10,6 +10,8 @@ What the test changes, and why (nothing else is changed):
   page's commands run in seconds rather than hours, and ``--workers 1`` (in this process: a
   pool of every core would start its processes for a handful of trials, on a machine the
   suite shares); the command line is otherwise as written;
+- animations: at most 3 frames each (the ``few_frames`` fixture of tests/conftest.py),
+  drawn and written by the real code, where a GIF of 60 frames took most of a page's time;
 - placeholders for a user's files: ``my_mission.epi`` (a mission of the reader's whose
   robots are ``r1..rN``) is :data:`MY_MISSION`;
 - an output that needs an optional extra the test environment lacks (``--parquet``:
@@ -116,7 +118,9 @@ def test_the_pages_with_commands_are_the_ones_expected():
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
-def test_every_documented_command_runs_and_writes_what_it_says(page, tmp_path, monkeypatch):
+def test_every_documented_command_runs_and_writes_what_it_says(
+    page, tmp_path, monkeypatch, few_frames
+):
     commands = [(line, command) for path, line, command in documented_commands() if path == page]
     monkeypatch.chdir(_workdir(tmp_path))
     failures = []

@@ -6,6 +6,7 @@ benchmarks/hostile_inputs.py times the same cases through the installed command.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
@@ -59,6 +60,7 @@ def test_endless_bytes_are_refused_by_every_reader(device, tmp_path, capsys):
         _exit_2(argv, capsys)
 
 
+@functools.cache  # bytes, never changed: two tests, one compression of 1 GiB (3 s)
 def _bomb() -> bytes:
     # zlib output of 1 GiB of spaces is about 1 MB: inflating it whole would cost 1 GiB.
     inflater = zlib.compressobj(9)

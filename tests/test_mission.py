@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from unittest.mock import patch
 
 import numpy as np
 import pytest
@@ -14,7 +15,7 @@ from epistemica.cli.run import is_mission_file
 from epistemica.del_ import KnowledgeStructure, parse_formula
 from epistemica.del_.errors import EpistemicaError, SourceError
 from epistemica.del_.state.explicit import knowledge_mask
-from epistemica.mission import load_mission, parse_mission
+from epistemica.mission import Mission, load_mission, parse_mission
 from epistemica.sim import Scenario, simulate
 from epistemica.sim.engine.worlds import (
     ConfigurationTable,
@@ -337,8 +338,15 @@ def test_check_after_agrees_with_what_the_robots_knew(path, seed, steps, data):
     give the same answers: B[i] f and K[i] f, and B[i] B[j] f, for every robot and goal."""
     mission = load_mission(path)
     level = data.draw(st.sampled_from(mission.study.levels))
-    knowledge = mission.trial(steps, seed, level).knowledge
-    model = mission.model_after(steps, seed, level)
+    trial = mission.trial(steps, seed, level)
+    knowledge = trial.knowledge
+    real = Mission.trial
+
+    def run_once(self, *args):  # model_after's own run of this trial is the one just run
+        return trial if self is mission and args == (steps, seed, level) else real(self, *args)
+
+    with patch.object(Mission, "trial", run_once):
+        model = mission.model_after(steps, seed, level)
     rows = mission.configurations()
     robots, goals = mission.robots, mission.goals
     i, j = data.draw(st.integers(0, len(robots) - 1)), data.draw(st.integers(0, len(robots) - 1))

@@ -115,18 +115,16 @@ def test_view_reads_traces_stored_in_a_results_file(tmp_path, long_trace):
         ["show", "specs/puzzles/muddy_children.epi", "--backend", "symbolic", "--html", "m.html"],
     ],
 )
-def test_bad_input_exits_2_with_a_hint(argv, tmp_path):
+def test_bad_input_exits_2_with_a_hint(argv, tmp_path, monkeypatch, capsys):
+    # In this process (main, what the script calls): the exit status of `python -m
+    # epistemica view` is test_view_reads_traces_stored_in_a_results_file's.
     root = Path(__file__).resolve().parents[1]
     argv = [str(root / a) if a.startswith("specs/") else a for a in argv]
-    proc = subprocess.run(
-        [sys.executable, "-m", "epistemica", *argv],
-        capture_output=True,
-        text=True,
-        cwd=tmp_path,
-        timeout=60,
-    )
-    assert proc.returncode == 2, proc.stderr
-    assert "hint:" in proc.stderr and "Traceback" not in proc.stderr
+    monkeypatch.chdir(tmp_path)
+    status = main(argv)
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert "hint:" in err and "Traceback" not in err
 
 
 def test_model_page_carries_the_model_and_the_claims_truth_sets(tmp_path):
@@ -182,14 +180,15 @@ def test_a_joint_trace_of_version_2_views_with_its_tasks_known(tmp_path, joint_t
         ({"events": [[0, "found", ["r1"]]]}, "the trace is incomplete"),
     ],
 )
-def test_a_bad_joint_trace_exits_2_with_a_hint(tmp_path, joint_trace, change, message):
+def test_a_bad_joint_trace_exits_2_with_a_hint(
+    tmp_path, joint_trace, change, message, monkeypatch, capsys
+):
     (tmp_path / "bad.json").write_text(json.dumps({**joint_trace, **change}))
-    proc = subprocess.run(
-        [sys.executable, "-m", "epistemica", "view", str(tmp_path / "bad.json")],
-        capture_output=True, text=True, cwd=tmp_path, timeout=60,
-    )  # fmt: skip
-    assert proc.returncode == 2 and message in proc.stderr and "hint:" in proc.stderr
-    assert "Traceback" not in proc.stderr
+    monkeypatch.chdir(tmp_path)
+    status = main(["view", str(tmp_path / "bad.json")])  # in this process, as above
+    err = capsys.readouterr().err
+    assert status == 2 and message in err and "hint:" in err
+    assert "Traceback" not in err
 
 
 def test_levels_are_compared_within_one_kind(joint_trace, long_trace):

@@ -139,6 +139,9 @@ def designated_truth(
 # recursively): (registers needed, mentions a named action, height).
 _ANALYSES: dict[int, tuple[Formula, dict[int, tuple[int, bool, int]]]] = {}
 _ANALYSED_NODES = 1 << 20
+# Nodes in _ANALYSES' tables, counted as they are added: summing the tables on every new
+# root cost a pass over every cached root (quadratic over a process's formulas).
+_analysed_count = 0
 # Taller subformulas are memoised by identity: comparing two equal but distinct trees
 # would recurse once per level.
 _STRUCTURAL_HEIGHT = 200
@@ -180,8 +183,11 @@ def _analyse(root: Formula) -> dict[int, tuple[int, bool, int]]:
             need = info[0][0] + isinstance(node, After)
         height = 1 + max((i[2] for i in info), default=0)
         table[id(node)] = (need, action, height)
-    if sum(len(t) for _, t in _ANALYSES.values()) + len(table) > _ANALYSED_NODES:
+    global _analysed_count
+    if _analysed_count + len(table) > _ANALYSED_NODES:
         _ANALYSES.clear()
+        _analysed_count = 0
+    _analysed_count += len(table)  # a new root: a cached one returned above
     _ANALYSES[id(root)] = (root, table)
     return table
 

@@ -224,3 +224,22 @@ def _whisper_believed_not_m0(model, observes) -> set:
     np.logical_or.at(refuted, block, m0)
     holds = ~m0 | ~refuted[block]
     return {worlds[i] for i in np.flatnonzero(holds)}
+
+
+def test_the_analysis_cache_counts_its_nodes_and_is_cleared_over_its_bound(monkeypatch):
+    # A running count of the cached nodes (summing every cached table per new formula made
+    # the checker slower the more formulas a process had checked).
+    from epistemica.del_.explicit import checker
+
+    monkeypatch.setattr(checker, "_ANALYSED_NODES", 10)
+    monkeypatch.setattr(checker, "_ANALYSES", {})
+    monkeypatch.setattr(checker, "_analysed_count", 0)
+    roots = [And(Atom(f"p{i}"), Atom(f"q{i}")) for i in range(4)]  # 3 nodes each
+    for root in roots[:3]:
+        checker._analyse(root)
+    tables = checker._ANALYSES.values()
+    assert checker._analysed_count == 9 == sum(len(t) for _, t in tables)
+    checker._analyse(roots[0])  # cached: not counted again
+    assert checker._analysed_count == 9
+    checker._analyse(roots[3])  # 9 + 3 > 10: cleared, then this root's 3 nodes
+    assert checker._analysed_count == 3 and list(checker._ANALYSES) == [id(roots[3])]

@@ -178,8 +178,12 @@ def test_quantifier_and_oneof_expansions_are_bounded_and_located(monkeypatch):
     with pytest.raises(SpecError) as info:
         parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ONEOF({many})\n")
     assert info.value.line == 4 and f"more than {MAX_ONEOF:,}" in info.value.message
-    spec = parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ~ONEOF({many[2:]})\n").spec
-    assert spec.holds(spec.checks[0].formula)  # 1,000 copies of 1: never exactly one true
+    # At the limit, read: checked at a limit of 16 (16^2 literals; 1,000 took 30 s).
+    monkeypatch.setattr(smcdel, "MAX_ONEOF", 16)
+    with pytest.raises(SpecError, match="ONEOF of 17 formulas: more than 16"):
+        parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ONEOF({many[: 2 * 17 - 1]})\n")
+    spec = parse_smcdel(f"VARS 1\nLAW Top\nOBS a: 1\nVALID? ~ONEOF({many[: 2 * 16 - 1]})\n").spec
+    assert spec.holds(spec.checks[0].formula)  # 16 copies of 1: never exactly one true
 
 
 def test_a_file_over_the_token_limit_is_refused_before_parsing(monkeypatch):

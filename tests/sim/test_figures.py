@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+from importlib import import_module
 from pathlib import Path
 
 import numpy as np
@@ -53,13 +54,14 @@ def trial_scenario_sensors(seed):
     return Scenario.paper("rendezvous", 3, seed=seed).sensors
 
 
-def test_bad_input_exits_2_without_traceback():
+def test_bad_input_exits_2_without_traceback(capsys):
+    # In this process (main, what the script calls); the script's own exit status:
+    # tests/test_cli_check.py::test_python_dash_m_runs_the_main_job.
     for argv in (["--robots", "0"], ["--reasoning", "telepathy"], ["--mission", "juggle"]):
-        proc = subprocess.run(
-            [sys.executable, "-m", "epistemica", "simulate", *argv], capture_output=True, text=True
-        )
-        assert proc.returncode == 2 and "Traceback" not in proc.stderr
-        assert "hint:" in proc.stderr
+        status = main(["simulate", *argv])
+        err = capsys.readouterr().err
+        assert status == 2 and "Traceback" not in err
+        assert "hint:" in err
 
 
 def test_png_has_the_map(tmp_path):
@@ -324,7 +326,7 @@ def test_report_writes_png_pdf_and_svg(tmp_path, capsys):
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
-def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys):
+def test_a_figure_that_cannot_be_written_is_an_error_not_a_success(tmp_path, capsys, few_frames):
     from epistemica.sim.study.store import ResultStore
 
     db = tmp_path / "r.sqlite"
@@ -348,12 +350,17 @@ def _help(argv) -> str:
     return proc.stdout
 
 
-def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys):
+def test_run_animates_the_first_trial_where_the_levels_disagree(
+    tmp_path, capsys, monkeypatch, few_frames
+):
     from epistemica.mission import load_mission
 
     spec = str(SPECS / "rendezvous.epi")
     argv = ["run", spec, "--trials", "4", "--levels", "zero,rules-third", "--workers", "1"]
-    assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
+    animated = []
+    with monkeypatch.context() as m:  # the trial chosen is checked here, its GIF below
+        m.setattr(import_module("epistemica.cli.run"), "_animate", lambda _, *a: animated.append(a))
+        assert main([*argv, "--out", str(tmp_path / "r.sqlite")]) == 0
     printed = capsys.readouterr().out
     mission = load_mission(spec)
     outcomes = {
@@ -369,6 +376,7 @@ def test_run_animates_the_first_trial_where_the_levels_disagree(tmp_path, capsys
     disputed = decided or [seed for seed, o in outcomes.items() if len(set(o.values())) > 1]
     expected = f"seed {disputed[0]}: the first where" if disputed else "the levels agree"
     assert f"animation (rules-third, {expected}" in printed
+    assert [a[:2] for a in animated] == [("rules-third", disputed[0] if disputed else 0)]
     assert main([*argv, "--out", str(tmp_path / "s.sqlite"), "--trial", "2"]) == 0
     assert "animation (rules-third, seed 2)" in capsys.readouterr().out
     with PIL.open(tmp_path / "s.gif") as gif:

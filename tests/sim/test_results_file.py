@@ -242,9 +242,14 @@ def _default_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+#: Trials per team size of the interrupted sweeps: seconds of work left when the test acts
+#: (3 stored), and little to finish on --resume.
+SWEEP_TRIALS = 15
+
+
 def _start_sweep(out, extra=()):
-    args = [sys.executable, "-m", "epistemica", "sweep", "--mission", "allocation",
-            "--robots", "4..5", "--reasoning", "rules-third", "--trials", "60", "--workers", "2",
+    args = [sys.executable, "-m", "epistemica", "sweep", "--mission", "allocation", "--robots",
+            "4..5", "--reasoning", "rules-third", "--trials", str(SWEEP_TRIALS), "--workers", "2",
             "--out", str(out), *extra]  # fmt: skip
     # A process started in the background of a non-interactive shell inherits SIGINT
     # ignored, and Python then keeps ignoring it: give the sweep the default, as a terminal.
@@ -275,11 +280,12 @@ def test_ctrl_c_returns_at_once_with_every_finished_trial_stored(tmp_path):
     seconds = time.monotonic() - started
     assert proc.returncode == 130 and seconds < 2.0, (proc.returncode, seconds)
     stored = len(read_rows(out))
-    assert f"interrupted: {stored} of 120 trials stored" in err and "Traceback" not in err
+    total = 2 * SWEEP_TRIALS
+    assert f"interrupted: {stored} of {total} trials stored" in err and "Traceback" not in err
     time.sleep(1.0)
     assert not [w for w in workers if _alive(w)]
     done = subprocess.run([*args, "--resume", "--workers", "1"], capture_output=True, text=True)
-    assert done.returncode == 0 and f"{120 - stored} trials run, {stored} already" in done.stdout
+    assert done.returncode == 0 and f"{total - stored} trials run, {stored} already" in done.stdout
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
