@@ -214,3 +214,47 @@ def test_two_teammates_holding_clashing_goals_do_not_outvote_a_certain_one():
     q = mix_configurations(prior, log_types, probs, rows, np.array([[False, True, True, True]]))
     expected = np.array([0.99 * 1e-12 * 0.36 + 2 * 0.4 * 1e-12 * 0.6, 0.36])
     assert np.allclose(q[0], expected / expected.sum())
+
+
+@FAST
+@given(st.integers(0, 10**6), st.integers(1, 5), st.floats(0.2, 3.0), st.floats(0.1, 2.0))
+def test_a_driving_stationary_type_is_half_still_half_a_uniform_goal(seed, m, sigma, reach):
+    # plan_drive: the simulator's `stationary` has arrived (a still step) or drives to a
+    # goal drawn uniformly; the other types are untouched.
+    rng = np.random.default_rng(seed)
+    goals = rng.uniform(-10, 10, (m, 2))
+    previous, current = rng.uniform(-10, 10, (1, 2)), rng.uniform(-10, 10, (1, 2))
+    probs = rng.dirichlet(np.ones(m), (1, len(TYPES)))
+    args = previous, current, probs, goals, np.array([reach]), sigma
+    got = np.exp(motion_log_likelihood(*args, drive=True))
+    still = _gauss(current[0], previous[0], sigma)
+    toward = 0.0
+    for g in range(m):
+        delta = goals[g] - previous[0]
+        length = np.hypot(*delta)
+        step = previous[0] + (min(reach, length) / length if length else 0) * delta
+        toward += _gauss(current[0], step, sigma) / m
+    assert np.isclose(got[0, STATIONARY], (still + toward) / 2, rtol=1e-9, atol=1e-300)
+    plain = np.exp(motion_log_likelihood(*args))
+    others = [t for t in range(len(TYPES)) if t != STATIONARY]
+    assert np.array_equal(got[0, others], plain[0, others])
+
+
+def test_a_stationary_teammate_driving_to_a_goal_stays_possibly_stationary():
+    # Session 51's trace: a stationary teammate drives to its goal as a planner would;
+    # standing still ruled the stationary type out, driving keeps it (by hand: per step
+    # team 0.5 · N(0) + 0.5 · N(2) against stationary N(1) / 2 + (N(0) + N(2)) / 4).
+    goals = np.array([[10.0, 0.0], [-20.0, 0.0]])
+    probs = np.full((1, len(TYPES), 2), 0.5)
+    log_types = {False: np.log(TYPE_PRIOR)[None], True: np.log(TYPE_PRIOR)[None]}
+    for drive, lt in log_types.items():
+        for x in range(5):  # five steps of 1 m towards goal 0
+            previous, current = np.array([[float(x), 0.0]]), np.array([[x + 1.0, 0.0]])
+            ll = motion_log_likelihood(previous, current, probs, goals, np.ones(1), 0.5, drive)
+            lt = update_types(lt, ll, leak=0.0)
+        log_types[drive] = lt
+    stand, drive = (np.exp(log_types[k][0]) for k in (False, True))
+    n0, n1, n2 = 1.0, np.exp(-2.0), np.exp(-8.0)  # N(0), N(1), N(2) over N's constant
+    team, stationary = (n0 + n2) / 2, n1 / 2 + (n0 + n2) / 4
+    assert np.isclose(drive[STATIONARY] / drive[TEAM], (stationary / team) ** 5 / 3)
+    assert stand[STATIONARY] < 1e-3 < 0.02 < drive[STATIONARY]  # 5 steps: ruled out, or not
