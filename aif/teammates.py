@@ -167,31 +167,11 @@ def motion_log_likelihood(
     goals: np.ndarray,
     reach: np.ndarray,
     sigma: float,
-    drive: bool = False,
 ) -> np.ndarray:
     """``(n, T)`` log likelihood of each teammate's observed step under each type.
 
     ``goal_probabilities`` are the ``(n, T, m)`` predictions made at ``previous``;
-    ``reach`` the ``(n,)`` metres a robot covers in a step at most. The stationary type
-    stands still; with ``drive`` it is the simulator's level ``stationary``, which drives
-    to a goal drawn at random and stands there: with probability 1/2 it has arrived (the
-    step is still), else it steps towards a goal drawn uniformly (``plan_drive``).
-
-    Examples
-    --------
-    A teammate at the origin steps 1 m towards goal 0 (reach 1, sigma 0.5): standing
-    still misses by 1 m (``-1 / (2 · 0.25) = -2`` nats), heading for goal 0 by nothing,
-    for goal 1 by ``√2`` m (-4). Driving, the stationary type scores
-    ``ln(e^-2 / 2 + (1 + e^-4) / 4) = -1.13`` nats over the Gaussian's constant:
-
-    >>> goals = np.array([[10.0, 0.0], [0.0, -20.0]])
-    >>> probs = np.full((1, len(TYPES), 2), 0.5)
-    >>> args = np.zeros((1, 2)), np.array([[1.0, 0.0]]), probs, goals, np.ones(1), 0.5
-    >>> norm = -np.log(2 * np.pi * 0.25)
-    >>> (motion_log_likelihood(*args)[0, -1] - norm).round(2).item()
-    -2.0
-    >>> (motion_log_likelihood(*args, drive=True)[0, -1] - norm).round(2).item()
-    -1.13
+    ``reach`` the ``(n,)`` metres a robot covers in a step at most.
     """
     delta = goals[None] - previous[:, None]  # (n, m, 2)
     distance = np.hypot(delta[..., 0], delta[..., 1])
@@ -205,11 +185,8 @@ def motion_log_likelihood(
     top = terms.max(axis=-1, keepdims=True)
     moving = np.log(np.exp(terms - top).sum(-1)) + top[..., 0]
     still = norm - ((current - previous) ** 2).sum(-1) / (2 * sigma**2)
-    if drive:  # arrived (still), or on its way to a goal drawn uniformly
-        top = toward.max(axis=-1)
-        uniform = np.log(np.exp(toward - top[:, None]).mean(axis=-1)) + top
-        still = np.logaddexp(still, uniform) - np.log(2.0)
-    moving[:, TYPES.index("stationary")] = still
+    stationary = TYPES.index("stationary")
+    moving[:, stationary] = still
     return moving
 
 

@@ -152,9 +152,11 @@ class ActiveParameters:
         weight of the two sightings' variance (as the sensor states it) added to its square
         (1: the stated noise, on since session 48; 0: ablation); weight of the seconds
         driven towards its goal charged for changing it (0, off: no gain measured).
-    plan_leak, plan_commitment, plan_convention : float
-        Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats charged for
-        changing the goal a robot headed for; of the prior's convention (a tie-break).
+    plan_leak, plan_commitment : float
+        Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the
+        planner charges for changing the goal a robot headed for.
+    plan_convention : float
+        Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
         expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
@@ -166,8 +168,7 @@ class ActiveParameters:
         it joins them (:mod:`epistemica.sim.policies.joining`; 3 since session 50; 0: off).
     plan_types : float
         Posterior on greedy + stationary at which a teammate seen on a goal is held to it
-        (aif.md §6g; 0: off). ``plan_drive`` (bool, off): the stationary type drives to a goal
-        drawn uniformly before it stands, as level ``stationary`` (``motion_log_likelihood``).
+        (aif.md §6g; 0: off).
     plan_blind, plan_resight, plan_filter, plan_few : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
@@ -238,7 +239,6 @@ class ActiveParameters:
     plan_shown: float = 0.0
     plan_claim: int = 0
     plan_few: bool = True
-    plan_drive: bool = False
     controller: tuple[tuple[str, object], ...] = field(default=())
 
     def __post_init__(self) -> None:
@@ -265,7 +265,7 @@ class ActiveParameters:
         switches = ("pruning", "nested", "anticipate", "common_view", "remember_sight",
                     "free_energy", "search", "teammate_models", "planning",
                     "plan_blind", "plan_meet", "plan_anchor", "plan_sighted",
-                    "plan_resight", "plan_filter", "plan_few", "plan_drive")  # fmt: skip
+                    "plan_resight", "plan_filter", "plan_few")  # fmt: skip
         for name in switches:
             if not isinstance(getattr(self, name), bool):
                 raise InvalidArgumentError(

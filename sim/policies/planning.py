@@ -188,7 +188,6 @@ class PlanningStage:
         self.threshold = float(p.plan_types)
         self.type_sigma = float(np.sqrt(p.teammate_sigma**2 + 2 * scenario.position_noise))
         self.type_leak = float(p.teammate_leak)
-        self.type_drive = bool(p.plan_drive)  # stationary: drives to a goal, then stands
         self._types: dict[int, np.ndarray] = {}
         self._typing: dict[int, tuple] = {}  # robot -> (step, goals, positions, seen, (n, T, m))
         # Anchors (plan_settled): robot -> (the goal each teammate was last seen to settle
@@ -358,7 +357,7 @@ class PlanningStage:
             if both.any():  # one step's moves under each type (the team row: the plan's)
                 reach = s.max_speed[both] * s.dt
                 ll = motion_log_likelihood(last[2][both], now[both], last[4][both], ctrl.goals,
-                                           reach, self.type_sigma, self.type_drive)  # fmt: skip
+                                           reach, self.type_sigma)  # fmt: skip
                 log_types[both] = update_types(log_types[both], ll, self.type_leak)
         distance = goal_distances(now, ctrl.goals)
         convention = least_cost_from_distances(distance[None], ctrl.configurations)[0]
