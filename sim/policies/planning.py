@@ -167,7 +167,8 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
-        self.by_type = p.plan_claim == 2  # a claim binds a teammate as it is a planner
+        self.by_type = p.plan_claim >= 2  # a claim binds a teammate as it is a planner
+        self.yielding = p.plan_claim == 3  # ... and its moves are read as such
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
@@ -410,7 +411,12 @@ class PlanningStage:
             progress, self.yields(robot),
         )  # fmt: skip
         if typed is not None:  # the team type is the planner: its moves are scored by the plan
-            self._typing[robot][4][:, TYPES.index("team")] = result.planned
+            planned = result.planned
+            if self.yielding and result.goal != WAIT:
+                pl, at = self.planner(ctrl), observations.poses[robot, :, :2]
+                planned = yielded(planned, result.goal, robot, at, pl.goals, pl.speeds,
+                                  pl.configurations)  # fmt: skip
+            self._typing[robot][4][:, TYPES.index("team")] = planned
         if result.goal != WAIT:
             chosen = int(goals[result.goal])
             if self._start.get(robot, (-1,))[0] != chosen:
@@ -435,3 +441,31 @@ class PlanningStage:
         finite = np.isfinite(G)
         q = np.where(finite, np.exp(-(G - G[finite].min())), 0.0)
         return Decision(control, int(result.goal), G, q / q.sum(), result.belief, result.focal)
+
+
+def yielded(planned, goal: int, robot: int, positions, goals, speeds, configurations) -> np.ndarray:
+    """``(n, m)`` the planner's predictions ``planned`` as a claim assumes them (``plan_claim
+    = 3``): a teammate that would reach ``goal``, the robot's, after the robot (straight-line
+    times, as the plan's) and shares it with it in no configuration finds it taken and
+    yields, ``pi_l(h) / (1 - pi_l(goal))``; the team type's moves are scored against that.
+
+    Examples
+    --------
+    Robot 0 is 1 s from goal 0, robot 1 is 3 s away and predicted there with 0.8:
+
+    >>> planned = np.array([[1.0, 0.0, 0.0], [0.8, 0.15, 0.05]])
+    >>> yielded(planned, 0, 0, np.array([[1.0, 0.0], [3.0, 0.0]]),
+    ...         np.array([[0.0, 0.0], [0.0, 9.0], [9.0, 9.0]]), np.ones(2),
+    ...         np.array([[0, 1], [1, 0], [0, 2], [2, 0]])).round(2).tolist()
+    [[1.0, 0.0, 0.0], [0.0, 0.75, 0.25]]
+    """
+    times = np.hypot(*(np.asarray(positions) - goals[goal]).T) / speeds
+    mine = configurations[configurations[:, robot] == goal]
+    later = (times > times[robot]) & ~(mine == goal).any(axis=0)
+    later[robot] = False
+    out = np.array(planned, dtype=float)
+    rest = out[later].copy()
+    rest[:, goal] = 0.0
+    total = rest.sum(axis=1, keepdims=True)
+    out[later] = np.where(total > 0, rest / np.where(total > 0, total, 1.0), out[later])
+    return out
