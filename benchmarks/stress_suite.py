@@ -8,10 +8,13 @@ variants, which declare no event. Every file is a mission file
 that `epistemica run` runs; the header of each says what is common knowledge in it.
 
     python benchmarks/stress_suite.py            # (re)write the files
+    python benchmarks/stress_suite.py --check    # exit 1 if a file differs from its text
 """
 
 from __future__ import annotations
 
+import argparse
+import sys
 from pathlib import Path
 
 SIZES = (2, 3, 5, 8, 10)
@@ -120,12 +123,22 @@ def cells() -> list[tuple[str, str, int]]:
     return [(m, v, n) for m in MISSIONS for v in VARIANTS for n in SIZES]
 
 
-def main() -> None:
-    OUT.mkdir(parents=True, exist_ok=True)
-    for mission, variant, n in cells():
-        (OUT / f"{mission}_{variant}_{n}.epi").write_text(mission_text(mission, variant, n))
-    print(f"{len(cells())} mission files in {OUT}")
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=OUT, help="directory (default: specs/stress)")
+    parser.add_argument("--check", action="store_true", help="compare, write nothing")
+    args = parser.parse_args(argv)
+    files = {args.out / f"{m}_{v}_{n}.epi": mission_text(m, v, n) for m, v, n in cells()}
+    if args.check:
+        stale = [p.name for p, text in files.items() if not p.exists() or p.read_text() != text]
+        print(f"{len(stale)} of {len(files)} files differ from their text: {', '.join(stale[:5])}")
+        return 1 if stale else 0
+    args.out.mkdir(parents=True, exist_ok=True)
+    for path, text in files.items():
+        path.write_text(text)
+    print(f"{len(files)} mission files in {args.out}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
