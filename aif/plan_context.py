@@ -17,7 +17,7 @@ from epistemica.del_.errors import InvalidArgumentError
 if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
     from epistemica.aif.planning import Planner
 
-__all__ = ["PlanContext", "places_in_square", "quasi_uniform"]
+__all__ = ["PlanContext", "later_claimants", "places_in_square", "quasi_uniform"]
 
 
 class PlanContext:
@@ -229,10 +229,7 @@ class PlanContext:
         m = preds.shape[1]
         share = np.ones(m)
         for g in np.unique(rows[:, agent]):
-            mine = rows[rows[:, agent] == g]
-            later = self.times[:, g] > self.times[agent, g]
-            later &= ~(mine == g).any(axis=0)  # shared in some configuration: no contest
-            later[agent] = False
+            later = later_claimants(self.times[:, g], agent, g, rows)
             kept = np.maximum(1.0 - preds[later, g], 1e-3)
             if self.yields is not None:  # only who yields is conditioned (the mixture)
                 kept = kept / (kept + self.yields[later] * preds[later, g])
@@ -336,3 +333,21 @@ def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
     ((8, 3, 2), True)
     """
     return quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)
+
+
+def later_claimants(arrival: np.ndarray, robot: int, goal: int, rows: np.ndarray) -> np.ndarray:
+    """``(n,)`` the teammates that find ``goal`` taken if ``robot`` heads for it: those
+    that reach it later (``arrival``, ``(n,)`` seconds to it) and share it with ``robot`` in
+    no configuration of ``rows`` (``(k, n)``) that puts ``robot`` there (``plan_claim``).
+
+    Examples
+    --------
+    >>> rows = np.array([[0, 1, 1], [1, 0, 0], [0, 1, 0]])  # robots 1 and 2 share goal 0
+    >>> later_claimants(np.array([2.0, 5.0, 1.0]), 0, 0, rows).tolist()
+    [False, True, False]
+    """
+    mine = rows[rows[:, robot] == goal]
+    later = arrival > arrival[robot]
+    later &= ~(mine == goal).any(axis=0)  # shared in some configuration: no contest
+    later[robot] = False
+    return later

@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from epistemica.aif.decision import Decision
+from epistemica.aif.plan_context import later_claimants
 from epistemica.aif.planning import (
     WAIT,
     Planner,
@@ -460,9 +461,7 @@ def yielded(planned, goal: int, robot: int, positions, goals, speeds, configurat
     [[1.0, 0.0, 0.0], [0.0, 0.75, 0.25]]
     """
     times = np.hypot(*(np.asarray(positions) - goals[goal]).T) / speeds
-    mine = configurations[configurations[:, robot] == goal]
-    later = (times > times[robot]) & ~(mine == goal).any(axis=0)
-    later[robot] = False
+    later = later_claimants(times, robot, goal, configurations)
     out = np.array(planned, dtype=float)
     rest = out[later].copy()
     rest[:, goal] = 0.0
