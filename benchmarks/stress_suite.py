@@ -128,6 +128,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=OUT, help="directory (default: specs/stress)")
     parser.add_argument("--check", action="store_true", help="compare, write nothing")
     args = parser.parse_args(argv)
+    if args.out.exists() and not args.out.is_dir():
+        parser.error(f"--out {args.out} is a file; give a directory (default: specs/stress)")
     files = {args.out / f"{m}_{v}_{n}.epi": mission_text(m, v, n) for m, v, n in cells()}
     if args.check:
         stale = [p.name for p, text in files.items() if not p.exists() or p.read_text() != text]
