@@ -17,7 +17,7 @@ from epistemica.del_.errors import InvalidArgumentError
 if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
     from epistemica.aif.planning import Planner
 
-__all__ = ["PlanContext", "later_claimants", "places_in_square", "quasi_uniform"]
+__all__ = ["PlanContext", "arrivals", "later_claimants", "places_in_square", "quasi_uniform"]
 
 
 class PlanContext:
@@ -114,6 +114,7 @@ class PlanContext:
                        for k in range(n) if k != robot for j in hidden if j != k]  # fmt: skip
         keys = {self.key(chain, order): (chain, order) for chain, order in chains}
         total = dict.fromkeys(keys, 0.0)
+        taken = []  # per draw, each hidden teammate's choice and trips (``arrivals``)
         for draw in places:
             moved = self.pos.copy()
             moved[hidden] = draw[hidden]
@@ -122,8 +123,14 @@ class PlanContext:
             there.typed, there.held, there.yields = self.typed, self.held, self.yields
             for key, (chain, order) in keys.items():
                 total[key] = total[key] + there.choice(chain, order)
+            picks = [there.choice((robot, int(j)), self.p.order - 1) for j in hidden]
+            taken.append((np.array(picks), there.times[hidden]))
         for key, value in total.items():
             self.memo[key] = value / places.shape[0]
+        if self.p.arrivals:  # its trips from where it may be, not from the placeholder
+            choices, trips = (np.array(part) for part in zip(*taken, strict=True))
+            self.times[hidden] = arrivals(choices, trips)
+            self.row_times = self.times[np.arange(n), self.p.configurations]
 
     def mask(self, chain: tuple[int, ...]) -> np.ndarray | None:
         return self._mask(chain)[0]
@@ -312,6 +319,27 @@ class PlanContext:
             return float(p.risk(np.array([share]), np.array([timed / p.particles]),
                                 np.array([own_time[chosen].mean()]))[0])  # fmt: skip
         return float(np.where(formed, done, own_time[chosen] + p.repair).mean())
+
+
+def arrivals(choices: np.ndarray, trips: np.ndarray) -> np.ndarray:
+    """``(h, m)`` each hidden teammate's trip (s) to each goal given that it takes that
+    goal, over ``D`` draws of where it is: ``sum_d q_d(g) t_d(g) / sum_d q_d(g)`` with
+    ``choices`` ``q`` and ``trips`` ``t`` both ``(D, h, m)``; the mean trip where no draw
+    takes ``g`` (``Planner(arrivals=True)``).
+
+    Examples
+    --------
+    Two draws: 2 s from goal 0 (taken with 0.9) or 10 s (taken with 0.1); goal 1 is 8 s
+    away from either, never taken:
+
+    >>> q = np.array([[[0.9, 0.0]], [[0.1, 0.0]]])
+    >>> t = np.array([[[2.0, 8.0]], [[10.0, 8.0]]])
+    >>> arrivals(q, t).round(2).tolist()      # (0.9 * 2 + 0.1 * 10) / 1.0
+    [[2.8, 8.0]]
+    """
+    weight = choices.sum(axis=0)
+    timed = (choices * trips).sum(axis=0)
+    return np.where(weight > 0, timed / np.where(weight > 0, weight, 1.0), trips.mean(axis=0))
 
 
 def quasi_uniform(count: int, dims: int) -> np.ndarray:

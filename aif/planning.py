@@ -161,6 +161,9 @@ class Planner:
         A goal is held by who reaches it first: teammates that would reach it later, and
         share it in no configuration, are predicted elsewhere (``PlanContext.claimed``),
         each with the probability that it yields (``plan(yields=)``; default: all do).
+    arrivals : bool
+        A never-seen teammate's trips are averaged over its draws (``plan(unseen=)``),
+        each goal's weighed by the draws' choice of it (``plan_context.arrivals``).
     """
 
     def __init__(
@@ -183,6 +186,7 @@ class Planner:
         shown: float = 0.0,
         sigma: float = 0.5,
         claim: bool = False,
+        arrivals: bool = False,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -202,7 +206,7 @@ class Planner:
         self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
         self.success_weight = float(as_finite(success_weight, "success_weight"))
         self.shown = float(as_finite(shown, "shown"))
-        self.claim = bool(claim)
+        self.claim, self.arrivals = bool(claim), bool(arrivals)
         if self.shown < 0:
             raise InvalidArgumentError("shown must be >= 0", hint="steps; 0 leaves it out")
         if self.success_weight < 0:

@@ -160,15 +160,14 @@ class ActiveParameters:
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
         expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
-    plan_unseen, plan_settled, plan_join : int
-        Places drawn over the workspace for a teammate never seen, predicted as the mean
-        from them (0: its placeholder); plans at which a teammate seen settled away from the
-        robot's goal, and nowhere else, is held there (PlanningStage.anchors; 0: off); steps
-        a robot outnumbered by teammates seen settled at a goal it does not know waits before
-        it joins them (:mod:`epistemica.sim.policies.joining`; 3 since session 50; 0: off).
+    plan_unseen, plan_hidden, plan_settled, plan_join : int
+        Places drawn for a never-seen teammate, predicted as the mean from them: over the
+        workspace; where it can be, never in sight (hidden_places, aif.md §6g); 0: off. Plans
+        at which a teammate seen settled away from the robot's goal, and nowhere else, is held
+        there (PlanningStage.anchors; 0: off); steps a robot outnumbered by teammates seen
+        settled at a goal it does not know waits to join them (sim.policies.joining; 3).
     plan_types : float
-        Posterior on greedy + stationary at which a teammate seen on a goal is held to it
-        (aif.md §6g; 0: off).
+        Posterior on greedy + stationary at which one seen on a goal is held to it (0: off).
     plan_blind, plan_resight, plan_filter, plan_few : bool
         Predict a never-seen teammate without the robot's evidence (``Planner.plan(blind=)``,
         on); read a move only between two sightings, over their gap (on); read sightings by a
@@ -227,6 +226,7 @@ class ActiveParameters:
     plan_hierarchy: float = 0.0
     plan_success: float = 1.0
     plan_unseen: int = 0
+    plan_hidden: int = 0
     plan_settled: int = 0
     plan_join: int = 3
     plan_types: float = 0.97
@@ -302,7 +302,7 @@ class ActiveParameters:
 
     def _check_planner(self) -> None:
         """The planner's parameters (``plan_*``) and ``anchor_check`` beyond their types."""
-        for name in ("plan_unseen", "plan_settled", "plan_join", "anchor_check"):
+        for name in ("plan_unseen", "plan_hidden", "plan_settled", "plan_join", "anchor_check"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise InvalidArgumentError(

@@ -51,6 +51,7 @@ from epistemica.aif.teammates import (
 from epistemica.sim.engine.navigation import roadmap_for
 from epistemica.sim.engine.scenario import Scenario
 from epistemica.sim.engine.sensing import Observations
+from epistemica.sim.policies.hidden_places import HiddenPlaces
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.policy import steer
 
@@ -164,6 +165,7 @@ class PlanningStage:
             "shown": p.plan_shown,
             "sigma": p.plan_sigma,
             "claim": p.plan_claim > 0,
+            "arrivals": p.plan_hidden > 0,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
@@ -177,8 +179,9 @@ class PlanningStage:
         self._roadmap = roadmap_for(scenario)  # teammates drive round walls: read them so
         self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
-        # Where a teammate never seen may be: draws over the workspace (none: ablation).
+        # Where a never-seen teammate may be: over the workspace, or where it can be (hidden).
         self.places = places_in_square(p.plan_unseen, scenario.n_robots, scenario.workspace)
+        self.hidden = HiddenPlaces(scenario, p.plan_hidden) if p.plan_hidden > 0 else None
         # robot -> (step, what it saw, when it last saw each robot)
         self._last: dict[int, tuple[int, np.ndarray, np.ndarray]] = {}
         # robot -> (n, M) log-likelihood of each teammate heading for each goal, summed
@@ -328,15 +331,16 @@ class PlanningStage:
         held = goal[int(np.argmax(count))]
         return {int(j): int(held) for j in np.flatnonzero((count >= self.settled) & (goal == held))}
 
-    def unseen(self, observations: Observations, robot: int) -> np.ndarray | None:
-        """The planner's draws of where the robot's never-seen teammates may be."""
+    def unseen(self, observations: Observations, robot: int, goals=(), tau=1.0):
+        """The planner's draws of where the robot's never-seen teammates may be (with
+        ``plan_hidden``, from its table of ``goals`` and the planner's ``tau``)."""
+        if self.hidden is not None:
+            return self.hidden.draws(observations, robot, goals, tau)
         never = observations.last_seen[robot] < 0
         never[robot] = False
         if not never.any() or self.places.shape[0] == 0:
             return None
-        places = self.places.copy()
-        places[:, ~never] = np.nan
-        return places
+        return np.where(never[None, :, None], self.places, np.nan)
 
     def typed(self, ctrl, goals, robot: int, observations: Observations) -> np.ndarray | None:
         """Score the teammates' moves since the robot's last plan under each type, and
@@ -406,7 +410,7 @@ class PlanningStage:
             read, previous = np.zeros_like(read), None
         result = self.planner(ctrl).plan(
             robot, observations.poses[robot], prior, sets, moving, read, previous,
-            self.unseen(observations, robot), typed,
+            self.unseen(observations, robot, goals, self.planner(ctrl).tau), typed,
             observations.last_seen[robot] < 0 if self.blind else None,
             observations.last_seen[robot] == observations.step,  # who sees it: sight is mutual
             progress, self.yields(robot),
