@@ -127,7 +127,7 @@ class HiddenPlaces:
         and ``tau`` the planner's precision (s). ``None`` if no teammate is hidden."""
         never = np.array(never, dtype=bool)
         never[robot] = False
-        if not never.any() or self.count <= 0:
+        if not never.any() or self.count <= 0 or len(goals) == 0:
             return None
         self.look(robot, np.asarray(pose, dtype=float)[:2], never, step)
         n = self.reach.shape[0]

@@ -89,6 +89,7 @@ def test_planner_trips_of_a_hidden_teammate_come_from_its_draws():
 def test_stage_hands_the_planner_draws_out_of_sight_and_checks_the_parameter():
     with pytest.raises(EpistemicaError):
         ActiveParameters(plan_hidden=-1)
+    assert ActiveParameters().plan_hidden == 0  # off: no gain measured (aif.md §6g)
     scenario = _scenario()
     stage = PlanningStage(scenario, ActiveParameters(planning=True, plan_hidden=8), order=2)
     poses = np.zeros((2, 2, 3))
