@@ -47,6 +47,7 @@ import numpy as np
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
+    "adhoc_rows",
     "goal_distances",
     "goal_marginals",
     "goal_probabilities_from_distances",
@@ -328,3 +329,22 @@ def typed_predictions(log_types: np.ndarray, goal_probabilities: np.ndarray,
     mixed = np.einsum("nt,ntm->nm", adhoc[typed], goal_probabilities[typed])
     out[typed] = mixed / mass[typed, None]
     return out
+
+
+def adhoc_rows(posterior: np.ndarray, goal_probabilities: np.ndarray) -> np.ndarray:
+    """``(n, m)``: each teammate's goal distribution if it is not of the team type, the
+    mixture of the other types' rows of ``goal_probabilities`` (``(n, T, m)``) weighed by
+    ``posterior`` (``(n, T)``, any positive scale): what a claim expects of a teammate
+    that does not yield (``plan_claim = 4``).
+
+    Examples
+    --------
+    Greedy and stationary both hold to goal 0, the other convention to goal 1:
+
+    >>> probs = np.array([[[0.5, 0.5], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]]])
+    >>> adhoc_rows(np.array([[0.4, 0.3, 0.2, 0.1]]), probs).round(3).tolist()
+    [[0.667, 0.333]]
+    """
+    weights = np.delete(posterior, TYPES.index("team"), axis=1)
+    rows = np.delete(goal_probabilities, TYPES.index("team"), axis=1)
+    return np.einsum("nt,ntm->nm", weights, rows) / weights.sum(axis=1, keepdims=True)

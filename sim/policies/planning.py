@@ -41,6 +41,7 @@ from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
     TYPES,
+    adhoc_rows,
     goal_distances,
     least_cost_from_distances,
     motion_log_likelihood,
@@ -168,8 +169,9 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
-        self.by_type = p.plan_claim >= 2  # a claim binds a teammate as it is a planner
-        self.yielding = p.plan_claim == 3  # ... and its moves are read as such
+        # A claim binds a teammate as it is a planner (2), its moves are read so (3), and
+        # one that does not yield goes by its ad hoc types (4).
+        self.by_type, self.yielding, self.keeping = (p.plan_claim >= v for v in (2, 3, 4))
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
@@ -371,15 +373,17 @@ class PlanningStage:
         rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
         return rows
 
-    def yields(self, robot: int) -> np.ndarray | None:
+    def yields(self, robot: int):
         """``(n,)`` the robot's posterior that each teammate is of the team type, i.e. a
-        planner that gives up a goal it finds taken (``plan_claim = 2``); ``None`` (every
+        planner that gives up a goal it finds taken (``plan_claim = 2``), with ``plan_claim =
+        4`` paired with each one's goal if it does not (:func:`adhoc_rows`); ``None`` (every
         teammate yields) with ``plan_claim`` 1 or the types off (``plan_types = 0``)."""
         log_types = self._types.get(robot)
         if not self.by_type or log_types is None:
             return None
         posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
-        return posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
+        team = posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
+        return (team, adhoc_rows(posterior, self._typing[robot][4])) if self.keeping else team
 
     def _type_record(self, robot: int, typed) -> tuple:
         """The robot's type posteriors of every robot and which are typed, for a record."""
