@@ -44,6 +44,7 @@ class PlanContext:
         self.blind = np.zeros(pos.shape[0], dtype=bool)  # robots never seen (see ``hide``)
         self.yields: np.ndarray | None = None  # P(a teammate yields a goal it finds taken)
         self.keeps: np.ndarray | None = None  # (n, m) its goal if it does not (None: pi_l)
+        self.within = False  # ... only on goals pi_l leaves it (its set's)
 
     def hide(self, robot: int, never: np.ndarray) -> None:
         """Mark the teammates in ``never`` (``(n,)`` booleans) as never seen: the
@@ -63,14 +64,17 @@ class PlanContext:
         up a goal it finds taken (``claimed``); the robot's own entry is 1 (a planner). Or a
         pair ``(yields, keeps)``, ``keeps`` ``(n, m)`` the goal weights of each teammate if it
         does not yield (its ad hoc types'; without them it keeps its plan prediction)."""
-        if isinstance(yields, tuple):
-            yields, keeps = yields
-            keeps = np.array(keeps, dtype=float)
+        if isinstance(yields, tuple):  # a third element True: keeps within pi_l's goals
+            yields, keeps, *within = yields
+            self.within = bool(within and within[0])
+            keeps = np.array(keeps, dtype=float)  # a nan row: it keeps its prediction
             total = keeps.sum(axis=1, keepdims=True) if keeps.shape == self.times.shape else 0
-            if np.any(~np.isfinite(keeps)) or np.any(keeps < 0) or np.any(total <= 0):
+            rows = ~np.isnan(keeps).all(axis=1) if np.ndim(total) else np.ones(1, bool)
+            if np.any(~np.isfinite(keeps[rows])) or np.any(keeps[rows] < 0) or np.any(
+                    total[rows] <= 0):  # fmt: skip
                 raise InvalidArgumentError(
                     f"keeps must be {self.times.shape} non-negative goal weights",
-                    hint="per robot, its ad hoc types' goal distribution",
+                    hint="per robot, its ad hoc types' goal distribution (nan: its own)",
                 )
             self.keeps = keeps / total
         yields = np.array(yields, dtype=float)
@@ -133,7 +137,7 @@ class PlanContext:
             there = PlanContext(self.p, moved, self.prior, self.sets, self.masks)
             there.evidence = there.evidence + self.extra
             there.typed, there.held, there.yields = self.typed, self.held, self.yields
-            there.keeps = self.keeps
+            there.keeps, there.within = self.keeps, self.within
             for key, (chain, order) in keys.items():
                 total[key] = total[key] + there.choice(chain, order)
         for key, value in total.items():
@@ -329,7 +333,12 @@ def claimed(context: PlanContext, agent: int, rows: np.ndarray, sums) -> tuple:
         if context.keeps is not None:  # the rows of g's configurations, l's row the mixture
             y = context.yields[later, None]
             mixed = preds.copy()
-            mixed[later] = y * preds[later] / kept[:, None] + (1 - y) * context.keeps[later]
+            keeps = np.where(np.isnan(context.keeps[later]), preds[later], context.keeps[later])
+            if context.within:  # an ad hoc teammate, too, goes only where its set lets it
+                keeps = keeps * (preds[later] > 0)
+                total = keeps.sum(axis=1, keepdims=True)
+                keeps = np.where(total > 0, keeps / np.maximum(total, 1e-300), preds[later])
+            mixed[later] = y * preds[later] / kept[:, None] + (1 - y) * keeps
             mine = rows[:, agent] == g
             w = np.prod(mixed[np.arange(rows.shape[1]), rows[mine]], axis=1)
             valid[g], timed[g] = w.sum(), (w * finish[mine]).sum()

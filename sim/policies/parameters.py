@@ -174,9 +174,9 @@ class ActiveParameters:
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
         predict a teammate that knows too few goals off those it was not shown (known_slots; on).
-    plan_claim : {0, 1, 2, 3, 4}
-        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 a later teammate
-        yields; 2 by its posterior on team; 3 and its moves read so; 4 and else goes by its types.
+    plan_claim : {0, 1, 2, 3, 4, 5}
+        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 a later one yields;
+        2 by P(team); 3 moves read so; 4 else by its types; 5 stationary drives; 6 and seen.
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
@@ -308,7 +308,7 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
-        _check_choice("plan_claim", self.plan_claim, (0, 1, 2, 3, 4), "0 off, 2 by type")
+        _check_choice("plan_claim", self.plan_claim, tuple(range(7)), "0 off, 2 by type")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):

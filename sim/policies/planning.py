@@ -41,7 +41,7 @@ from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
     TYPES,
-    adhoc_rows,
+    claim_yields,
     goal_distances,
     least_cost_from_distances,
     motion_log_likelihood,
@@ -169,9 +169,8 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
-        # A claim binds a teammate as it is a planner (2), its moves are read so (3), and
-        # one that does not yield goes by its ad hoc types (4).
-        self.by_type, self.yielding, self.keeping = (p.plan_claim >= v for v in (2, 3, 4))
+        self.by_type, self.yielding, self.keeping, self.driving, self.unread = (  # claims
+            p.plan_claim >= v for v in (2, 3, 4, 5, 6))  # fmt: skip
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
@@ -361,7 +360,7 @@ class PlanningStage:
             if both.any():  # one step's moves under each type (the team row: the plan's)
                 reach = s.max_speed[both] * s.dt
                 ll = motion_log_likelihood(last[2][both], now[both], last[4][both], ctrl.goals,
-                                           reach, self.type_sigma)  # fmt: skip
+                                           reach, self.type_sigma, self.driving)  # fmt: skip
                 log_types[both] = update_types(log_types[both], ll, self.type_leak)
         distance = goal_distances(now, ctrl.goals)
         convention = least_cost_from_distances(distance[None], ctrl.configurations)[0]
@@ -374,16 +373,15 @@ class PlanningStage:
         return rows
 
     def yields(self, robot: int):
-        """``(n,)`` the robot's posterior that each teammate is of the team type, i.e. a
-        planner that gives up a goal it finds taken (``plan_claim = 2``), with ``plan_claim =
-        4`` paired with each one's goal if it does not (:func:`adhoc_rows`); ``None`` (every
-        teammate yields) with ``plan_claim`` 1 or the types off (``plan_types = 0``)."""
+        """What a claim assumes of each teammate (:func:`claim_yields`; ``None``, every
+        teammate yields, with ``plan_claim`` 1 or the types off, ``plan_types = 0``)."""
         log_types = self._types.get(robot)
         if not self.by_type or log_types is None:
             return None
-        posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
-        team = posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
-        return (team, adhoc_rows(posterior, self._typing[robot][4])) if self.keeping else team
+        if not self.keeping:
+            return claim_yields(log_types)
+        never = self._last[robot][2] < 0 if self.unread else None
+        return claim_yields(log_types, self._typing[robot][4], never)
 
     def _type_record(self, robot: int, typed) -> tuple:
         """The robot's type posteriors of every robot and which are typed, for a record."""

@@ -1,12 +1,19 @@
 """``plan_claim = 4``: a teammate that does not yield a claimed goal is not a planner, so
 it goes by its ad hoc types' goal (``plan(yields=(y, keeps))``, ``PlanContext.claimed``),
-not by the plan's prediction of it as a planner (aif.md §6g, session 52)."""
+not by the plan's prediction of it as a planner; ``plan_claim = 5``: and the stationary type
+may drive to a goal before it stands (aif.md §6g, session 52)."""
 
 import numpy as np
 import pytest
 
 from epistemica.aif.planning import Planner
-from epistemica.aif.teammates import TYPES, adhoc_rows
+from epistemica.aif.teammates import (
+    TYPE_PRIOR,
+    TYPES,
+    adhoc_rows,
+    motion_log_likelihood,
+    update_types,
+)
 from epistemica.sim import Scenario
 from epistemica.sim.policies.parameters import ActiveParameters
 from epistemica.sim.policies.planning import PlanningStage
@@ -52,14 +59,69 @@ def test_the_stage_pairs_the_team_posterior_with_the_ad_hoc_rows():
     log_types = np.log([[0.5, 1 / 6, 1 / 6, 1 / 6]] * 2 + [[1.0, 4.0, 1.0, 2.0]])
     probs = np.full((3, len(TYPES), 3), 1.0 / 3)
     probs[2, 1:] = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
-    stage = PlanningStage(scenario, ActiveParameters(plan_claim=4), order=3)
-    stage._types[0] = log_types
-    stage._typing[0] = (0, np.arange(3), np.zeros((3, 2)), np.ones(3, bool), probs)
-    team, rows = stage.yields(0)
-    np.testing.assert_allclose(team, [0.5, 0.5, 0.125])
-    np.testing.assert_allclose(rows[2], [6 / 7, 0.0, 1 / 7])
-    np.testing.assert_allclose(rows[:2], 1.0 / 3)
-    np.testing.assert_allclose(adhoc_rows(np.exp(log_types), probs), rows)
+    never = np.array([0, -1, 0])  # when the robot last saw each robot: robot 1 never
+    for claim in (4, 6):
+        stage = PlanningStage(scenario, ActiveParameters(plan_claim=claim), order=3)
+        stage._types[0] = log_types
+        stage._typing[0] = (0, np.arange(3), np.zeros((3, 2)), np.ones(3, bool), probs)
+        stage._last[0] = (0, np.zeros((3, 2)), never)
+        team, rows, *within = stage.yields(0)
+        np.testing.assert_allclose(team, [0.5, 0.5, 0.125])
+        np.testing.assert_allclose(rows[2], [6 / 7, 0.0, 1 / 7])
+        np.testing.assert_allclose(rows[0], 1.0 / 3)
+        # At 6 a teammate never seen has no ad hoc row (nan: it keeps the plan's).
+        assert np.isnan(rows[1]).all() == (claim == 6) and within == [True] * (claim == 6)
+    np.testing.assert_allclose(adhoc_rows(np.exp(log_types), probs)[[0, 2]], rows[[0, 2]])
     stage = PlanningStage(scenario, ActiveParameters(plan_claim=3), order=3)
     stage._types[0] = log_types
     assert np.allclose(stage.yields(0), [0.5, 0.5, 0.125])  # 3: the posterior alone
+
+
+def test_a_stationary_teammate_driving_to_the_claimed_goal_is_not_read_as_yielding():
+    # plan_claim 5: the stationary type is the simulator's (to a goal drawn at random, then
+    # still). Teammate at the origin steps 1 m (reach 1, sigma 0.5) towards goal 0 at
+    # (10, 0), the robot's claimed goal; goal 1 at (0, -5) is its nearest. Team (yielded),
+    # greedy and convention all say goal 1: a miss of sqrt 2 m, -4 nats. Standing still
+    # misses by 1 m, -2; driving, ln(e^-2 / 2 + (1 + e^-4) / 4) = -1.13 (to goal 0 or 1).
+    goals = np.array([[10.0, 0.0], [0.0, -5.0]])
+    probs = np.zeros((1, len(TYPES), 2))
+    probs[0, :, 1] = 1.0
+    args = np.zeros((1, 2)), np.array([[1.0, 0.0]]), probs, goals, np.ones(1), 0.5
+    miss, still = np.exp(-4.0), np.exp(-2.0)
+    drive = still / 2 + (1 + miss) / 4
+    for driving, stationary in ((False, still), (True, drive)):
+        ll = motion_log_likelihood(*args, drive=driving)
+        team = np.exp(update_types(np.log(TYPE_PRIOR)[None], ll, 0.0))[0, 0]
+        assert np.isclose(team, 0.5 * miss / (0.5 * miss + (2 * miss + stationary) / 6))
+    # P(team) 0.24 standing still, 0.13 driving: the claim assumes a yield half as often.
+    scenario = Scenario.paper("allocation", 3, 3, seed=0)
+    flags = [PlanningStage(scenario, ActiveParameters(plan_claim=c), 3).driving for c in (4, 5)]
+    assert flags == [False, True]
+
+
+def test_a_teammate_never_seen_keeps_its_prediction_and_ad_hoc_rows_stay_in_its_set():
+    # plan_claim 6. Robot 1 does not know goal 2 (its chain's set): predicted at order 1,
+    # pi_1(2) = 0. Robot 0 2 m from goal 0, robot 1 4 m (later): goal 0 is claimed.
+    goals = [[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]]
+    rows = np.array([[a, b] for a in range(3) for b in range(3) if a != b])
+    planner = Planner(goals, rows, [1.0, 1.0], **{**WORKED, "order": 2}, hierarchy=0.0)
+    sets = {(0, 1): rows[:, 1] != 2}
+    pi1 = planner.plan(0, AT, sets=sets).predictions[1]
+    assert pi1[2] == 0.0
+    mine = [1 / 3] * 3  # the robot's own row is never read
+    # y = 0 and ad hoc rows on goal 2, which it does not know: taken as they are, goal 0
+    # forms with it at goal 2 for sure, at max(2, sqrt(4^2 + 10^2)) = 10.77 s: G(0) = 1.077.
+    loose = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [0.0, 0.0, 1.0]]))
+    assert np.isclose(loose.G[0], np.hypot(4.0, 10.0) / 10)
+    # Kept within its set, nothing is left of that row: it keeps pi_1, as a nan row does
+    # and as plan_claim 2 does at y = 0: G(0) = max(2, 6) / 10 - ln pi_1(1).
+    within = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [0.0, 0.0, 1.0]], True))
+    unread = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [np.nan] * 3]))
+    plain = planner.plan(0, AT, sets=sets, yields=[1.0, 0.0])
+    for result in (within, unread):
+        np.testing.assert_allclose(result.G, plain.G)
+    assert np.isclose(within.G[0], 0.6 - np.log(pi1[1]))
+    # Half on goal 0, half on goal 2: within its set all of it comes to goal 0, P(0) = 0.
+    half = [0.5, 0.0, 0.5]
+    assert planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, half], True)).G[0] > 20
+    assert planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, half])).G[0] < 2

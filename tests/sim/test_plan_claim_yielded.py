@@ -65,4 +65,4 @@ def test_plan_claim_takes_three_and_stays_off():
     assert ActiveParameters().plan_claim == 0
     assert ActiveParameters(plan_claim=3).plan_claim == 3
     with pytest.raises(InvalidArgumentError, match="plan_claim"):
-        ActiveParameters(plan_claim=5)
+        ActiveParameters(plan_claim=7)
