@@ -17,7 +17,14 @@ from epistemica.del_.errors import InvalidArgumentError
 if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
     from epistemica.aif.planning import Planner
 
-__all__ = ["PlanContext", "arrivals", "later_claimants", "places_in_square", "quasi_uniform"]
+__all__ = [
+    "PlanContext",
+    "arrivals",
+    "claimed",
+    "later_claimants",
+    "places_in_square",
+    "quasi_uniform",
+]
 
 
 class PlanContext:
@@ -43,6 +50,8 @@ class PlanContext:
         self.held: np.ndarray | None = None  # the configurations the typed teammates allow
         self.blind = np.zeros(pos.shape[0], dtype=bool)  # robots never seen (see ``hide``)
         self.yields: np.ndarray | None = None  # P(a teammate yields a goal it finds taken)
+        self.keeps: np.ndarray | None = None  # (n, m) its goal if it does not (None: pi_l)
+        self.within = False  # ... only on goals pi_l leaves it (its set's)
 
     def hide(self, robot: int, never: np.ndarray) -> None:
         """Mark the teammates in ``never`` (``(n,)`` booleans) as never seen: the
@@ -59,7 +68,22 @@ class PlanContext:
 
     def give_way(self, robot: int, yields) -> None:
         """Set ``yields`` (``(n,)`` in ``[0, 1]``): the probability that each teammate gives
-        up a goal it finds taken (``claimed``); the robot's own entry is 1 (a planner)."""
+        up a goal it finds taken (``claimed``); the robot's own entry is 1 (a planner). Or a
+        pair ``(yields, keeps)``, ``keeps`` ``(n, m)`` the goal weights of each teammate if it
+        does not yield (its ad hoc types'; without them it keeps its plan prediction)."""
+        if isinstance(yields, tuple):  # a third element True: keeps within pi_l's goals
+            yields, keeps, *within = yields
+            self.within = bool(within and within[0])
+            keeps = np.array(keeps, dtype=float)  # a nan row: it keeps its prediction
+            total = keeps.sum(axis=1, keepdims=True) if keeps.shape == self.times.shape else 0
+            rows = ~np.isnan(keeps).all(axis=1) if np.ndim(total) else np.ones(1, bool)
+            if np.any(~np.isfinite(keeps[rows])) or np.any(keeps[rows] < 0) or np.any(
+                    total[rows] <= 0):  # fmt: skip
+                raise InvalidArgumentError(
+                    f"keeps must be {self.times.shape} non-negative goal weights",
+                    hint="per robot, its ad hoc types' goal distribution (nan: its own)",
+                )
+            self.keeps = keeps / total
         yields = np.array(yields, dtype=float)
         if yields.shape != self.blind.shape or not np.all((yields >= 0) & (yields <= 1)):
             raise InvalidArgumentError(
@@ -121,6 +145,7 @@ class PlanContext:
             there = PlanContext(self.p, moved, self.prior, self.sets, self.masks)
             there.evidence = there.evidence + self.extra
             there.typed, there.held, there.yields = self.typed, self.held, self.yields
+            there.keeps, there.within = self.keeps, self.within
             for key, (chain, order) in keys.items():
                 total[key] = total[key] + there.choice(chain, order)
             picks = [there.choice((robot, int(j)), self.p.order - 1) for j in hidden]
@@ -214,34 +239,10 @@ class PlanContext:
         valid = np.bincount(own, weights=w, minlength=m)
         timed = np.bincount(own, weights=w * finish, minlength=m)
         if p.claim:  # a later teammate finds the goal taken and goes elsewhere
-            share = self.claimed(agent, rows, preds)
-            valid, timed = valid / share, timed / share
+            valid, timed = claimed(self, agent, rows, (preds, finish, valid, timed))
         expected = p.risk(valid, timed, self.times[agent])
         options = np.bincount(own, minlength=m) > 0
         return np.where(options, expected, np.inf)
-
-    def claimed(self, agent: int, rows: np.ndarray, preds: np.ndarray) -> np.ndarray:
-        """``(m,)`` for each goal ``g`` of ``agent``, the factor that conditions the
-        teammates reaching ``g`` after it (and sharing it with it in no configuration of
-        ``rows``) on finding ``agent`` settled there (``Planner.claim``).
-
-        Teammate ``l`` yields with probability ``y_l`` (``self.yields``; 1 for all when
-        unset): a planner finds ``g`` taken and goes elsewhere, ``pi_l(h) / (1 - pi_l(g))``
-        for ``h != g``; an ad hoc teammate keeps ``pi_l``. In the configurations with
-        ``agent`` at ``g``, ``l`` is not at ``g``, so the mixture multiplies their weight
-        by ``y_l / (1 - pi_l(g)) + 1 - y_l``: the factor (a divisor of ``P(g)`` and
-        ``E[T | g]``'s numerator) is ``prod_l (1 - pi_l(g)) / (1 - pi_l(g) + y_l pi_l(g))``,
-        ``1 - pi_l(g)`` for a planner and 1 for a teammate that never yields.
-        """
-        m = preds.shape[1]
-        share = np.ones(m)
-        for g in np.unique(rows[:, agent]):
-            later = later_claimants(self.times[:, g], agent, g, rows)
-            kept = np.maximum(1.0 - preds[later, g], 1e-3)
-            if self.yields is not None:  # only who yields is conditioned (the mixture)
-                kept = kept / (kept + self.yields[later] * preds[later, g])
-            share[g] = np.prod(kept)
-        return share
 
     def choice(self, chain: tuple[int, ...], order: int) -> np.ndarray:
         """``(m,)`` the goal distribution of ``chain[-1]`` as ``chain[:-1]`` predicts it:
@@ -340,6 +341,48 @@ def arrivals(choices: np.ndarray, trips: np.ndarray) -> np.ndarray:
     weight = choices.sum(axis=0)
     timed = (choices * trips).sum(axis=0)
     return np.where(weight > 0, timed / np.where(weight > 0, weight, 1.0), trips.mean(axis=0))
+
+
+def claimed(context: PlanContext, agent: int, rows: np.ndarray, sums) -> tuple:
+    """``valid`` and ``timed`` of ``sums = (preds, finish, valid, timed)`` (``(m,)``: the
+    weights of the configurations ``rows`` under the predictions ``preds``, and the same
+    times their ``finish``, summed by ``agent``'s goal; :meth:`PlanContext.given`) with the
+    teammates that reach each goal ``g`` after ``agent`` (and share it with it in no
+    configuration) conditioned on finding ``agent`` settled there (``Planner.claim``).
+
+    Teammate ``l`` yields with probability ``y_l`` (``context.yields``; 1 for all when
+    unset): a planner finds ``g`` taken and goes elsewhere, ``pi_l(h) / (1 - pi_l(g))``
+    for ``h != g``; one that does not keeps ``pi_l``. In the configurations with
+    ``agent`` at ``g``, ``l`` is not at ``g``, so the mixture multiplies their weight
+    by ``y_l / (1 - pi_l(g)) + 1 - y_l``: ``P(g)`` and ``E[T | g]``'s numerator are
+    divided by ``prod_l (1 - pi_l(g)) / (1 - pi_l(g) + y_l pi_l(g))``. With ``keeps``
+    (``plan_claim = 4``) one that does not yield is no planner: it goes by its ad hoc
+    types' row ``a_l``, so ``l``'s row is ``y_l pi_l / (1 - pi_l(g)) + (1 - y_l) a_l``
+    off ``g``, and the mass ``(1 - y_l) a_l(g)`` of it contesting ``g`` is lost.
+    """
+    preds, finish, valid, timed = sums
+    valid, timed = valid.copy(), timed.copy()
+    for g in np.unique(rows[:, agent]):
+        later = later_claimants(context.times[:, g], agent, g, rows)
+        kept = np.maximum(1.0 - preds[later, g], 1e-3)
+        if context.keeps is not None:  # the rows of g's configurations, l's row the mixture
+            y = context.yields[later, None]
+            mixed = preds.copy()
+            keeps = np.where(np.isnan(context.keeps[later]), preds[later], context.keeps[later])
+            if context.within:  # an ad hoc teammate, too, goes only where its set lets it
+                keeps = keeps * (preds[later] > 0)
+                total = keeps.sum(axis=1, keepdims=True)
+                keeps = np.where(total > 0, keeps / np.maximum(total, 1e-300), preds[later])
+            mixed[later] = y * preds[later] / kept[:, None] + (1 - y) * keeps
+            mine = rows[:, agent] == g
+            w = np.prod(mixed[np.arange(rows.shape[1]), rows[mine]], axis=1)
+            valid[g], timed[g] = w.sum(), (w * finish[mine]).sum()
+            continue
+        if context.yields is not None:  # only who yields is conditioned (the mixture)
+            kept = kept / (kept + context.yields[later] * preds[later, g])
+        share = np.prod(kept)
+        valid[g], timed[g] = valid[g] / share, timed[g] / share
+    return valid, timed
 
 
 def quasi_uniform(count: int, dims: int) -> np.ndarray:

@@ -277,7 +277,7 @@ class Planner:
             ``(n,)``. ``blind``: the teammates never seen (a placeholder is no evidence of
             one's goal, nor of others they predict); ``watching``: those that see the robot
             now (``shown``); ``yields``, in ``[0, 1]``: the probability that each gives up a
-            goal it finds taken, as a planner does (``claim``; default 1).
+            goal it finds taken, as a planner does (``claim``; default 1), or ``(yields, keeps)``.
 
         Examples
         --------

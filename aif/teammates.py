@@ -47,6 +47,8 @@ import numpy as np
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
+    "adhoc_rows",
+    "claim_yields",
     "goal_distances",
     "goal_marginals",
     "goal_probabilities_from_distances",
@@ -167,11 +169,31 @@ def motion_log_likelihood(
     goals: np.ndarray,
     reach: np.ndarray,
     sigma: float,
+    drive: bool = False,
 ) -> np.ndarray:
     """``(n, T)`` log likelihood of each teammate's observed step under each type.
 
     ``goal_probabilities`` are the ``(n, T, m)`` predictions made at ``previous``;
-    ``reach`` the ``(n,)`` metres a robot covers in a step at most.
+    ``reach`` the ``(n,)`` metres a robot covers in a step at most. The stationary type
+    stands still; with ``drive`` it is the simulator's level ``stationary``, which drives
+    to a goal drawn at random and stands there: with probability 1/2 it has arrived (the
+    step is still), else it steps towards a goal drawn uniformly (``plan_claim = 5``).
+
+    Examples
+    --------
+    A teammate at the origin steps 1 m towards goal 0 (reach 1, sigma 0.5): standing
+    still misses by 1 m (``-1 / (2 · 0.25) = -2`` nats), heading for goal 0 by nothing,
+    for goal 1 by ``√2`` m (-4). Driving, the stationary type scores
+    ``ln(e^-2 / 2 + (1 + e^-4) / 4) = -1.13`` nats over the Gaussian's constant:
+
+    >>> goals = np.array([[10.0, 0.0], [0.0, -20.0]])
+    >>> probs = np.full((1, len(TYPES), 2), 0.5)
+    >>> args = np.zeros((1, 2)), np.array([[1.0, 0.0]]), probs, goals, np.ones(1), 0.5
+    >>> norm = -np.log(2 * np.pi * 0.25)
+    >>> (motion_log_likelihood(*args)[0, -1] - norm).round(2).item()
+    -2.0
+    >>> (motion_log_likelihood(*args, drive=True)[0, -1] - norm).round(2).item()
+    -1.13
     """
     delta = goals[None] - previous[:, None]  # (n, m, 2)
     distance = np.hypot(delta[..., 0], delta[..., 1])
@@ -185,8 +207,11 @@ def motion_log_likelihood(
     top = terms.max(axis=-1, keepdims=True)
     moving = np.log(np.exp(terms - top).sum(-1)) + top[..., 0]
     still = norm - ((current - previous) ** 2).sum(-1) / (2 * sigma**2)
-    stationary = TYPES.index("stationary")
-    moving[:, stationary] = still
+    if drive:  # arrived (still), or on its way to a goal drawn uniformly
+        top = toward.max(axis=-1)
+        uniform = np.log(np.exp(toward - top[:, None]).mean(axis=-1)) + top
+        still = np.logaddexp(still, uniform) - np.log(2.0)
+    moving[:, TYPES.index("stationary")] = still
     return moving
 
 
@@ -328,3 +353,49 @@ def typed_predictions(log_types: np.ndarray, goal_probabilities: np.ndarray,
     mixed = np.einsum("nt,ntm->nm", adhoc[typed], goal_probabilities[typed])
     out[typed] = mixed / mass[typed, None]
     return out
+
+
+def adhoc_rows(posterior: np.ndarray, goal_probabilities: np.ndarray) -> np.ndarray:
+    """``(n, m)``: each teammate's goal distribution if it is not of the team type, the
+    mixture of the other types' rows of ``goal_probabilities`` (``(n, T, m)``) weighed by
+    ``posterior`` (``(n, T)``, any positive scale): what a claim expects of a teammate
+    that does not yield (``plan_claim = 4``).
+
+    Examples
+    --------
+    Greedy and stationary both hold to goal 0, the other convention to goal 1:
+
+    >>> probs = np.array([[[0.5, 0.5], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]]])
+    >>> adhoc_rows(np.array([[0.4, 0.3, 0.2, 0.1]]), probs).round(3).tolist()
+    [[0.667, 0.333]]
+    """
+    weights = np.delete(posterior, TYPES.index("team"), axis=1)
+    rows = np.delete(goal_probabilities, TYPES.index("team"), axis=1)
+    return np.einsum("nt,ntm->nm", weights, rows) / weights.sum(axis=1, keepdims=True)
+
+
+def claim_yields(log_types, goal_probabilities=None, never=None):
+    """What a claim assumes of each robot: ``(n,)`` its posterior on the team type
+    (``log_types``, ``(n, T)``), a planner that yields a goal it finds taken (``plan_claim``
+    2, 3); given the planner's ``(n, T, m)`` type rows, paired with its goal if it does not
+    yield (:func:`adhoc_rows`; 4, 5); given ``never`` (``(n,)`` booleans, 6), that row
+    ``nan`` for a robot never seen (no move read, its rows from a placeholder: it keeps the
+    plan's prediction), and ``True``: the rows are held to the goals its set leaves it.
+
+    Examples
+    --------
+    >>> lt = np.log([[0.5, 0.25, 0.2, 0.05], [0.5, 0.4, 0.05, 0.05]])
+    >>> probs = np.array([[[0.5, 0.5], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]]] * 2)
+    >>> team, rows, within = claim_yields(lt, probs, np.array([False, True]))
+    >>> team.tolist(), rows.round(2).tolist(), within
+    ([0.5, 0.5], [[0.6, 0.4], [nan, nan]], True)
+    """
+    posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
+    team = posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
+    if goal_probabilities is None:
+        return team
+    rows = adhoc_rows(posterior, goal_probabilities)
+    if never is None:
+        return team, rows
+    rows[never] = np.nan
+    return team, rows, True

@@ -173,9 +173,9 @@ class ActiveParameters:
         on); read a move only between two sightings, over their gap (on); read sightings by a
         filter per goal (aif.planning.filter_sightings; results/planning_wrong_decision.md);
         predict a teammate that knows too few goals off those it was not shown (known_slots; on).
-    plan_claim : {0, 1, 2, 3}
-        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 a later teammate
-        yields; 2 by its posterior on team (``yields=``); 3 as 2, its moves read so (``yielded``).
+    plan_claim : {0, 1, 2, 3, 4, 5, 6}
+        Price a contested goal by who reaches it first (aif.md §6g): 0 off; 1 a later one yields;
+        2 by P(team); 3 moves read so; 4 else by its types; 5 stationary drives; 6 seen (on, s52).
     plan_meet, plan_anchor, plan_sighted : bool
         Planner levels' rendezvous search (aif.md §6g; the rules' never): searchers that meet
         follow one leader; an anchor outranks a find; look where missing teammates were last
@@ -237,7 +237,7 @@ class ActiveParameters:
     plan_anchor: bool = True
     plan_sighted: bool = True
     plan_shown: float = 0.0
-    plan_claim: int = 0
+    plan_claim: int = 6
     plan_few: bool = True
     controller: tuple[tuple[str, object], ...] = field(default=())
 
@@ -308,7 +308,7 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
-        _check_choice("plan_claim", self.plan_claim, (0, 1, 2, 3), "0 off, 1 all yield, 2 by type")
+        _check_choice("plan_claim", self.plan_claim, tuple(range(7)), "0 off, 2 by type")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):

@@ -41,6 +41,7 @@ from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
     TYPES,
+    claim_yields,
     goal_distances,
     least_cost_from_distances,
     motion_log_likelihood,
@@ -170,8 +171,8 @@ class PlanningStage:
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
-        self.by_type = p.plan_claim >= 2  # a claim binds a teammate as it is a planner
-        self.yielding = p.plan_claim == 3  # ... and its moves are read as such
+        self.by_type, self.yielding, self.keeping, self.driving, self.unread = (  # claims
+            p.plan_claim >= v for v in (2, 3, 4, 5, 6))  # fmt: skip
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
         # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
         # arrival does a task, so a plan keeps no goal of its own and reads no moves.
@@ -332,8 +333,7 @@ class PlanningStage:
         return {int(j): int(held) for j in np.flatnonzero((count >= self.settled) & (goal == held))}
 
     def unseen(self, observations: Observations, robot: int, goals=(), tau=1.0):
-        """The planner's draws of where the robot's never-seen teammates may be (with
-        ``plan_hidden``, from its table of ``goals`` and the planner's ``tau``)."""
+        """Draws of where never-seen teammates may be (``plan_hidden``: ``goals``, ``tau``)."""
         if self.hidden is not None:
             return self.hidden.draws(observations, robot, goals, tau)
         never = observations.last_seen[robot] < 0
@@ -363,7 +363,7 @@ class PlanningStage:
             if both.any():  # one step's moves under each type (the team row: the plan's)
                 reach = s.max_speed[both] * s.dt
                 ll = motion_log_likelihood(last[2][both], now[both], last[4][both], ctrl.goals,
-                                           reach, self.type_sigma)  # fmt: skip
+                                           reach, self.type_sigma, self.driving)  # fmt: skip
                 log_types[both] = update_types(log_types[both], ll, self.type_leak)
         distance = goal_distances(now, ctrl.goals)
         convention = least_cost_from_distances(distance[None], ctrl.configurations)[0]
@@ -375,15 +375,16 @@ class PlanningStage:
         rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
         return rows
 
-    def yields(self, robot: int) -> np.ndarray | None:
-        """``(n,)`` the robot's posterior that each teammate is of the team type, i.e. a
-        planner that gives up a goal it finds taken (``plan_claim = 2``); ``None`` (every
-        teammate yields) with ``plan_claim`` 1 or the types off (``plan_types = 0``)."""
+    def yields(self, robot: int):
+        """What a claim assumes of each teammate (:func:`claim_yields`; ``None``, every
+        teammate yields, with ``plan_claim`` 1 or the types off, ``plan_types = 0``)."""
         log_types = self._types.get(robot)
         if not self.by_type or log_types is None:
             return None
-        posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
-        return posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
+        if not self.keeping:
+            return claim_yields(log_types)
+        never = self._last[robot][2] < 0 if self.unread else None
+        return claim_yields(log_types, self._typing[robot][4], never)
 
     def _type_record(self, robot: int, typed) -> tuple:
         """The robot's type posteriors of every robot and which are typed, for a record."""

@@ -88,10 +88,11 @@ def test_the_stage_reads_yields_from_the_type_posterior():
     assert stage.yields(0) is None  # types off: everyone is a planner
 
 
-def test_plan_claim_is_off_by_default_and_takes_four_values():
-    assert ActiveParameters().plan_claim == 0
+def test_plan_claim_is_six_by_default_and_takes_seven_values():
+    assert ActiveParameters().plan_claim == 6  # on since session 52; 0 is the ablation
+    assert ActiveParameters(plan_claim=0).plan_claim == 0
     assert ActiveParameters(plan_claim=2).plan_claim == 2
     assert ActiveParameters(plan_claim=3).plan_claim == 3
-    for bad in (True, 4, -1, 1.5):
+    for bad in (True, 7, -1, 1.5):
         with pytest.raises(Exception, match="plan_claim"):
             ActiveParameters(plan_claim=bad)

@@ -61,8 +61,8 @@ def test_waiting_beside_the_robots_goal_reads_as_stationary_not_as_a_yielding_pl
     assert team[False] > 0.5 > 0.25 > team[True]  # 0.51 against 0.20
 
 
-def test_plan_claim_takes_three_and_stays_off():
-    assert ActiveParameters().plan_claim == 0
+def test_plan_claim_takes_three_and_is_six_by_default():
+    assert ActiveParameters().plan_claim == 6  # session 52
     assert ActiveParameters(plan_claim=3).plan_claim == 3
     with pytest.raises(InvalidArgumentError, match="plan_claim"):
-        ActiveParameters(plan_claim=4)
+        ActiveParameters(plan_claim=7)
