@@ -619,3 +619,28 @@ def test_plan_watched_is_0_1_or_2():
     assert CollaborativeParameters(plan_watched=2).plan_watched == 2
     with pytest.raises(InvalidArgumentError, match="plan_watched"):
         CollaborativeParameters(plan_watched=3)
+
+
+def test_by_default_the_planner_does_not_presume_done_a_task_its_knowers_were_seen_away_from():
+    # Step 50, t1 at (3, 15) needs 2; every robot has known of it since step 0 and knows
+    # the others do, and none has seen it open since step 0 (stale_after 20: by the
+    # ledger alone it is presumed done). All three are seen now 17-18 m from it, 15.5 to
+    # 16.5 steps from its radius: none can be there before step 65.5 > 30, so with
+    # plan_watched (on) the planner keeps it open, robots 0 and 1 (nearest) head for it
+    # and robot 2 explores; the rules presume it done and go only to see it (verify).
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    view = view._replace(open_seen=np.zeros((3, 1), int))
+    planner = PlanningCollaborativePolicy("third", CollaborativeParameters())
+    planner.start(s)
+    _, heads = planner.plan(view)
+    assert planner.open_now.tolist() == [[True]] * 3
+    assert heads.tolist() == [0, 0, -1]
+    rules = make_level("collaborative", "rules")
+    rules.start(s)
+    _, heads = rules.plan(view)
+    assert rules.open_now.tolist() == [[False]] * 3
+    assert heads.tolist() == [0, 0, 0]

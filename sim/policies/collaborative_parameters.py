@@ -227,7 +227,7 @@ class CollaborativeParameters:
     plan_spread, plan_watched : bool, int
         A never-seen teammate is found only with the share of its starts in sight of the
         meeting (off). ``stale_after`` counts a knower from the earliest step it can have
-        reached the task since seen away from it (1), unless it can have done it first (2).
+        reached the task since seen away (1, on: 1200-1599), unless it can have done it first (2).
     plan_waiters : int
         A teammate seen standing still at an open task knows of it, is met where it stands,
         and a fetch of it for another task is charged what that task loses; with 1, not 2,
@@ -295,7 +295,7 @@ class CollaborativeParameters:
     plan_back: bool = False
     plan_hold: bool = True
     plan_spread: bool = False
-    plan_watched: int = 0
+    plan_watched: int = 1
     plan_waiters: int = 0
     plan_presumed: bool = False
 
