@@ -50,6 +50,7 @@ PLANNER_MECHANISMS = {
     "searchers look where teammates were last seen": "plan_sighted=false",
     "joining teammates settled at a goal not known": "plan_join=0",
     "goals a teammate was not shown": "plan_few=false",
+    "contested goals priced by arrival": "plan_claim=0",
     "never-seen teammates predicted blind": "plan_blind=false",
     "sightings' stated noise": "plan_noise=0",
     "teammate types": "plan_types=0",

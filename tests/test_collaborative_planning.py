@@ -510,6 +510,33 @@ def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reach
     assert policy.presumed_done(view, 0, watched).tolist() == [not watched or seen == 10]
 
 
+@pytest.mark.parametrize(("began", "presumed"), [(10, False), (16, False), (17, True), (50, True)])
+def test_with_plan_watched_2_a_knower_seen_away_counts_if_it_can_have_been_there_first(
+    began, presumed
+):
+    # As above (t1 at (3, 15) needs 2, r2 and r3 known to know of it since step 0, step
+    # 50, stale_after 20), r2 and r3 seen at (20, 16) and (21, 14) without a break since
+    # step ``began``: 15.53 and 16.53 steps from t1's radius. At 1 (plan_watched 1) both
+    # count from 65.5 and 66.5 > 30, whenever the sighting began. At 2 a knower counts
+    # from when r1 knew it knew (0 <= 30) if it had time to do t1 before the sighting
+    # began and walk to where it was seen (began - walk >= 0): r2 from step 16, r3 from
+    # 17; so t1 is presumed done from began 17 on (at 16 only r2 counts: 1 < 2).
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    view = view._replace(open_seen=np.zeros((3, 1), int))
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_watched=2))
+    policy.start(s)
+    policy.watch(view._replace(step=began, last_seen=np.full((3, 3), began)))
+    policy.watch(view)  # the same unbroken sighting
+    assert policy.watch_from[0, 1:].tolist() == [began, began]
+    assert policy.presumed_done(view, 0, 1).tolist() == [False]
+    assert policy.presumed_done(view, 0, 2).tolist() == [presumed]
+    assert policy.presumed_done(view, 0, 0).tolist() == [True]
+
+
 def _waiter(moved: float):
     """r1 at (20, 15) knows t1 at (3, 15) and t2 at (20, 3), each needing 2; r2 stands 1 m
     off t2 at (20, 4) at steps 49 and 50 (moved ``moved`` m in between), knowing neither
@@ -586,3 +613,34 @@ def test_with_plan_presumed_a_teammate_away_from_a_task_found_open_presumes_it_d
 def test_plan_presumed_is_0_or_1():
     with pytest.raises(InvalidArgumentError, match="plan_presumed"):
         CollaborativeParameters(plan_presumed=2)
+
+
+def test_plan_watched_is_0_1_or_2():
+    assert CollaborativeParameters(plan_watched=2).plan_watched == 2
+    with pytest.raises(InvalidArgumentError, match="plan_watched"):
+        CollaborativeParameters(plan_watched=3)
+
+
+def test_by_default_the_planner_does_not_presume_done_a_task_its_knowers_were_seen_away_from():
+    # Step 50, t1 at (3, 15) needs 2; every robot has known of it since step 0 and knows
+    # the others do, and none has seen it open since step 0 (stale_after 20: by the
+    # ledger alone it is presumed done). All three are seen now 17-18 m from it, 15.5 to
+    # 16.5 steps from its radius: none can be there before step 65.5 > 30, so with
+    # plan_watched (on) the planner keeps it open, robots 0 and 1 (nearest) head for it
+    # and robot 2 explores; the rules presume it done and go only to see it (verify).
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    view = view._replace(open_seen=np.zeros((3, 1), int))
+    planner = PlanningCollaborativePolicy("third", CollaborativeParameters())
+    planner.start(s)
+    _, heads = planner.plan(view)
+    assert planner.open_now.tolist() == [[True]] * 3
+    assert heads.tolist() == [0, 0, -1]
+    rules = make_level("collaborative", "rules")
+    rules.start(s)
+    _, heads = rules.plan(view)
+    assert rules.open_now.tolist() == [[False]] * 3
+    assert heads.tolist() == [0, 0, 0]

@@ -133,6 +133,9 @@ class CollaborativePolicy(CoalitionRules, Policy):
         self.backed = np.zeros(n, dtype=bool)
         self.seeking_since = np.full((n, m), -1)
         self.open_now = np.zeros((n, m), dtype=bool)  # per robot: tasks open by its knowledge
+        # plan_watched 2: when robot i's unbroken sighting of j began, and where j was then
+        self.in_sight, self.watch_from = np.zeros((n, n), dtype=bool), np.full((n, n), -1)
+        self.watch_at = np.zeros((n, n, 2))
 
     # -- what a robot predicts ------------------------------------------------------------
 
@@ -184,13 +187,22 @@ class CollaborativePolicy(CoalitionRules, Policy):
             self.parameters.intercept_limit,
         )
 
-    def presumed_done(self, view: View, i: int, watched: bool = False) -> np.ndarray:
+    def presumed_done(self, view: View, i: int, watched: int = 0) -> np.ndarray:
         """``(m,)`` the tasks robot ``i`` presumes done (``stale_after``): at least as many
         teammates as a task needs have been known to know of it that long, and ``i`` has
         not seen it open for as long. With ``watched`` (``plan_watched``) a knower counts
-        from its :meth:`earliest` arrival at the task, if later."""
+        from its :meth:`earliest` arrival at the task, if later; at 2 only if it cannot
+        have been there before ``i`` saw it away: it was seen sooner after ``i`` knew it
+        knew than its walk from the task."""
         old = view.step - self.parameters.stale_after
-        since = np.maximum(view.since[i], self.earliest(view, i)) if watched else view.since[i]
+        since = view.since[i]
+        if watched:
+            earliest = self.earliest(view, i)
+            if watched == 2:  # time to do it before the sighting began, and walk away
+                began = self.watch_from[i].astype(float)[:, None]
+                first = began - self.walks(self.watch_at[i])
+                earliest[(earliest >= 0) & (began >= 0) & (first >= since)] = -1.0
+            since = np.maximum(since, earliest)
         knew = (view.since[i] >= 0) & (since <= old)
         knew[i] = False
         return (knew.sum(axis=0) >= np.asarray(self.s.needs)) & (view.open_seen[i] < old)
@@ -216,11 +228,24 @@ class CollaborativePolicy(CoalitionRules, Policy):
         """
         s, seen = self.s, view.last_seen[i].astype(float)
         gap = np.hypot(*(view.estimates[i][:, None, :] - s.tasks[None]).transpose(2, 0, 1))
-        walk = (
-            np.maximum(gap - s.completion_radius, 0.0) / (np.asarray(s.max_speed) * s.dt)[:, None]
-        )
         away = (seen[:, None] >= 0) & (gap > 2 * s.completion_radius)
-        return np.where(away, seen[:, None] + walk, -1.0)
+        return np.where(away, seen[:, None] + self.walks(view.estimates[i]), -1.0)
+
+    def walks(self, places: np.ndarray) -> np.ndarray:
+        """``(n, m)`` steps each robot needs from ``places`` (``(n, 2)``) to within the
+        completion radius of each task."""
+        s = self.s
+        gap = np.hypot(*(places[:, None, :] - s.tasks[None]).transpose(2, 0, 1))
+        speed = (np.asarray(s.max_speed) * s.dt)[:, None]
+        return np.maximum(gap - s.completion_radius, 0.0) / speed
+
+    def watch(self, view: View) -> None:
+        """Note, per robot and teammate, the step its present (or last) unbroken sighting
+        of the teammate began and where the teammate was then (``plan_watched`` 2)."""
+        now = view.last_seen == view.step
+        began = now & ~self.in_sight
+        self.watch_from[began], self.watch_at[began] = view.step, view.estimates[began]
+        self.in_sight = now
 
     # -- decisions --------------------------------------------------------------------------
 

@@ -224,10 +224,10 @@ class CollaborativeParameters:
     plan_hold : bool
         The rules' patience for the planner (:meth:`CollaborativePolicy.unheld`). On with
         ``plan_told`` (it ends standoffs at tasks; fresh missions 300-399).
-    plan_spread, plan_watched : bool
+    plan_spread, plan_watched : bool, int
         A never-seen teammate is found only with the share of its starts in sight of the
-        meeting; ``stale_after`` counts a knower from the earliest step it can have reached
-        the task since last seen away from it. Off: worse at 3-4 robots (500-599).
+        meeting (off). ``stale_after`` counts a knower from the earliest step it can have
+        reached the task since seen away (1, on: 1200-1599), unless it can have done it first (2).
     plan_waiters : int
         A teammate seen standing still at an open task knows of it, is met where it stands,
         and a fetch of it for another task is charged what that task loses; with 1, not 2,
@@ -295,7 +295,7 @@ class CollaborativeParameters:
     plan_back: bool = False
     plan_hold: bool = True
     plan_spread: bool = False
-    plan_watched: bool = False
+    plan_watched: int = 1
     plan_waiters: int = 0
     plan_presumed: bool = False
 
@@ -311,10 +311,9 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
-        if self.plan_quorum < 1 or self.plan_waiters not in (0, 1, 2) or self.plan_presumed > 1:
-            raise InvalidArgumentError(f"plan_quorum must be >= 1, plan_waiters 0, 1 or 2, "
-                                       f"plan_presumed 0 or 1, got {self.plan_quorum}, "
-                                       f"{self.plan_waiters} and {self.plan_presumed}")  # fmt: skip
+        top = {"plan_waiters": 2, "plan_presumed": 1, "plan_watched": 2}  # each 0, 1, ... top
+        if self.plan_quorum < 1 or any(getattr(self, k) not in range(top[k] + 1) for k in top):
+            raise InvalidArgumentError(f"plan_quorum must be >= 1, and each of {top} 0 to it")
 
     def replace(self, **changes) -> CollaborativeParameters:
         unknown = set(changes) - {f.name for f in fields(self)}

@@ -214,6 +214,7 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         # who stands still, read only by plan_waiters (off by default): not on every step
         self.still = self.standing_still(view) if self.parameters.plan_waiters else None
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
+        self.watch(view)  # the sighting runs plan_watched 2 reads
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
         if self.parameters.plan_sighted and self.model == "nested":
@@ -224,7 +225,7 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
             done = k.knows_done((i,))
             presumed = np.zeros_like(done)
             if self.parameters.stale_after:
-                presumed = self.presumed_done(view, i, bool(self.parameters.plan_watched)) & ~done
+                presumed = self.presumed_done(view, i, int(self.parameters.plan_watched)) & ~done
             closed = done | presumed
             self.open_now[i] = view.aware[i, i] & ~closed
             self.ever[i] |= presumed
