@@ -485,6 +485,16 @@ def test_with_plan_spread_a_never_seen_teammate_is_found_as_often_as_its_starts_
     assert len(shares) > 1  # the share differs across the grid
 
 
+def _watched_case():
+    """Task t1 at (3, 15) needs 2; r2 and r3 at (20, 16) and (21, 14) have been known to
+    know of it since step 0; the view is r1's at step 50."""
+    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
+                              workspace=30.0, sensing_range=7.0)  # fmt: skip
+    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
+    knowledge.discover(0, np.array([True, True, True]))
+    return s, _view(50, np.asarray(s.starts, dtype=float), knowledge)
+
+
 @pytest.mark.parametrize("watched", [False, True])
 @pytest.mark.parametrize("seen", [50, 10])
 def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reached_the_task(
@@ -496,11 +506,7 @@ def test_with_plan_watched_a_knower_seen_away_counts_from_when_it_can_have_reach
     # step ``seen``, 17.03 and 18.03 m off (speed 1 m a step, completion radius 1.5):
     # seen now, they can reach it at 65.5 and 66.5, too late to count; seen at step 10,
     # at 25.5 and 26.5 <= 30, they count.
-    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
-                              workspace=30.0, sensing_range=7.0)  # fmt: skip
-    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
-    knowledge.discover(0, np.array([True, True, True]))
-    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    s, view = _watched_case()
     view = view._replace(last_seen=np.full((3, 3), seen), open_seen=np.zeros((3, 1), int))
     parameters = CollaborativeParameters(plan_watched=watched)
     policy = PlanningCollaborativePolicy("third", parameters)
@@ -521,11 +527,7 @@ def test_with_plan_watched_2_a_knower_seen_away_counts_if_it_can_have_been_there
     # from when r1 knew it knew (0 <= 30) if it had time to do t1 before the sighting
     # began and walk to where it was seen (began - walk >= 0): r2 from step 16, r3 from
     # 17; so t1 is presumed done from began 17 on (at 16 only r2 counts: 1 < 2).
-    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
-                              workspace=30.0, sensing_range=7.0)  # fmt: skip
-    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
-    knowledge.discover(0, np.array([True, True, True]))
-    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    s, view = _watched_case()
     view = view._replace(open_seen=np.zeros((3, 1), int))
     policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_watched=2))
     policy.start(s)
@@ -628,11 +630,7 @@ def test_by_default_the_planner_does_not_presume_done_a_task_its_knowers_were_se
     # 16.5 steps from its radius: none can be there before step 65.5 > 30, so with
     # plan_watched (on) the planner keeps it open, robots 0 and 1 (nearest) head for it
     # and robot 2 explores; the rules presume it done and go only to see it (verify).
-    s = CollaborativeScenario([[20, 15, 0], [20, 16, 0], [21, 14, 0]], [[3, 15]], (2,),
-                              workspace=30.0, sensing_range=7.0)  # fmt: skip
-    knowledge = TeamKnowledge(s.robot_names, s.task_names, np.zeros((3, 1), dtype=bool))
-    knowledge.discover(0, np.array([True, True, True]))
-    view = _view(50, np.asarray(s.starts, dtype=float), knowledge)
+    s, view = _watched_case()
     view = view._replace(open_seen=np.zeros((3, 1), int))
     planner = PlanningCollaborativePolicy("third", CollaborativeParameters())
     planner.start(s)
