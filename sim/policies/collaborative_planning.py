@@ -214,7 +214,8 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
         # who stands still, read only by plan_waiters (off by default): not on every step
         self.still = self.standing_still(view) if self.parameters.plan_waiters else None
         self.teammates.observe(view.step, view.poses, view.estimates, view.last_seen)
-        self.watch(view)  # the sighting runs plan_watched 2 reads
+        if self.parameters.plan_watched == 2:  # the sighting runs it reads
+            self.watch(view)
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
         if self.parameters.plan_sighted and self.model == "nested":
