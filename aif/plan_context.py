@@ -21,6 +21,7 @@ __all__ = [
     "PlanContext",
     "arrivals",
     "claimed",
+    "contests",
     "later_claimants",
     "places_in_square",
     "quasi_uniform",
@@ -361,28 +362,32 @@ def claimed(context: PlanContext, agent: int, rows: np.ndarray, sums) -> tuple:
     off ``g``, and the mass ``(1 - y_l) a_l(g)`` of it contesting ``g`` is lost.
     """
     preds, finish, valid, timed = sums
-    valid, timed = valid.copy(), timed.copy()
-    for g in np.unique(rows[:, agent]):
-        later = later_claimants(context.times[:, g], agent, g, rows)
-        kept = np.maximum(1.0 - preds[later, g], 1e-3)
-        if context.keeps is not None:  # the rows of g's configurations, l's row the mixture
-            y = context.yields[later, None]
-            mixed = preds.copy()
-            keeps = np.where(np.isnan(context.keeps[later]), preds[later], context.keeps[later])
-            if context.within:  # an ad hoc teammate, too, goes only where its set lets it
-                keeps = keeps * (preds[later] > 0)
-                total = keeps.sum(axis=1, keepdims=True)
-                keeps = np.where(total > 0, keeps / np.maximum(total, 1e-300), preds[later])
-            mixed[later] = y * preds[later] / kept[:, None] + (1 - y) * keeps
-            mine = rows[:, agent] == g
-            w = np.prod(mixed[np.arange(rows.shape[1]), rows[mine]], axis=1)
-            valid[g], timed[g] = w.sum(), (w * finish[mine]).sum()
-            continue
-        if context.yields is not None:  # only who yields is conditioned (the mixture)
-            kept = kept / (kept + context.yields[later] * preds[later, g])
-        share = np.prod(kept)
-        valid[g], timed[g] = valid[g] / share, timed[g] / share
-    return valid, timed
+    contested = contests(context.times, agent, rows)  # (m, n)
+    if not contested.any():  # no goal contested (every rendezvous goal): the sums stand
+        return valid, timed
+    n = rows.shape[1]
+    kept = np.maximum(1.0 - preds.T, 1e-3)  # (m, n): l's mass off each goal
+    if context.keeps is not None:  # the rows of g's configurations, l's row the mixture
+        keeps = np.where(np.isnan(context.keeps), preds, context.keeps)
+        if context.within:  # an ad hoc teammate, too, goes only where its set lets it
+            keeps = keeps * (preds > 0)
+            total = keeps.sum(axis=1, keepdims=True)
+            keeps = np.where(total > 0, keeps / np.maximum(total, 1e-300), preds)
+        own, who = rows[:, agent], np.arange(n)
+        y = context.yields[None]
+        plain = preds[who, rows]  # (k, n): each row's factor per teammate
+        mixed = y * plain / kept[own] + (1 - y) * keeps[who, rows]
+        w = np.prod(np.where(contested[own], mixed, plain), axis=1)
+        m = valid.shape[0]
+        goals = contested.any(axis=1)
+        valid = np.where(goals, np.bincount(own, weights=w, minlength=m), valid)
+        timed = np.where(goals, np.bincount(own, weights=w * finish, minlength=m), timed)
+        return valid, timed
+    ratio = kept
+    if context.yields is not None:  # only who yields is conditioned (the mixture)
+        ratio = kept / (kept + context.yields[None] * preds.T)
+    share = np.prod(np.where(contested, ratio, 1.0), axis=1)
+    return valid / share, timed / share
 
 
 def quasi_uniform(count: int, dims: int) -> np.ndarray:
@@ -404,6 +409,28 @@ def places_in_square(count: int, robots: int, side: float) -> np.ndarray:
     ((8, 3, 2), True)
     """
     return quasi_uniform(count, 2 * robots).reshape(count, robots, 2) * float(side)
+
+
+def contests(times: np.ndarray, robot: int, rows: np.ndarray) -> np.ndarray:
+    """``(m, n)`` :func:`later_claimants` of every goal at once: ``[g, l]`` whether
+    teammate ``l`` finds ``g`` taken if ``robot`` heads for it (``times`` ``(n, m)``
+    seconds to each goal); all false for a goal no row of ``rows`` gives ``robot``.
+
+    Examples
+    --------
+    >>> rows = np.array([[0, 1, 1], [1, 0, 0], [0, 1, 0]])
+    >>> times = np.array([[2.0, 1.0], [5.0, 1.0], [1.0, 3.0]])
+    >>> contests(times, 0, rows).astype(int).tolist()
+    [[0, 1, 0], [0, 0, 1]]
+    """
+    own = rows[:, robot]
+    shared = np.zeros((times.shape[1], rows.shape[1]), dtype=bool)
+    at, who = np.nonzero(rows == own[:, None])
+    shared[own[at], who] = True  # shared with robot in some row: no contest
+    later = (times > times[robot][None]).T & ~shared
+    later[:, robot] = False
+    later &= np.bincount(own, minlength=times.shape[1])[:, None] > 0
+    return later
 
 
 def later_claimants(arrival: np.ndarray, robot: int, goal: int, rows: np.ndarray) -> np.ndarray:

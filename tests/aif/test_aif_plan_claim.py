@@ -5,7 +5,10 @@ the probability that it yields, a planner (``plan(yields=...)``, ``plan_claim = 
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from epistemica.aif.plan_context import contests, later_claimants
 from epistemica.aif.planning import Planner
 from epistemica.sim import Scenario
 from epistemica.sim.policies.parameters import ActiveParameters
@@ -96,3 +99,27 @@ def test_plan_claim_is_six_by_default_and_takes_seven_values():
     for bad in (True, 7, -1, 1.5):
         with pytest.raises(Exception, match="plan_claim"):
             ActiveParameters(plan_claim=bad)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(2, 4).flatmap(
+        lambda n: st.tuples(
+            st.just(n),
+            st.lists(st.lists(st.integers(0, 2), min_size=n, max_size=n), min_size=1, max_size=6),
+            st.lists(st.floats(0.0, 9.0), min_size=3 * n, max_size=3 * n),
+            st.integers(0, n - 1),
+        )
+    )
+)
+def test_contests_is_later_claimants_of_every_goal(case):
+    # The vectorised table (one pass over the rows) against the one-goal function, goal
+    # by goal: the same teammates, and none for a goal no row gives the robot.
+    n, rows, times, robot = case
+    rows, times = np.array(rows), np.array(times).reshape(n, 3)
+    table = contests(times, robot, rows)
+    for goal in range(3):
+        expected = later_claimants(times[:, goal], robot, goal, rows)
+        if not (rows[:, robot] == goal).any():
+            expected = np.zeros(n, dtype=bool)
+        assert table[goal].tolist() == expected.tolist()
