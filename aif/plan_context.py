@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from epistemica.aif.teammates import ClaimModel
 from epistemica.del_.errors import InvalidArgumentError
 
 if TYPE_CHECKING:  # the planner builds its contexts; only its type is named here
@@ -67,15 +68,15 @@ class PlanContext:
         self.blind = never.copy()
         self.blind[robot] = False
 
-    def give_way(self, robot: int, yields) -> None:
-        """Set ``yields`` (``(n,)`` in ``[0, 1]``): the probability that each teammate gives
-        up a goal it finds taken (``claimed``); the robot's own entry is 1 (a planner). Or a
-        pair ``(yields, keeps)``, ``keeps`` ``(n, m)`` the goal weights of each teammate if it
-        does not yield (its ad hoc types'; without them it keeps its plan prediction)."""
-        if isinstance(yields, tuple):  # a third element True: keeps within pi_l's goals
-            yields, keeps, *within = yields
-            self.within = bool(within and within[0])
-            keeps = np.array(keeps, dtype=float)  # a nan row: it keeps its prediction
+    def give_way(self, robot: int, claim) -> None:
+        """Set what a claim (``claimed``) assumes of each teammate: ``claim`` a
+        :class:`~epistemica.aif.teammates.ClaimModel`, or its ``yields`` alone (``(n,)`` in
+        ``[0, 1]``, the probability that each gives up a goal it finds taken; the robot's own
+        entry is 1, a planner), every teammate then keeping its plan prediction if not."""
+        if not isinstance(claim, ClaimModel):
+            claim = ClaimModel(claim)
+        if claim.keeps is not None:
+            keeps = np.array(claim.keeps, dtype=float)  # a nan row: it keeps its prediction
             total = keeps.sum(axis=1, keepdims=True) if keeps.shape == self.times.shape else 0
             rows = ~np.isnan(keeps).all(axis=1) if np.ndim(total) else np.ones(1, bool)
             if np.any(~np.isfinite(keeps[rows])) or np.any(keeps[rows] < 0) or np.any(
@@ -84,8 +85,8 @@ class PlanContext:
                     f"keeps must be {self.times.shape} non-negative goal weights",
                     hint="per robot, its ad hoc types' goal distribution (nan: its own)",
                 )
-            self.keeps = keeps / total
-        yields = np.array(yields, dtype=float)
+            self.keeps, self.within = keeps / total, bool(claim.within)
+        yields = np.array(claim.yields, dtype=float)
         if yields.shape != self.blind.shape or not np.all((yields >= 0) & (yields <= 1)):
             raise InvalidArgumentError(
                 f"yields must be {self.blind.shape} numbers in [0, 1], got {yields!r}",

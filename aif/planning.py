@@ -276,8 +276,8 @@ class Planner:
         blind, watching, yields : array_like, optional
             ``(n,)``. ``blind``: the teammates never seen (a placeholder is no evidence of
             one's goal, nor of others they predict); ``watching``: those that see the robot
-            now (``shown``); ``yields``, in ``[0, 1]``: the probability that each gives up a
-            goal it finds taken, as a planner does (``claim``; default 1), or ``(yields, keeps)``.
+            now (``shown``); ``yields``: P(each gives up a goal it finds taken, as a planner
+            does; ``claim``; default 1), or a :class:`~epistemica.aif.teammates.ClaimModel`.
 
         Examples
         --------

@@ -42,11 +42,14 @@ prior expected it at goal 1 at (0, -20):
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 __all__ = [
     "TYPES",
     "TYPE_PRIOR",
+    "ClaimModel",
     "adhoc_rows",
     "claim_yields",
     "goal_distances",
@@ -374,28 +377,45 @@ def adhoc_rows(posterior: np.ndarray, goal_probabilities: np.ndarray) -> np.ndar
     return np.einsum("nt,ntm->nm", weights, rows) / weights.sum(axis=1, keepdims=True)
 
 
-def claim_yields(log_types, goal_probabilities=None, never=None):
-    """What a claim assumes of each robot: ``(n,)`` its posterior on the team type
-    (``log_types``, ``(n, T)``), a planner that yields a goal it finds taken (``plan_claim``
-    2, 3); given the planner's ``(n, T, m)`` type rows, paired with its goal if it does not
-    yield (:func:`adhoc_rows`; 4, 5); given ``never`` (``(n,)`` booleans, 6), that row
-    ``nan`` for a robot never seen (no move read, its rows from a placeholder: it keeps the
-    plan's prediction), and ``True``: the rows are held to the goals its set leaves it.
+class ClaimModel(NamedTuple):
+    """What a claim (``plan_claim``) assumes of each robot that finds a goal taken.
+
+    ``yields`` ``(n,)`` in ``[0, 1]``: the probability that it is a planner and gives the
+    goal up (its posterior on the team type; 2, 3). ``keeps`` ``(n, m)`` or ``None``: its
+    goal weights if it does not (its ad hoc types' rows, 4, 5; a ``nan`` row, or ``None``
+    for all: it keeps the plan's prediction of it). ``within``: those rows are held to
+    the goals its set leaves it (6).
+    """
+
+    yields: np.ndarray
+    keeps: np.ndarray | None = None
+    within: bool = False
+
+
+def claim_yields(log_types, goal_probabilities=None, never=None) -> ClaimModel:
+    """What a claim assumes of each robot (:class:`ClaimModel`): its posterior on the
+    team type (``log_types``, ``(n, T)``), a planner that yields a goal it finds taken
+    (``plan_claim`` 2, 3); given the planner's ``(n, T, m)`` type rows, its goal if it
+    does not yield (:func:`adhoc_rows`; 4, 5); given ``never`` (``(n,)`` booleans, 6), that
+    row ``nan`` for a robot never seen (no move read, its rows from a placeholder: it keeps
+    the plan's prediction), and the rows held to the goals its set leaves it.
 
     Examples
     --------
     >>> lt = np.log([[0.5, 0.25, 0.2, 0.05], [0.5, 0.4, 0.05, 0.05]])
     >>> probs = np.array([[[0.5, 0.5], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]]] * 2)
-    >>> team, rows, within = claim_yields(lt, probs, np.array([False, True]))
-    >>> team.tolist(), rows.round(2).tolist(), within
+    >>> claim = claim_yields(lt, probs, np.array([False, True]))
+    >>> claim.yields.tolist(), claim.keeps.round(2).tolist(), claim.within
     ([0.5, 0.5], [[0.6, 0.4], [nan, nan]], True)
+    >>> claim_yields(lt).keeps is None
+    True
     """
     posterior = np.exp(log_types - log_types.max(axis=1, keepdims=True))
     team = posterior[:, TYPES.index("team")] / posterior.sum(axis=1)
     if goal_probabilities is None:
-        return team
+        return ClaimModel(team)
     rows = adhoc_rows(posterior, goal_probabilities)
     if never is None:
-        return team, rows
+        return ClaimModel(team, rows)
     rows[never] = np.nan
-    return team, rows, True
+    return ClaimModel(team, rows, True)

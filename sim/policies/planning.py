@@ -41,6 +41,7 @@ from epistemica.aif.teammates import (
     ON_GOAL,
     TYPE_PRIOR,
     TYPES,
+    ClaimModel,
     claim_yields,
     goal_distances,
     least_cost_from_distances,
@@ -375,9 +376,8 @@ class PlanningStage:
         rows[distance.min(axis=1) > ON_GOAL + 2 * np.sqrt(s.position_noise)] = np.nan
         return rows
 
-    def yields(self, robot: int):
-        """What a claim assumes of each teammate (:func:`claim_yields`; ``None``, every
-        teammate yields, with ``plan_claim`` 1 or the types off, ``plan_types = 0``)."""
+    def yields(self, robot: int) -> ClaimModel | None:
+        """A claim's :func:`claim_yields` (``None``: all yield; ``plan_claim`` 1, types off)."""
         log_types = self._types.get(robot)
         if not self.by_type or log_types is None:
             return None

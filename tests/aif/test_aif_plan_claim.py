@@ -86,7 +86,7 @@ def test_the_stage_reads_yields_from_the_type_posterior():
         stage = PlanningStage(scenario, ActiveParameters(plan_claim=claim), order=3)
         stage._types[0] = log_types
         got = stage.yields(0)
-        assert got is expected if expected is None else np.allclose(got, expected)
+        assert got is expected if expected is None else np.allclose(got.yields, expected)
     stage = PlanningStage(scenario, ActiveParameters(plan_claim=2, plan_types=0.0), order=3)
     assert stage.yields(0) is None  # types off: everyone is a planner
 

@@ -1,5 +1,5 @@
 """``plan_claim = 4``: a teammate that does not yield a claimed goal is not a planner, so
-it goes by its ad hoc types' goal (``plan(yields=(y, keeps))``, ``PlanContext.claimed``),
+it goes by its ad hoc types' goal (``plan(yields=ClaimModel(y, keeps))``, ``PlanContext.claimed``),
 not by the plan's prediction of it as a planner; ``plan_claim = 5``: and the stationary type
 may drive to a goal before it stands (aif.md §6g, session 52)."""
 
@@ -10,6 +10,7 @@ from epistemica.aif.planning import Planner
 from epistemica.aif.teammates import (
     TYPE_PRIOR,
     TYPES,
+    ClaimModel,
     adhoc_rows,
     motion_log_likelihood,
     update_types,
@@ -35,20 +36,20 @@ def test_a_teammate_that_does_not_yield_goes_by_its_ad_hoc_types():
     planner = Planner(GOALS, SWAP, [1.0, 1.0], **WORKED)
     greedy = [[0.5, 0.5], [1.0, 0.0]]  # the robot's own row is never read
     for y, goal, as_planner in ((0.3, 1, 0), (0.8, 0, 0)):
-        kept = planner.plan(0, AT, yields=([1.0, y], greedy))
+        kept = planner.plan(0, AT, yields=ClaimModel([1.0, y], greedy))
         np.testing.assert_allclose(kept.G, [0.6 - np.log(y), FAR])
         assert kept.goal == goal
         plain = planner.plan(0, AT, yields=[1.0, y])
         np.testing.assert_allclose(plain.G, [0.6 - np.log(PI1[1] + y * PI1[0]), FAR])
         assert plain.goal == as_planner  # 1.14 against 1.31 at y = 0.3: the claim holds
     # An ad hoc teammate bound for goal 1 leaves goal 0 free whatever y: G(0) = 0.6.
-    away = planner.plan(0, AT, yields=([1.0, 0.3], [[0.5, 0.5], [0.0, 1.0]]))
+    away = planner.plan(0, AT, yields=ClaimModel([1.0, 0.3], [[0.5, 0.5], [0.0, 1.0]]))
     np.testing.assert_allclose(away.G, [0.6, FAR])
     # Rows equal to the plan's prediction are plan_claim 2's mixture: the same G.
-    same = planner.plan(0, AT, yields=([1.0, 0.3], [[0.5, 0.5], PI1]))
+    same = planner.plan(0, AT, yields=ClaimModel([1.0, 0.3], [[0.5, 0.5], PI1]))
     np.testing.assert_allclose(same.G, planner.plan(0, AT, yields=[1.0, 0.3]).G)
     with pytest.raises(Exception, match="keeps"):
-        planner.plan(0, AT, yields=([1.0, 0.3], [[0.5, 0.5], [-1.0, 2.0]]))
+        planner.plan(0, AT, yields=ClaimModel([1.0, 0.3], [[0.5, 0.5], [-1.0, 2.0]]))
 
 
 def test_the_stage_pairs_the_team_posterior_with_the_ad_hoc_rows():
@@ -65,16 +66,17 @@ def test_the_stage_pairs_the_team_posterior_with_the_ad_hoc_rows():
         stage._types[0] = log_types
         stage._typing[0] = (0, np.arange(3), np.zeros((3, 2)), np.ones(3, bool), probs)
         stage._last[0] = (0, np.zeros((3, 2)), never)
-        team, rows, *within = stage.yields(0)
+        team, rows, within = stage.yields(0)
         np.testing.assert_allclose(team, [0.5, 0.5, 0.125])
         np.testing.assert_allclose(rows[2], [6 / 7, 0.0, 1 / 7])
         np.testing.assert_allclose(rows[0], 1.0 / 3)
         # At 6 a teammate never seen has no ad hoc row (nan: it keeps the plan's).
-        assert np.isnan(rows[1]).all() == (claim == 6) and within == [True] * (claim == 6)
+        assert np.isnan(rows[1]).all() == (claim == 6) and within == (claim == 6)
     np.testing.assert_allclose(adhoc_rows(np.exp(log_types), probs)[[0, 2]], rows[[0, 2]])
     stage = PlanningStage(scenario, ActiveParameters(plan_claim=3), order=3)
     stage._types[0] = log_types
-    assert np.allclose(stage.yields(0), [0.5, 0.5, 0.125])  # 3: the posterior alone
+    assert np.allclose(stage.yields(0).yields, [0.5, 0.5, 0.125])  # 3: the posterior alone
+    assert stage.yields(0).keeps is None
 
 
 def test_a_stationary_teammate_driving_to_the_claimed_goal_is_not_read_as_yielding():
@@ -111,17 +113,21 @@ def test_a_teammate_never_seen_keeps_its_prediction_and_ad_hoc_rows_stay_in_its_
     mine = [1 / 3] * 3  # the robot's own row is never read
     # y = 0 and ad hoc rows on goal 2, which it does not know: taken as they are, goal 0
     # forms with it at goal 2 for sure, at max(2, sqrt(4^2 + 10^2)) = 10.77 s: G(0) = 1.077.
-    loose = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [0.0, 0.0, 1.0]]))
+    loose = planner.plan(0, AT, sets=sets, yields=ClaimModel([1.0, 0.0], [mine, [0.0, 0.0, 1.0]]))
     assert np.isclose(loose.G[0], np.hypot(4.0, 10.0) / 10)
     # Kept within its set, nothing is left of that row: it keeps pi_1, as a nan row does
     # and as plan_claim 2 does at y = 0: G(0) = max(2, 6) / 10 - ln pi_1(1).
-    within = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [0.0, 0.0, 1.0]], True))
-    unread = planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, [np.nan] * 3]))
+    within = planner.plan(
+        0, AT, sets=sets, yields=ClaimModel([1.0, 0.0], [mine, [0.0, 0.0, 1.0]], True)
+    )
+    unread = planner.plan(0, AT, sets=sets, yields=ClaimModel([1.0, 0.0], [mine, [np.nan] * 3]))
     plain = planner.plan(0, AT, sets=sets, yields=[1.0, 0.0])
     for result in (within, unread):
         np.testing.assert_allclose(result.G, plain.G)
     assert np.isclose(within.G[0], 0.6 - np.log(pi1[1]))
     # Half on goal 0, half on goal 2: within its set all of it comes to goal 0, P(0) = 0.
     half = [0.5, 0.0, 0.5]
-    assert planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, half], True)).G[0] > 20
-    assert planner.plan(0, AT, sets=sets, yields=([1.0, 0.0], [mine, half])).G[0] < 2
+    assert (
+        planner.plan(0, AT, sets=sets, yields=ClaimModel([1.0, 0.0], [mine, half], True)).G[0] > 20
+    )
+    assert planner.plan(0, AT, sets=sets, yields=ClaimModel([1.0, 0.0], [mine, half])).G[0] < 2
