@@ -154,6 +154,10 @@ class PlanningStage:
     def __init__(self, scenario: Scenario, parameters: ActiveParameters, order: int) -> None:
         self.scenario, self.order = scenario, order
         p = parameters
+        # Tasks (multitask): one arrival does a task and the upper level re-assigns the team
+        # every step: a plan keeps no goal, reads no moves, and a later teammate yields.
+        self.reselected = bool(scenario.kind.tasks)
+        claim = min(p.plan_claim, 1) if self.reselected else p.plan_claim
         self.options = {
             "temperature": p.plan_temperature,
             "repair": p.plan_repair,
@@ -166,18 +170,15 @@ class PlanningStage:
             "success_weight": p.plan_success,
             "shown": p.plan_shown,
             "sigma": p.plan_sigma,
-            "claim": p.plan_claim > 0,
+            "claim": claim > 0,
             "arrivals": p.plan_hidden > 0,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
         self.noise, self.progress = float(p.plan_noise), float(p.plan_progress)
         self.by_type, self.yielding, self.keeping, self.driving, self.unread = (  # claims
-            p.plan_claim >= v for v in (2, 3, 4, 5, 6))  # fmt: skip
+            claim >= v for v in (2, 3, 4, 5, 6))  # fmt: skip
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
-        # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
-        # arrival does a task, so a plan keeps no goal of its own and reads no moves.
-        self.reselected = bool(scenario.kind.tasks)
         self._roadmap = roadmap_for(scenario)  # teammates drive round walls: read them so
         self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
         self._start: dict[int, tuple[int, float]] = {}  # robot -> (goal, distance on choosing)
