@@ -167,6 +167,7 @@ class PlanningStage:
             "sigma": p.plan_sigma,
             "claim": p.plan_claim > 0,
             "arrivals": p.plan_hidden > 0,
+            "waiting": p.plan_wait,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
@@ -174,8 +175,7 @@ class PlanningStage:
         self.by_type, self.yielding, self.keeping, self.driving, self.unread = (  # claims
             p.plan_claim >= v for v in (2, 3, 4, 5, 6))  # fmt: skip
         self.resight, self.filtering = bool(p.plan_resight), bool(p.plan_filter)
-        # Tasks (multitask): the upper level re-chooses the team's tasks every step and one
-        # arrival does a task, so a plan keeps no goal of its own and reads no moves.
+        # Tasks: chosen anew every step and done by one arrival: no goal kept, no moves read.
         self.reselected = bool(scenario.kind.tasks)
         self._roadmap = roadmap_for(scenario)  # teammates drive round walls: read them so
         self._tracks: dict[int, tuple] = {}  # robot -> its filters (filter_sightings)
