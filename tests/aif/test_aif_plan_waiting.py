@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from epistemica import InvalidArgumentError
+from epistemica.aif.configurations import valid_configurations
 from epistemica.aif.plan_context import PlanContext, quasi_uniform
 from epistemica.aif.plan_waiting import movers, waiting
 from epistemica.aif.planning import WAIT, Planner
@@ -127,6 +128,37 @@ def test_moves_read_at_the_planners_step_noise_reveal_more_than_the_positions_ra
     assert values[6].goal == WAIT and values[0].wait < values[6].wait < values[6].G.min()
 
 
+def test_with_nothing_revealed_the_posterior_estimate_is_the_plans_own_risk():
+    # Four robots share four goals (24 configurations); robot 0 reads nothing (moving 0)
+    # and does not wait (delay 0): the particles' choice is the plan's best goal, and model
+    # 7 scores it by each particle's posterior, here the prediction itself, so the value is
+    # exactly G's minimum. Model 6 scored whether 32 draws of the teammates' goals matched:
+    # 2.7 s off here (the success term's -ln of a share estimated from a few matches).
+    goals = [[0.0, 0.0], [10.0, 0.0], [0.0, 10.0], [10.0, 10.0]]
+    table = valid_configurations("allocation", 4, 4)
+    positions = np.array([[5.0, 5.0], [20.0, 20.0], [-10.0, 5.0], [5.0, -12.0]])
+    values = {}
+    for model in (6, 7):
+        planner = Planner(goals, table, [1.0] * 4, order=1, horizon=3, waiting=model)
+        context = PlanContext(planner, positions, np.ones(len(table)), {})
+        G = context.costs((0,), 1)
+        preds = np.stack([context.choice((0,), 1)] + [context.choice((0, j), 0) for j in (1, 2, 3)])
+        values[model] = waiting(context, (0,), preds, np.zeros(4), None, 0.0) - G.min()
+    assert values[7] == pytest.approx(0.0, abs=1e-9)
+    assert abs(values[6]) > 1.0
+
+
+def test_a_teammate_out_of_sight_gives_no_reading_not_a_noisy_one():
+    # Model 6 reads a teammate's steps with noise; one out of sight gives no reading at all
+    # (noise alone would favour some goal at random): waiting for it equals heading now
+    # but for the delay, so with robot 0 not the bottleneck the two are equal.
+    planner = Planner(GOALS, SHARE, [1.0, 1.0], order=1, horizon=3, waiting=7)
+    context = PlanContext(planner, np.array([[5.0, 0.0], [5.0, 30.0]]), np.ones(2), {})
+    preds = np.array([[0.5, 0.5], [0.5, 0.5]])
+    wait = waiting(context, (0,), preds, np.zeros(2))
+    assert wait == pytest.approx(waiting(context, (0,), preds, np.zeros(2), None, 0.0))
+
+
 def test_waiting_model_is_checked():
     with pytest.raises(InvalidArgumentError, match="waiting"):
-        Planner(GOALS, SHARE, [1.0, 1.0], waiting=7)
+        Planner(GOALS, SHARE, [1.0, 1.0], waiting=8)
