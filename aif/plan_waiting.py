@@ -32,6 +32,11 @@ predictions. ``Planner(waiting=)`` picks how teammates are modelled while it wai
   particles over 24 configurations, few or none matched, and ``-ln`` of that share is the
   success term: an estimate of 0 costs 27.6 nats, and waiting was priced tens of nats
   below heading for nothing.
+- 8: waiting is priced against heading for a goal for as many steps and then choosing
+  again with what the same particles revealed, not against heading now for good: the
+  planner plans again every step, so a robot that heads off reads its teammates' moves
+  too, and waiting pays only where standing keeps it nearer the goal it will take. A
+  gain under :data:`TIE` goes to heading (equal options were decided by rounding).
 
 Internal to the planner (:class:`epistemica.aif.planning.Planner`).
 """
@@ -48,10 +53,13 @@ from epistemica.del_.errors import InvalidArgumentError
 if TYPE_CHECKING:  # the planner passes its contexts; only the type is named here
     from epistemica.aif.plan_context import PlanContext
 
-__all__ = ["model", "movers", "wait_cost", "waiting"]
+__all__ = ["driven", "model", "movers", "priced", "wait_cost", "waiting"]
 
 #: The waiting models ``Planner(waiting=)`` knows (the module docstring).
-MODELS = (0, 1, 2, 3, 4, 5, 6, 7)
+MODELS = (0, 1, 2, 3, 4, 5, 6, 7, 8)
+#: Seconds under which waiting's gain is a tie (model 8), which goes to heading: with
+#: nothing revealed the two options are equal, and rounding chose waiting half the time.
+TIE = 1e-6
 #: Standard normal draws of the moves' reading noise (``waiting = 4``): one fixed table,
 #: so a plan stays a deterministic function of what the robot observes.
 NOISE = np.random.default_rng(37).standard_normal((256, 16, 16))
@@ -77,11 +85,36 @@ def wait_cost(context: PlanContext, robot: int, preds, moving, G: np.ndarray,
     move = movers(context, robot, moving) if p.waiting >= 1 else None
     if p.waiting >= 5 and watching is not None:  # one out of sight reveals nothing to it
         moving = np.where(np.asarray(watching, dtype=bool), moving, 0.0)
-    wait = waiting(context, (robot,), preds, moving, move)
-    finite = G[np.isfinite(G)]
-    if p.waiting >= 3 and finite.size:  # the same particles, heading now
-        wait = float(finite.min()) + wait - waiting(context, (robot,), preds, moving, move, 0.0)
-    return wait
+    return priced(context, (robot,), preds, moving, move, G)
+
+
+def priced(context: PlanContext, chain, preds, moving, move, G: np.ndarray) -> float:
+    """``chain[-1]``'s ``G(wait)`` (s): its :func:`waiting`, from model 3 on against
+    heading now on the same particles (``G``'s best plus the difference), from model 8 on
+    against heading for a goal for as long and then choosing again."""
+    p = context.p
+    wait = waiting(context, chain, preds, moving, move)
+    finite = np.flatnonzero(np.isfinite(G))
+    if p.waiting < 3 or not finite.size:
+        return wait
+    if p.waiting < 8:
+        return float(G[finite].min()) + wait - waiting(context, chain, preds, moving, move, 0.0)
+    heads = [waiting(context, chain, preds, moving, move, own=driven(context, chain[-1], g))
+             for g in finite]  # fmt: skip
+    gain = min(heads) - wait  # a tie goes to heading: standing there gains nothing
+    return float(G[finite].min()) - (gain if gain > TIE else -max(-gain, TIE))
+
+
+def driven(context: PlanContext, robot: int, goal: int) -> np.ndarray:
+    """``(m,)`` the robot's time (s) to each goal after driving ``horizon - 1`` steps
+    towards ``goal`` (or reaching it), those steps included."""
+    p = context.p
+    delay = (p.horizon - 1) * p.dt
+    here = context.pos[robot]
+    to = p.goals[goal] - here
+    far = float(np.hypot(*to))
+    there = here + to * min(1.0, delay * p.speeds[robot] / far) if far > 0 else here
+    return np.hypot(*(p.goals - there).T) / p.speeds[robot] + delay
 
 
 def movers(context: PlanContext, robot: int, moving) -> np.ndarray:
@@ -118,9 +151,7 @@ def movers(context: PlanContext, robot: int, moving) -> np.ndarray:
         rows = [context.choice(chain if j == other else (*chain, j), below - (j != other))
                 for j in range(n)]  # fmt: skip
         preds = np.stack(rows)
-        wait = waiting(context, chain, preds, moving)
-        if p.waiting >= 3:  # its value of information alone, as the robot's own
-            wait = G.min() + wait - waiting(context, chain, preds, moving, None, 0.0)
+        wait = priced(context, chain, preds, moving, None, context.costs(chain, below))
         low = min(G.min(), wait)
         heads = np.exp(-(G - low) / p.tau).sum()
         move[other] = heads / (heads + np.exp(-(wait - low) / p.tau))
@@ -128,11 +159,12 @@ def movers(context: PlanContext, robot: int, moving) -> np.ndarray:
 
 
 def waiting(context: PlanContext, chain: tuple[int, ...], preds: np.ndarray, moving,
-            move=None, delay: float | None = None) -> float:  # fmt: skip
+            move=None, delay: float | None = None, own=None) -> float:  # fmt: skip
     """Expected completion time (s) of ``chain[-1]`` waiting ``horizon`` steps (or
     ``delay`` s), then choosing, over the set of ``chain``. ``move`` (``(n,)``): the
     probability that each teammate moves (:func:`movers`; default 1); with ``waiting >= 2``
-    who waits is drawn per particle: a waiter reveals nothing and arrives ``delay`` later."""
+    who waits is drawn per particle: a waiter reveals nothing and arrives ``delay`` later.
+    ``own``: its times to the goals after those steps (default: it stands, ``+ delay``)."""
     p, robot = context.p, chain[-1]
     n, m = preds.shape
     mask = context.mask(chain)
@@ -155,7 +187,7 @@ def waiting(context: PlanContext, chain: tuple[int, ...], preds: np.ndarray, mov
     )
     revised = np.exp(revised - revised.max(axis=2, keepdims=True))
     revised /= revised.sum(axis=2, keepdims=True)
-    own_time = context.times[robot] + delay
+    own_time = context.times[robot] + delay if own is None else own
     late = times[None][..., others] + delay * stays[:, None, :]  # (P, k', n - 1)
     finish = np.maximum(late.max(axis=2), own_time[rows[:, robot]][None])  # (P, k')
     return _realised(p, robot, rows, (revised, truth, finish), own_time)

@@ -139,7 +139,7 @@ class Planner:
         slowest speed.
     horizon, waiting : int
         Steps of the waiting option (1 plans none: the myopic ablation); its model of the
-        teammates, 0-7 (:mod:`epistemica.aif.plan_waiting`).
+        teammates, 0-8 (:mod:`epistemica.aif.plan_waiting`).
     particles : int
         Particles of the teammates' choices that score the waiting option: a
         low-discrepancy (Weyl) sequence through each predicted distribution, so a plan is

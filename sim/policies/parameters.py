@@ -144,7 +144,7 @@ class ActiveParameters:
         applied: the planner's nested predictions subsume it.
     plan_horizon, plan_particles, plan_wait : int
         Steps of the planner's waiting option (``third-wait``: 3; 1: none); particles that
-        score it; its model of teammates (aif.plan_waiting, 0-7; aif.md §6g).
+        score it; its model of teammates (aif.plan_waiting, 0-8; aif.md §6g).
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_sigma, plan_noise, plan_progress : float
@@ -307,8 +307,8 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
-        _check_choice("plan_claim", self.plan_claim, tuple(range(8)), "0 off, 2 by type")
-        _check_choice("plan_wait", self.plan_wait, tuple(range(8)), "0: session 52's model")
+        _check_choice("plan_claim", self.plan_claim, tuple(range(9)), "0 off, 2 by type")
+        _check_choice("plan_wait", self.plan_wait, tuple(range(9)), "0: session 52's model")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):

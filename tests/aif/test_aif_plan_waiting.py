@@ -159,6 +159,24 @@ def test_a_teammate_out_of_sight_gives_no_reading_not_a_noisy_one():
     assert wait == pytest.approx(waiting(context, (0,), preds, np.zeros(2), None, 0.0))
 
 
+def test_heading_off_reads_the_teammate_too_so_waiting_pays_only_where_standing_saves_time():
+    # Robot 0 midway between the two goals to share, robot 1 in sight and undecided.
+    # Model 7 prices waiting against heading now for good: robot 1's first steps would tell
+    # its goal, so it waits. Model 8 prices it against heading for a goal for the same 2 s
+    # and choosing again: 10 m off, robot 1 is the bottleneck and robot 0's detour of 2 m
+    # back costs nothing, so heading is as good (a tie, which goes to heading); 4 m off,
+    # robot 0 may be the later one, and standing midway saves the detour: it waits.
+    def plan(model, teammate):
+        planner = Planner(GOALS, SHARE, [1.0, 1.0], order=1, horizon=3, waiting=model)
+        return planner.plan(0, [[5.0, 0.0], teammate], watching=[False, True])
+
+    assert plan(7, [5.0, 10.0]).goal == WAIT
+    far = plan(8, [5.0, 10.0])
+    assert far.goal != WAIT and far.wait > far.G.min()
+    near = plan(8, [5.0, 4.0])
+    assert near.goal == WAIT and plan(7, [5.0, 4.0]).wait < near.wait < near.G.min()
+
+
 def test_waiting_model_is_checked():
     with pytest.raises(InvalidArgumentError, match="waiting"):
-        Planner(GOALS, SHARE, [1.0, 1.0], waiting=8)
+        Planner(GOALS, SHARE, [1.0, 1.0], waiting=9)
