@@ -144,7 +144,7 @@ class ActiveParameters:
         applied: the planner's nested predictions subsume it.
     plan_horizon, plan_particles, plan_wait : int
         Steps of the planner's waiting option (``third-wait``: 3; 1: none); particles that
-        score it; its model of teammates (aif.plan_waiting, 0-8; aif.md §6g).
+        score it; its model of teammates (aif.plan_waiting, 0-8; 8, session 53).
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_sigma, plan_noise, plan_progress : float
@@ -211,7 +211,7 @@ class ActiveParameters:
     log_prior_floor: float = -80.0
     planning: bool = False
     plan_horizon: int = 1
-    plan_wait: int = 0
+    plan_wait: int = 8
     plan_temperature: float = 0.25
     plan_repair: float = 1.5
     plan_evidence: float = 5.0

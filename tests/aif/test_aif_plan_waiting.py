@@ -180,3 +180,17 @@ def test_heading_off_reads_the_teammate_too_so_waiting_pays_only_where_standing_
 def test_waiting_model_is_checked():
     with pytest.raises(InvalidArgumentError, match="waiting"):
         Planner(GOALS, SHARE, [1.0, 1.0], waiting=9)
+
+
+def test_the_levels_planner_takes_the_waiting_model_of_its_parameters():
+    from epistemica.sim import Scenario
+    from epistemica.sim.policies.parameters import ActiveParameters
+    from epistemica.sim.policies.planning import PlanningStage
+
+    scenario = Scenario.paper("allocation", 2, 2, seed=0)
+    assert ActiveParameters().plan_wait == 8
+    for model in (0, 8):
+        stage = PlanningStage(scenario, ActiveParameters(plan_wait=model), order=3)
+        assert stage.options["waiting"] == model
+    with pytest.raises(InvalidArgumentError, match="plan_wait"):
+        ActiveParameters(plan_wait=9)
