@@ -60,7 +60,7 @@ MODELS = (0, 1, 2, 3, 4, 5, 6, 7, 8)
 #: Seconds under which waiting's gain is a tie (model 8), which goes to heading: with
 #: nothing revealed the two options are equal, and rounding chose waiting half the time.
 TIE = 1e-6
-#: Standard normal draws of the moves' reading noise (``waiting = 4``): one fixed table,
+#: Standard normal draws of the moves' reading noise (``waiting >= 4``): one fixed table,
 #: so a plan stays a deterministic function of what the robot observes.
 NOISE = np.random.default_rng(37).standard_normal((256, 16, 16))
 
@@ -101,8 +101,10 @@ def priced(context: PlanContext, chain, preds, moving, move, G: np.ndarray) -> f
         return float(G[finite].min()) + wait - waiting(context, chain, preds, moving, move, 0.0)
     heads = [waiting(context, chain, preds, moving, move, own=driven(context, chain[-1], g))
              for g in finite]  # fmt: skip
-    gain = min(heads) - wait  # a tie goes to heading: standing there gains nothing
-    return float(G[finite].min()) - (gain if gain > TIE else -max(-gain, TIE))
+    gain = min(heads) - wait
+    if gain > TIE:
+        return float(G[finite].min()) - gain
+    return float(G[finite].min()) + max(-gain, TIE)  # a tie goes to heading
 
 
 def driven(context: PlanContext, robot: int, goal: int) -> np.ndarray:
