@@ -307,7 +307,7 @@ class ActiveParameters:
                 raise InvalidArgumentError(
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
-        _check_choice("plan_claim", self.plan_claim, tuple(range(9)), "0 off, 2 by type")
+        _check_choice("plan_claim", self.plan_claim, tuple(range(7)), "0 off, 2 by type")
         _check_choice("plan_wait", self.plan_wait, tuple(range(9)), "0: session 52's model")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
