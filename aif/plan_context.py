@@ -280,49 +280,6 @@ class PlanContext:
         total = w.sum()
         return w / total if total > 0 else mask / mask.sum()
 
-    def waiting(self, robot: int, preds: np.ndarray, moving) -> float:
-        """Expected completion time (s) of waiting ``horizon`` steps, then choosing."""
-        p = self.p
-        n, m = preds.shape
-        mask = self.mask((robot,))
-        rows = p.configurations if mask is None else p.configurations[mask]
-        times = self.row_times if mask is None else self.row_times[mask]
-        delay = (p.horizon - 1) * p.dt
-        others = np.array([j for j in range(n) if j != robot])
-        # Particles of the teammates' true goals, and what waiting reveals of them.
-        cumulative = np.cumsum(preds[others], axis=1)
-        draws = quasi_uniform(p.particles, others.size)[..., None]
-        truth = np.minimum((draws > cumulative[None]).sum(axis=2), m - 1)  # (P, n - 1)
-        gain = delay * p.speeds[others] * moving[others] / p.eta  # nats per teammate
-        revised = np.log(np.maximum(preds[others], 1e-300))[None].repeat(p.particles, 0)
-        np.put_along_axis(
-            revised, truth[..., None],
-            np.take_along_axis(revised, truth[..., None], 2) + gain[None, :, None], axis=2,
-        )  # fmt: skip
-        revised = np.exp(revised - revised.max(axis=2, keepdims=True))
-        revised /= revised.sum(axis=2, keepdims=True)
-        # Each particle's choice: least expected time under its revised predictions.
-        w = np.prod(revised[:, np.arange(others.size), rows[:, others]], axis=2)  # (P, k')
-        own_time = self.times[robot] + delay
-        finish = np.maximum(times[:, others].max(axis=1)[None], own_time[rows[:, robot]][None])
-        slot = rows[:, robot][None] + m * np.arange(p.particles)[:, None]
-        valid = np.bincount(slot.ravel(), weights=w.ravel(), minlength=m * p.particles)
-        timed = np.bincount(slot.ravel(), (w * finish).ravel(), minlength=m * p.particles)
-        expected = p.risk(valid, timed, np.tile(own_time, p.particles)).reshape(p.particles, m)
-        options = np.bincount(rows[:, robot], minlength=m) > 0
-        chosen = np.argmin(np.where(options[None], expected, np.inf), axis=1)  # (P,)
-        # Realised: does the chosen goal complete the particle's configuration?
-        match = (rows[None, :, others] == truth[:, None, :]).all(axis=2)
-        match &= rows[None, :, robot] == chosen[:, None]
-        done = np.where(match, finish, np.inf).min(axis=1)
-        formed = np.isfinite(done)
-        share = formed.mean()
-        if p.success_weight > 0:  # the same risk, estimated from the particles
-            timed = done[formed].sum() if formed.any() else 0.0
-            return float(p.risk(np.array([share]), np.array([timed / p.particles]),
-                                np.array([own_time[chosen].mean()]))[0])  # fmt: skip
-        return float(np.where(formed, done, own_time[chosen] + p.repair).mean())
-
 
 def arrivals(choices: np.ndarray, trips: np.ndarray) -> np.ndarray:
     """``(h, m)`` each hidden teammate's trip (s) to each goal given that it takes that

@@ -58,6 +58,7 @@ from epistemica.aif._validate import as_finite, positive, positive_int
 from epistemica.aif.evidence import check_order, check_robot
 from epistemica.aif.likelihood import check_configurations
 from epistemica.aif.plan_context import PlanContext, places_in_square
+from epistemica.aif.plan_waiting import model, wait_cost
 from epistemica.del_.errors import InvalidArgumentError
 
 __all__ = [
@@ -136,8 +137,9 @@ class Planner:
         The repair time of a mismatch (with ``success_weight = 0``, and in the waiting
         option's realised costs), in units of the longest trip between two goals at the
         slowest speed.
-    horizon : int
-        Steps of the waiting option; 1 plans no waiting (the myopic ablation).
+    horizon, waiting : int
+        Steps of the waiting option (1 plans none: the myopic ablation); its model of the
+        teammates, 0-8 (:mod:`epistemica.aif.plan_waiting`).
     particles : int
         Particles of the teammates' choices that score the waiting option: a
         low-discrepancy (Weyl) sequence through each predicted distribution, so a plan is
@@ -187,6 +189,7 @@ class Planner:
         sigma: float = 0.5,
         claim: bool = False,
         arrivals: bool = False,
+        waiting: int = 0,
     ) -> None:
         self.goals = as_finite(goals, "goals", ndim=2, shape=(None, 2))
         self.speeds = as_finite(speeds, "speeds", ndim=1)
@@ -206,7 +209,7 @@ class Planner:
         self.hierarchy = float(as_finite(hierarchy, "hierarchy"))
         self.success_weight = float(as_finite(success_weight, "success_weight"))
         self.shown = float(as_finite(shown, "shown"))
-        self.claim, self.arrivals = bool(claim), bool(arrivals)
+        self.claim, self.arrivals, self.waiting = bool(claim), bool(arrivals), model(waiting)
         if self.shown < 0:
             raise InvalidArgumentError("shown must be >= 0", hint="steps; 0 leaves it out")
         if self.success_weight < 0:
@@ -302,9 +305,7 @@ class Planner:
         preds = np.stack(
             [own if j == robot else context.choice((robot, j), below) for j in range(n)]
         )
-        wait = np.inf
-        if self.horizon > 1 and self.order >= 1 and n > 1:
-            wait = context.waiting(robot, preds, moving)
+        wait = wait_cost(context, robot, preds, moving, G, watching)  # inf: none planned
         best = int(np.argmin(G))
         goal = WAIT if wait < G[best] or not np.isfinite(G[best]) else best
         belief = context.belief((robot,), preds)

@@ -142,9 +142,9 @@ class ActiveParameters:
         one order down over the sets the robot knows they keep, instead of the one-step
         controller over controls. The anticipation rule (``anticipate``) is then not
         applied: the planner's nested predictions subsume it.
-    plan_horizon, plan_particles : int
-        Steps of the planner's waiting option (``third-wait``: 3; 1: none); particles of the
-        teammates' choices that score it.
+    plan_horizon, plan_particles, plan_wait : int
+        Steps of the planner's waiting option (``third-wait``: 3; 1: none); particles that
+        score it; its model of teammates (aif.plan_waiting, 0-8; 8, session 53).
     plan_temperature, plan_repair, plan_evidence : float
         The planner's precision, repair time, evidence scale (aif.planning.Planner).
     plan_sigma, plan_noise, plan_progress : float
@@ -152,11 +152,9 @@ class ActiveParameters:
         weight of the two sightings' variance (as the sensor states it) added to its square
         (1: the stated noise, on since session 48; 0: ablation); weight of the seconds
         driven towards its goal charged for changing it (0, off: no gain measured).
-    plan_leak, plan_commitment : float
-        Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the
-        planner charges for changing the goal a robot headed for.
-    plan_convention : float
-        Nats of the team prior's convention (a bounded tie-break) in the planner's choice.
+    plan_leak, plan_commitment, plan_convention : float
+        Rate in ``[0, 1)`` at which that reading forgets, per planned step; nats the planner
+        charges for changing the goal a robot headed for; nats of the prior's convention.
     plan_success : float
         The planner's weight on ``-ln P(the configuration forms)`` in nats beside the
         expected completion time (0: a mismatch costs ``plan_repair`` s; aif.md §6g).
@@ -213,6 +211,7 @@ class ActiveParameters:
     log_prior_floor: float = -80.0
     planning: bool = False
     plan_horizon: int = 1
+    plan_wait: int = 8
     plan_temperature: float = 0.25
     plan_repair: float = 1.5
     plan_evidence: float = 5.0
@@ -309,6 +308,7 @@ class ActiveParameters:
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
         _check_choice("plan_claim", self.plan_claim, tuple(range(7)), "0 off, 2 by type")
+        _check_choice("plan_wait", self.plan_wait, tuple(range(9)), "0: session 52's model")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):

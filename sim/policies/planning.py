@@ -154,8 +154,7 @@ class PlanningStage:
     def __init__(self, scenario: Scenario, parameters: ActiveParameters, order: int) -> None:
         self.scenario, self.order = scenario, order
         p = parameters
-        # Tasks (multitask): one arrival does a task and the upper level re-assigns the team
-        # every step: a plan keeps no goal, reads no moves, and a later teammate yields.
+        # Tasks: re-assigned each step, done by one arrival: no goal kept or move read; all yield.
         self.reselected = bool(scenario.kind.tasks)
         claim = min(p.plan_claim, 1) if self.reselected else p.plan_claim
         self.options = {
@@ -172,6 +171,7 @@ class PlanningStage:
             "sigma": p.plan_sigma,
             "claim": claim > 0,
             "arrivals": p.plan_hidden > 0,
+            "waiting": p.plan_wait,
         }
         self._planners: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self.sigma, self.leak, self.blind = p.plan_sigma, p.plan_leak, bool(p.plan_blind)
