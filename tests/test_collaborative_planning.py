@@ -642,3 +642,28 @@ def test_by_default_the_planner_does_not_presume_done_a_task_its_knowers_were_se
     _, heads = rules.plan(view)
     assert rules.open_now.tolist() == [[False]] * 3
     assert heads.tolist() == [0, 0, 0]
+
+
+@pytest.mark.parametrize("missed", [False, True])
+@pytest.mark.parametrize("away", [1.0, 5.0])
+def test_with_plan_missed_a_teammate_not_seen_at_its_predicted_place_in_sight_is_given_up(
+    missed, away
+):
+    # r1 at (20, 15) knows t1, r2 does not (the scene above); r1 last saw r2 at step 40
+    # and predicts it ``away`` m east of itself now, at step 50, where it does not see it.
+    # lost_range 0.5 x sensing 7 = 3.5 m: at 1 m r2 would be in sight, so it is not on its
+    # predicted sweep and, with plan_missed, r1 gives it up for every task (no fetch
+    # offered); at 5 m nothing is learnt and the fetch stays. r2 sees r1 now: not missed.
+    s, view = _scene(together=False)
+    view.last_seen[0, 1] = 40
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_missed=missed))
+    policy.start(s)
+    here = view.poses[0, :2]
+    east = here + np.array([away, 0.0])
+    policy.predicted = lambda view, i, j, ahead=0: east if i != j else here
+    policy.plan(view)
+    gone = missed and away < 3.5
+    assert policy.gave_up[0, :, 1].tolist() == [gone]
+    assert not policy.gave_up[1].any()
+    assert [f.helper for f in policy.fetches(view, 0)] == ([] if gone else [1])
+    assert CollaborativeParameters().plan_missed is False  # off by default

@@ -1,7 +1,8 @@
 """What a planning robot reads from seeing its teammates (a mixin of
 :class:`~epistemica.sim.policies.collaborative_planning.PlanningCollaborativePolicy`): who
-has a task in sight (``plan_sighted``), who stands waiting at one (``plan_waiters``), and
-what a fetch shows a teammate where no ``heads to`` event tells it (``plan_told``).
+has a task in sight (``plan_sighted``), who stands waiting at one (``plan_waiters``), who
+is not where it was predicted (``plan_missed``), and what a fetch shows a teammate where no
+``heads to`` event tells it (``plan_told``).
 
 Examples
 --------
@@ -70,6 +71,25 @@ class Sightings:
         none with 2 (they are taken to know of them and met where they stand, but their
         choice is predicted as any teammate's)."""
         return self.waiting_now if self.parameters.plan_waiters == 1 else {}
+
+    def missed(self, view: View) -> np.ndarray:
+        """``(n, 1, n)``: robot ``i`` has teammate ``j``'s predicted place (:meth:`predicted`)
+        within ``lost_range`` sensing ranges and does not see ``j``, seen before (a
+        never-seen one's starts are ruled out by :class:`TeammateModel`): sight is certain
+        within its range, so ``j`` is not there; it has left its predicted sweep and is
+        given up for every task until seen again (``plan_missed``; ``plan_retry``). Without
+        this a fetcher stood at the empty place, its intercept met in 0 steps (mission 1635).
+        """
+        n = self.s.n_robots
+        out = np.zeros((n, 1, n), dtype=bool)
+        if not self.parameters.plan_missed:
+            return out
+        near = self.parameters.lost_range * self.s.sensing_range
+        for i, j in np.argwhere((view.last_seen >= 0) & (view.last_seen < view.step)):
+            if i != j:  # seen before, not now: is it where i predicts it, in i's sight?
+                gap = np.hypot(*(self.predicted(view, i, j) - view.poses[i, :2]))
+                out[i, 0, j] = gap <= near
+        return out
 
     def told(self, view: View, i: int, j: int, met: tuple, stays: bool = False) -> np.ndarray:
         """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
