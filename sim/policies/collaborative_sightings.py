@@ -72,24 +72,29 @@ class Sightings:
         choice is predicted as any teammate's)."""
         return self.waiting_now if self.parameters.plan_waiters == 1 else {}
 
-    def missed(self, view: View) -> np.ndarray:
-        """``(n, 1, n)``: robot ``i`` has teammate ``j``'s predicted place (:meth:`predicted`)
-        within ``lost_range`` sensing ranges and does not see ``j``, seen before (a
-        never-seen one's starts are ruled out by :class:`TeammateModel`): sight is certain
-        within its range, so ``j`` is not there; it has left its predicted sweep and is
-        given up for every task until seen again (``plan_missed``; ``plan_retry``). Without
-        this a fetcher stood at the empty place, its intercept met in 0 steps (mission 1635).
-        """
-        n = self.s.n_robots
-        out = np.zeros((n, 1, n), dtype=bool)
-        if not self.parameters.plan_missed:
-            return out
-        near = self.parameters.lost_range * self.s.sensing_range
+    def missed(self, view: View) -> None:
+        """Give up robot ``i``'s fetches of teammate ``j`` for every task (``gave_up``) when
+        ``j``'s predicted place (:meth:`predicted`) lies within ``lost_range`` sensing ranges
+        of ``i`` and ``i``, having seen ``j`` before, does not see it (a never-seen one's
+        starts are ruled out by :class:`TeammateModel`): sight is certain within its range,
+        so ``j`` left its predicted sweep (``plan_missed``; mission 1635: a fetcher stood at
+        the empty place, its intercept met in 0 steps). Seeing ``j`` lifts it
+        (``plan_retry``); at 2 so do ``fetch_memory`` steps (it may be back on its sweep)."""
+        p, n = self.parameters, self.s.n_robots
+        if not p.plan_missed:
+            return
+        out = np.zeros((n, n), dtype=bool)
+        near = p.lost_range * self.s.sensing_range
         for i, j in np.argwhere((view.last_seen >= 0) & (view.last_seen < view.step)):
             if i != j:  # seen before, not now: is it where i predicts it, in i's sight?
-                gap = np.hypot(*(self.predicted(view, i, j) - view.poses[i, :2]))
-                out[i, 0, j] = gap <= near
-        return out
+                out[i, j] = np.hypot(*(self.predicted(view, i, j) - view.poses[i, :2])) <= near
+        self.missed_at[view.last_seen == view.step] = -1
+        if p.plan_missed == 2:  # the miss is as old as fetch_memory: forget it
+            old = (self.missed_at >= 0) & (view.step - self.missed_at >= p.fetch_memory) & ~out
+            self.gave_up &= ~old[:, None, :]
+            self.missed_at[old] = -1
+        self.missed_at[out] = view.step
+        self.gave_up |= out[:, None, :]
 
     def told(self, view: View, i: int, j: int, met: tuple, stays: bool = False) -> np.ndarray:
         """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
