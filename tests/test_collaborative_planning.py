@@ -667,3 +667,26 @@ def test_with_plan_missed_a_teammate_not_seen_at_its_predicted_place_in_sight_is
     assert not policy.gave_up[1].any()
     assert [f.helper for f in policy.fetches(view, 0)] == ([] if gone else [1])
     assert CollaborativeParameters().plan_missed == 0  # off by default
+
+
+@pytest.mark.parametrize("missed", [1, 2])
+def test_with_plan_missed_2_a_miss_is_forgotten_after_fetch_memory_steps(missed):
+    # The scene above: at step 50 r1 misses r2 1 m away (given up). Later r2's predicted
+    # place is 5 m off (out of lost_range's 3.5 m), r2 still unseen since step 40. At 2 the
+    # miss holds for fetch_memory = 40 steps: still given up at step 89, lifted at 90 (r2
+    # may be back on its sweep); at 1 it holds until r2 is seen.
+    s, view = _scene(together=False)
+    view.last_seen[0, 1] = 40
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_missed=missed))
+    policy.start(s)
+    here = view.poses[0, :2]
+    place = {"east": here + np.array([1.0, 0.0])}
+    policy.predicted = lambda view, i, j, ahead=0: place["east"] if i != j else here
+    policy.plan(view)
+    assert policy.gave_up[0, 0, 1]
+    place["east"] = here + np.array([5.0, 0.0])
+    given_up = []
+    for step in (89, 90):
+        policy.plan(view._replace(step=step))
+        given_up.append(bool(policy.gave_up[0, 0, 1]))
+    assert given_up == ([True, False] if missed == 2 else [True, True])
