@@ -666,7 +666,7 @@ def test_with_plan_missed_a_teammate_not_seen_at_its_predicted_place_in_sight_is
     assert policy.gave_up[0, :, 1].tolist() == [gone]
     assert not policy.gave_up[1].any()
     assert [f.helper for f in policy.fetches(view, 0)] == ([] if gone else [1])
-    assert CollaborativeParameters().plan_missed == 0  # off by default
+    assert CollaborativeParameters().plan_missed == 1  # on by default
 
 
 @pytest.mark.parametrize("missed", [1, 2])

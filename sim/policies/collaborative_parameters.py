@@ -206,7 +206,7 @@ class CollaborativeParameters:
     plan_retry, plan_lost, plan_missed : bool, bool, int
         A teammate a robot gave up fetching is fetched again once seen (``plan_retry``), not
         for any other task till then (``plan_lost``), nor one never seen whose every start is
-        ruled out, nor (``plan_missed``, off: aif.md §6h 1600-1999) one seen before whose
+        ruled out, nor (``plan_missed``, on (1): aif.md §6h 1600-1999) one seen before whose
         predicted place is ``lost_range`` from it, unseen (2: for ``fetch_memory`` steps).
     plan_hail, plan_hailed, plan_chase : bool, bool, int
         Fetch only where a ``heads to`` event tells (``plan_hail``). A teammate hailed for
@@ -297,7 +297,7 @@ class CollaborativeParameters:
     plan_watched: int = 1
     plan_waiters: int = 0
     plan_presumed: bool = False
-    plan_missed: int = 0
+    plan_missed: int = 1
 
     def __post_init__(self) -> None:
         for f in fields(self):
