@@ -642,3 +642,51 @@ def test_by_default_the_planner_does_not_presume_done_a_task_its_knowers_were_se
     _, heads = rules.plan(view)
     assert rules.open_now.tolist() == [[False]] * 3
     assert heads.tolist() == [0, 0, 0]
+
+
+@pytest.mark.parametrize("missed", [False, True])
+@pytest.mark.parametrize("away", [1.0, 5.0])
+def test_with_plan_missed_a_teammate_not_seen_at_its_predicted_place_in_sight_is_given_up(
+    missed, away
+):
+    # r1 at (20, 15) knows t1, r2 does not (the scene above); r1 last saw r2 at step 40
+    # and predicts it ``away`` m east of itself now, at step 50, where it does not see it.
+    # lost_range 0.5 x sensing 7 = 3.5 m: at 1 m r2 would be in sight, so it is not on its
+    # predicted sweep and, with plan_missed, r1 gives it up for every task (no fetch
+    # offered); at 5 m nothing is learnt and the fetch stays. r2 sees r1 now: not missed.
+    s, view = _scene(together=False)
+    view.last_seen[0, 1] = 40
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_missed=missed))
+    policy.start(s)
+    here = view.poses[0, :2]
+    east = here + np.array([away, 0.0])
+    policy.predicted = lambda view, i, j, ahead=0: east if i != j else here
+    policy.plan(view)
+    gone = missed and away < 3.5
+    assert policy.gave_up[0, :, 1].tolist() == [gone]
+    assert not policy.gave_up[1].any()
+    assert [f.helper for f in policy.fetches(view, 0)] == ([] if gone else [1])
+    assert CollaborativeParameters().plan_missed == 1  # on by default
+
+
+@pytest.mark.parametrize("missed", [1, 2])
+def test_with_plan_missed_2_a_miss_is_forgotten_after_fetch_memory_steps(missed):
+    # The scene above: at step 50 r1 misses r2 1 m away (given up). Later r2's predicted
+    # place is 5 m off (out of lost_range's 3.5 m), r2 still unseen since step 40. At 2 the
+    # miss holds for fetch_memory = 40 steps: still given up at step 89, lifted at 90 (r2
+    # may be back on its sweep); at 1 it holds until r2 is seen.
+    s, view = _scene(together=False)
+    view.last_seen[0, 1] = 40
+    policy = PlanningCollaborativePolicy("third", CollaborativeParameters(plan_missed=missed))
+    policy.start(s)
+    here = view.poses[0, :2]
+    place = {"east": here + np.array([1.0, 0.0])}
+    policy.predicted = lambda view, i, j, ahead=0: place["east"] if i != j else here
+    policy.plan(view)
+    assert policy.gave_up[0, 0, 1]
+    place["east"] = here + np.array([5.0, 0.0])
+    given_up = []
+    for step in (89, 90):
+        policy.plan(view._replace(step=step))
+        given_up.append(bool(policy.gave_up[0, 0, 1]))
+    assert given_up == ([True, False] if missed == 2 else [True, True])

@@ -136,6 +136,7 @@ class CollaborativePolicy(CoalitionRules, Policy):
         # plan_watched 2: when robot i's unbroken sighting of j began, and where j was then
         self.in_sight, self.watch_from = np.zeros((n, n), dtype=bool), np.full((n, n), -1)
         self.watch_at = np.zeros((n, n, 2))
+        self.missed_at = np.full((n, n), -1)  # plan_missed: when i last missed j in sight
 
     # -- what a robot predicts ------------------------------------------------------------
 

@@ -184,8 +184,6 @@ class CollaborativeParameters:
     plan_later : float
         Crossings by which a robot that chooses another option still comes to a task (the
         baseline its option saves time against; 0: it never comes). Off.
-    plan_retry : bool
-        A teammate a robot gave up fetching may be fetched again once the robot sees it.
     plan_rendezvous : bool
         Going to a task is valued by the completion it makes likelier under the teammates'
         predicted choices alone; ``plan_credit`` goes only to the teammate a fetch brings.
@@ -205,10 +203,11 @@ class CollaborativeParameters:
         of it (:class:`~epistemica.aif.task_planning.TaskPlanner`'s ``knowers``). Off.
     plan_insight : bool
         A teammate in sight is met where it is seen, not on its sweep. Off (tuning split).
-    plan_lost : bool
-        A teammate a robot gave up fetching for one task is not fetched for any other until
-        seen again (``plan_retry``), nor one never seen whose every possible start is ruled
-        out: it has left its sweep, and an intercept there is a guess.
+    plan_retry, plan_lost, plan_missed : bool, bool, int
+        A teammate a robot gave up fetching is fetched again once seen (``plan_retry``), not
+        for any other task till then (``plan_lost``), nor one never seen whose every start is
+        ruled out, nor (``plan_missed``, on (1): aif.md §6h 1600-1999) one seen before whose
+        predicted place is ``lost_range`` from it, unseen (2: for ``fetch_memory`` steps).
     plan_hail, plan_hailed, plan_chase : bool, bool, int
         Fetch only where a ``heads to`` event tells (``plan_hail``). A teammate hailed for
         a task (in sight, within hailing distance) still not known to know of it is not
@@ -298,6 +297,7 @@ class CollaborativeParameters:
     plan_watched: int = 1
     plan_waiters: int = 0
     plan_presumed: bool = False
+    plan_missed: int = 1
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -311,7 +311,7 @@ class CollaborativeParameters:
             raise InvalidArgumentError("lane_factor must be > 0", hint="2.0")
         if self.horizon_step < 1:
             raise InvalidArgumentError("horizon_step must be >= 1", hint="5")
-        top = {"plan_waiters": 2, "plan_presumed": 1, "plan_watched": 2}  # each 0, 1, ... top
+        top = {"plan_waiters": 2, "plan_presumed": 1, "plan_watched": 2, "plan_missed": 2}
         if self.plan_quorum < 1 or any(getattr(self, k) not in range(top[k] + 1) for k in top):
             raise InvalidArgumentError(f"plan_quorum must be >= 1, and each of {top} 0 to it")
 

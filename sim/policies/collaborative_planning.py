@@ -218,6 +218,7 @@ class PlanningCollaborativePolicy(Sightings, CollaborativePolicy):
             self.watch(view)
         if self.parameters.plan_retry:  # a teammate seen again is where it is seen
             self.gave_up &= ~(view.last_seen == view.step)[:, None, :]
+        self.missed(view)  # plan_missed: not where predicted, in sight: given up
         if self.parameters.plan_sighted and self.model == "nested":
             self.seen |= self.sighted(view)
         targets, steer_to = np.zeros((n, 2)), np.full(n, -1)

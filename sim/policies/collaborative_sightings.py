@@ -1,7 +1,8 @@
 """What a planning robot reads from seeing its teammates (a mixin of
 :class:`~epistemica.sim.policies.collaborative_planning.PlanningCollaborativePolicy`): who
-has a task in sight (``plan_sighted``), who stands waiting at one (``plan_waiters``), and
-what a fetch shows a teammate where no ``heads to`` event tells it (``plan_told``).
+has a task in sight (``plan_sighted``), who stands waiting at one (``plan_waiters``), who
+is not where it was predicted (``plan_missed``), and what a fetch shows a teammate where no
+``heads to`` event tells it (``plan_told``).
 
 Examples
 --------
@@ -70,6 +71,30 @@ class Sightings:
         none with 2 (they are taken to know of them and met where they stand, but their
         choice is predicted as any teammate's)."""
         return self.waiting_now if self.parameters.plan_waiters == 1 else {}
+
+    def missed(self, view: View) -> None:
+        """Give up robot ``i``'s fetches of teammate ``j`` for every task (``gave_up``) when
+        ``j``'s predicted place (:meth:`predicted`) lies within ``lost_range`` sensing ranges
+        of ``i`` and ``i``, having seen ``j`` before, does not see it (a never-seen one's
+        starts are ruled out by :class:`TeammateModel`): sight is certain within its range,
+        so ``j`` left its predicted sweep (``plan_missed``; mission 1635: a fetcher stood at
+        the empty place, its intercept met in 0 steps). Seeing ``j`` lifts it
+        (``plan_retry``); at 2 so do ``fetch_memory`` steps (it may be back on its sweep)."""
+        p, n = self.parameters, self.s.n_robots
+        if not p.plan_missed:
+            return
+        out = np.zeros((n, n), dtype=bool)
+        near = p.lost_range * self.s.sensing_range
+        for i, j in np.argwhere((view.last_seen >= 0) & (view.last_seen < view.step)):
+            if i != j:  # seen before, not now: is it where i predicts it, in i's sight?
+                out[i, j] = np.hypot(*(self.predicted(view, i, j) - view.poses[i, :2])) <= near
+        self.missed_at[view.last_seen == view.step] = -1
+        if p.plan_missed == 2:  # the miss is as old as fetch_memory: forget it
+            old = (self.missed_at >= 0) & (view.step - self.missed_at >= p.fetch_memory) & ~out
+            self.gave_up &= ~old[:, None, :]
+            self.missed_at[old] = -1
+        self.missed_at[out] = view.step
+        self.gave_up |= out[:, None, :]
 
     def told(self, view: View, i: int, j: int, met: tuple, stays: bool = False) -> np.ndarray:
         """``(m,)`` for each task, whether robot ``i``, meeting teammate ``j`` as ``met``
