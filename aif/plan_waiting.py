@@ -93,14 +93,15 @@ def priced(context: PlanContext, chain, preds, moving, move, G: np.ndarray) -> f
     heading now on the same particles (``G``'s best plus the difference), from model 8 on
     against heading for a goal for as long and then choosing again."""
     p = context.p
-    wait = waiting(context, chain, preds, moving, move)
     finite = np.flatnonzero(np.isfinite(G))
-    if p.waiting < 3 or not finite.size:
-        return wait
-    if p.waiting < 8:
+    if p.waiting < 8 or not finite.size:
+        wait = waiting(context, chain, preds, moving, move)
+        if p.waiting < 3 or not finite.size:
+            return wait
         return float(G[finite].min()) + wait - waiting(context, chain, preds, moving, move, 0.0)
-    heads = [waiting(context, chain, preds, moving, move, own=driven(context, chain[-1], g))
-             for g in finite]  # fmt: skip
+    drawn = _particles(context, chain, preds, moving, move)  # one draw for every option
+    wait = _waited(context, chain, drawn)
+    heads = [_waited(context, chain, drawn, driven(context, chain[-1], g)) for g in finite]
     gain = min(heads) - wait
     if gain > TIE:
         return float(G[finite].min()) - gain
@@ -167,6 +168,14 @@ def waiting(context: PlanContext, chain: tuple[int, ...], preds: np.ndarray, mov
     probability that each teammate moves (:func:`movers`; default 1); with ``waiting >= 2``
     who waits is drawn per particle: a waiter reveals nothing and arrives ``delay`` later.
     ``own``: its times to the goals after those steps (default: it stands, ``+ delay``)."""
+    drawn = _particles(context, chain, preds, moving, move, delay)
+    return _waited(context, chain, drawn, own)
+
+
+def _particles(context: PlanContext, chain, preds, moving, move=None, delay=None) -> tuple:
+    """What :func:`waiting` draws before the robot's own times enter: the rows of
+    ``chain``'s set, the particles' revised predictions and true goals, the teammates'
+    latest arrival in each (``(P, k')``), and the delay (shared by every option priced)."""
     p, robot = context.p, chain[-1]
     n, m = preds.shape
     mask = context.mask(chain)
@@ -189,10 +198,18 @@ def waiting(context: PlanContext, chain: tuple[int, ...], preds: np.ndarray, mov
     )
     revised = np.exp(revised - revised.max(axis=2, keepdims=True))
     revised /= revised.sum(axis=2, keepdims=True)
+    late = (times[None][..., others] + delay * stays[:, None, :]).max(axis=2)  # (P, k')
+    return rows, revised, truth, late, delay
+
+
+def _waited(context: PlanContext, chain, drawn: tuple, own=None) -> float:
+    """:func:`waiting` on the particles ``drawn`` (:func:`_particles`), the robot's times
+    to the goals ``own`` (default: it stands, ``+ delay``)."""
+    robot = chain[-1]
+    rows, revised, truth, late, delay = drawn
     own_time = context.times[robot] + delay if own is None else own
-    late = times[None][..., others] + delay * stays[:, None, :]  # (P, k', n - 1)
-    finish = np.maximum(late.max(axis=2), own_time[rows[:, robot]][None])  # (P, k')
-    return _realised(p, robot, rows, (revised, truth, finish), own_time)
+    finish = np.maximum(late, own_time[rows[:, robot]][None])  # (P, k')
+    return _realised(context.p, robot, rows, (revised, truth, finish), own_time)
 
 
 def _revealed(context: PlanContext, others, truth, share, delay: float) -> np.ndarray:
