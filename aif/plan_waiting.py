@@ -69,7 +69,7 @@ def model(value) -> int:
     """``value`` checked as one of :data:`MODELS`."""
     if isinstance(value, bool) or value not in MODELS:
         raise InvalidArgumentError(
-            f"waiting must be one of {MODELS}, got {value!r}", hint="0: session 52's model"
+            f"waiting must be one of {MODELS}, got {value!r}", hint="8 (default); 0 uncorrected"
         )
     return int(value)
 

@@ -308,7 +308,7 @@ class ActiveParameters:
                     f"{name} must be an integer >= 0, got {value!r}", hint="e.g. 8; 0: off"
                 )
         _check_choice("plan_claim", self.plan_claim, tuple(range(7)), "0 off, 2 by type")
-        _check_choice("plan_wait", self.plan_wait, tuple(range(9)), "0: session 52's model")
+        _check_choice("plan_wait", self.plan_wait, tuple(range(9)), "8 (default); 0 uncorrected")
         for name in ("plan_success", "plan_shown", "plan_noise", "plan_progress"):
             value = float(getattr(self, name))
             if not (math.isfinite(value) and value >= 0):
